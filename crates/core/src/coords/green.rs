@@ -1,0 +1,231 @@
+//! Green Coordinates in 3D (Lipman, Levin & Cohen-Or 2008, "Green coordinates").
+//!
+//! For a point η, φ_i(η) = ∫ Γ_i ∂G/∂n dσ over the faces around vertex i (double layer, linear
+//! hat density Γ_i) and ψ_j(η) = −∫_{t_j} G dσ (single layer), with G(ξ, η) = −1/(4π|ξ − η|),
+//! so that η = Σ φ_i v_i + Σ ψ_j n_j inside the cage (Green's third identity), and the
+//! deformation is f(η) = Σ φ_i v'_i + Σ ψ_j s_j n'_j (Lipman et al. eq. 12, stretch s_j below).
+//!
+//! Instead of the GCTriInt pseudocode (two numeric-friendly but costly integrals per edge and
+//! side), we use the closed forms of both potentials over a flat triangle, in coordinates
+//! centred at η, with n the face's unit normal, h = n·v_a its signed plane offset, Ω its signed
+//! solid angle and, per edge e = (a, b) with in-plane outward normal ν_e,
+//! L_e = ∫_e ds / |ξ| = ln((R_a + R_b + l) / (R_a + R_b − l)) and d_e = ν_e · v_a:
+//!
+//! * single layer: ∫_t dσ / |ξ| = Σ_e d_e L_e − h Ω  (so ψ_j = that / 4π);
+//! * double layer: ∫_t h ξ / |ξ|³ dσ = h G with G = Ω n − Σ_e ν_e L_e; expanding ξ in the
+//!   triangle's vertices gives φ_i's share m_i = G · (v_{i+1} × v_{i+2}) / (2A), A the area.
+//!
+//! The 0/0 case of GCTriInt (η on the line of an edge, inside the segment: L_e = ∞ while d_e
+//! and ν_e·(v × v) vanish) is guarded by dropping the edge term, which is its limit.
+//!
+//! Outside the cage, Σ φ_i = 0 and the raw formula reproduces 0, not η. We use Lipman et al.'s
+//! extension across a face (their §4.2): the coordinates are continued through the face t
+//! nearest to η by adding the barycentric coordinates of η's projection on t's plane to the
+//! φ of t's corners and η's height above t to ψ_t. This is C∞ across t; it jumps where the
+//! nearest face changes, far from the cage, as in the paper.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use crate::cage::Cage;
+
+/// Precomputed per-cage data for Green coordinates.
+#[derive(Debug, Clone)]
+pub(crate) struct GreenCage {
+    normals: Vec<DVec3>,
+    /// Per triangle, the in-plane outward unit normal of edges (i0,i1), (i1,i2), (i2,i0).
+    edge_normals: Vec<[DVec3; 3]>,
+    /// Per triangle, 1 / (2A · 4π).
+    inv_scaled_double_area: Vec<f64>,
+    edge_lengths: Vec<f64>,
+}
+
+impl GreenCage {
+    pub(crate) fn new(cage: &Cage) -> Self {
+        let p = cage.positions();
+        let normals = cage.triangle_normals();
+        let mut edge_normals = Vec::with_capacity(normals.len());
+        let mut inv = Vec::with_capacity(normals.len());
+        for (tri, n) in cage.triangles().iter().zip(&normals) {
+            let x = [p[tri[0] as usize], p[tri[1] as usize], p[tri[2] as usize]];
+            edge_normals.push([
+                (x[1] - x[0]).cross(*n).normalize_or_zero(),
+                (x[2] - x[1]).cross(*n).normalize_or_zero(),
+                (x[0] - x[2]).cross(*n).normalize_or_zero(),
+            ]);
+            let double_area = (x[1] - x[0]).cross(x[2] - x[0]).length();
+            inv.push(1.0 / (double_area * 4.0 * PI));
+        }
+        let edge_lengths = cage
+            .edges()
+            .iter()
+            .map(|&[a, b]| p[a as usize].distance(p[b as usize]))
+            .collect();
+        Self {
+            normals,
+            edge_normals,
+            inv_scaled_double_area: inv,
+            edge_lengths,
+        }
+    }
+}
+
+/// Reusable per-thread buffers of one GC evaluation.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct GreenScratch {
+    rel: Vec<DVec3>,
+    len: Vec<f64>,
+    /// Per edge (a < b): L_e, v_a · v_b, v_a × v_b.
+    edge: Vec<(f64, f64, DVec3)>,
+}
+
+/// Relative distance (to the cage diagonal) under which a point is on the cage.
+const ON_CAGE: f64 = 1e-12;
+/// How far (relative to the diagonal) a point on the cage is moved inside to take the inside
+/// limit of the coordinates there.
+const INSIDE_LIMIT_STEP: f64 = 1e-10;
+
+/// Writes φ (per vertex) and ψ (per triangle) of `p` into `phi` and `psi`.
+///
+/// On the cage itself the potentials have edge singularities that cancel only in the limit;
+/// there we return the limit from inside, evaluated 1e-10 diagonals inside along the summed
+/// normals of the faces `p` touches.
+pub(crate) fn green_point(
+    cage: &Cage,
+    gc: &GreenCage,
+    p: DVec3,
+    phi: &mut [f64],
+    psi: &mut [f64],
+    scratch: &mut GreenScratch,
+) {
+    let touching = green_point_raw(cage, gc, p, phi, psi, scratch);
+    if touching != DVec3::ZERO {
+        let inward = -touching.normalize_or_zero() * (INSIDE_LIMIT_STEP * cage.diagonal());
+        green_point_raw(cage, gc, p + inward, phi, psi, scratch);
+    }
+}
+
+/// GC at `p`; returns the sum of the normals of the faces `p` lies on (zero if none).
+fn green_point_raw(
+    cage: &Cage,
+    gc: &GreenCage,
+    p: DVec3,
+    phi: &mut [f64],
+    psi: &mut [f64],
+    scratch: &mut GreenScratch,
+) -> DVec3 {
+    let on_cage = ON_CAGE * cage.diagonal();
+    let mut touching = DVec3::ZERO;
+    let positions = cage.positions();
+    phi.fill(0.0);
+    scratch.rel.clear();
+    scratch.rel.extend(positions.iter().map(|&x| x - p));
+    scratch.len.clear();
+    scratch.len.extend(scratch.rel.iter().map(|v| v.length()));
+    let (rel, len) = (&scratch.rel, &scratch.len);
+    scratch.edge.clear();
+    scratch
+        .edge
+        .extend(cage.edges().iter().zip(&gc.edge_lengths).map(|(&[a, b], &l)| {
+            let (va, vb) = (rel[a as usize], rel[b as usize]);
+            let (ra, rb) = (len[a as usize], len[b as usize]);
+            let dot = va.dot(vb);
+            let sum = ra + rb;
+            // R_a + R_b − l = 2 (R_a R_b + v_a·v_b) / (R_a + R_b + l), without cancellation.
+            let near = 2.0 * (ra * rb + dot);
+            let log = if near > 0.0 && sum > 0.0 {
+                ((sum + l) * (sum + l) / near).ln()
+            } else {
+                0.0 // η on the edge segment: the 0/0 case, whose limit drops the term
+            };
+            (log, dot, va.cross(vb))
+        }));
+    let edge = &scratch.edge;
+    let mut winding = 0.0;
+    for (t, (tri, tri_edges)) in cage.triangles().iter().zip(cage.triangle_edges()).enumerate() {
+        let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let v = [rel[idx[0]], rel[idx[1]], rel[idx[2]]];
+        let r = [len[idx[0]], len[idx[1]], len[idx[2]]];
+        // Directed edge data: (i0,i1), (i1,i2), (i2,i0); the cross product v_i × v_j.
+        let mut logs = [0.0; 3];
+        let mut dots = [0.0; 3];
+        let mut crosses = [DVec3::ZERO; 3];
+        for k in 0..3 {
+            let (log, dot, cross) = edge[tri_edges[k] as usize];
+            logs[k] = log;
+            dots[k] = dot;
+            let forward = idx[k] < idx[(k + 1) % 3];
+            crosses[k] = if forward { cross } else { -cross };
+        }
+        let n = gc.normals[t];
+        let h = n.dot(v[0]);
+        // Signed solid angle, Van Oosterom & Strackee: det(v0, v1, v2) = v0 · (v1 × v2).
+        let det = v[0].dot(crosses[1]);
+        let denom = r[0] * r[1] * r[2] + dots[0] * r[2] + dots[1] * r[0] + dots[2] * r[1];
+        if h.abs() <= on_cage && denom <= 1e-9 * r[0] * r[1] * r[2] {
+            touching += n; // on the closed triangle: the caller takes the inside limit
+        }
+        let omega = 2.0 * det.atan2(denom);
+        winding += omega;
+        let nu = gc.edge_normals[t];
+        // ψ_t = (Σ_e d_e L_e − h Ω) / 4π, with d_e = ν_e · v (any point of the edge).
+        let single = nu[0].dot(v[0]) * logs[0] + nu[1].dot(v[1]) * logs[1] + nu[2].dot(v[2]) * logs[2]
+            - h * omega;
+        psi[t] = single / (4.0 * PI);
+        // G = Ω n − Σ_e ν_e L_e; m_i = G · (v_{i+1} × v_{i+2}) / 2A; φ_i += m_i / 4π.
+        let g = n * omega - nu[0] * logs[0] - nu[1] * logs[1] - nu[2] * logs[2];
+        let scale = gc.inv_scaled_double_area[t];
+        phi[idx[0]] += g.dot(crosses[1]) * scale;
+        phi[idx[1]] += g.dot(crosses[2]) * scale;
+        phi[idx[2]] += g.dot(crosses[0]) * scale;
+    }
+    if winding < 2.0 * PI {
+        extend_outside(cage, gc, p, phi, psi);
+    }
+    touching
+}
+
+/// Lipman et al. §4.2: continue the coordinates through the nearest face so that the rest
+/// cage reproduces η outside too.
+fn extend_outside(cage: &Cage, gc: &GreenCage, p: DVec3, phi: &mut [f64], psi: &mut [f64]) {
+    let (t, _, _) = cage.closest_point(p);
+    let tri = cage.triangles()[t];
+    let x = tri.map(|i| cage.positions()[i as usize]);
+    let n = gc.normals[t];
+    let height = n.dot(p - x[0]);
+    let projected = p - n * height;
+    let bary = barycentric_in_plane(projected, x[0], x[1], x[2]);
+    for k in 0..3 {
+        phi[tri[k] as usize] += bary[k];
+    }
+    psi[t] += height;
+}
+
+/// Barycentric coordinates of a point of the triangle's plane (affine, unclamped).
+fn barycentric_in_plane(q: DVec3, a: DVec3, b: DVec3, c: DVec3) -> [f64; 3] {
+    let normal = (b - a).cross(c - a);
+    let inv = 1.0 / normal.length_squared();
+    let wa = (c - b).cross(q - b).dot(normal) * inv;
+    let wb = (a - c).cross(q - c).dot(normal) * inv;
+    [wa, wb, 1.0 - wa - wb]
+}
+
+/// The per-face stretch factors s_j of Lipman et al. (eq. 13 in 3D): with u, v two edges of
+/// t_j at rest and u', v' posed, s_j = sqrt(|u'|²|v|² − 2(u'·v')(u·v) + |v'|²|u|²) / (√8 A_j).
+/// A similarity of scale σ gives s_j = σ for every face.
+pub fn green_stretch(cage: &Cage, posed: &[DVec3]) -> Vec<f64> {
+    let rest = cage.positions();
+    cage.triangles()
+        .iter()
+        .map(|&[a, b, c]| {
+            let (a, b, c) = (a as usize, b as usize, c as usize);
+            let (u, v) = (rest[b] - rest[a], rest[c] - rest[a]);
+            let (up, vp) = (posed[b] - posed[a], posed[c] - posed[a]);
+            let area = 0.5 * u.cross(v).length();
+            let num = up.length_squared() * v.length_squared() - 2.0 * up.dot(vp) * u.dot(v)
+                + vp.length_squared() * u.length_squared();
+            num.max(0.0).sqrt() / (8f64.sqrt() * area)
+        })
+        .collect()
+}

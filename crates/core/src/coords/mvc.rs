@@ -1,0 +1,142 @@
+//! Mean Value Coordinates for closed triangle meshes (Ju, Schaefer & Warren 2005, "Mean value
+//! coordinates for closed triangular meshes", the robust pseudocode of their Fig. 4).
+//!
+//! Defined inside and outside the cage. Special cases handled exactly: a point on a vertex
+//! (that vertex's weight is 1), on a face or an edge (barycentric coordinates of that triangle,
+//! which on an edge reduce to linear interpolation), and coplanar triangles (no contribution).
+//!
+//! Speed and accuracy: every angle θ of the spherical triangles belongs to a cage *edge*, so
+//! it is computed once per edge and shared by the two triangles on that edge. The paper's
+//! c_i (cosine of the spherical angle A_i) comes from the cosine rule and s_i = sign(det) sin A_i
+//! from the sine rule, so no `sin` is called per face and, unlike sqrt(1 − c_i²), s_i keeps
+//! full relative precision next to the cage's faces.
+
+use glam::DVec3;
+
+use crate::cage::Cage;
+
+/// Relative distance (to the cage diagonal) under which a point is on a vertex.
+const ON_VERTEX: f64 = 1e-12;
+/// Threshold on |s_i| and sin θ_i (both scale-free) under which the point is in the plane of
+/// a triangle: on it (barycentric coordinates) or outside it (no contribution), Ju et al. Fig. 4.
+const COPLANAR: f64 = 1e-12;
+
+/// Reusable per-thread buffers of one MVC evaluation.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct MvcScratch {
+    unit: Vec<DVec3>,
+    dist: Vec<f64>,
+    /// Per edge: θ, sin(θ/2), cos(θ/2).
+    theta: Vec<[f64; 3]>,
+}
+
+/// Writes the mean value coordinates of `p` with respect to `cage` into `out`
+/// (`out.len() == cage.vertex_count()`); they sum to 1 and reproduce `p` (eq. 1 of *Cages).
+pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut MvcScratch) {
+    let positions = cage.positions();
+    let n = positions.len();
+    out.fill(0.0);
+    scratch.unit.resize(n, DVec3::ZERO);
+    scratch.dist.resize(n, 0.0);
+    let on_vertex = ON_VERTEX * cage.diagonal();
+    for (i, &x) in positions.iter().enumerate() {
+        let v = x - p;
+        let d = v.length();
+        if d < on_vertex {
+            out[i] = 1.0;
+            return;
+        }
+        scratch.dist[i] = d;
+        scratch.unit[i] = v / d;
+    }
+    let unit = &scratch.unit;
+    let dist = &scratch.dist;
+    scratch.theta.clear();
+    scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
+        // l = |u_a − u_b|, θ = 2 arcsin(l / 2): the arc between u_a and u_b.
+        let half_sin = (0.5 * (unit[a as usize] - unit[b as usize]).length()).min(1.0);
+        let half_cos = (1.0 - half_sin * half_sin).max(0.0).sqrt();
+        [2.0 * half_sin.asin(), half_sin, half_cos]
+    }));
+    let theta = &scratch.theta;
+    let mut total = 0.0;
+    for (tri, edges) in cage.triangles().iter().zip(cage.triangle_edges()) {
+        let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        // θ_i is the arc opposite corner i: edge (i+1, i+2), stored as edges[(i + 1) % 3].
+        let e = [
+            theta[edges[1] as usize],
+            theta[edges[2] as usize],
+            theta[edges[0] as usize],
+        ];
+        let th = [e[0][0], e[1][0], e[2][0]];
+        let sin_th = [
+            2.0 * e[0][1] * e[0][2],
+            2.0 * e[1][1] * e[1][2],
+            2.0 * e[2][1] * e[2][2],
+        ];
+        // cos θ = 1 − 2 sin²(θ/2), exact near 0 and π.
+        let cos_th = [
+            1.0 - 2.0 * e[0][1] * e[0][1],
+            1.0 - 2.0 * e[1][1] * e[1][1],
+            1.0 - 2.0 * e[2][1] * e[2][1],
+        ];
+        if sin_th.iter().any(|&s| s < COPLANAR) {
+            if cos_th.iter().any(|&c| c < 0.0) {
+                // Two corners on opposite sides of p: p lies on an edge of this triangle.
+                barycentric(idx, sin_th, dist, out);
+                return;
+            }
+            continue; // p on the line of an edge, outside it: degenerate, contributes 0
+        }
+        // c_i = cos A_i, A_i the spherical angle at u_i (Ju et al.'s c_i, by the cosine rule):
+        // c_i = (cos θ_i − cos θ_{i+1} cos θ_{i−1}) / (sin θ_{i+1} sin θ_{i−1}).
+        let cc = [
+            (cos_th[0] - cos_th[1] * cos_th[2]) / (sin_th[1] * sin_th[2]),
+            (cos_th[1] - cos_th[2] * cos_th[0]) / (sin_th[2] * sin_th[0]),
+            (cos_th[2] - cos_th[0] * cos_th[1]) / (sin_th[0] * sin_th[1]),
+        ];
+        // s_i = sign(det[u]) sin A_i. Ju et al. take sqrt(1 − c_i²), which loses every digit
+        // next to a face; the sine rule gives it directly: sin A_i = |det[u]| / (sin θ_{i+1}
+        // sin θ_{i−1}).
+        let det = unit[idx[0]].dot(unit[idx[1]].cross(unit[idx[2]]));
+        let ss = [
+            det / (sin_th[1] * sin_th[2]),
+            det / (sin_th[2] * sin_th[0]),
+            det / (sin_th[0] * sin_th[1]),
+        ];
+        if ss.iter().any(|v| v.abs() <= COPLANAR) {
+            if cc.iter().all(|&c| c < 0.0) {
+                // Every spherical angle near π: p lies on this triangle (Ju et al.'s π − h < ε).
+                barycentric(idx, sin_th, dist, out);
+                return;
+            }
+            continue; // p in the plane of the triangle, outside it: no contribution
+        }
+        for i in 0..3 {
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            // w_i = (θ_i − c_{i+1} θ_{i−1} − c_{i−1} θ_{i+1}) / (d_i sin θ_{i+1} s_{i−1})
+            let w = (th[i] - cc[i1] * th[i2] - cc[i2] * th[i1]) / (dist[idx[i]] * sin_th[i1] * ss[i2]);
+            out[idx[i]] += w;
+            total += w;
+        }
+    }
+    if total != 0.0 && total.is_finite() {
+        let inv = 1.0 / total;
+        out.iter_mut().for_each(|w| *w *= inv);
+    }
+}
+
+/// p on triangle `idx`: 2D barycentric coordinates, w_i ∝ sin θ_i d_{i−1} d_{i+1}
+/// (Ju et al. Fig. 4).
+fn barycentric(idx: [usize; 3], sin_th: [f64; 3], dist: &[f64], out: &mut [f64]) {
+    let w = [
+        sin_th[0] * dist[idx[1]] * dist[idx[2]],
+        sin_th[1] * dist[idx[2]] * dist[idx[0]],
+        sin_th[2] * dist[idx[0]] * dist[idx[1]],
+    ];
+    let sum = w[0] + w[1] + w[2];
+    out.fill(0.0);
+    for k in 0..3 {
+        out[idx[k]] = w[k] / sum;
+    }
+}

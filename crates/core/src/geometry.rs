@@ -1,0 +1,89 @@
+//! Small geometric primitives shared by the coordinate systems and the cage checks.
+
+use glam::DVec3;
+
+/// Signed solid angle of triangle `(a, b, c)` seen from the origin (the three arguments are
+/// positions relative to the viewpoint), Van Oosterom & Strackee (1983):
+/// `tan(Ω/2) = det(a, b, c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)`.
+/// Positive when the origin lies behind the triangle, on the side opposite to its normal
+/// `(b − a) × (c − a)`: for an outward-oriented closed cage the sum over its faces is 4π inside.
+pub fn solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let det = a.dot(b.cross(c));
+    let denom = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    2.0 * det.atan2(denom)
+}
+
+/// Closest point of triangle `(a, b, c)` to `p`, with its barycentric coordinates
+/// (Ericson, *Real-Time Collision Detection*, 5.1.5).
+pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, [f64; 3]) {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return (a, [1.0, 0.0, 0.0]);
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return (b, [0.0, 1.0, 0.0]);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (a + ab * v, [1.0 - v, v, 0.0]);
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return (c, [0.0, 0.0, 1.0]);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (a + ac * w, [1.0 - w, 0.0, w]);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + (c - b) * w, [0.0, 1.0 - w, w]);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let v = vb * denom;
+    let w = vc * denom;
+    (a + ab * v + ac * w, [1.0 - v - w, v, w])
+}
+
+/// Twice the vector area of triangle `(a, b, c)`: `(b − a) × (c − a)`.
+pub fn triangle_area_vector(a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
+    (b - a).cross(c - a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closest_point_regions() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        let (q, w) = closest_point_on_triangle(DVec3::new(0.2, 0.2, 1.0), a, b, c);
+        assert!((q - DVec3::new(0.2, 0.2, 0.0)).length() < 1e-15);
+        assert!((w[0] - 0.6).abs() < 1e-15);
+        let (q, w) = closest_point_on_triangle(DVec3::new(-1.0, -1.0, 0.0), a, b, c);
+        assert_eq!(q, a);
+        assert_eq!(w, [1.0, 0.0, 0.0]);
+        let (q, _) = closest_point_on_triangle(DVec3::new(1.0, 1.0, 0.0), a, b, c);
+        assert!((q - DVec3::new(0.5, 0.5, 0.0)).length() < 1e-15);
+    }
+
+    #[test]
+    fn solid_angle_of_octant_triangle_is_half_pi() {
+        // The triangle X, Y, Z seen from the origin covers one octant: 4π / 8.
+        let omega = solid_angle(DVec3::X, DVec3::Y, DVec3::Z);
+        assert!((omega - std::f64::consts::FRAC_PI_2).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,15 @@
+//! StarCages core: the deformation math and the scene model, with no GPU, window or UI
+//! dependency.
+//!
+//! * [`cage`]: validated closed triangle cages (polygon faces kept for eq. 7 of *Cages).
+//! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
+//! * [`io`]: cage OBJ files and point lists, with errors naming file and line.
+//! * [`geometry`]: small geometric primitives.
+
+pub mod cage;
+pub mod coords;
+pub mod geometry;
+pub mod io;
+
+pub use cage::{Cage, CageError};
+pub use coords::{BindControl, BindSettings, CageWeights, CoordError, CoordinateKind, bind};

@@ -1,0 +1,111 @@
+//! Random cages and points shared by the coordinate property tests.
+#![allow(dead_code, missing_docs)]
+
+use glam::{DMat3, DQuat, DVec3};
+use proptest::prelude::*;
+use starcages_core::Cage;
+use starcages_core::cage::shapes;
+
+/// Icosphere: the icosahedron subdivided once (42 vertices, 80 faces), unit radius.
+pub fn icosphere_soup() -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (mut positions, faces) = shapes::icosahedron_soup(1.0);
+    let mut midpoint = std::collections::BTreeMap::new();
+    let mut out = Vec::new();
+    for f in faces {
+        let mut mid = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (f[k].min(f[(k + 1) % 3]), f[k].max(f[(k + 1) % 3]));
+            mid[k] = *midpoint.entry((a, b)).or_insert_with(|| {
+                positions.push(((positions[a as usize] + positions[b as usize]) * 0.5).normalize());
+                positions.len() as u32 - 1
+            });
+        }
+        out.push([f[0], mid[0], mid[2]]);
+        out.push([f[1], mid[1], mid[0]]);
+        out.push([f[2], mid[2], mid[1]]);
+        out.push([mid[0], mid[1], mid[2]]);
+    }
+    (positions, out)
+}
+
+/// A convex cage: an icosahedron under a random well-conditioned linear map and translation.
+pub fn convex_cage() -> impl Strategy<Value = Cage> {
+    (prop::array::uniform9(-0.4f64..0.4), prop::array::uniform3(-2.0f64..2.0)).prop_map(|(m, t)| {
+        let map = DMat3::IDENTITY + DMat3::from_cols_array(&m);
+        let (positions, faces) = shapes::icosahedron_soup(1.0);
+        let flip = map.determinant() < 0.0;
+        let positions = positions.into_iter().map(|p| map * p + DVec3::from_array(t)).collect();
+        let faces: Vec<[u32; 3]> = faces.into_iter().map(|f| if flip { [f[0], f[2], f[1]] } else { f }).collect();
+        Cage::from_triangles(positions, &faces).expect("affine image of a convex cage")
+    })
+}
+
+/// A non-convex, star-shaped cage: an icosphere with random radii in [0.5, 1.3].
+pub fn star_cage() -> impl Strategy<Value = Cage> {
+    prop::collection::vec(0.5f64..1.3, 42).prop_map(|radii| {
+        let (positions, faces) = icosphere_soup();
+        let positions = positions.iter().zip(&radii).map(|(p, r)| *p * *r).collect();
+        Cage::from_triangles(positions, &faces).expect("star-shaped cage")
+    })
+}
+
+/// Random points inside a star-shaped or convex cage around the centroid of its vertices:
+/// a fraction of the way from the centroid to the cage along random directions.
+pub fn interior_points(cage: &Cage, seeds: &[(DVec3, f64)]) -> Vec<DVec3> {
+    let centre = cage.positions().iter().sum::<DVec3>() / cage.vertex_count() as f64;
+    seeds
+        .iter()
+        .filter_map(|&(dir, frac)| {
+            let dir = dir.try_normalize()?;
+            let hit = ray_exit(cage, centre, dir)?;
+            Some(centre + dir * hit * frac)
+        })
+        .collect()
+}
+
+fn ray_exit(cage: &Cage, origin: DVec3, dir: DVec3) -> Option<f64> {
+    let p = cage.positions();
+    cage.triangles()
+        .iter()
+        .filter_map(|&[a, b, c]| {
+            let (a, b, c) = (p[a as usize], p[b as usize], p[c as usize]);
+            let (e1, e2) = (b - a, c - a);
+            let h = dir.cross(e2);
+            let det = e1.dot(h);
+            if det.abs() < 1e-14 {
+                return None;
+            }
+            let s = origin - a;
+            let u = s.dot(h) / det;
+            let q = s.cross(e1);
+            let v = dir.dot(q) / det;
+            let t = e2.dot(q) / det;
+            (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
+        })
+        .reduce(f64::min)
+}
+
+pub fn seeds(n: usize) -> impl Strategy<Value = Vec<(DVec3, f64)>> {
+    prop::collection::vec(
+        (prop::array::uniform3(-1.0f64..1.0).prop_map(DVec3::from_array), 0.02f64..0.95),
+        n,
+    )
+}
+
+pub fn similarity() -> impl Strategy<Value = (DQuat, f64, DVec3)> {
+    (
+        prop::array::uniform3(-1.0f64..1.0),
+        -3.0f64..3.0,
+        0.3f64..3.0,
+        prop::array::uniform3(-5.0f64..5.0),
+    )
+        .prop_map(|(axis, angle, scale, t)| {
+            let axis = DVec3::from_array(axis).try_normalize().unwrap_or(DVec3::Z);
+            (DQuat::from_axis_angle(axis, angle), scale, DVec3::from_array(t))
+        })
+}
+
+pub fn affine() -> impl Strategy<Value = (DMat3, DVec3)> {
+    (prop::array::uniform9(-1.0f64..1.0), prop::array::uniform3(-5.0f64..5.0))
+        .prop_map(|(m, t)| (DMat3::IDENTITY + DMat3::from_cols_array(&m) * 0.5, DVec3::from_array(t)))
+}
