@@ -8,36 +8,29 @@ use starcages_core::cage::shapes;
 
 /// Icosphere: the icosahedron subdivided once (42 vertices, 80 faces), unit radius.
 pub fn icosphere_soup() -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let (mut positions, faces) = shapes::icosahedron_soup(1.0);
-    let mut midpoint = std::collections::BTreeMap::new();
-    let mut out = Vec::new();
-    for f in faces {
-        let mut mid = [0u32; 3];
-        for k in 0..3 {
-            let (a, b) = (f[k].min(f[(k + 1) % 3]), f[k].max(f[(k + 1) % 3]));
-            mid[k] = *midpoint.entry((a, b)).or_insert_with(|| {
-                positions.push(((positions[a as usize] + positions[b as usize]) * 0.5).normalize());
-                positions.len() as u32 - 1
-            });
-        }
-        out.push([f[0], mid[0], mid[2]]);
-        out.push([f[1], mid[1], mid[0]]);
-        out.push([f[2], mid[2], mid[1]]);
-        out.push([mid[0], mid[1], mid[2]]);
-    }
-    (positions, out)
+    shapes::icosphere_soup(1)
 }
 
 /// A convex cage: an icosahedron under a random well-conditioned linear map and translation.
 pub fn convex_cage() -> impl Strategy<Value = Cage> {
-    (prop::array::uniform9(-0.4f64..0.4), prop::array::uniform3(-2.0f64..2.0)).prop_map(|(m, t)| {
-        let map = DMat3::IDENTITY + DMat3::from_cols_array(&m);
-        let (positions, faces) = shapes::icosahedron_soup(1.0);
-        let flip = map.determinant() < 0.0;
-        let positions = positions.into_iter().map(|p| map * p + DVec3::from_array(t)).collect();
-        let faces: Vec<[u32; 3]> = faces.into_iter().map(|f| if flip { [f[0], f[2], f[1]] } else { f }).collect();
-        Cage::from_triangles(positions, &faces).expect("affine image of a convex cage")
-    })
+    (
+        prop::array::uniform9(-0.4f64..0.4),
+        prop::array::uniform3(-2.0f64..2.0),
+    )
+        .prop_map(|(m, t)| {
+            let map = DMat3::IDENTITY + DMat3::from_cols_array(&m);
+            let (positions, faces) = shapes::icosahedron_soup(1.0);
+            let flip = map.determinant() < 0.0;
+            let positions = positions
+                .into_iter()
+                .map(|p| map * p + DVec3::from_array(t))
+                .collect();
+            let faces: Vec<[u32; 3]> = faces
+                .into_iter()
+                .map(|f| if flip { [f[0], f[2], f[1]] } else { f })
+                .collect();
+            Cage::from_triangles(positions, &faces).expect("affine image of a convex cage")
+        })
 }
 
 /// A non-convex, star-shaped cage: an icosphere with random radii in [0.5, 1.3].
@@ -87,7 +80,10 @@ fn ray_exit(cage: &Cage, origin: DVec3, dir: DVec3) -> Option<f64> {
 
 pub fn seeds(n: usize) -> impl Strategy<Value = Vec<(DVec3, f64)>> {
     prop::collection::vec(
-        (prop::array::uniform3(-1.0f64..1.0).prop_map(DVec3::from_array), 0.02f64..0.95),
+        (
+            prop::array::uniform3(-1.0f64..1.0).prop_map(DVec3::from_array),
+            0.02f64..0.95,
+        ),
         n,
     )
 }
@@ -101,11 +97,23 @@ pub fn similarity() -> impl Strategy<Value = (DQuat, f64, DVec3)> {
     )
         .prop_map(|(axis, angle, scale, t)| {
             let axis = DVec3::from_array(axis).try_normalize().unwrap_or(DVec3::Z);
-            (DQuat::from_axis_angle(axis, angle), scale, DVec3::from_array(t))
+            (
+                DQuat::from_axis_angle(axis, angle),
+                scale,
+                DVec3::from_array(t),
+            )
         })
 }
 
 pub fn affine() -> impl Strategy<Value = (DMat3, DVec3)> {
-    (prop::array::uniform9(-1.0f64..1.0), prop::array::uniform3(-5.0f64..5.0))
-        .prop_map(|(m, t)| (DMat3::IDENTITY + DMat3::from_cols_array(&m) * 0.5, DVec3::from_array(t)))
+    (
+        prop::array::uniform9(-1.0f64..1.0),
+        prop::array::uniform3(-5.0f64..5.0),
+    )
+        .prop_map(|(m, t)| {
+            (
+                DMat3::IDENTITY + DMat3::from_cols_array(&m) * 0.5,
+                DVec3::from_array(t),
+            )
+        })
 }

@@ -11,7 +11,13 @@ use starcages_core::coords::GreenWeights;
 use starcages_core::{BindControl, BindSettings, Cage, CageWeights, CoordinateKind, bind};
 
 fn gc(cage: &Cage, points: &[DVec3]) -> GreenWeights {
-    match bind(CoordinateKind::Green, cage, points, &BindSettings::default(), &BindControl::default()) {
+    match bind(
+        CoordinateKind::Green,
+        cage,
+        points,
+        &BindSettings::default(),
+        &BindControl::default(),
+    ) {
         Ok(CageWeights::Green(g)) => g,
         other => panic!("unexpected {other:?}"),
     }
@@ -19,8 +25,18 @@ fn gc(cage: &Cage, points: &[DVec3]) -> GreenWeights {
 
 fn reproduce(cage: &Cage, g: &GreenWeights, i: usize) -> DVec3 {
     let normals = cage.triangle_normals();
-    let a: DVec3 = g.phi_row(i).iter().zip(cage.positions()).map(|(&w, &v)| w * v).sum();
-    let b: DVec3 = g.psi_row(i).iter().zip(&normals).map(|(&w, &n)| w * n).sum();
+    let a: DVec3 = g
+        .phi_row(i)
+        .iter()
+        .zip(cage.positions())
+        .map(|(&w, &v)| w * v)
+        .sum();
+    let b: DVec3 = g
+        .psi_row(i)
+        .iter()
+        .zip(&normals)
+        .map(|(&w, &n)| w * n)
+        .sum();
     a + b
 }
 
@@ -73,8 +89,8 @@ fn points_on_edge_lines_and_faces_stay_finite() {
     let pts = [on_edge, on_face, near, DVec3::new(0.5, 0.5, 0.5)];
     let g = gc(&cage, &pts);
     assert!(g.phi.iter().chain(&g.psi).all(|x| x.is_finite()));
-    for i in 0..pts.len() {
+    for (i, p) in pts.iter().enumerate() {
         let q = reproduce(&cage, &g, i);
-        assert!((q - pts[i]).length() < 1e-8, "{i}: {q} vs {}", pts[i]);
+        assert!((q - *p).length() < 1e-8, "{i}: {q} vs {p}");
     }
 }

@@ -9,7 +9,9 @@ use glam::DVec3;
 use proptest::prelude::*;
 use starcages_core::cage::shapes;
 use starcages_core::coords::HarmonicSettings;
-use starcages_core::{BindControl, BindSettings, Cage, CageWeights, CoordError, CoordinateKind, bind};
+use starcages_core::{
+    BindControl, BindSettings, Cage, CageWeights, CoordError, CoordinateKind, bind,
+};
 
 fn hc_at(cage: &Cage, points: &[DVec3], resolution: u32) -> Result<Vec<Vec<f64>>, CoordError> {
     let settings = BindSettings {
@@ -18,8 +20,16 @@ fn hc_at(cage: &Cage, points: &[DVec3], resolution: u32) -> Result<Vec<Vec<f64>>
             ..Default::default()
         },
     };
-    match bind(CoordinateKind::Harmonic, cage, points, &settings, &BindControl::default())? {
-        CageWeights::Vertex { weights, .. } => Ok((0..points.len()).map(|i| weights.row(i).to_vec()).collect()),
+    match bind(
+        CoordinateKind::Harmonic,
+        cage,
+        points,
+        &settings,
+        &BindControl::default(),
+    )? {
+        CageWeights::Vertex { weights, .. } => {
+            Ok((0..points.len()).map(|i| weights.row(i).to_vec()).collect())
+        }
         CageWeights::Green(_) => panic!("green weights from hc"),
     }
 }
@@ -62,15 +72,25 @@ proptest! {
 
 #[test]
 fn linear_precision_error_shrinks_as_the_grid_refines() {
-    for cage in [shapes::l_prism(), shapes::star_prism(), shapes::icosahedron(1.0)] {
+    for cage in [
+        shapes::l_prism(),
+        shapes::star_prism(),
+        shapes::icosahedron(1.0),
+    ] {
         let pts = grid_points(&cage, 7);
         let max_error = |res| {
             let w = hc_at(&cage, &pts, res).unwrap();
-            pts.iter().zip(&w).map(|(p, w)| linear_error(&cage, *p, w)).fold(0.0, f64::max)
+            pts.iter()
+                .zip(&w)
+                .map(|(p, w)| linear_error(&cage, *p, w))
+                .fold(0.0, f64::max)
         };
         let (coarse, fine) = (max_error(16), max_error(32));
         assert!(coarse < 0.05, "error at 16: {coarse}");
-        assert!(fine < 0.7 * coarse, "no convergence: {coarse} at 16 -> {fine} at 32");
+        assert!(
+            fine < 0.7 * coarse,
+            "no convergence: {coarse} at 16 -> {fine} at 32"
+        );
     }
 }
 
@@ -96,7 +116,15 @@ fn agrees_with_mvc_on_a_convex_cages_faces() {
         pts.push(p[a as usize] * bary[0] + p[b as usize] * bary[1] + p[c as usize] * bary[2]);
     }
     let hc = hc_at(&cage, &pts, 16).unwrap();
-    let mvc = match bind(CoordinateKind::MeanValue, &cage, &pts, &BindSettings::default(), &BindControl::default()).unwrap() {
+    let mvc = match bind(
+        CoordinateKind::MeanValue,
+        &cage,
+        &pts,
+        &BindSettings::default(),
+        &BindControl::default(),
+    )
+    .unwrap()
+    {
         CageWeights::Vertex { weights, .. } => weights,
         CageWeights::Green(_) => unreachable!(),
     };
@@ -108,14 +136,22 @@ fn agrees_with_mvc_on_a_convex_cages_faces() {
     // And continuously so: just inside a face, HC approaches the same values.
     let n = cage.triangle_normals()[0];
     let w_in = hc_at(&cage, &[pts[0] - n * 1e-6], 16).unwrap();
-    let gap = w_in[0].iter().zip(mvc.row(0)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let gap = w_in[0]
+        .iter()
+        .zip(mvc.row(0))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
     assert!(gap < 1e-3, "jump {gap} next to the face");
 }
 
 #[test]
 fn outside_points_are_named_in_a_typed_error() {
     let cage = shapes::cuboid(DVec3::ZERO, DVec3::ONE);
-    let pts = [DVec3::splat(0.5), DVec3::splat(2.0), DVec3::new(0.5, 0.5, -0.1)];
+    let pts = [
+        DVec3::splat(0.5),
+        DVec3::splat(2.0),
+        DVec3::new(0.5, 0.5, -0.1),
+    ];
     match hc_at(&cage, &pts, 8) {
         Err(CoordError::OutsideCage { points, count, .. }) => {
             assert_eq!(points, vec![1, 2]);
@@ -124,7 +160,10 @@ fn outside_points_are_named_in_a_typed_error() {
         other => panic!("expected OutsideCage, got {other:?}"),
     }
     let message = hc_at(&cage, &pts, 8).unwrap_err().to_string();
-    assert!(message.contains("points 1, 2") && message.contains("use mvc or gc"), "{message}");
+    assert!(
+        message.contains("points 1, 2") && message.contains("use mvc or gc"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -133,7 +172,13 @@ fn cancelled_bind_stops() {
     let control = BindControl::default();
     control.cancel();
     for kind in CoordinateKind::ALL {
-        let r = bind(kind, &cage, &[DVec3::splat(0.5); 10], &BindSettings::default(), &control);
+        let r = bind(
+            kind,
+            &cage,
+            &[DVec3::splat(0.5); 10],
+            &BindSettings::default(),
+            &control,
+        );
         assert_eq!(r.unwrap_err(), CoordError::Cancelled);
     }
 }

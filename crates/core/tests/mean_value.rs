@@ -10,8 +10,16 @@ use starcages_core::cage::shapes;
 use starcages_core::{BindControl, BindSettings, Cage, CageWeights, CoordinateKind, bind};
 
 fn mvc(cage: &Cage, points: &[DVec3]) -> Vec<Vec<f64>> {
-    match bind(CoordinateKind::MeanValue, cage, points, &BindSettings::default(), &BindControl::default()) {
-        Ok(CageWeights::Vertex { weights, .. }) => (0..points.len()).map(|i| weights.row(i).to_vec()).collect(),
+    match bind(
+        CoordinateKind::MeanValue,
+        cage,
+        points,
+        &BindSettings::default(),
+        &BindControl::default(),
+    ) {
+        Ok(CageWeights::Vertex { weights, .. }) => {
+            (0..points.len()).map(|i| weights.row(i).to_vec()).collect()
+        }
         other => panic!("unexpected {other:?}"),
     }
 }
@@ -20,7 +28,10 @@ fn assert_reproduces(cage: &Cage, p: DVec3, w: &[f64], tol: f64) {
     let sum: f64 = w.iter().sum();
     assert!((sum - 1.0).abs() < tol, "partition of unity: {sum}");
     let q: DVec3 = w.iter().zip(cage.positions()).map(|(&w, &v)| w * v).sum();
-    assert!((q - p).length() < tol * (1.0 + p.length()), "linear precision: {q} vs {p}");
+    assert!(
+        (q - p).length() < tol * (1.0 + p.length()),
+        "linear precision: {q} vs {p}"
+    );
 }
 
 proptest! {
@@ -66,7 +77,11 @@ proptest! {
 fn finite_and_smooth_next_to_face_edge_and_vertex() {
     let cage = shapes::cuboid(DVec3::ZERO, DVec3::ONE);
     // On the bottom face (z = 0), on the edge y = z = 0, and at the vertex 0.
-    let sites = [DVec3::new(0.3, 0.6, 0.0), DVec3::new(0.3, 0.0, 0.0), DVec3::ZERO];
+    let sites = [
+        DVec3::new(0.3, 0.6, 0.0),
+        DVec3::new(0.3, 0.0, 0.0),
+        DVec3::ZERO,
+    ];
     for site in sites {
         let on = mvc(&cage, &[site])[0].clone();
         assert_reproduces(&cage, site, &on, 1e-12);
@@ -78,13 +93,27 @@ fn finite_and_smooth_next_to_face_edge_and_vertex() {
                 let w = &mvc(&cage, &[p])[0];
                 assert!(w.iter().all(|x| x.is_finite()), "non-finite at {p}");
                 assert_reproduces(&cage, p, w, 1e-8);
-                let gap = w.iter().zip(&on).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                let gap = w
+                    .iter()
+                    .zip(&on)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
                 // C0 and no blow-up: the change is bounded by a few times the distance.
-                assert!(gap < 20.0 * delta + 1e-7, "jump {gap} at distance {delta} from {site}");
+                assert!(
+                    gap < 20.0 * delta + 1e-7,
+                    "jump {gap} at distance {delta} from {site}"
+                );
             }
             let w = &mvc(&cage, &[site + inward * delta])[0];
-            let step = w.iter().zip(&previous).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            assert!(step < 20.0 * delta + 1e-7, "not smooth towards {site}: step {step}");
+            let step = w
+                .iter()
+                .zip(&previous)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                step < 20.0 * delta + 1e-7,
+                "not smooth towards {site}: step {step}"
+            );
             previous = w.clone();
         }
     }
@@ -101,7 +130,10 @@ fn point_on_vertex_and_edge_are_exact() {
     let [a, b] = cage.edges()[0];
     let p = cage.positions()[a as usize] * 0.25 + cage.positions()[b as usize] * 0.75;
     let w = &mvc(&cage, &[p])[0];
-    assert!((w[a as usize] - 0.25).abs() < 1e-12 && (w[b as usize] - 0.75).abs() < 1e-12, "{w:?}");
+    assert!(
+        (w[a as usize] - 0.25).abs() < 1e-12 && (w[b as usize] - 0.75).abs() < 1e-12,
+        "{w:?}"
+    );
 }
 
 #[test]
@@ -117,7 +149,14 @@ fn negative_somewhere_in_non_convex_cages() {
                 }
             }
         }
-        let min = mvc(&cage, &points).iter().flatten().copied().fold(f64::INFINITY, f64::min);
-        assert!(min < 0.0, "MVC expected negative inside a non-convex cage, min {min}");
+        let min = mvc(&cage, &points)
+            .iter()
+            .flatten()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            min < 0.0,
+            "MVC expected negative inside a non-convex cage, min {min}"
+        );
     }
 }

@@ -13,7 +13,9 @@ pub enum CageError {
         count: usize,
     },
     /// A vertex coordinate is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z}); fix or remove that vertex")]
+    #[error(
+        "vertex {vertex} has a non-finite coordinate ({x}, {y}, {z}); fix or remove that vertex"
+    )]
     NonFiniteVertex {
         /// Offending vertex.
         vertex: usize,
@@ -73,7 +75,9 @@ pub enum CageError {
         vertex: usize,
     },
     /// An edge has a single face: the cage has a hole.
-    #[error("cage is not closed: edge ({a}, {b}) has only face {face}; close the hole along that edge")]
+    #[error(
+        "cage is not closed: edge ({a}, {b}) has only face {face}; close the hole along that edge"
+    )]
     OpenEdge {
         /// First vertex of the edge.
         a: usize,

@@ -57,7 +57,10 @@ impl Cage {
     }
 
     /// Builds a cage from triangles, validating it.
-    pub fn from_triangles(positions: Vec<DVec3>, triangles: &[[u32; 3]]) -> Result<Self, CageError> {
+    pub fn from_triangles(
+        positions: Vec<DVec3>,
+        triangles: &[[u32; 3]],
+    ) -> Result<Self, CageError> {
         Self::from_polygons(positions, triangles.iter().map(|t| t.to_vec()).collect())
     }
 
@@ -267,7 +270,9 @@ pub mod shapes {
                 if z == 0 { min.z } else { max.z },
             )
         };
-        let positions = (0..8).map(|i| p(i & 1, (i >> 1) & 1, (i >> 2) & 1)).collect();
+        let positions = (0..8)
+            .map(|i| p(i & 1, (i >> 1) & 1, (i >> 2) & 1))
+            .collect();
         // Vertex i = x + 2y + 4z.
         let faces = vec![
             vec![0, 2, 3, 1], // z = min
@@ -285,7 +290,8 @@ pub mod shapes {
     /// every outline edge (lie in the outline's kernel).
     pub fn prism(outline: &[[f64; 2]], centre: [f64; 2], z0: f64, z1: f64) -> Cage {
         let n = outline.len() as u32;
-        let mut positions: Vec<DVec3> = outline.iter().map(|q| DVec3::new(q[0], q[1], z0)).collect();
+        let mut positions: Vec<DVec3> =
+            outline.iter().map(|q| DVec3::new(q[0], q[1], z0)).collect();
         positions.extend(outline.iter().map(|q| DVec3::new(q[0], q[1], z1)));
         let [cx, cy] = centre;
         positions.push(DVec3::new(cx, cy, z0));
@@ -304,7 +310,14 @@ pub mod shapes {
     /// L-shaped prism (non-convex), 2 × 2 × 1 with a 1 × 1 notch.
     pub fn l_prism() -> Cage {
         prism(
-            &[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]],
+            &[
+                [0.0, 0.0],
+                [2.0, 0.0],
+                [2.0, 1.0],
+                [1.0, 1.0],
+                [1.0, 2.0],
+                [0.0, 2.0],
+            ],
             [0.5, 0.5],
             0.0,
             1.0,
@@ -329,23 +342,77 @@ pub mod shapes {
         Cage::from_triangles(positions, &faces).expect("an icosahedron is a valid cage")
     }
 
+    /// Icosphere soup: the icosahedron with each triangle split in four `subdivisions` times,
+    /// vertices on the unit sphere (`subdivisions = 1`: 42 vertices, 80 triangles).
+    pub fn icosphere_soup(subdivisions: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let (mut positions, mut faces) = icosahedron_soup(1.0);
+        for _ in 0..subdivisions {
+            let mut midpoint = std::collections::BTreeMap::new();
+            let mut out = Vec::with_capacity(faces.len() * 4);
+            for f in &faces {
+                let mut mid = [0u32; 3];
+                for k in 0..3 {
+                    let (a, b) = (f[k].min(f[(k + 1) % 3]), f[k].max(f[(k + 1) % 3]));
+                    mid[k] = *midpoint.entry((a, b)).or_insert_with(|| {
+                        let m = (positions[a as usize] + positions[b as usize]) * 0.5;
+                        positions.push(m.normalize());
+                        positions.len() as u32 - 1
+                    });
+                }
+                out.extend([
+                    [f[0], mid[0], mid[2]],
+                    [f[1], mid[1], mid[0]],
+                    [f[2], mid[2], mid[1]],
+                    mid,
+                ]);
+            }
+            faces = out;
+        }
+        (positions, faces)
+    }
+
     /// Vertex positions and outward triangles of a regular icosahedron.
     pub fn icosahedron_soup(r: f64) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         let t = (1.0 + 5f64.sqrt()) / 2.0;
         let raw = [
-            [-1.0, t, 0.0], [1.0, t, 0.0], [-1.0, -t, 0.0], [1.0, -t, 0.0],
-            [0.0, -1.0, t], [0.0, 1.0, t], [0.0, -1.0, -t], [0.0, 1.0, -t],
-            [t, 0.0, -1.0], [t, 0.0, 1.0], [-t, 0.0, -1.0], [-t, 0.0, 1.0],
+            [-1.0, t, 0.0],
+            [1.0, t, 0.0],
+            [-1.0, -t, 0.0],
+            [1.0, -t, 0.0],
+            [0.0, -1.0, t],
+            [0.0, 1.0, t],
+            [0.0, -1.0, -t],
+            [0.0, 1.0, -t],
+            [t, 0.0, -1.0],
+            [t, 0.0, 1.0],
+            [-t, 0.0, -1.0],
+            [-t, 0.0, 1.0],
         ];
         let positions = raw
             .iter()
             .map(|v| DVec3::from_array(*v).normalize() * r)
             .collect();
         let faces = vec![
-            [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-            [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-            [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-            [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
         ];
         (positions, faces)
     }

@@ -90,9 +90,6 @@ fn check_topology(vertex_count: usize, faces: &[Vec<u32>], problems: &mut Vec<Ca
             directed.entry((a, b)).or_default().push(f);
         }
     }
-    for (v, _) in used.iter().enumerate().filter(|(_, u)| !**u) {
-        problems.push(CageError::UnusedVertex { vertex: v });
-    }
     for (&(a, b), fwd) in &directed {
         if a > b && directed.contains_key(&(b, a)) {
             continue; // reported from the (b, a) side
@@ -120,6 +117,9 @@ fn check_topology(vertex_count: usize, faces: &[Vec<u32>], problems: &mut Vec<Ca
                 b: b as usize,
             });
         }
+    }
+    for (v, _) in used.iter().enumerate().filter(|(_, u)| !**u) {
+        problems.push(CageError::UnusedVertex { vertex: v });
     }
 }
 
@@ -188,7 +188,10 @@ mod tests {
         let (p2, mut f2) = cube_soup();
         f2[0].reverse();
         let e = Cage::from_polygons(p2, f2).unwrap_err();
-        assert!(matches!(e, CageError::InconsistentOrientation { .. }), "{e}");
+        assert!(
+            matches!(e, CageError::InconsistentOrientation { .. }),
+            "{e}"
+        );
         assert!(e.to_string().contains("flip face"));
 
         let (p3, f3) = cube_soup();
@@ -204,15 +207,26 @@ mod tests {
         p5.push(p5[2]);
         let probs = check(&p5, &f5);
         assert!(probs.contains(&CageError::UnusedVertex { vertex: 8 }));
-        assert!(probs.contains(&CageError::DuplicateVertex { first: 2, second: 8 }));
+        assert!(probs.contains(&CageError::DuplicateVertex {
+            first: 2,
+            second: 8
+        }));
 
         let (p6, mut f6) = cube_soup();
         f6.push(vec![0, 1, 2]);
-        assert!(check(&p6, &f6).iter().any(|e| matches!(e, CageError::NonManifoldEdge { .. })));
+        assert!(
+            check(&p6, &f6)
+                .iter()
+                .any(|e| matches!(e, CageError::NonManifoldEdge { .. }))
+        );
 
         let (mut p7, f7) = cube_soup();
         p7[7] = p7[3]; // collapse the top-right edge: degenerate faces and a duplicate
-        assert!(check(&p7, &f7).iter().any(|e| matches!(e, CageError::DegenerateFace { .. })));
+        assert!(
+            check(&p7, &f7)
+                .iter()
+                .any(|e| matches!(e, CageError::DegenerateFace { .. }))
+        );
 
         assert!(matches!(
             Cage::from_polygons(p.clone()[..3].to_vec(), vec![vec![0, 1, 2], vec![0, 2, 1]]),

@@ -44,6 +44,10 @@ impl BindControl {
     }
 
     pub(crate) fn check(&self) -> Result<(), CoordError> {
-        if self.is_cancelled() { Err(CoordError::Cancelled) } else { Ok(()) }
+        if self.is_cancelled() {
+            Err(CoordError::Cancelled)
+        } else {
+            Ok(())
+        }
     }
 }

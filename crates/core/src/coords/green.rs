@@ -125,25 +125,33 @@ fn green_point_raw(
     scratch.len.extend(scratch.rel.iter().map(|v| v.length()));
     let (rel, len) = (&scratch.rel, &scratch.len);
     scratch.edge.clear();
-    scratch
-        .edge
-        .extend(cage.edges().iter().zip(&gc.edge_lengths).map(|(&[a, b], &l)| {
-            let (va, vb) = (rel[a as usize], rel[b as usize]);
-            let (ra, rb) = (len[a as usize], len[b as usize]);
-            let dot = va.dot(vb);
-            let sum = ra + rb;
-            // R_a + R_b − l = 2 (R_a R_b + v_a·v_b) / (R_a + R_b + l), without cancellation.
-            let near = 2.0 * (ra * rb + dot);
-            let log = if near > 0.0 && sum > 0.0 {
-                ((sum + l) * (sum + l) / near).ln()
-            } else {
-                0.0 // η on the edge segment: the 0/0 case, whose limit drops the term
-            };
-            (log, dot, va.cross(vb))
-        }));
+    scratch.edge.extend(
+        cage.edges()
+            .iter()
+            .zip(&gc.edge_lengths)
+            .map(|(&[a, b], &l)| {
+                let (va, vb) = (rel[a as usize], rel[b as usize]);
+                let (ra, rb) = (len[a as usize], len[b as usize]);
+                let dot = va.dot(vb);
+                let sum = ra + rb;
+                // R_a + R_b − l = 2 (R_a R_b + v_a·v_b) / (R_a + R_b + l), without cancellation.
+                let near = 2.0 * (ra * rb + dot);
+                let log = if near > 0.0 && sum > 0.0 {
+                    ((sum + l) * (sum + l) / near).ln()
+                } else {
+                    0.0 // η on the edge segment: the 0/0 case, whose limit drops the term
+                };
+                (log, dot, va.cross(vb))
+            }),
+    );
     let edge = &scratch.edge;
     let mut winding = 0.0;
-    for (t, (tri, tri_edges)) in cage.triangles().iter().zip(cage.triangle_edges()).enumerate() {
+    for (t, (tri, tri_edges)) in cage
+        .triangles()
+        .iter()
+        .zip(cage.triangle_edges())
+        .enumerate()
+    {
         let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
         let v = [rel[idx[0]], rel[idx[1]], rel[idx[2]]];
         let r = [len[idx[0]], len[idx[1]], len[idx[2]]];
@@ -170,8 +178,9 @@ fn green_point_raw(
         winding += omega;
         let nu = gc.edge_normals[t];
         // ψ_t = (Σ_e d_e L_e − h Ω) / 4π, with d_e = ν_e · v (any point of the edge).
-        let single = nu[0].dot(v[0]) * logs[0] + nu[1].dot(v[1]) * logs[1] + nu[2].dot(v[2]) * logs[2]
-            - h * omega;
+        let single =
+            nu[0].dot(v[0]) * logs[0] + nu[1].dot(v[1]) * logs[1] + nu[2].dot(v[2]) * logs[2]
+                - h * omega;
         psi[t] = single / (4.0 * PI);
         // G = Ω n − Σ_e ν_e L_e; m_i = G · (v_{i+1} × v_{i+2}) / 2A; φ_i += m_i / 4π.
         let g = n * omega - nu[0] * logs[0] - nu[1] * logs[1] - nu[2] * logs[2];

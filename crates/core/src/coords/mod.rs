@@ -70,7 +70,9 @@ impl FromStr for CoordinateKind {
             "mvc" | "mean-value" | "meanvalue" => Ok(Self::MeanValue),
             "hc" | "harmonic" => Ok(Self::Harmonic),
             "gc" | "green" => Ok(Self::Green),
-            other => Err(format!("unknown coordinate kind '{other}'; use mvc, hc or gc")),
+            other => Err(format!(
+                "unknown coordinate kind '{other}'; use mvc, hc or gc"
+            )),
         }
     }
 }
@@ -113,6 +115,14 @@ pub enum CoordError {
         /// Vertices given.
         got: usize,
     },
+    /// The harmonic solver hit its iteration cap (a degenerate cage or too low a cap).
+    #[error(
+        "harmonic coordinates did not converge in {iterations} iterations; raise max_iterations or check the cage"
+    )]
+    NotConverged {
+        /// Iterations run.
+        iterations: usize,
+    },
     /// The bind was cancelled through its [`BindControl`].
     #[error("binding was cancelled")]
     Cancelled,
@@ -120,7 +130,12 @@ pub enum CoordError {
 
 impl CoordError {
     fn outside(points: Vec<usize>) -> Self {
-        let mut listed = points.iter().take(10).map(usize::to_string).collect::<Vec<_>>().join(", ");
+        let mut listed = points
+            .iter()
+            .take(10)
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
         if points.len() > 10 {
             listed.push_str(", …");
         }
@@ -144,7 +159,10 @@ pub struct VertexWeights {
 impl VertexWeights {
     /// Number of points (rows).
     pub fn point_count(&self) -> usize {
-        self.weights.len().checked_div(self.vertex_count).unwrap_or(0)
+        self.weights
+            .len()
+            .checked_div(self.vertex_count)
+            .unwrap_or(0)
     }
 
     /// Weights of point `i` over the cage vertices.
@@ -243,9 +261,14 @@ impl CageWeights {
                 (0..self.point_count())
                     .into_par_iter()
                     .map(|i| {
-                        let vertex_part: DVec3 = g.phi_row(i).iter().zip(posed).map(|(&w, &v)| w * v).sum();
-                        let face_part: DVec3 =
-                            g.psi_row(i).iter().zip(&scaled_normals).map(|(&w, &n)| w * n).sum();
+                        let vertex_part: DVec3 =
+                            g.phi_row(i).iter().zip(posed).map(|(&w, &v)| w * v).sum();
+                        let face_part: DVec3 = g
+                            .psi_row(i)
+                            .iter()
+                            .zip(&scaled_normals)
+                            .map(|(&w, &n)| w * n)
+                            .sum();
                         vertex_part + face_part
                     })
                     .collect()
@@ -273,9 +296,16 @@ pub fn bind(
     Ok(match kind {
         CoordinateKind::MeanValue => {
             let mut weights = vec![0.0; points.len() * n];
-            for_each_row_chunk(&mut weights, n, points, control, mvc::MvcScratch::default, |p, row, scratch| {
-                mvc::mvc_point(cage, p, row, scratch);
-            })?;
+            for_each_row_chunk(
+                &mut weights,
+                n,
+                points,
+                control,
+                mvc::MvcScratch::default,
+                |p, row, scratch| {
+                    mvc::mvc_point(cage, p, row, scratch);
+                },
+            )?;
             CageWeights::Vertex {
                 kind,
                 weights: VertexWeights {
@@ -300,21 +330,24 @@ pub fn bind(
             phi.par_chunks_mut(CHUNK * n.max(1))
                 .zip(psi.par_chunks_mut(CHUNK * f.max(1)))
                 .zip(points.par_chunks(CHUNK))
-                .try_for_each_init(green::GreenScratch::default, |scratch, ((phi, psi), pts)| {
-                    control.check()?;
-                    for (k, &p) in pts.iter().enumerate() {
-                        green::green_point(
-                            cage,
-                            &gc,
-                            p,
-                            &mut phi[k * n..(k + 1) * n],
-                            &mut psi[k * f..(k + 1) * f],
-                            scratch,
-                        );
-                    }
-                    control.advance();
-                    Ok::<(), CoordError>(())
-                })?;
+                .try_for_each_init(
+                    green::GreenScratch::default,
+                    |scratch, ((phi, psi), pts)| {
+                        control.check()?;
+                        for (k, &p) in pts.iter().enumerate() {
+                            green::green_point(
+                                cage,
+                                &gc,
+                                p,
+                                &mut phi[k * n..(k + 1) * n],
+                                &mut psi[k * f..(k + 1) * f],
+                                scratch,
+                            );
+                        }
+                        control.advance();
+                        Ok::<(), CoordError>(())
+                    },
+                )?;
             CageWeights::Green(GreenWeights {
                 vertex_count: n,
                 face_count: f,

@@ -26,6 +26,7 @@ const COPLANAR: f64 = 1e-12;
 pub(crate) struct MvcScratch {
     unit: Vec<DVec3>,
     dist: Vec<f64>,
+    inv_dist: Vec<f64>,
     /// Per edge: θ, sin(θ/2), cos(θ/2).
     theta: Vec<[f64; 3]>,
 }
@@ -38,6 +39,7 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
     out.fill(0.0);
     scratch.unit.resize(n, DVec3::ZERO);
     scratch.dist.resize(n, 0.0);
+    scratch.inv_dist.resize(n, 0.0);
     let on_vertex = ON_VERTEX * cage.diagonal();
     for (i, &x) in positions.iter().enumerate() {
         let v = x - p;
@@ -46,11 +48,14 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
             out[i] = 1.0;
             return;
         }
+        let inv = 1.0 / d;
         scratch.dist[i] = d;
-        scratch.unit[i] = v / d;
+        scratch.inv_dist[i] = inv;
+        scratch.unit[i] = v * inv;
     }
     let unit = &scratch.unit;
     let dist = &scratch.dist;
+    let inv_dist = &scratch.inv_dist;
     scratch.theta.clear();
     scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
         // l = |u_a − u_b|, θ = 2 arcsin(l / 2): the arc between u_a and u_b.
@@ -90,21 +95,18 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
         }
         // c_i = cos A_i, A_i the spherical angle at u_i (Ju et al.'s c_i, by the cosine rule):
         // c_i = (cos θ_i − cos θ_{i+1} cos θ_{i−1}) / (sin θ_{i+1} sin θ_{i−1}).
-        let cc = [
-            (cos_th[0] - cos_th[1] * cos_th[2]) / (sin_th[1] * sin_th[2]),
-            (cos_th[1] - cos_th[2] * cos_th[0]) / (sin_th[2] * sin_th[0]),
-            (cos_th[2] - cos_th[0] * cos_th[1]) / (sin_th[0] * sin_th[1]),
-        ];
         // s_i = sign(det[u]) sin A_i. Ju et al. take sqrt(1 − c_i²), which loses every digit
-        // next to a face; the sine rule gives it directly: sin A_i = |det[u]| / (sin θ_{i+1}
-        // sin θ_{i−1}).
-        let det = unit[idx[0]].dot(unit[idx[1]].cross(unit[idx[2]]));
-        let ss = [
-            det / (sin_th[1] * sin_th[2]),
-            det / (sin_th[2] * sin_th[0]),
-            det / (sin_th[0] * sin_th[1]),
+        // next to a face; the sine rule gives it directly: s_i = det[u] / (sin θ_{i+1} sin θ_{i−1}).
+        // With P = sin θ_0 sin θ_1 sin θ_2, 1 / (sin θ_{i+1} sin θ_{i−1}) = sin θ_i / P.
+        let inv_p = 1.0 / (sin_th[0] * sin_th[1] * sin_th[2]);
+        let cc = [
+            (cos_th[0] - cos_th[1] * cos_th[2]) * sin_th[0] * inv_p,
+            (cos_th[1] - cos_th[2] * cos_th[0]) * sin_th[1] * inv_p,
+            (cos_th[2] - cos_th[0] * cos_th[1]) * sin_th[2] * inv_p,
         ];
-        if ss.iter().any(|v| v.abs() <= COPLANAR) {
+        let det = unit[idx[0]].dot(unit[idx[1]].cross(unit[idx[2]]));
+        let s_min = det.abs() * sin_th[0].min(sin_th[1]).min(sin_th[2]) * inv_p;
+        if s_min <= COPLANAR {
             if cc.iter().all(|&c| c < 0.0) {
                 // Every spherical angle near π: p lies on this triangle (Ju et al.'s π − h < ε).
                 barycentric(idx, sin_th, dist, out);
@@ -112,10 +114,15 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
             }
             continue; // p in the plane of the triangle, outside it: no contribution
         }
+        // w_i = (θ_i − c_{i+1} θ_{i−1} − c_{i−1} θ_{i+1}) / (d_i sin θ_{i+1} s_{i−1}); since
+        // sin θ_{i+1} s_{i−1} = det / sin θ_i, w_i = (…) sin θ_i / (d_i det).
+        let inv_det = 1.0 / det;
         for i in 0..3 {
             let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            // w_i = (θ_i − c_{i+1} θ_{i−1} − c_{i−1} θ_{i+1}) / (d_i sin θ_{i+1} s_{i−1})
-            let w = (th[i] - cc[i1] * th[i2] - cc[i2] * th[i1]) / (dist[idx[i]] * sin_th[i1] * ss[i2]);
+            let w = (th[i] - cc[i1] * th[i2] - cc[i2] * th[i1])
+                * sin_th[i]
+                * inv_det
+                * inv_dist[idx[i]];
             out[idx[i]] += w;
             total += w;
         }

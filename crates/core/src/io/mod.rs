@@ -18,12 +18,12 @@ pub use points::{parse_points, read_points};
 #[derive(Debug, Error)]
 pub enum FileError {
     /// The file could not be opened or read.
-    #[error("{path}: cannot read: {source}")]
+    #[error("{path}: cannot read: {error}")]
     Io {
         /// The file.
         path: PathBuf,
-        /// The system's reason.
-        source: std::io::Error,
+        /// The system's reason (part of the message, so not a `source`).
+        error: std::io::Error,
     },
     /// A line could not be parsed.
     #[error("{path}:{line}: {reason}")]
@@ -36,12 +36,12 @@ pub enum FileError {
         reason: String,
     },
     /// The file parsed but its content is not a valid cage.
-    #[error("{path}: invalid cage: {source}")]
+    #[error("{path}: invalid cage: {problem}")]
     InvalidCage {
         /// The file.
         path: PathBuf,
         /// The cage problem (element indices are 0-based, in file order).
-        source: CageError,
+        problem: CageError,
     },
 }
 
@@ -56,9 +56,9 @@ impl FileError {
 }
 
 pub(crate) fn read_text(path: &Path) -> Result<String, FileError> {
-    let bytes = std::fs::read(path).map_err(|source| FileError::Io {
+    let bytes = std::fs::read(path).map_err(|error| FileError::Io {
         path: path.to_path_buf(),
-        source,
+        error,
     })?;
     String::from_utf8(bytes).map_err(|e| {
         let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]

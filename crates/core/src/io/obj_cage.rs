@@ -41,11 +41,15 @@ pub fn read_cage_obj(path: &Path) -> Result<Cage, FileError> {
     let obj = read_obj_cages(path)?;
     let faces: Vec<Vec<u32>> = obj.groups.into_iter().flat_map(|g| g.faces).collect();
     if faces.is_empty() {
-        return Err(FileError::parse(path, 1, "no faces ('f' lines) in the file; a cage needs faces"));
+        return Err(FileError::parse(
+            path,
+            1,
+            "no faces ('f' lines) in the file; a cage needs faces",
+        ));
     }
-    Cage::from_polygons(obj.positions, faces).map_err(|source| FileError::InvalidCage {
+    Cage::from_polygons(obj.positions, faces).map_err(|problem| FileError::InvalidCage {
         path: path.to_path_buf(),
-        source,
+        problem,
     })
 }
 
@@ -101,7 +105,10 @@ pub fn parse_obj_cages(text: &str, path: &Path) -> Result<ObjCages, FileError> {
                     face.push(resolved as u32);
                 }
                 if face.len() < 3 {
-                    return Err(err(format!("face has {} corners; a face needs at least 3", face.len())));
+                    return Err(err(format!(
+                        "face has {} corners; a face needs at least 3",
+                        face.len()
+                    )));
                 }
                 current.faces.push(face);
                 current.face_lines.push(line_no);
@@ -111,7 +118,11 @@ pub fn parse_obj_cages(text: &str, path: &Path) -> Result<ObjCages, FileError> {
                 let finished = std::mem::replace(
                     &mut current,
                     ObjCageGroup {
-                        name: if name.is_empty() { format!("cage{}", out.groups.len()) } else { name },
+                        name: if name.is_empty() {
+                            format!("cage{}", out.groups.len())
+                        } else {
+                            name
+                        },
                         faces: Vec::new(),
                         face_lines: Vec::new(),
                     },
@@ -158,7 +169,10 @@ f 1 3 4 2\nf 5 6 8 7\nf 1//1 2//1 6//1 5//1\nf 3/1 7/1 8/1 4/1\nf 1 5 7 3\nf -7 
         let e = parse_obj_cages("v 0 0 0\nv 1 x 0\n", Path::new("c.obj")).unwrap_err();
         assert_eq!(e.to_string(), "c.obj:2: y 'x' is not a number");
         let e = parse_obj_cages("v 0 0 0\nf 1 2 3\n", Path::new("c.obj")).unwrap_err();
-        assert!(e.to_string().starts_with("c.obj:2: face corner 2 refers"), "{e}");
+        assert!(
+            e.to_string().starts_with("c.obj:2: face corner 2 refers"),
+            "{e}"
+        );
         let e = parse_obj_cages("v 0 0 0\nv 0 0 0\nf 1 2\n", Path::new("c.obj")).unwrap_err();
         assert!(e.to_string().contains("needs at least 3"), "{e}");
     }

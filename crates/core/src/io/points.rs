@@ -45,7 +45,10 @@ mod tests {
     fn comments_blank_lines_and_errors() {
         let p = Path::new("pts.txt");
         let pts = parse_points("# header\n\n1 2 3 # first\n  -4e-1\t5 6\n", p).unwrap();
-        assert_eq!(pts, vec![DVec3::new(1.0, 2.0, 3.0), DVec3::new(-0.4, 5.0, 6.0)]);
+        assert_eq!(
+            pts,
+            vec![DVec3::new(1.0, 2.0, 3.0), DVec3::new(-0.4, 5.0, 6.0)]
+        );
         let e = parse_points("1 2 3\n1 2\n", p).unwrap_err().to_string();
         assert_eq!(e, "pts.txt:2: expected 3 numbers 'x y z', found 2 fields");
         let e = parse_points("1 nan 3\n", p).unwrap_err().to_string();

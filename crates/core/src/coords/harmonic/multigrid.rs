@@ -7,9 +7,14 @@
 //! block and writes the other: safe, parallel and cache friendly. Each node stores its `K`
 //! values contiguously (`[f64; K]`), so the stencil works on whole rows.
 //!
-//! The V-cycle (symmetric red-black Gauss–Seidel, trilinear prolongation P, restriction ½ Pᵀ,
-//! re-discretised coarse Laplacians on injected masks) is a symmetric positive definite
-//! preconditioner, so CG converges even where coarse masks lose thin parts of the cage.
+//! The fine operator is D − (sum of unknown neighbours), symmetric with D ≥ 6 (the ghost-value
+//! boundary condition only raises the diagonal). The V-cycle (symmetric red-black
+//! Gauss–Seidel, trilinear prolongation P, restriction ½ Pᵀ, re-discretised 7-point
+//! Laplacians on injected coarse masks) is a symmetric positive definite preconditioner, so CG
+//! converges even where coarse masks lose thin parts of the cage.
+
+// Loops over the K right-hand-side columns index several rows at once; ranges read best.
+#![allow(clippy::needless_range_loop)]
 
 use glam::UVec3;
 use rayon::prelude::*;
@@ -35,6 +40,8 @@ struct Level {
     red: usize,
     /// Per slot, the slots of its 6 neighbours (the other colour's sentinel where absent).
     neighbours: Vec<[u32; 6]>,
+    /// Per slot, the diagonal of the operator (6 away from the cage; 1 sentinel).
+    diagonal: Vec<f64>,
 }
 
 impl Level {
@@ -54,7 +61,7 @@ impl Level {
         slot == self.red || slot == self.len() - 1
     }
 
-    fn new(dims: UVec3, unknown: &[bool]) -> Self {
+    fn new(dims: UVec3, unknown: &[bool], node_diagonal: Option<&[f64]>) -> Self {
         let colour = |n: usize| {
             let n = n as u32;
             (n % dims.x + (n / dims.x) % dims.y + n / (dims.x * dims.y)) % 2
@@ -65,7 +72,11 @@ impl Level {
             .collect();
         let red = node_of_slot.len();
         node_of_slot.push(NONE);
-        node_of_slot.extend((0..unknown.len()).filter(|&n| unknown[n] && colour(n) == 1).map(|n| n as u32));
+        node_of_slot.extend(
+            (0..unknown.len())
+                .filter(|&n| unknown[n] && colour(n) == 1)
+                .map(|n| n as u32),
+        );
         let black_sentinel = node_of_slot.len() as u32;
         node_of_slot.push(NONE);
         let mut slot_of_node = vec![NONE; unknown.len()];
@@ -92,12 +103,21 @@ impl Level {
                 })
             })
             .collect();
+        let diagonal = node_of_slot
+            .iter()
+            .map(|&n| match (n, node_diagonal) {
+                (NONE, _) => 1.0,
+                (n, Some(d)) => d[n as usize],
+                (_, None) => 6.0,
+            })
+            .collect();
         Self {
             dims,
             slot_of_node,
             node_of_slot,
             red,
             neighbours,
+            diagonal,
         }
     }
 
@@ -113,14 +133,15 @@ impl Level {
             for j in 1..d.y - 1 {
                 for i in 1..d.x - 1 {
                     let fine = 2 * i + self.dims.x * (2 * j + self.dims.y * 2 * k);
-                    unknown[(i + d.x * (j + d.y * k)) as usize] = self.slot_of_node[fine as usize] != NONE;
+                    unknown[(i + d.x * (j + d.y * k)) as usize] =
+                        self.slot_of_node[fine as usize] != NONE;
                 }
             }
         }
         if !unknown.iter().any(|&u| u) {
             return None;
         }
-        Some(Self::new(d, &unknown))
+        Some(Self::new(d, &unknown, None))
     }
 }
 
@@ -137,9 +158,10 @@ pub(super) struct SolveReport {
 }
 
 impl Hierarchy {
-    /// Builds the levels from the finest unknown mask.
-    pub fn new(dims: UVec3, unknown: &[bool]) -> Self {
-        let mut levels = vec![Level::new(dims, unknown)];
+    /// Builds the levels from the finest unknown mask and the fine operator's diagonal per
+    /// grid node (coarse levels use the plain 7-point Laplacian).
+    pub fn new(dims: UVec3, unknown: &[bool], diagonal: &[f64]) -> Self {
+        let mut levels = vec![Level::new(dims, unknown, Some(diagonal))];
         while levels.last().is_some_and(|l| l.unknowns() > COARSEST) {
             match levels.last().and_then(Level::coarsen) {
                 Some(next) => levels.push(next),
@@ -160,15 +182,15 @@ impl Hierarchy {
         self.levels[0].len()
     }
 
-    /// Fine grid node of each slot (NONE for sentinels).
-    pub fn fine_node_of_slot(&self, slot: usize) -> Option<usize> {
-        let n = self.levels[0].node_of_slot[slot];
-        (n != NONE).then_some(n as usize)
-    }
-
-    /// Solves `L x = b` (L = 6·I − neighbours on the unknowns) by MG-preconditioned CG, to a
+    /// Solves `L x = b` (L = D − neighbours on the unknowns, D the diagonal) by MG-preconditioned CG, to a
     /// relative residual of `tolerance` per column. Returns the iterations used.
-    pub fn solve(&self, b: &[Row], x: &mut [Row], tolerance: f64, max_iterations: usize) -> SolveReport {
+    pub fn solve(
+        &self,
+        b: &[Row],
+        x: &mut [Row],
+        tolerance: f64,
+        max_iterations: usize,
+    ) -> SolveReport {
         let fine = &self.levels[0];
         let n = fine.len();
         x.fill([0.0; K]);
@@ -193,7 +215,8 @@ impl Hierarchy {
             }
             self.v_cycle(0, &r, &mut z);
             let rz_new = dots(fine, &r, &z);
-            let beta: Row = std::array::from_fn(|c| if rz[c] > 0.0 { rz_new[c] / rz[c] } else { 0.0 });
+            let beta: Row =
+                std::array::from_fn(|c| if rz[c] > 0.0 { rz_new[c] / rz[c] } else { 0.0 });
             rz = rz_new;
             p.par_iter_mut().zip(z.par_iter()).for_each(|(pi, zi)| {
                 for c in 0..K {
@@ -246,7 +269,7 @@ impl Hierarchy {
     }
 }
 
-/// Gauss–Seidel on one colour: x_i = (b_i + Σ neighbours) / 6.
+/// Gauss–Seidel on one colour: x_i = (b_i + Σ neighbours) / D_i.
 fn half_sweep(l: &Level, b: &[Row], x: &mut [Row], red: bool) {
     let split = l.black_start();
     let (red_part, black_part) = x.split_at_mut(split);
@@ -255,38 +278,47 @@ fn half_sweep(l: &Level, b: &[Row], x: &mut [Row], red: bool) {
     } else {
         (&mut black_part[..l.len() - split - 1], &*red_part, split, 0)
     };
-    written.par_iter_mut().enumerate().with_min_len(1024).for_each(|(s, xi)| {
-        let slot = s + offset;
-        let nb = &l.neighbours[slot];
-        let mut acc = b[slot];
-        for &m in nb {
-            let v = &read[m as usize - read_offset];
-            for c in 0..K {
-                acc[c] += v[c];
+    written
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(s, xi)| {
+            let slot = s + offset;
+            let nb = &l.neighbours[slot];
+            let mut acc = b[slot];
+            for &m in nb {
+                let v = &read[m as usize - read_offset];
+                for c in 0..K {
+                    acc[c] += v[c];
+                }
             }
-        }
-        for c in 0..K {
-            xi[c] = acc[c] * (1.0 / 6.0);
-        }
-    });
+            let inv = 1.0 / l.diagonal[slot];
+            for c in 0..K {
+                xi[c] = acc[c] * inv;
+            }
+        });
 }
 
 /// q = L p.
 fn apply(l: &Level, p: &[Row], q: &mut [Row]) {
-    q.par_iter_mut().enumerate().with_min_len(1024).for_each(|(s, qi)| {
-        if l.is_sentinel(s) {
-            *qi = [0.0; K];
-            return;
-        }
-        let mut acc = p[s].map(|v| 6.0 * v);
-        for &m in &l.neighbours[s] {
-            let v = &p[m as usize];
-            for c in 0..K {
-                acc[c] -= v[c];
+    q.par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(s, qi)| {
+            if l.is_sentinel(s) {
+                *qi = [0.0; K];
+                return;
             }
-        }
-        *qi = acc;
-    });
+            let d = l.diagonal[s];
+            let mut acc = p[s].map(|v| d * v);
+            for &m in &l.neighbours[s] {
+                let v = &p[m as usize];
+                for c in 0..K {
+                    acc[c] -= v[c];
+                }
+            }
+            *qi = acc;
+        });
 }
 
 /// Restriction ½ Pᵀ r, gathered per coarse node from its 27 fine neighbours.
@@ -327,36 +359,43 @@ fn restrict(fine: &Level, coarse: &Level, r: &[Row]) -> Vec<Row> {
 fn prolong_add(fine: &Level, coarse: &Level, xc: &[Row], x: &mut [Row]) {
     let cd = coarse.dims;
     let fd = fine.dims;
-    x.par_iter_mut().enumerate().with_min_len(1024).for_each(|(s, xi)| {
-        let node = fine.node_of_slot[s];
-        if node == NONE {
-            return;
-        }
-        let (i, j, k) = (node % fd.x, (node / fd.x) % fd.y, node / (fd.x * fd.y));
-        for (ci, wi) in parents(i) {
-            for (cj, wj) in parents(j) {
-                for (ck, wk) in parents(k) {
-                    if ci >= cd.x || cj >= cd.y || ck >= cd.z {
-                        continue;
-                    }
-                    let cs = coarse.slot_of_node[(ci + cd.x * (cj + cd.y * ck)) as usize];
-                    if cs == NONE {
-                        continue;
-                    }
-                    let w = wi * wj * wk;
-                    for c in 0..K {
-                        xi[c] += w * xc[cs as usize][c];
+    x.par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .for_each(|(s, xi)| {
+            let node = fine.node_of_slot[s];
+            if node == NONE {
+                return;
+            }
+            let (i, j, k) = (node % fd.x, (node / fd.x) % fd.y, node / (fd.x * fd.y));
+            for (ci, wi) in parents(i) {
+                for (cj, wj) in parents(j) {
+                    for (ck, wk) in parents(k) {
+                        if ci >= cd.x || cj >= cd.y || ck >= cd.z {
+                            continue;
+                        }
+                        let cs = coarse.slot_of_node[(ci + cd.x * (cj + cd.y * ck)) as usize];
+                        if cs == NONE {
+                            continue;
+                        }
+                        let w = wi * wj * wk;
+                        for c in 0..K {
+                            xi[c] += w * xc[cs as usize][c];
+                        }
                     }
                 }
             }
-        }
-    });
+        });
 }
 
 /// Coarse parents of fine index `i` along one axis with their weights.
 fn parents(i: u32) -> impl Iterator<Item = (u32, f64)> {
-    let even = i % 2 == 0;
-    let list = if even { [(i / 2, 1.0), (u32::MAX, 0.0)] } else { [(i / 2, 0.5), (i / 2 + 1, 0.5)] };
+    let even = i.is_multiple_of(2);
+    let list = if even {
+        [(i / 2, 1.0), (u32::MAX, 0.0)]
+    } else {
+        [(i / 2, 0.5), (i / 2 + 1, 0.5)]
+    };
     list.into_iter().filter(|(c, _)| *c != u32::MAX)
 }
 
@@ -401,9 +440,12 @@ fn norms(l: &Level, a: &[Row]) -> Row {
 }
 
 fn axpy(y: &mut [Row], alpha: &Row, x: &[Row], sign: f64) {
-    y.par_iter_mut().zip(x.par_iter()).with_min_len(4096).for_each(|(yi, xi)| {
-        for c in 0..K {
-            yi[c] += sign * alpha[c] * xi[c];
-        }
-    });
+    y.par_iter_mut()
+        .zip(x.par_iter())
+        .with_min_len(4096)
+        .for_each(|(yi, xi)| {
+            for c in 0..K {
+                yi[c] += sign * alpha[c] * xi[c];
+            }
+        });
 }
