@@ -1,6 +1,6 @@
 //! Bind cost of the three coordinate systems (criterion, release profile).
 //!
-//! * MVC and GC: a 320-triangle star-shaped cage and 2,000 interior points, on 1 and 2 threads;
+//! * MVC and GC: a 320-triangle star-shaped cage and 4,000 interior points, on 1 and 2 threads;
 //!   throughput is in point·faces, so criterion's "elem/s" inverts to ns per point·face.
 //! * HC: an 8-vertex cube cage around 10,000 points at the default resolution (the setting of
 //!   the Blender Mesh Deform comparison), on all threads.
@@ -36,7 +36,7 @@ fn points_in_ball(count: usize, r: f64) -> Vec<DVec3> {
 
 fn bench_mvc_gc(c: &mut Criterion) {
     let cage = bumpy_sphere();
-    let points = points_in_ball(2_000, 0.8);
+    let points = points_in_ball(4_000, 0.8);
     let mut group = c.benchmark_group("bind_per_point_face");
     group.sample_size(10);
     group.throughput(Throughput::Elements(

@@ -28,6 +28,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::lanes::{LANES, Lane, Vec3Lanes, mask_bits};
 use crate::cage::Cage;
 
 /// Precomputed per-cage data for Green coordinates.
@@ -193,6 +194,149 @@ fn green_point_raw(
         extend_outside(cage, gc, p, phi, psi);
     }
     touching
+}
+
+/// Reusable per-thread buffers of a multi-point GC evaluation.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct GreenLanesScratch {
+    rel: Vec<Vec3Lanes>,
+    len: Vec<Lane>,
+    /// Per edge (a < b): L_e, v_a · v_b, v_a × v_b.
+    edge: Vec<(Lane, Lane, Vec3Lanes)>,
+    omega: Vec<Lane>,
+    phi: Vec<Lane>,
+    psi: Vec<Lane>,
+    scalar: GreenScratch,
+}
+
+/// GC of LANES points at once into `phi_rows` and `psi_rows` (LANES rows each), with the
+/// formulas of [`green_point`] in SIMD lanes. Lanes on the cage (or meeting round-off trouble)
+/// are recomputed by [`green_point`]; lanes outside get the exterior extension.
+pub(crate) fn green_points4(
+    cage: &Cage,
+    gc: &GreenCage,
+    p: [DVec3; LANES],
+    phi_rows: &mut [f64],
+    psi_rows: &mut [f64],
+    scratch: &mut GreenLanesScratch,
+) {
+    let positions = cage.positions();
+    let (n, f) = (positions.len(), cage.triangles().len());
+    let on_cage = Lane::from(ON_CAGE * cage.diagonal());
+    let (zero, two) = (Lane::ZERO, Lane::from(2.0));
+    let mut special = 0u32;
+    scratch.rel.clear();
+    scratch.len.clear();
+    for &x in positions {
+        let v = Vec3Lanes::from_minus(x, &p);
+        scratch.len.push(v.dot(&v).sqrt());
+        scratch.rel.push(v);
+    }
+    let (rel, len) = (&scratch.rel, &scratch.len);
+    scratch.edge.clear();
+    for (&[a, b], &l) in cage.edges().iter().zip(&gc.edge_lengths) {
+        let (va, vb) = (&rel[a as usize], &rel[b as usize]);
+        let dot = va.dot(vb);
+        let sum = len[a as usize] + len[b as usize];
+        let l = Lane::from(l);
+        // L_e = ln((R_a + R_b + l) / (R_a + R_b − l)), the difference without cancellation.
+        let near = two * (len[a as usize] * len[b as usize] + dot);
+        special |= mask_bits(near.simd_le(zero));
+        let log = ((sum + l) * (sum + l) / near).ln();
+        scratch.edge.push((log, dot, va.cross(vb)));
+    }
+    let edge = &scratch.edge;
+    scratch.phi.clear();
+    scratch.phi.resize(n, zero);
+    scratch.psi.clear();
+    // Pass 1: solid angles (few live values, so no register spills on SSE2).
+    let mut winding = zero;
+    scratch.omega.clear();
+    for (t, (tri, tri_edges)) in cage
+        .triangles()
+        .iter()
+        .zip(cage.triangle_edges())
+        .enumerate()
+    {
+        let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let r = [len[idx[0]], len[idx[1]], len[idx[2]]];
+        let (_, d0, _) = edge[tri_edges[0] as usize];
+        let (_, d1, c1) = edge[tri_edges[1] as usize];
+        let (_, d2, _) = edge[tri_edges[2] as usize];
+        let c1 = if idx[1] < idx[2] { c1 } else { c1.neg() };
+        let det = rel[idx[0]].dot(&c1);
+        let denom = r[0] * r[1] * r[2] + d0 * r[2] + d1 * r[0] + d2 * r[1];
+        let h = rel[idx[0]].dot_splat(gc.normals[t]);
+        let touching =
+            h.abs().simd_le(on_cage) & denom.simd_le(Lane::from(1e-9) * r[0] * r[1] * r[2]);
+        special |= mask_bits(touching);
+        let omega = two * det.atan2(denom);
+        winding += omega;
+        scratch.omega.push(omega);
+    }
+    // Pass 2: ψ (single layer) and φ (double layer) from Ω and the edge integrals.
+    for (t, (tri, tri_edges)) in cage
+        .triangles()
+        .iter()
+        .zip(cage.triangle_edges())
+        .enumerate()
+    {
+        let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let v = [rel[idx[0]], rel[idx[1]], rel[idx[2]]];
+        let directed = |k: usize| {
+            let (log, _, cross) = edge[tri_edges[k] as usize];
+            (
+                log,
+                if idx[k] < idx[(k + 1) % 3] {
+                    cross
+                } else {
+                    cross.neg()
+                },
+            )
+        };
+        let (l0, c0) = directed(0);
+        let (l1, c1) = directed(1);
+        let (l2, c2) = directed(2);
+        let n = gc.normals[t];
+        let omega = scratch.omega[t];
+        let h = v[0].dot_splat(n);
+        let nu = gc.edge_normals[t];
+        let single =
+            v[0].dot_splat(nu[0]) * l0 + v[1].dot_splat(nu[1]) * l1 + v[2].dot_splat(nu[2]) * l2
+                - h * omega;
+        scratch.psi.push(single * Lane::from(1.0 / (4.0 * PI)));
+        let g = Vec3Lanes {
+            x: omega * n.x - l0 * nu[0].x - l1 * nu[1].x - l2 * nu[2].x,
+            y: omega * n.y - l0 * nu[0].y - l1 * nu[1].y - l2 * nu[2].y,
+            z: omega * n.z - l0 * nu[0].z - l1 * nu[1].z - l2 * nu[2].z,
+        };
+        let scale = Lane::from(gc.inv_scaled_double_area[t]);
+        scratch.phi[idx[0]] += g.dot(&c1) * scale;
+        scratch.phi[idx[1]] += g.dot(&c2) * scale;
+        scratch.phi[idx[2]] += g.dot(&c0) * scale;
+    }
+    let winding = winding.to_array();
+    for (l, (phi, psi)) in phi_rows
+        .chunks_mut(n)
+        .zip(psi_rows.chunks_mut(f))
+        .enumerate()
+        .take(LANES)
+    {
+        let all_finite = scratch.phi.iter().all(|w| w.as_array()[l].is_finite());
+        if special & (1 << l) != 0 || !all_finite {
+            green_point(cage, gc, p[l], phi, psi, &mut scratch.scalar);
+            continue;
+        }
+        for (w, acc) in phi.iter_mut().zip(&scratch.phi) {
+            *w = acc.as_array()[l];
+        }
+        for (w, acc) in psi.iter_mut().zip(&scratch.psi) {
+            *w = acc.as_array()[l];
+        }
+        if winding[l] < 2.0 * PI {
+            extend_outside(cage, gc, p[l], phi, psi);
+        }
+    }
 }
 
 /// Lipman et al. §4.2: continue the coordinates through the nearest face so that the rest

@@ -12,6 +12,7 @@
 mod control;
 mod green;
 mod harmonic;
+mod lanes;
 mod mvc;
 
 use std::fmt;
@@ -301,9 +302,9 @@ pub fn bind(
                 n,
                 points,
                 control,
-                mvc::MvcScratch::default,
-                |p, row, scratch| {
-                    mvc::mvc_point(cage, p, row, scratch);
+                mvc::MvcLanesScratch::default,
+                |pts, rows, scratch| {
+                    mvc::mvc_points4(cage, pts, rows, scratch);
                 },
             )?;
             CageWeights::Vertex {
@@ -331,18 +332,32 @@ pub fn bind(
                 .zip(psi.par_chunks_mut(CHUNK * f.max(1)))
                 .zip(points.par_chunks(CHUNK))
                 .try_for_each_init(
-                    green::GreenScratch::default,
+                    green::GreenLanesScratch::default,
                     |scratch, ((phi, psi), pts)| {
                         control.check()?;
-                        for (k, &p) in pts.iter().enumerate() {
-                            green::green_point(
-                                cage,
-                                &gc,
-                                p,
-                                &mut phi[k * n..(k + 1) * n],
-                                &mut psi[k * f..(k + 1) * f],
-                                scratch,
-                            );
+                        let groups = phi
+                            .chunks_mut(lanes::LANES * n.max(1))
+                            .zip(psi.chunks_mut(lanes::LANES * f.max(1)))
+                            .zip(pts.chunks(lanes::LANES));
+                        for ((phi, psi), group) in groups {
+                            let lane_points =
+                                std::array::from_fn(|l| group[l.min(group.len() - 1)]);
+                            if group.len() == lanes::LANES {
+                                green::green_points4(cage, &gc, lane_points, phi, psi, scratch);
+                            } else {
+                                let (mut phi4, mut psi4) =
+                                    (vec![0.0; lanes::LANES * n], vec![0.0; lanes::LANES * f]);
+                                green::green_points4(
+                                    cage,
+                                    &gc,
+                                    lane_points,
+                                    &mut phi4,
+                                    &mut psi4,
+                                    scratch,
+                                );
+                                phi.copy_from_slice(&phi4[..phi.len()]);
+                                psi.copy_from_slice(&psi4[..psi.len()]);
+                            }
                         }
                         control.advance();
                         Ok::<(), CoordError>(())
@@ -359,24 +374,34 @@ pub fn bind(
 }
 
 /// Points per parallel work item (and per progress step).
-const CHUNK: usize = 256;
+const CHUNK: usize = 64;
 
+/// Runs `per_lanes` over groups of [`lanes::LANES`] points and their rows, in parallel chunks;
+/// a last partial group is padded with copies of its last point into a scratch row block.
 fn for_each_row_chunk<S: Send>(
     weights: &mut [f64],
     n: usize,
     points: &[DVec3],
     control: &BindControl,
     init: impl Fn() -> S + Send + Sync,
-    per_point: impl Fn(DVec3, &mut [f64], &mut S) + Send + Sync,
+    per_lanes: impl Fn([DVec3; lanes::LANES], &mut [f64], &mut S) + Send + Sync,
 ) -> Result<(), CoordError> {
+    use lanes::LANES;
     control.set_total(points.len().div_ceil(CHUNK));
     weights
         .par_chunks_mut(CHUNK * n.max(1))
         .zip(points.par_chunks(CHUNK))
         .try_for_each_init(init, |scratch, (rows, pts)| {
             control.check()?;
-            for (row, &p) in rows.chunks_mut(n).zip(pts) {
-                per_point(p, row, scratch);
+            for (rows, group) in rows.chunks_mut(LANES * n.max(1)).zip(pts.chunks(LANES)) {
+                let lane_points = std::array::from_fn(|l| group[l.min(group.len() - 1)]);
+                if group.len() == LANES {
+                    per_lanes(lane_points, rows, scratch);
+                } else {
+                    let mut padded = vec![0.0; LANES * n];
+                    per_lanes(lane_points, &mut padded, scratch);
+                    rows.copy_from_slice(&padded[..rows.len()]);
+                }
             }
             control.advance();
             Ok(())

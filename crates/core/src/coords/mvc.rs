@@ -13,6 +13,7 @@
 
 use glam::DVec3;
 
+use super::lanes::{ALL_LANES, LANES, Lane, Vec3Lanes, mask_bits};
 use crate::cage::Cage;
 
 /// Relative distance (to the cage diagonal) under which a point is on a vertex.
@@ -145,5 +146,99 @@ fn barycentric(idx: [usize; 3], sin_th: [f64; 3], dist: &[f64], out: &mut [f64])
     out.fill(0.0);
     for k in 0..3 {
         out[idx[k]] = w[k] / sum;
+    }
+}
+
+/// Reusable per-thread buffers of a multi-point MVC evaluation.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct MvcLanesScratch {
+    unit: Vec<Vec3Lanes>,
+    inv_dist: Vec<Lane>,
+    /// Per edge: θ, sin θ, cos θ.
+    theta: Vec<[Lane; 3]>,
+    weights: Vec<Lane>,
+    scalar: MvcScratch,
+}
+
+/// MVC of LANES points at once into `rows` (LANES rows of `cage.vertex_count()` weights), with
+/// the formulas of [`mvc_point`] in SIMD lanes. Lanes that meet a special case (a point on a
+/// vertex, an edge's line or a face's plane) are recomputed by [`mvc_point`].
+pub(crate) fn mvc_points4(
+    cage: &Cage,
+    p: [DVec3; LANES],
+    rows: &mut [f64],
+    scratch: &mut MvcLanesScratch,
+) {
+    let positions = cage.positions();
+    let n = positions.len();
+    let on_vertex = Lane::from(ON_VERTEX * cage.diagonal());
+    let coplanar = Lane::from(COPLANAR);
+    let (one, half, two) = (Lane::from(1.0), Lane::from(0.5), Lane::from(2.0));
+    let mut special = 0u32;
+    scratch.unit.clear();
+    scratch.inv_dist.clear();
+    for &x in positions {
+        let v = Vec3Lanes::from_minus(x, &p);
+        let d = v.dot(&v).sqrt();
+        special |= mask_bits(d.simd_lt(on_vertex));
+        let inv = one / d;
+        scratch.unit.push(v.scale(inv));
+        scratch.inv_dist.push(inv);
+    }
+    let unit = &scratch.unit;
+    scratch.theta.clear();
+    scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
+        let (ua, ub) = (&unit[a as usize], &unit[b as usize]);
+        // sin(θ/2) = |u_a − u_b| / 2; θ, sin θ = 2 sin(θ/2) cos(θ/2), cos θ = 1 − 2 sin²(θ/2).
+        let (dx, dy, dz) = (ua.x - ub.x, ua.y - ub.y, ua.z - ub.z);
+        let half_sin = (half * (dx * dx + dy * dy + dz * dz).sqrt()).min(one);
+        let half_cos = (one - half_sin * half_sin).max(Lane::ZERO).sqrt();
+        [
+            two * half_sin.asin(),
+            two * half_sin * half_cos,
+            one - two * half_sin * half_sin,
+        ]
+    }));
+    let theta = &scratch.theta;
+    let inv_dist = &scratch.inv_dist;
+    scratch.weights.clear();
+    scratch.weights.resize(n, Lane::ZERO);
+    let weights = &mut scratch.weights;
+    let mut total = Lane::ZERO;
+    for (tri, edges) in cage.triangles().iter().zip(cage.triangle_edges()) {
+        let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        // θ_i is the arc opposite corner i: edge (i+1, i+2) is edges[(i + 1) % 3].
+        let [th0, s0, c0] = theta[edges[1] as usize];
+        let [th1, s1, c1] = theta[edges[2] as usize];
+        let [th2, s2, c2] = theta[edges[0] as usize];
+        let det = unit[idx[0]].dot(&unit[idx[1]].cross(&unit[idx[2]]));
+        // The formulas of mvc_point, lane by lane.
+        let inv_p = one / (s0 * s1 * s2);
+        let cc0 = (c0 - c1 * c2) * s0 * inv_p;
+        let cc1 = (c1 - c2 * c0) * s1 * inv_p;
+        let cc2 = (c2 - c0 * c1) * s2 * inv_p;
+        let inv_det = one / det;
+        let w0 = (th0 - cc1 * th2 - cc2 * th1) * s0 * inv_det * inv_dist[idx[0]];
+        let w1 = (th1 - cc2 * th0 - cc0 * th2) * s1 * inv_det * inv_dist[idx[1]];
+        let w2 = (th2 - cc0 * th1 - cc1 * th0) * s2 * inv_det * inv_dist[idx[2]];
+        let s_min = s0.min(s1).min(s2);
+        // Regular where both tests hold; NaN fails them, so it flags the lane too.
+        let regular = s_min.simd_ge(coplanar) & (det.abs() * s_min * inv_p).simd_gt(coplanar);
+        special |= !mask_bits(regular) & ALL_LANES;
+        weights[idx[0]] += w0;
+        weights[idx[1]] += w1;
+        weights[idx[2]] += w2;
+        total += w0 + w1 + w2;
+    }
+    let total = total.to_array();
+    for (l, row) in rows.chunks_mut(n).enumerate().take(LANES) {
+        if special & (1 << l) != 0 || total[l] == 0.0 || !total[l].is_finite() {
+            mvc_point(cage, p[l], row, &mut scratch.scalar);
+        } else {
+            let inv = 1.0 / total[l];
+            for (w, acc) in row.iter_mut().zip(weights.iter()) {
+                *w = acc.as_array()[l] * inv;
+            }
+        }
     }
 }
