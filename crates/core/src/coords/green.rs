@@ -382,3 +382,45 @@ pub fn green_stretch(cage: &Cage, posed: &[DVec3]) -> Vec<f64> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cage::shapes;
+
+    #[test]
+    fn lane_kernel_matches_scalar_routine() {
+        let cage = shapes::l_prism();
+        let gc = GreenCage::new(&cage);
+        let groups = [
+            [
+                DVec3::new(0.5, 0.5, 0.5),
+                DVec3::new(1.5, 0.5, 0.2),
+                DVec3::new(0.5, 1.5, 0.7),
+                DVec3::new(0.2, 0.3, 0.9),
+            ],
+            [
+                cage.positions()[2],
+                DVec3::new(0.5, 0.5, 1.0),
+                DVec3::new(1.5, 1.5, 0.5),
+                DVec3::new(-1.0, 0.5, 0.5),
+            ],
+        ];
+        let (n, f) = (cage.vertex_count(), cage.triangles().len());
+        let (mut lanes, mut scalar) = (GreenLanesScratch::default(), GreenScratch::default());
+        for points in groups {
+            let (mut phi, mut psi) = (vec![0.0; LANES * n], vec![0.0; LANES * f]);
+            green_points4(&cage, &gc, points, &mut phi, &mut psi, &mut lanes);
+            for (l, p) in points.iter().enumerate() {
+                let (mut phi1, mut psi1) = (vec![0.0; n], vec![0.0; f]);
+                green_point(&cage, &gc, *p, &mut phi1, &mut psi1, &mut scalar);
+                let lane = phi[l * n..(l + 1) * n]
+                    .iter()
+                    .chain(&psi[l * f..(l + 1) * f]);
+                for (a, b) in lane.zip(phi1.iter().chain(&psi1)) {
+                    assert!((a - b).abs() < 1e-12, "lane {l} at {p}: {a} vs {b}");
+                }
+            }
+        }
+    }
+}

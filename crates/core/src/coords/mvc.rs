@@ -242,3 +242,41 @@ pub(crate) fn mvc_points4(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cage::shapes;
+
+    #[test]
+    fn lane_kernel_matches_scalar_routine() {
+        let cage = shapes::star_prism();
+        let groups = [
+            [
+                DVec3::new(0.1, 0.2, 0.0),
+                DVec3::new(-0.3, 0.1, 0.3),
+                DVec3::new(0.0, -0.2, -0.1),
+                DVec3::new(0.2, 0.0, 0.4),
+            ],
+            [
+                cage.positions()[3],
+                DVec3::new(0.0, 0.0, 0.5),
+                DVec3::new(3.0, 0.0, 0.5),
+                DVec3::new(0.05, 0.05, 0.05),
+            ],
+        ];
+        let n = cage.vertex_count();
+        let (mut lanes, mut scalar) = (MvcLanesScratch::default(), MvcScratch::default());
+        for points in groups {
+            let mut rows = vec![0.0; LANES * n];
+            mvc_points4(&cage, points, &mut rows, &mut lanes);
+            for (l, p) in points.iter().enumerate() {
+                let mut expected = vec![0.0; n];
+                mvc_point(&cage, *p, &mut expected, &mut scalar);
+                for (a, b) in rows[l * n..(l + 1) * n].iter().zip(&expected) {
+                    assert!((a - b).abs() < 1e-12, "lane {l} at {p}: {a} vs {b}");
+                }
+            }
+        }
+    }
+}
