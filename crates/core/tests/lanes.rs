@@ -14,7 +14,7 @@ fn rows(kind: CoordinateKind, cage: &Cage, points: &[DVec3]) -> Vec<Vec<f64>> {
         &BindSettings::default(),
         &BindControl::default(),
     )
-    .unwrap()
+    .expect("bind")
     {
         CageWeights::Vertex { weights, .. } => {
             (0..points.len()).map(|i| weights.row(i).to_vec()).collect()
