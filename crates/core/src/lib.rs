@@ -10,6 +10,7 @@ pub mod cage;
 pub mod coords;
 pub mod geometry;
 pub mod io;
+pub mod mesh;
 
 pub use cage::{Cage, CageError};
 pub use coords::{BindControl, BindSettings, CageWeights, CoordError, CoordinateKind, bind};

@@ -1,7 +1,12 @@
-//! Reading and writing files: cage OBJ files and point lists.
+//! Reading and writing files: meshes (OBJ, glTF, GLB), cage OBJ files, point lists; atomic
+//! saves.
 //!
 //! Every error names the file, and for text formats the 1-based line, with the reason.
 
+mod atomic;
+mod mesh_gltf;
+mod mesh_obj;
+mod mesh_write;
 mod obj_cage;
 mod points;
 
@@ -10,9 +15,33 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::cage::CageError;
+use crate::mesh::{Mesh, MeshError};
 
+pub use atomic::write_atomic;
+pub use mesh_write::{glb_bytes, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
 pub use points::{parse_points, read_points};
+
+/// Reads a mesh from an OBJ, glTF or GLB file (by extension).
+pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
+    match extension(path).as_str() {
+        "obj" => mesh_obj::read_obj_mesh(path),
+        "gltf" | "glb" => mesh_gltf::read_gltf_mesh(path),
+        other => Err(FileError::Unsupported {
+            path: path.to_path_buf(),
+            extension: other.to_owned(),
+            supported: "obj, gltf, glb",
+        }),
+    }
+}
+
+/// Lower-case extension of a path ("" when none).
+pub(crate) fn extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+}
 
 /// A file could not be read as what was asked for.
 #[derive(Debug, Error)]
@@ -35,6 +64,40 @@ pub enum FileError {
         /// What is wrong and what was expected.
         reason: String,
     },
+    /// The file's format is not one we read or write.
+    #[error("{path}: unsupported file type '.{extension}'; use one of: {supported}")]
+    Unsupported {
+        /// The file.
+        path: PathBuf,
+        /// Its extension.
+        extension: String,
+        /// What is supported.
+        supported: &'static str,
+    },
+    /// The file could not be decoded (a reader library's reason).
+    #[error("{path}: {reason}")]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The file parsed but its content is not a valid mesh.
+    #[error("{path}: invalid mesh: {problem}")]
+    InvalidMesh {
+        /// The file.
+        path: PathBuf,
+        /// The mesh problem.
+        problem: MeshError,
+    },
+    /// Writing failed; an existing file at `path` is untouched.
+    #[error("{path}: cannot save: {error}; the previous file, if any, is unchanged")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The system's reason.
+        error: std::io::Error,
+    },
     /// The file parsed but its content is not a valid cage.
     #[error("{path}: invalid cage: {problem}")]
     InvalidCage {
@@ -46,6 +109,13 @@ pub enum FileError {
 }
 
 impl FileError {
+    pub(crate) fn format(path: &Path, reason: impl Into<String>) -> Self {
+        Self::Format {
+            path: path.to_path_buf(),
+            reason: reason.into(),
+        }
+    }
+
     pub(crate) fn parse(path: &Path, line: usize, reason: impl Into<String>) -> Self {
         Self::Parse {
             path: path.to_path_buf(),

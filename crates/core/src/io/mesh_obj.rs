@@ -1,0 +1,74 @@
+//! Mesh OBJ files through `tobj`: every object of the file, triangulated, with normals and
+//! texture coordinates when present.
+
+use std::path::Path;
+
+use glam::{DVec3, Vec2, Vec3};
+
+use super::FileError;
+use crate::mesh::Mesh;
+
+/// Reads all objects of an OBJ file as one mesh.
+pub(super) fn read_obj_mesh(path: &Path) -> Result<Mesh, FileError> {
+    let file = std::fs::File::open(path).map_err(|error| FileError::Io {
+        path: path.to_path_buf(),
+        error,
+    })?;
+    let options = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let mut reader = std::io::BufReader::new(file);
+    // Materials are not needed for deformation: ignore the .mtl files.
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| {
+        FileError::format(
+            path,
+            format!("not a readable OBJ mesh ({e}); re-export it as OBJ"),
+        )
+    })?;
+    let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+    let (mut normals, mut uvs) = (Vec::new(), Vec::new());
+    let (mut all_normals, mut all_uvs) = (true, true);
+    for model in &models {
+        let m = &model.mesh;
+        let base = positions.len() as u32;
+        let count = m.positions.len() / 3;
+        positions.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|p| DVec3::new(p[0], p[1], p[2])),
+        );
+        triangles.extend(
+            m.indices
+                .chunks_exact(3)
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
+        all_normals &= m.normals.len() == count * 3;
+        all_uvs &= m.texcoords.len() == count * 2;
+        normals.extend(
+            m.normals
+                .chunks_exact(3)
+                .map(|n| Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32)),
+        );
+        uvs.extend(
+            m.texcoords
+                .chunks_exact(2)
+                .map(|t| Vec2::new(t[0] as f32, t[1] as f32)),
+        );
+    }
+    Mesh::new(
+        positions,
+        triangles,
+        all_normals.then_some(normals),
+        all_uvs.then_some(uvs),
+    )
+    .map_err(|problem| FileError::InvalidMesh {
+        path: path.to_path_buf(),
+        problem,
+    })
+}

@@ -1,0 +1,203 @@
+//! Writing meshes: OBJ (text) and GLB (binary glTF 2.0), with normals, saved atomically.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::{DVec3, Vec2, Vec3};
+
+use super::{FileError, extension, write_atomic};
+use crate::mesh::Mesh;
+
+/// Writes `mesh` with vertex `positions` (original layout) to an OBJ or GLB file, with normals
+/// recomputed from those positions, atomically.
+pub fn write_mesh(path: &Path, mesh: &Mesh, positions: &[DVec3]) -> Result<(), FileError> {
+    let normals = mesh.recompute_normals(positions);
+    let bytes = match extension(path).as_str() {
+        "obj" => obj_text(positions, mesh.triangles(), Some(&normals), mesh.uvs()).into_bytes(),
+        "glb" => glb_bytes(positions, mesh.triangles(), &normals, mesh.uvs()),
+        other => {
+            return Err(FileError::Unsupported {
+                path: path.to_path_buf(),
+                extension: other.to_owned(),
+                supported: "obj, glb",
+            });
+        }
+    };
+    write_atomic(path, &bytes)
+}
+
+/// OBJ text of a triangle mesh (1-based indices; `v/vt/vn` when present).
+pub fn obj_text(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    normals: Option<&[Vec3]>,
+    uvs: Option<&[Vec2]>,
+) -> String {
+    let mut s = String::with_capacity(positions.len() * 40 + triangles.len() * 30);
+    s.push_str("# written by StarCages\n");
+    for p in positions {
+        writeln!(s, "v {} {} {}", p.x, p.y, p.z).ok();
+    }
+    for t in uvs.unwrap_or(&[]) {
+        writeln!(s, "vt {} {}", t.x, t.y).ok();
+    }
+    for n in normals.unwrap_or(&[]) {
+        writeln!(s, "vn {} {} {}", n.x, n.y, n.z).ok();
+    }
+    for tri in triangles {
+        s.push('f');
+        for &v in tri {
+            let i = v + 1;
+            match (uvs.is_some(), normals.is_some()) {
+                (true, true) => write!(s, " {i}/{i}/{i}"),
+                (true, false) => write!(s, " {i}/{i}"),
+                (false, true) => write!(s, " {i}//{i}"),
+                (false, false) => write!(s, " {i}"),
+            }
+            .ok();
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// A binary glTF 2.0 file of one triangle mesh: f32 positions and normals, optional UVs,
+/// u32 indices.
+pub fn glb_bytes(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    normals: &[Vec3],
+    uvs: Option<&[Vec2]>,
+) -> Vec<u8> {
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32| {
+        let offset = bin.len();
+        bin.extend_from_slice(data);
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}));
+        views.len() - 1
+    };
+    let f32s = |values: &mut dyn Iterator<Item = f32>| -> Vec<u8> {
+        values.flat_map(f32::to_le_bytes).collect()
+    };
+    let pos32: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
+    let (lo, hi) = pos32.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    const ARRAY_BUFFER: u32 = 34962;
+    const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+    let position_view = push_view(
+        &mut bin,
+        &f32s(&mut pos32.iter().flat_map(|p| p.to_array())),
+        ARRAY_BUFFER,
+    );
+    let normal_view = push_view(
+        &mut bin,
+        &f32s(&mut normals.iter().flat_map(|n| n.to_array())),
+        ARRAY_BUFFER,
+    );
+    let uv_view = uvs.map(|uvs| {
+        push_view(
+            &mut bin,
+            &f32s(&mut uvs.iter().flat_map(|t| t.to_array())),
+            ARRAY_BUFFER,
+        )
+    });
+    let index_bytes: Vec<u8> = triangles
+        .iter()
+        .flatten()
+        .flat_map(|i| i.to_le_bytes())
+        .collect();
+    let index_view = push_view(&mut bin, &index_bytes, ELEMENT_ARRAY_BUFFER);
+    let n = positions.len();
+    let mut accessors = vec![
+        serde_json::json!({"bufferView": position_view, "componentType": 5126, "count": n, "type": "VEC3",
+            "min": lo.to_array(), "max": hi.to_array()}),
+        serde_json::json!({"bufferView": normal_view, "componentType": 5126, "count": n, "type": "VEC3"}),
+        serde_json::json!({"bufferView": index_view, "componentType": 5125, "count": triangles.len() * 3, "type": "SCALAR"}),
+    ];
+    let mut attributes = serde_json::json!({"POSITION": 0, "NORMAL": 1});
+    if let Some(view) = uv_view {
+        accessors.push(serde_json::json!({"bufferView": view, "componentType": 5126, "count": n, "type": "VEC2"}));
+        attributes["TEXCOORD_0"] = serde_json::json!(3);
+    }
+    let document = serde_json::json!({
+        "asset": {"version": "2.0", "generator": "StarCages"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": "deformed"}],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": 2, "mode": 4}]}],
+        "buffers": [{"byteLength": bin.len()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    });
+    let mut json = document.to_string().into_bytes();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::read_mesh;
+
+    fn quad() -> Mesh {
+        let p = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        Mesh::new(
+            p,
+            vec![[0, 1, 2], [0, 2, 3]],
+            None,
+            Some(vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn obj_and_glb_round_trip_through_our_readers() {
+        let dir = std::env::temp_dir().join(format!("starcages-mesh-write-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mesh = quad();
+        let moved: Vec<DVec3> = mesh
+            .positions()
+            .iter()
+            .map(|p| *p * 2.0 + DVec3::Z)
+            .collect();
+        for name in ["out.obj", "out.glb"] {
+            let path = dir.join(name);
+            write_mesh(&path, &mesh, &moved).unwrap();
+            let back = read_mesh(&path).unwrap();
+            assert_eq!(back.triangles(), mesh.triangles(), "{name}");
+            for (a, b) in back.positions().iter().zip(&moved) {
+                assert!((*a - *b).length() < 1e-6, "{name}: {a} vs {b}");
+            }
+            let normals = back.normals().expect("normals written");
+            assert!(
+                normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6),
+                "{name}"
+            );
+            assert_eq!(back.uvs().map(<[Vec2]>::len), Some(4), "{name}");
+        }
+        let error = write_mesh(&dir.join("out.stl"), &mesh, mesh.positions()).unwrap_err();
+        assert!(
+            error.to_string().contains("unsupported file type '.stl'"),
+            "{error}"
+        );
+    }
+}

@@ -1,0 +1,244 @@
+//! The mesh being deformed: the original vertex layout (with optional normals and UVs) kept
+//! for export, and a welded view in which vertices at the same position are one vertex, which
+//! is what gets bound and deformed.
+
+use std::collections::HashMap;
+
+use glam::{DVec3, Vec2, Vec3};
+use thiserror::Error;
+
+/// Why vertex and triangle arrays are not a mesh.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum MeshError {
+    /// The mesh has no triangle.
+    #[error("the mesh has no triangles")]
+    Empty,
+    /// A vertex coordinate is NaN or infinite.
+    #[error("mesh vertex {vertex} has a non-finite coordinate; fix or remove it")]
+    NonFiniteVertex {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("mesh triangle {triangle} refers to vertex {vertex}, but there are only {count}")]
+    VertexOutOfRange {
+        /// The triangle.
+        triangle: usize,
+        /// The missing vertex.
+        vertex: usize,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// Normals or UVs do not match the vertex count.
+    #[error("the mesh has {count} {attribute} for {vertices} vertices")]
+    AttributeLength {
+        /// `normals` or `uvs`.
+        attribute: &'static str,
+        /// Their number.
+        count: usize,
+        /// Number of vertices.
+        vertices: usize,
+    },
+}
+
+/// A triangle mesh: original layout plus its welded view.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    /// Original vertex → welded vertex.
+    weld: Vec<u32>,
+    welded_positions: Vec<DVec3>,
+    welded_triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// Builds a mesh, validating indices and values and welding coincident vertices.
+    pub fn new(
+        positions: Vec<DVec3>,
+        triangles: Vec<[u32; 3]>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+    ) -> Result<Self, MeshError> {
+        if triangles.is_empty() {
+            return Err(MeshError::Empty);
+        }
+        if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFiniteVertex { vertex });
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&v) = tri.iter().find(|&&v| v as usize >= positions.len()) {
+                return Err(MeshError::VertexOutOfRange {
+                    triangle: t,
+                    vertex: v as usize,
+                    count: positions.len(),
+                });
+            }
+        }
+        for (attribute, count) in [
+            ("normals", normals.as_ref().map(Vec::len)),
+            ("uvs", uvs.as_ref().map(Vec::len)),
+        ] {
+            if let Some(count) = count.filter(|&c| c != positions.len()) {
+                return Err(MeshError::AttributeLength {
+                    attribute,
+                    count,
+                    vertices: positions.len(),
+                });
+            }
+        }
+        let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+        let mut welded_positions = Vec::new();
+        let weld: Vec<u32> = positions
+            .iter()
+            .map(|p| {
+                // -0.0 and 0.0 coincide.
+                let key = (*p + DVec3::ZERO).to_array().map(f64::to_bits);
+                *index.entry(key).or_insert_with(|| {
+                    welded_positions.push(*p);
+                    welded_positions.len() as u32 - 1
+                })
+            })
+            .collect();
+        let welded_triangles = triangles
+            .iter()
+            .map(|t| t.map(|v| weld[v as usize]))
+            .collect();
+        Ok(Self {
+            positions,
+            triangles,
+            normals,
+            uvs,
+            weld,
+            welded_positions,
+            welded_triangles,
+        })
+    }
+
+    /// Original vertex positions (export layout).
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// Triangles over the original vertices.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Original normals, if the file had them.
+    pub fn normals(&self) -> Option<&[Vec3]> {
+        self.normals.as_deref()
+    }
+
+    /// Original texture coordinates, if the file had them.
+    pub fn uvs(&self) -> Option<&[Vec2]> {
+        self.uvs.as_deref()
+    }
+
+    /// Original vertex → welded vertex.
+    pub fn weld_map(&self) -> &[u32] {
+        &self.weld
+    }
+
+    /// Positions of the welded vertices: what is bound and deformed.
+    pub fn welded_positions(&self) -> &[DVec3] {
+        &self.welded_positions
+    }
+
+    /// Triangles over the welded vertices.
+    pub fn welded_triangles(&self) -> &[[u32; 3]] {
+        &self.welded_triangles
+    }
+
+    /// Axis-aligned bounds `(min, max)`.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        crate::cage::bounds_of(&self.welded_positions)
+    }
+
+    /// Original-layout positions from welded positions (e.g. deformed ones).
+    pub fn unweld(&self, welded: &[DVec3]) -> Vec<DVec3> {
+        self.weld.iter().map(|&w| welded[w as usize]).collect()
+    }
+
+    /// Area-weighted vertex normals of the original layout for `positions` (original layout).
+    /// Faces are smoothed across every vertex that shares the welded position and, when the
+    /// mesh came with normals, the same original normal: hard edges stay hard, UV seams do not
+    /// show.
+    pub fn recompute_normals(&self, positions: &[DVec3]) -> Vec<Vec3> {
+        let group_of: Vec<usize> = match &self.normals {
+            None => self.weld.iter().map(|&w| w as usize).collect(),
+            Some(normals) => {
+                let mut groups: HashMap<(u32, [u32; 3]), usize> = HashMap::new();
+                self.weld
+                    .iter()
+                    .zip(normals)
+                    .map(|(&w, n)| {
+                        let next = groups.len();
+                        *groups
+                            .entry((w, n.to_array().map(f32::to_bits)))
+                            .or_insert(next)
+                    })
+                    .collect()
+            }
+        };
+        let groups = group_of.iter().copied().max().map_or(0, |m| m + 1);
+        let mut sums = vec![DVec3::ZERO; groups];
+        for tri in &self.triangles {
+            let [a, b, c] = tri.map(|v| positions[v as usize]);
+            let area_normal = (b - a).cross(c - a);
+            for &v in tri {
+                sums[group_of[v as usize]] += area_normal;
+            }
+        }
+        group_of
+            .iter()
+            .map(|&g| sums[g].normalize_or_zero().as_vec3())
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn welds_coincident_vertices_and_keeps_layout() {
+        // Two triangles of a quad with the diagonal's vertices duplicated (a UV seam).
+        let p = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::Y,
+            DVec3::new(-0.0, 0.0, 0.0),
+        ];
+        let mesh = Mesh::new(p, vec![[0, 1, 2], [3, 4, 5]], None, None).unwrap();
+        assert_eq!(mesh.welded_positions().len(), 4);
+        assert_eq!(mesh.welded_triangles(), &[[0, 1, 2], [2, 3, 0]]);
+        let normals = mesh.recompute_normals(mesh.positions());
+        assert!(normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+        assert_eq!(mesh.unweld(mesh.welded_positions()), mesh.positions());
+    }
+
+    #[test]
+    fn rejects_bad_arrays() {
+        assert_eq!(
+            Mesh::new(vec![DVec3::ZERO], vec![], None, None),
+            Err(MeshError::Empty)
+        );
+        let bad = Mesh::new(vec![DVec3::ZERO; 3], vec![[0, 1, 3]], None, None);
+        assert!(matches!(
+            bad,
+            Err(MeshError::VertexOutOfRange { vertex: 3, .. })
+        ));
+        let nan = Mesh::new(
+            vec![DVec3::ZERO, DVec3::NAN, DVec3::X],
+            vec![[0, 1, 2]],
+            None,
+            None,
+        );
+        assert_eq!(nan, Err(MeshError::NonFiniteVertex { vertex: 1 }));
+    }
+}
