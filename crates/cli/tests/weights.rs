@@ -1,6 +1,9 @@
 //! End-to-end tests of `starcages-cli weights`: JSON shape and values, and one-line errors
 //! with exit status 2 for bad input.
 
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 

@@ -11,6 +11,7 @@ pub mod coords;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod scene;
 
 pub use cage::{Cage, CageError};
 pub use coords::{BindControl, BindSettings, CageWeights, CoordError, CoordinateKind, bind};

@@ -1,6 +1,9 @@
 //! Properties of Green Coordinates: reproduction Σ φ_i v_i + Σ ψ_j n_j = p, similarity
 //! invariance of the deformation, and the guarded edge-line case.
 
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
 mod common;
 
 use common::*;

@@ -2,6 +2,9 @@
 //! principle, linear precision converging with the grid, agreement with MVC on faces, and
 //! typed errors outside the cage.
 
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
 mod common;
 
 use common::*;

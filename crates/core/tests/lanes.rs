@@ -2,6 +2,9 @@
 //! points with points on vertices, edges, faces and face planes (which fall back to the scalar
 //! routine) and with points outside the cage.
 
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
 use glam::DVec3;
 use starcages_core::cage::shapes;
 use starcages_core::{BindControl, BindSettings, Cage, CageWeights, CoordinateKind, bind};

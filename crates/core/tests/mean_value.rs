@@ -1,6 +1,9 @@
 //! Properties of Mean Value Coordinates: partition of unity, linear precision, interpolation on
 //! faces, and finite smooth values next to faces, edges and vertices.
 
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
 mod common;
 
 use common::*;

@@ -1,0 +1,253 @@
+//! Scene files: JSON with a `format` name and an integer `version`, written atomically and
+//! human-readably. Mesh paths are stored relative to the scene file; generated demos embed
+//! their mesh. Files from a newer version are refused; older ones are migrated.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use thiserror::Error;
+
+use super::{CageSet, InternalCage, LeafCage, MeshSource, Scene, SceneSettings};
+use crate::io::{FileError, read_mesh, write_atomic};
+use crate::mesh::{Mesh, MeshError};
+
+/// The `format` name of scene files.
+pub const SCENE_FORMAT: &str = "starcages-scene";
+/// The scene file version this build writes (and the newest it reads).
+pub const SCENE_VERSION: u32 = 1;
+
+/// Why a scene file could not be read or written.
+#[derive(Debug, Error)]
+pub enum SceneFileError {
+    /// Reading or writing the file itself, or the mesh file it names.
+    #[error(transparent)]
+    File(#[from] FileError),
+    /// Not JSON, or JSON of the wrong shape (with line and column).
+    #[error("{path}: not a valid scene file: {reason}")]
+    Syntax {
+        /// The scene file.
+        path: PathBuf,
+        /// serde_json's reason, with line and column.
+        reason: String,
+    },
+    /// JSON, but not a StarCages scene.
+    #[error(
+        "{path}: not a StarCages scene (its \"format\" is {found}, expected \"{SCENE_FORMAT}\")"
+    )]
+    WrongFormat {
+        /// The file.
+        path: PathBuf,
+        /// What its format field says.
+        found: String,
+    },
+    /// Written by a newer StarCages.
+    #[error(
+        "{path}: written by a newer StarCages (scene version {version}); this build reads versions up to \
+         {SCENE_VERSION}: update StarCages to open it"
+    )]
+    NewerVersion {
+        /// The file.
+        path: PathBuf,
+        /// Its version.
+        version: u64,
+    },
+    /// The embedded mesh is invalid.
+    #[error("{path}: the embedded mesh is invalid: {problem}")]
+    EmbeddedMesh {
+        /// The scene file.
+        path: PathBuf,
+        /// What is wrong.
+        problem: MeshError,
+    },
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EmbeddedMesh {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    normals: Option<Vec<Vec3>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    uvs: Option<Vec<Vec2>>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+enum MeshRef {
+    Path(PathBuf),
+    Embedded(EmbeddedMesh),
+}
+
+/// Version 1 of the scene file.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFileV1 {
+    format: String,
+    version: u32,
+    mesh: MeshRef,
+    #[serde(default)]
+    settings: SceneSettings,
+    cage_vertices: Vec<DVec3>,
+    cages: Vec<LeafCage>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    internal_cages: Vec<InternalCage>,
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    poses: BTreeMap<String, Vec<DVec3>>,
+    /// Absent when the current pose is the rest pose.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    current_pose: Option<Vec<DVec3>>,
+}
+
+/// Migrations from each older version to the next, applied in order on the raw JSON. Version 1
+/// is the first released format, so there is nothing to migrate yet: when version 2 comes,
+/// `migrate_v1_to_v2` goes here and the test below gains a version-1 file.
+fn migrate(value: Value, version: u64) -> Value {
+    debug_assert!(version <= u64::from(SCENE_VERSION));
+    value
+}
+
+/// Reads a scene file and the mesh it names.
+pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
+    let text = crate::io::read_text(path)?;
+    let syntax = |e: serde_json::Error| SceneFileError::Syntax {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    };
+    let value: Value = serde_json::from_str(&text).map_err(syntax)?;
+    let format = value.get("format");
+    if format.and_then(Value::as_str) != Some(SCENE_FORMAT) {
+        return Err(SceneFileError::WrongFormat {
+            path: path.to_path_buf(),
+            found: format.map_or_else(|| "missing".to_owned(), Value::to_string),
+        });
+    }
+    let version = value
+        .get("version")
+        .and_then(Value::as_u64)
+        .ok_or_else(|| SceneFileError::Syntax {
+            path: path.to_path_buf(),
+            reason: "\"version\" is missing or not a non-negative integer".to_owned(),
+        })?;
+    if version > u64::from(SCENE_VERSION) {
+        return Err(SceneFileError::NewerVersion {
+            path: path.to_path_buf(),
+            version,
+        });
+    }
+    let value = migrate(value, version);
+    // Re-parse from text so that shape errors carry line and column.
+    let file: SceneFileV1 = serde_json::from_str(&text)
+        .or_else(|_| serde_json::from_value(value))
+        .map_err(syntax)?;
+    let folder = path.parent().unwrap_or(Path::new("."));
+    let (mesh_source, mesh) = match file.mesh {
+        MeshRef::Path(relative) => {
+            let full = folder.join(&relative);
+            let mesh = read_mesh(&full)?;
+            (MeshSource::File(full), mesh)
+        }
+        MeshRef::Embedded(m) => {
+            let mesh =
+                Mesh::new(m.positions, m.triangles, m.normals, m.uvs).map_err(|problem| {
+                    SceneFileError::EmbeddedMesh {
+                        path: path.to_path_buf(),
+                        problem,
+                    }
+                })?;
+            (MeshSource::Embedded, mesh)
+        }
+    };
+    let cages = CageSet {
+        vertices: file.cage_vertices,
+        leaves: file.cages,
+        internals: file.internal_cages,
+    };
+    let pose = file.current_pose.unwrap_or_else(|| cages.vertices.clone());
+    Ok(Scene {
+        mesh_source,
+        mesh,
+        cages,
+        settings: file.settings,
+        poses: file.poses,
+        pose,
+    })
+}
+
+/// The scene as JSON text, with the mesh path relative to `scene_path`'s folder.
+pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
+    let mesh = match &scene.mesh_source {
+        MeshSource::File(path) => MeshRef::Path(relative_to(
+            path,
+            scene_path.parent().unwrap_or(Path::new(".")),
+        )),
+        MeshSource::Embedded => MeshRef::Embedded(EmbeddedMesh {
+            positions: scene.mesh.positions().to_vec(),
+            triangles: scene.mesh.triangles().to_vec(),
+            normals: scene.mesh.normals().map(<[Vec3]>::to_vec),
+            uvs: scene.mesh.uvs().map(<[Vec2]>::to_vec),
+        }),
+    };
+    let file = SceneFileV1 {
+        format: SCENE_FORMAT.to_owned(),
+        version: SCENE_VERSION,
+        mesh,
+        settings: scene.settings,
+        cage_vertices: scene.cages.vertices.clone(),
+        cages: scene.cages.leaves.clone(),
+        internal_cages: scene.cages.internals.clone(),
+        poses: scene.poses.clone(),
+        current_pose: (scene.pose != scene.cages.vertices).then(|| scene.pose.clone()),
+    };
+    // Serialising plain data to a Value cannot fail (no maps with non-string keys).
+    let value = serde_json::to_value(&file).unwrap_or(Value::Null);
+    super::pretty_json::to_pretty(&value)
+}
+
+/// Saves the scene atomically: a failed save leaves the previous file intact and says why.
+pub fn save_scene(scene: &Scene, path: &Path) -> Result<(), SceneFileError> {
+    write_atomic(path, scene_to_json(scene, path).as_bytes())?;
+    Ok(())
+}
+
+/// `path` relative to `base` when it lies below it (or beside it via `..`), else absolute.
+fn relative_to(path: &Path, base: &Path) -> PathBuf {
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let (path, base) = (absolute(path), absolute(base));
+    let common = path
+        .components()
+        .zip(base.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    if common == 0 {
+        return path;
+    }
+    let mut relative = PathBuf::new();
+    for _ in base.components().skip(common) {
+        relative.push("..");
+    }
+    for part in path.components().skip(common) {
+        relative.push(part);
+    }
+    relative
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_paths() {
+        assert_eq!(
+            relative_to(Path::new("/a/b/mesh.obj"), Path::new("/a/b")),
+            PathBuf::from("mesh.obj")
+        );
+        assert_eq!(
+            relative_to(Path::new("/a/m/mesh.obj"), Path::new("/a/b")),
+            PathBuf::from("../m/mesh.obj")
+        );
+    }
+}

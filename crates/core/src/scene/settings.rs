@@ -1,0 +1,121 @@
+//! Scene-wide settings: default h, the smoothing function f_h, the join-cage coordinate
+//! policy, what to do with mesh vertices outside every cage, and the HC discretisation.
+
+use serde::{Deserialize, Serialize};
+
+use crate::coords::HarmonicSettings;
+
+/// The paper's three smoothing functions f_h (section 3.1), all with f_h(0) = f'_h(0) = 0,
+/// f_h(x) = 1 for x ≥ h and f'_h ≥ 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Smoothing {
+    /// f_h(x) = ½ sin(π(x/h − ½)) + ½ (the paper's images use this one).
+    #[default]
+    Sine,
+    /// f_h(x) = −2(x/h)³ + 3(x/h)².
+    Cubic,
+    /// f_h(x) = −8(x/h)⁵ + 20(x/h)⁴ − 18(x/h)³ + 7(x/h)².
+    Quintic,
+}
+
+impl Smoothing {
+    /// f_h(x), clamped: 0 for x ≤ 0 and 1 for x ≥ h (paper-notes item 3).
+    pub fn eval(self, x: f64, h: f64) -> f64 {
+        if x <= 0.0 {
+            return 0.0;
+        }
+        if x >= h {
+            return 1.0;
+        }
+        let t = x / h;
+        match self {
+            Self::Sine => 0.5 * (std::f64::consts::PI * (t - 0.5)).sin() + 0.5,
+            Self::Cubic => t * t * (3.0 - 2.0 * t),
+            Self::Quintic => t * t * (7.0 + t * (-18.0 + t * (20.0 - 8.0 * t))),
+        }
+    }
+}
+
+/// Coordinates used for join cages (section 3.1; Fig. 10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JoinPolicy {
+    /// HC where the join cage is concave, MVC where it is convex.
+    #[default]
+    Auto,
+    /// Always Mean Value Coordinates.
+    Mvc,
+    /// Always Harmonic Coordinates.
+    Hc,
+    /// Always Green Coordinates.
+    Gc,
+}
+
+/// What happens to mesh vertices that lie outside every leaf cage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OutsidePolicy {
+    /// They are an error (the default): the scene does not validate.
+    #[default]
+    Error,
+    /// They follow the nearest leaf cage: through its coordinates where those are defined
+    /// outside (MVC, GC), rigidly otherwise.
+    Nearest,
+}
+
+/// Scene-wide settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SceneSettings {
+    /// h of cages that set none, in (0, 1].
+    pub default_h: f64,
+    /// The smoothing function f_h.
+    pub smoothing: Smoothing,
+    /// Join-cage coordinates.
+    pub join_coordinates: JoinPolicy,
+    /// Mesh vertices outside every leaf cage.
+    pub outside: OutsidePolicy,
+    /// Harmonic coordinates' grid and solver.
+    pub harmonic: HarmonicSettings,
+}
+
+impl Default for SceneSettings {
+    fn default() -> Self {
+        Self {
+            default_h: 0.5,
+            smoothing: Smoothing::default(),
+            join_coordinates: JoinPolicy::default(),
+            outside: OutsidePolicy::default(),
+            harmonic: HarmonicSettings::default(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smoothing_functions_meet_the_papers_conditions() {
+        for f in [Smoothing::Sine, Smoothing::Cubic, Smoothing::Quintic] {
+            for h in [0.2, 0.5, 1.0] {
+                assert_eq!(f.eval(0.0, h), 0.0);
+                assert!((f.eval(h, h) - 1.0).abs() < 1e-12);
+                assert_eq!(f.eval(-0.3, h), 0.0);
+                assert_eq!(f.eval(1.5, h), 1.0);
+                let eps = 1e-6;
+                // f'(0) = 0 and f'(h) = 0 (C1 at both ends), monotone in between.
+                // Difference quotients at the ends vanish like eps (the derivatives are 0).
+                assert!(f.eval(eps, h) / eps < 1e-3, "{f:?} f'(0)");
+                assert!((1.0 - f.eval(h - eps, h)) / eps < 1e-3, "{f:?} f'(h)");
+                let mut previous = 0.0;
+                for k in 1..=100 {
+                    let v = f.eval(h * k as f64 / 100.0, h);
+                    assert!(v >= previous - 1e-15, "{f:?} not monotone");
+                    previous = v;
+                }
+            }
+        }
+    }
+}

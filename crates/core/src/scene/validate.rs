@@ -1,0 +1,480 @@
+//! Validation of a whole scene: every problem as a typed error naming the cage, the element
+//! and the fix.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use rayon::prelude::*;
+use thiserror::Error;
+
+use super::cage_set::{LocalCage, is_same_cycle};
+use super::containment::{ON_CAGE, leaf_containment};
+use super::{OutsidePolicy, Scene};
+use crate::cage::CageError;
+
+/// One problem of a scene. Vertex indices are 0-based: cage vertices in the scene's shared
+/// array, mesh vertices in the welded mesh.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SceneProblem {
+    /// The scene has no leaf cage.
+    #[error("the scene has no leaf cage; add cages (e.g. with `starcages-cli autocage`)")]
+    NoLeafCages,
+    /// Two cages share a name.
+    #[error("two cages are called '{name}'; rename one")]
+    DuplicateName {
+        /// The name.
+        name: String,
+    },
+    /// A cage is not a valid closed, outward-oriented cage.
+    #[error("cage '{cage}': {problem}")]
+    Cage {
+        /// The cage.
+        cage: String,
+        /// What is wrong with it.
+        problem: CageError,
+    },
+    /// An h outside (0, 1].
+    #[error("cage '{cage}': h = {h} is outside (0, 1]; choose a value in that range")]
+    InvalidH {
+        /// The cage ("scene default" for the default).
+        cage: String,
+        /// The value.
+        h: f64,
+    },
+    /// A border h override names a cage that is not a neighbour.
+    #[error(
+        "cage '{cage}': border h for '{neighbour}', which is not an adjacent cage; remove the override"
+    )]
+    UnknownBorder {
+        /// The cage.
+        cage: String,
+        /// The named neighbour.
+        neighbour: String,
+    },
+    /// Two cages share a face with the same orientation: one is inside-out or they overlap.
+    #[error(
+        "cages '{first}' and '{second}' share face {face} of '{first}' with the same orientation; \
+         neighbouring cages must run shared faces in opposite directions (flip one cage, or fix the overlap)"
+    )]
+    SharedFaceSameOrientation {
+        /// One cage.
+        first: String,
+        /// The other.
+        second: String,
+        /// The face, in the first cage's list.
+        face: usize,
+    },
+    /// More than two cages have the same face.
+    #[error(
+        "face {face} of cage '{cage}' is shared by {count} cages; a face borders at most two cages"
+    )]
+    FaceSharedByMany {
+        /// A cage with the face.
+        cage: String,
+        /// The face in its list.
+        face: usize,
+        /// How many cages have it.
+        count: usize,
+    },
+    /// A mesh vertex is strictly inside two leaf cages: the cages overlap.
+    #[error(
+        "mesh vertex {vertex} is inside both '{first}' and '{second}': those cages overlap; make them meet at shared faces"
+    )]
+    MeshVertexInTwoCages {
+        /// The mesh vertex.
+        vertex: usize,
+        /// One cage.
+        first: String,
+        /// The other.
+        second: String,
+    },
+    /// A cage vertex is strictly inside another leaf cage.
+    #[error(
+        "cage vertex {vertex} lies inside cage '{cage}': cages overlap; move the vertex onto or outside '{cage}'"
+    )]
+    CageVertexInsideCage {
+        /// The cage vertex.
+        vertex: usize,
+        /// The cage containing it.
+        cage: String,
+    },
+    /// Mesh vertices outside every leaf cage.
+    #[error(
+        "{count} mesh vertices lie outside every leaf cage (first: {listed}; within {min:?} .. {max:?}); \
+         enlarge the cages, or set the scene's outside policy to 'nearest'"
+    )]
+    MeshOutside {
+        /// How many.
+        count: usize,
+        /// Their indices (all).
+        vertices: Vec<usize>,
+        /// The first few, formatted.
+        listed: String,
+        /// Bounding box minimum of those vertices.
+        min: [f64; 3],
+        /// Bounding box maximum of those vertices.
+        max: [f64; 3],
+    },
+    /// A pose has the wrong number of vertices.
+    #[error(
+        "pose '{pose}' has {got} vertices but the cages have {expected}; re-export the pose from this scene"
+    )]
+    PoseLength {
+        /// The pose ("current" for the current one).
+        pose: String,
+        /// Its vertex count.
+        got: usize,
+        /// The cage vertex count.
+        expected: usize,
+    },
+    /// A pose has a NaN or infinite coordinate.
+    #[error("pose '{pose}': cage vertex {vertex} has a non-finite coordinate")]
+    PoseNonFinite {
+        /// The pose.
+        pose: String,
+        /// The vertex.
+        vertex: usize,
+    },
+    /// An internal cage owns a vertex that does not exist or is its own.
+    #[error(
+        "internal cage '{cage}' owns vertex {vertex}, which {reason}; remove it from its owned list"
+    )]
+    BadOwnedVertex {
+        /// The internal cage.
+        cage: String,
+        /// The vertex.
+        vertex: usize,
+        /// Why it cannot be owned.
+        reason: &'static str,
+    },
+    /// A vertex owned by two internal cages.
+    #[error(
+        "vertex {vertex} is owned by both '{first}' and '{second}'; a vertex has at most one parent"
+    )]
+    OwnedTwice {
+        /// The vertex.
+        vertex: usize,
+        /// One owner.
+        first: String,
+        /// The other.
+        second: String,
+    },
+    /// The ownership hierarchy has a cycle.
+    #[error(
+        "internal cage '{cage}' ends up owning one of its own vertices through the hierarchy; break the cycle"
+    )]
+    HierarchyCycle {
+        /// A cage on the cycle.
+        cage: String,
+    },
+}
+
+/// Result of validating a scene.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ValidationReport {
+    /// Problems that make the scene unusable.
+    pub errors: Vec<SceneProblem>,
+    /// Things worth knowing that do not stop deformation.
+    pub warnings: Vec<String>,
+}
+
+impl ValidationReport {
+    /// Whether the scene is usable.
+    pub fn is_valid(&self) -> bool {
+        self.errors.is_empty()
+    }
+}
+
+/// Validates the whole scene.
+pub fn validate_scene(scene: &Scene) -> ValidationReport {
+    let mut report = ValidationReport::default();
+    let errors = &mut report.errors;
+    let set = &scene.cages;
+    if set.leaves.is_empty() {
+        errors.push(SceneProblem::NoLeafCages);
+    }
+    let mut names = BTreeSet::new();
+    for name in set
+        .leaves
+        .iter()
+        .map(|c| &c.name)
+        .chain(set.internals.iter().map(|c| &c.name))
+    {
+        if !names.insert(name) {
+            errors.push(SceneProblem::DuplicateName { name: name.clone() });
+        }
+    }
+    let h = scene.settings.default_h;
+    if !(h > 0.0 && h <= 1.0) {
+        errors.push(SceneProblem::InvalidH {
+            cage: "scene default".into(),
+            h,
+        });
+    }
+    // Each cage closed and outward-oriented.
+    let mut leaves: Vec<Option<LocalCage>> = Vec::new();
+    for cage in &set.leaves {
+        match LocalCage::new(&set.vertices, &cage.faces) {
+            Ok(local) => leaves.push(Some(local)),
+            Err(problem) => {
+                errors.push(SceneProblem::Cage {
+                    cage: cage.name.clone(),
+                    problem,
+                });
+                leaves.push(None);
+            }
+        }
+        for h in cage.h.iter().chain(cage.border_h.values()) {
+            if !(*h > 0.0 && *h <= 1.0) {
+                errors.push(SceneProblem::InvalidH {
+                    cage: cage.name.clone(),
+                    h: *h,
+                });
+            }
+        }
+    }
+    for cage in &set.internals {
+        if let Err(problem) = LocalCage::new(&set.vertices, &cage.faces) {
+            errors.push(SceneProblem::Cage {
+                cage: cage.name.clone(),
+                problem,
+            });
+        }
+    }
+    check_shared_faces(scene, errors);
+    check_hierarchy(scene, errors);
+    check_poses(scene, errors);
+    if leaves.iter().all(Option::is_some) && !leaves.is_empty() {
+        let leaves: Vec<LocalCage> = leaves.into_iter().flatten().collect();
+        check_overlaps_and_coverage(scene, &leaves, &mut report);
+    }
+    report
+}
+
+fn check_shared_faces(scene: &Scene, errors: &mut Vec<SceneProblem>) {
+    let set = &scene.cages;
+    let mut by_set: BTreeMap<Vec<u32>, Vec<(usize, usize)>> = BTreeMap::new();
+    for (c, cage) in set.leaves.iter().enumerate() {
+        for (f, face) in cage.faces.iter().enumerate() {
+            let mut key = face.clone();
+            key.sort_unstable();
+            by_set.entry(key).or_default().push((c, f));
+        }
+    }
+    for sharing in by_set.values() {
+        match sharing[..] {
+            [_] => {}
+            [(ci, fi), (cj, fj)]
+                if ci != cj
+                    && is_same_cycle(&set.leaves[ci].faces[fi], &set.leaves[cj].faces[fj]) =>
+            {
+                errors.push(SceneProblem::SharedFaceSameOrientation {
+                    first: set.leaves[ci].name.clone(),
+                    second: set.leaves[cj].name.clone(),
+                    face: fi,
+                });
+            }
+            [(ci, fi), ..] if sharing.len() > 2 => errors.push(SceneProblem::FaceSharedByMany {
+                cage: set.leaves[ci].name.clone(),
+                face: fi,
+                count: sharing.len(),
+            }),
+            _ => {} // the same face twice in one cage: reported by that cage's own check
+        }
+    }
+    let adjacency = set.adjacency();
+    for (c, cage) in set.leaves.iter().enumerate() {
+        for neighbour in cage.border_h.keys() {
+            let adjacent = set.leaf_index(neighbour).is_some_and(|n| {
+                adjacency
+                    .iter()
+                    .any(|a| (a.first, a.second) == (c.min(n), c.max(n)))
+            });
+            if !adjacent {
+                errors.push(SceneProblem::UnknownBorder {
+                    cage: cage.name.clone(),
+                    neighbour: neighbour.clone(),
+                });
+            }
+        }
+    }
+}
+
+fn check_hierarchy(scene: &Scene, errors: &mut Vec<SceneProblem>) {
+    let set = &scene.cages;
+    let n = set.vertices.len();
+    let mut parent: BTreeMap<u32, usize> = BTreeMap::new();
+    let own_vertices: Vec<BTreeSet<u32>> = set
+        .internals
+        .iter()
+        .map(|c| c.faces.iter().flatten().copied().collect())
+        .collect();
+    for (i, cage) in set.internals.iter().enumerate() {
+        for &v in &cage.owns {
+            let reason = if v as usize >= n {
+                Some("does not exist")
+            } else if own_vertices[i].contains(&v) {
+                Some("is one of its own vertices")
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                errors.push(SceneProblem::BadOwnedVertex {
+                    cage: cage.name.clone(),
+                    vertex: v as usize,
+                    reason,
+                });
+                continue;
+            }
+            if let Some(&other) = parent.get(&v) {
+                errors.push(SceneProblem::OwnedTwice {
+                    vertex: v as usize,
+                    first: set.internals[other].name.clone(),
+                    second: cage.name.clone(),
+                });
+            } else {
+                parent.insert(v, i);
+            }
+        }
+    }
+    // Internal cage i drives internal cage j when it owns one of j's vertices; a cycle in
+    // that graph means a cage drives itself.
+    let drives: Vec<BTreeSet<usize>> = set
+        .internals
+        .iter()
+        .map(|c| {
+            (0..set.internals.len())
+                .filter(|&j| c.owns.iter().any(|v| own_vertices[j].contains(v)))
+                .collect()
+        })
+        .collect();
+    for start in 0..set.internals.len() {
+        let mut stack: Vec<usize> = drives[start].iter().copied().collect();
+        let mut seen = BTreeSet::new();
+        while let Some(j) = stack.pop() {
+            if j == start {
+                errors.push(SceneProblem::HierarchyCycle {
+                    cage: set.internals[start].name.clone(),
+                });
+                break;
+            }
+            if seen.insert(j) {
+                stack.extend(drives[j].iter().copied());
+            }
+        }
+    }
+}
+
+fn check_poses(scene: &Scene, errors: &mut Vec<SceneProblem>) {
+    let expected = scene.cages.vertices.len();
+    let poses = scene
+        .poses
+        .iter()
+        .map(|(n, p)| (n.as_str(), p))
+        .chain([("current", &scene.pose)]);
+    for (name, pose) in poses {
+        if pose.len() != expected {
+            errors.push(SceneProblem::PoseLength {
+                pose: name.to_owned(),
+                got: pose.len(),
+                expected,
+            });
+        } else if let Some(vertex) = pose.iter().position(|p| !p.is_finite()) {
+            errors.push(SceneProblem::PoseNonFinite {
+                pose: name.to_owned(),
+                vertex,
+            });
+        }
+    }
+}
+
+fn check_overlaps_and_coverage(scene: &Scene, leaves: &[LocalCage], report: &mut ValidationReport) {
+    let set = &scene.cages;
+    let name = |c: usize| set.leaves[c].name.clone();
+    let mesh_points = scene.mesh.welded_positions();
+    let containment = leaf_containment(leaves, mesh_points);
+    let mut outside = Vec::new();
+    for (v, c) in containment.iter().enumerate() {
+        if c.inside.len() >= 2 {
+            report.errors.push(SceneProblem::MeshVertexInTwoCages {
+                vertex: v,
+                first: name(c.inside[0]),
+                second: name(c.inside[1]),
+            });
+        }
+        if !c.is_covered() {
+            outside.push(v);
+        }
+    }
+    // Report each overlapping pair once, not once per vertex.
+    dedup_overlaps(&mut report.errors);
+    if !outside.is_empty() {
+        let (lo, hi) =
+            crate::cage::bounds_of(&outside.iter().map(|&v| mesh_points[v]).collect::<Vec<_>>());
+        let mut listed = outside
+            .iter()
+            .take(8)
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        if outside.len() > 8 {
+            listed.push_str(", …");
+        }
+        let problem = SceneProblem::MeshOutside {
+            count: outside.len(),
+            vertices: outside,
+            listed,
+            min: lo.to_array(),
+            max: hi.to_array(),
+        };
+        match scene.settings.outside {
+            OutsidePolicy::Error => report.errors.push(problem),
+            OutsidePolicy::Nearest => report
+                .warnings
+                .push(format!("{problem} (they follow the nearest cage)")),
+        }
+    }
+    // Cage vertices strictly inside another leaf cage.
+    let inside_cage: Vec<(usize, usize)> = leaves
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(c, local)| {
+            let (lo, hi) = local.cage.bounds();
+            let tol = ON_CAGE * local.cage.diagonal();
+            set.vertices
+                .iter()
+                .enumerate()
+                .filter(move |(v, p)| {
+                    local.global.binary_search(&(*v as u32)).is_err()
+                        && p.cmpgt(lo).all()
+                        && p.cmplt(hi).all()
+                        && local.cage.winding_number(**p) > 0.5
+                        && local.cage.closest_point(**p).2 > tol
+                })
+                .map(move |(v, _)| (v, c))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for (vertex, c) in inside_cage {
+        // Internal cages' vertices may lie anywhere: only leaf vertices matter here.
+        if set
+            .leaves
+            .iter()
+            .any(|l| l.faces.iter().flatten().any(|&u| u as usize == vertex))
+        {
+            report.errors.push(SceneProblem::CageVertexInsideCage {
+                vertex,
+                cage: name(c),
+            });
+        }
+    }
+}
+
+fn dedup_overlaps(errors: &mut Vec<SceneProblem>) {
+    let mut seen = BTreeSet::new();
+    errors.retain(|e| match e {
+        SceneProblem::MeshVertexInTwoCages { first, second, .. } => {
+            seen.insert((first.clone(), second.clone()))
+        }
+        _ => true,
+    });
+}

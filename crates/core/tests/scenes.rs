@@ -1,0 +1,434 @@
+//! Scene model and files: demos validate, files round-trip, every validation problem is
+//! reported with its cage and element, bad files get clear errors, saves are atomic.
+
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::io::read_mesh;
+use starcages_core::scene::demo::{DEMOS, box_mesh, demo_scene};
+use starcages_core::scene::{
+    AutocageOptions, CageSet, InternalCage, LeafCage, MeshSource, OutsidePolicy, Scene,
+    SceneFileError, SceneProblem, SceneSettings, autocage, load_scene, save_scene, validate_scene,
+};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("starcages-scenes-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn problems(scene: &Scene) -> Vec<SceneProblem> {
+    validate_scene(scene).errors
+}
+
+#[test]
+fn every_demo_validates_and_round_trips() {
+    let dir = scratch("demos");
+    for (name, _) in DEMOS {
+        let scene = demo_scene(name, 0.5).unwrap();
+        let report = validate_scene(&scene);
+        assert!(report.is_valid(), "{name}: {:?}", report.errors);
+        let path = dir.join(format!("{name}.json"));
+        save_scene(&scene, &path).unwrap();
+        let back = load_scene(&path).unwrap();
+        // Compare without printing whole scenes on failure.
+        assert!(
+            back == scene,
+            "{name}: the scene changed in a save/load round trip"
+        );
+        // Saving the loaded scene gives the same bytes.
+        let again = dir.join(format!("{name}-again.json"));
+        save_scene(&back, &again).unwrap();
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            std::fs::read(&again).unwrap()
+        );
+    }
+    let egg = demo_scene("egg", 0.5).unwrap();
+    assert_eq!(egg.cages.leaves.len(), 12);
+    assert!(demo_scene("nope", 1.0).is_none());
+}
+
+#[test]
+fn mesh_files_are_referenced_relative_to_the_scene() {
+    let dir = scratch("relative");
+    let mesh = box_mesh(DVec3::splat(-1.0), DVec3::splat(1.0), [2, 2, 2]);
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    let mesh_path = dir.join("meshes").join("box.obj");
+    starcages_core::io::write_mesh(&mesh_path, &mesh, mesh.positions()).unwrap();
+    let mesh = read_mesh(&mesh_path).unwrap();
+    let cages = autocage(&mesh, &AutocageOptions::default());
+    let scene = Scene::new(
+        MeshSource::File(mesh_path.clone()),
+        mesh,
+        cages,
+        SceneSettings::default(),
+    );
+    let path = dir.join("scene.json");
+    save_scene(&scene, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"path\": \"meshes/box.obj\""), "{text}");
+    let back = load_scene(&path).unwrap();
+    assert_eq!(back.cages, scene.cages);
+    assert_eq!(back.mesh, scene.mesh);
+}
+
+#[test]
+fn autocage_drops_empty_cells_and_shares_faces_exactly() {
+    // An L-shaped set of vertices: the grid's far corner cells stay empty.
+    let mesh = box_mesh(DVec3::ZERO, DVec3::new(3.0, 1.0, 1.0), [6, 2, 2]);
+    let set = autocage(
+        &mesh,
+        &AutocageOptions {
+            grid: [3, 3, 3],
+            ..Default::default()
+        },
+    );
+    assert!(
+        set.leaves.len() < 27,
+        "empty cells kept: {}",
+        set.leaves.len()
+    );
+    let scene = Scene::new(MeshSource::Embedded, mesh, set, SceneSettings::default());
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    let adjacency = scene.cages.adjacency();
+    assert!(!adjacency.is_empty());
+    // Shared-vertex count: a 3x1x1 row in the middle layer shares 4 vertices per border.
+    assert!(adjacency.iter().all(|a| !a.faces.is_empty()));
+}
+
+fn two_box_scene() -> Scene {
+    demo_scene("bar", 0.3).unwrap()
+}
+
+#[test]
+fn validation_names_cage_element_and_fix() {
+    // Open cage.
+    let mut s = two_box_scene();
+    s.cages.leaves[0].faces.pop();
+    let p = problems(&s);
+    assert!(
+        matches!(&p[0], SceneProblem::Cage { cage, .. } if cage == "cage_0_0_0"),
+        "{p:?}"
+    );
+    assert!(p[0].to_string().contains("not closed"), "{}", p[0]);
+
+    // Inward cage: also runs the shared face the same way as its neighbour.
+    let mut s = two_box_scene();
+    for f in &mut s.cages.leaves[1].faces {
+        f.reverse();
+    }
+    let p = problems(&s);
+    assert!(
+        p.iter().any(|e| e.to_string().contains("oriented inwards")),
+        "{p:?}"
+    );
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::SharedFaceSameOrientation { .. })),
+        "{p:?}"
+    );
+
+    // Overlap: move the left cage's right face into the right cage.
+    let mut s = two_box_scene();
+    let mut shared: Vec<u32> = s.cages.leaves[0]
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|v| s.cages.vertices[*v as usize].x == 0.0)
+        .collect();
+    shared.sort_unstable();
+    shared.dedup();
+    let mut moved = s.cages.clone();
+    for v in shared {
+        // Into the right cage, strictly inside it (not on its edges).
+        let p = &mut moved.vertices[v as usize];
+        *p = glam::DVec3::new(0.5, p.y * 0.9, p.z * 0.9);
+    }
+    // Give the right cage its own copies of the old border so both cages stay closed.
+    let offset = moved.vertices.len() as u32;
+    let border: Vec<u32> = (0..moved.vertices.len() as u32)
+        .filter(|&v| moved.vertices[v as usize].x == 0.5)
+        .collect();
+    for &v in &border {
+        let p = moved.vertices[v as usize];
+        moved
+            .vertices
+            .push(glam::DVec3::new(0.0, p.y / 0.9, p.z / 0.9));
+    }
+    for f in &mut moved.leaves[1].faces {
+        for v in f.iter_mut() {
+            if let Some(k) = border.iter().position(|b| b == v) {
+                *v = offset + k as u32;
+            }
+        }
+    }
+    s.pose = moved.vertices.clone();
+    s.poses.clear();
+    s.cages = moved;
+    let p = problems(&s);
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::MeshVertexInTwoCages { .. })),
+        "{p:?}"
+    );
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::CageVertexInsideCage { .. })),
+        "{p:?}"
+    );
+
+    // Mesh outside every cage: error by default, warning with the 'nearest' policy.
+    let mut s = two_box_scene();
+    for v in &mut s.cages.vertices {
+        v.x *= 0.8;
+    }
+    s.pose = s.cages.vertices.clone();
+    s.poses.clear();
+    let p = problems(&s);
+    let outside = p.iter().find_map(|e| match e {
+        SceneProblem::MeshOutside {
+            count, vertices, ..
+        } => Some((*count, vertices.clone())),
+        _ => None,
+    });
+    let (count, vertices) = outside.expect("outside vertices reported");
+    assert!(
+        count > 0
+            && vertices
+                .iter()
+                .all(|&v| s.mesh.welded_positions()[v].x.abs() > 0.88 - 1e-9)
+    );
+    assert!(p.iter().any(|e| {
+        e.to_string()
+            .contains("set the scene's outside policy to 'nearest'")
+    }));
+    s.settings.outside = OutsidePolicy::Nearest;
+    let report = validate_scene(&s);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    assert_eq!(report.warnings.len(), 1);
+
+    // Bad h values, unknown border, duplicate names, pose length.
+    let mut s = two_box_scene();
+    s.cages.leaves[0].h = Some(1.5);
+    s.cages.leaves[0].border_h.insert("nobody".into(), 0.5);
+    s.cages.leaves[1].name = "cage_0_0_0".into();
+    s.poses.insert("short".into(), vec![DVec3::ZERO; 3]);
+    let p = problems(&s);
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::InvalidH { h, .. } if *h == 1.5)),
+        "{p:?}"
+    );
+    assert!(p.iter().any(
+        |e| matches!(e, SceneProblem::UnknownBorder { neighbour, .. } if neighbour == "nobody")
+    ));
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::DuplicateName { .. }))
+    );
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::PoseLength { pose, got: 3, .. } if pose == "short"))
+    );
+}
+
+#[test]
+fn hierarchy_problems() {
+    let mut s = two_box_scene();
+    let n = s.cages.vertices.len() as u32;
+    // Two internal boxes, each around the whole bar, owning overlapping vertex sets.
+    let add_box = |set: &mut CageSet, name: &str, owns: Vec<u32>| {
+        let base = set.vertices.len() as u32;
+        for c in 0..8u32 {
+            let p = DVec3::new(
+                if c & 1 == 0 { -2.0 } else { 2.0 },
+                if c & 2 == 0 { -1.0 } else { 1.0 },
+                if c & 4 == 0 { -1.0 } else { 1.0 },
+            );
+            set.vertices.push(p);
+        }
+        let faces = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        set.internals.push(InternalCage {
+            name: name.into(),
+            kind: CoordinateKind::MeanValue,
+            faces: faces
+                .iter()
+                .map(|f| f.iter().map(|&c| base + c).collect())
+                .collect(),
+            owns,
+        });
+    };
+    add_box(&mut s.cages, "upper", vec![0, 1, n + 8]);
+    add_box(&mut s.cages, "lower", vec![1, n, 999]);
+    s.pose = s.cages.vertices.clone();
+    s.poses.clear();
+    let p = problems(&s);
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::OwnedTwice { vertex: 1, .. })),
+        "{p:?}"
+    );
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::BadOwnedVertex { vertex: 999, .. })),
+        "{p:?}"
+    );
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::HierarchyCycle { .. })),
+        "{p:?}"
+    );
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn bad_scene_files_get_clear_errors() {
+    let dir = scratch("bad-files");
+    let good = dir.join("good.json");
+    save_scene(&two_box_scene(), &good).unwrap();
+    let text = std::fs::read_to_string(&good).unwrap();
+
+    let truncated = write(&dir, "truncated.json", &text[..text.len() / 2]);
+    let e = load_scene(&truncated).unwrap_err().to_string();
+    assert!(
+        e.contains("truncated.json: not a valid scene file") && e.contains("line"),
+        "{e}"
+    );
+
+    let garbled = write(
+        &dir,
+        "garbled.json",
+        &text.replacen("\"cages\"", "\"cagez\"", 1),
+    );
+    let e = load_scene(&garbled).unwrap_err().to_string();
+    assert!(e.contains("cagez") || e.contains("cages"), "{e}");
+
+    let nan = write(&dir, "nan.json", &text.replacen("-1.1", "NaN", 1));
+    assert!(matches!(
+        load_scene(&nan),
+        Err(SceneFileError::Syntax { .. })
+    ));
+
+    let newer = write(
+        &dir,
+        "newer.json",
+        &text.replacen("\"version\": 1", "\"version\": 7", 1),
+    );
+    let e = load_scene(&newer).unwrap_err().to_string();
+    assert!(
+        e.contains("newer StarCages") && e.contains("version 7"),
+        "{e}"
+    );
+
+    let other = write(
+        &dir,
+        "other.json",
+        "{\"format\": \"blender\", \"version\": 1}",
+    );
+    let e = load_scene(&other).unwrap_err().to_string();
+    assert!(e.contains("not a StarCages scene"), "{e}");
+
+    let missing_mesh = write(
+        &dir,
+        "missing-mesh.json",
+        &text.replacen(
+            &text[text.find("\"mesh\"").unwrap()..text.find("\"settings\"").unwrap()],
+            "\"mesh\": {\"path\": \"nowhere/mesh.obj\"},\n  ",
+            1,
+        ),
+    );
+    let e = load_scene(&missing_mesh).unwrap_err().to_string();
+    assert!(e.contains("nowhere/mesh.obj: cannot read"), "{e}");
+
+    let nan_mesh = write(&dir, "nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n");
+    let e = read_mesh(&nan_mesh).unwrap_err().to_string();
+    assert!(e.contains("nan.obj"), "{e}");
+}
+
+#[test]
+fn failed_save_keeps_the_old_file_and_says_why() {
+    let dir = scratch("failed-save");
+    let path = dir.join("scene.json");
+    save_scene(&two_box_scene(), &path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    // Block the temporary file the save writes first (works for root too, unlike chmod).
+    let blocker = dir.join(format!(".scene.json.{}.tmp", std::process::id()));
+    std::fs::create_dir_all(&blocker).unwrap();
+    let mut changed = two_box_scene();
+    changed.cages.leaves[0].h = Some(0.3);
+    let e = save_scene(&changed, &path).unwrap_err().to_string();
+    assert!(e.contains("cannot save") && e.contains("unchanged"), "{e}");
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+    // A read-only folder, where permissions apply (not for root).
+    std::fs::remove_dir_all(&blocker).unwrap();
+    let readonly = scratch("readonly");
+    let target = readonly.join("scene.json");
+    save_scene(&two_box_scene(), &target).unwrap();
+    let original = std::fs::read(&target).unwrap();
+    set_readonly(&readonly, true);
+    let result = save_scene(&changed, &target);
+    set_readonly(&readonly, false);
+    if let Err(e) = result {
+        assert!(e.to_string().contains("cannot save"), "{e}");
+        assert_eq!(std::fs::read(&target).unwrap(), original);
+    }
+}
+
+#[cfg(unix)]
+fn set_readonly(dir: &Path, readonly: bool) {
+    use std::os::unix::fs::PermissionsExt as _;
+    std::fs::set_permissions(
+        dir,
+        std::fs::Permissions::from_mode(if readonly { 0o555 } else { 0o755 }),
+    )
+    .unwrap();
+}
+
+#[cfg(not(unix))]
+fn set_readonly(dir: &Path, readonly: bool) {
+    let mut p = std::fs::metadata(dir).unwrap().permissions();
+    p.set_readonly(readonly);
+    std::fs::set_permissions(dir, p).unwrap();
+}
+
+#[test]
+fn leaf_cage_settings_survive_a_round_trip() {
+    let dir = scratch("settings");
+    let mut s = two_box_scene();
+    s.cages.leaves[0].h = Some(0.25);
+    s.cages.leaves[0].border_h.insert("cage_1_0_0".into(), 0.75);
+    s.cages.leaves[1].kind = CoordinateKind::Harmonic;
+    s.settings.default_h = 0.4;
+    s.pose[0].y += 0.1;
+    let _: &LeafCage = &s.cages.leaves[0];
+    let path = dir.join("s.json");
+    save_scene(&s, &path).unwrap();
+    assert!(
+        load_scene(&path).unwrap() == s,
+        "settings changed in a round trip"
+    );
+    assert!(
+        validate_scene(&s).is_valid(),
+        "{:?}",
+        validate_scene(&s).errors
+    );
+}
