@@ -261,6 +261,26 @@ pub mod shapes {
     use super::Cage;
     use glam::DVec3;
 
+    /// The six outward quad faces of a box whose corner `c` has bits (x, y, z) = (c & 1,
+    /// c >> 1 & 1, c >> 2): vertex i = x + 2y + 4z. Faces: z = min, z = max, y = min, y = max,
+    /// x = min, x = max.
+    pub const BOX_FACES: [[usize; 4]; 6] = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+
+    /// [`BOX_FACES`] over the given corner vertex indices.
+    pub fn box_faces(corners: [u32; 8]) -> Vec<Vec<u32>> {
+        BOX_FACES
+            .iter()
+            .map(|f| f.iter().map(|&c| corners[c]).collect())
+            .collect()
+    }
+
     /// Axis-aligned box from `min` to `max` with six quad faces, outward oriented.
     pub fn cuboid(min: DVec3, max: DVec3) -> Cage {
         let p = |x: usize, y: usize, z: usize| {

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use glam::{DVec3, UVec3};
 
 use super::{CageSet, LeafCage};
+use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
 use crate::mesh::Mesh;
 
@@ -29,16 +30,6 @@ impl Default for AutocageOptions {
         }
     }
 }
-
-/// Corner `c` (bits x, y, z) of a cell; faces as in `cage::shapes::cuboid`.
-const BOX_FACES: [[usize; 4]; 6] = [
-    [0, 2, 3, 1],
-    [4, 5, 7, 6],
-    [0, 1, 5, 4],
-    [2, 6, 7, 3],
-    [0, 4, 6, 2],
-    [1, 3, 7, 5],
-];
 
 /// A grid of box cages around the mesh's vertices; cells holding no mesh vertex are dropped.
 pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
@@ -65,24 +56,22 @@ pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
                 if !occupied[(i + grid.x * (j + grid.y * k)) as usize] {
                     continue;
                 }
-                let corners: Vec<u32> = (0..8u32)
-                    .map(|c| {
+                let corners: [u32; 8] = std::array::from_fn(|c| {
+                    let c = c as u32;
+                    {
                         let at = UVec3::new(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
                         *index.entry((at.z, at.y, at.x)).or_insert_with(|| {
                             set.vertices.push(node(at));
                             set.vertices.len() as u32 - 1
                         })
-                    })
-                    .collect();
+                    }
+                });
                 set.leaves.push(LeafCage {
                     name: format!("cell_{i}_{j}_{k}"),
                     kind: options.kind,
                     h: None,
                     border_h: BTreeMap::new(),
-                    faces: BOX_FACES
-                        .iter()
-                        .map(|f| f.iter().map(|&c| corners[c]).collect())
-                        .collect(),
+                    faces: box_faces(corners),
                 });
             }
         }

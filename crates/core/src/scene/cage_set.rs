@@ -142,14 +142,8 @@ fn globalise(error: CageError, global: &[u32]) -> CageError {
 }
 
 impl CageSet {
-    /// Index of the leaf cage called `name`.
-    pub fn leaf_index(&self, name: &str) -> Option<usize> {
-        self.leaves.iter().position(|c| c.name == name)
-    }
-
-    /// Pairs of adjacent leaf cages (sharing at least one face, opposite orientation), with
-    /// the shared faces as indices into each cage's face list.
-    pub fn adjacency(&self) -> Vec<Adjacency> {
+    /// Leaf-cage faces grouped by their (sorted) vertex set: `(cage, face)` pairs per set.
+    pub fn faces_by_vertex_set(&self) -> BTreeMap<Vec<u32>, Vec<(usize, usize)>> {
         let mut by_set: BTreeMap<Vec<u32>, Vec<(usize, usize)>> = BTreeMap::new();
         for (c, cage) in self.leaves.iter().enumerate() {
             for (f, face) in cage.faces.iter().enumerate() {
@@ -158,6 +152,18 @@ impl CageSet {
                 by_set.entry(key).or_default().push((c, f));
             }
         }
+        by_set
+    }
+
+    /// Index of the leaf cage called `name`.
+    pub fn leaf_index(&self, name: &str) -> Option<usize> {
+        self.leaves.iter().position(|c| c.name == name)
+    }
+
+    /// Pairs of adjacent leaf cages (sharing at least one face, opposite orientation), with
+    /// the shared faces as indices into each cage's face list.
+    pub fn adjacency(&self) -> Vec<Adjacency> {
+        let by_set = self.faces_by_vertex_set();
         let mut pairs: BTreeMap<(usize, usize), Vec<(usize, usize)>> = BTreeMap::new();
         for sharing in by_set.values() {
             if let [(ci, fi), (cj, fj)] = sharing[..]

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use glam::{DQuat, DVec3};
 
 use super::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
+use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
 use crate::mesh::Mesh;
 
@@ -83,23 +84,12 @@ pub fn box_mesh(min: DVec3, max: DVec3, cells: [u32; 3]) -> Mesh {
 
 /// A box cage's corners (x + 2y + 4z order) and faces, appended to `set`.
 fn push_box_cage(set: &mut CageSet, name: &str, kind: CoordinateKind, corners: [u32; 8]) {
-    const FACES: [[usize; 4]; 6] = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
     set.leaves.push(LeafCage {
         name: name.to_owned(),
         kind,
         h: None,
         border_h: BTreeMap::new(),
-        faces: FACES
-            .iter()
-            .map(|f| f.iter().map(|&c| corners[c]).collect())
-            .collect(),
+        faces: box_faces(corners),
     });
 }
 

@@ -252,15 +252,7 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
 
 fn check_shared_faces(scene: &Scene, errors: &mut Vec<SceneProblem>) {
     let set = &scene.cages;
-    let mut by_set: BTreeMap<Vec<u32>, Vec<(usize, usize)>> = BTreeMap::new();
-    for (c, cage) in set.leaves.iter().enumerate() {
-        for (f, face) in cage.faces.iter().enumerate() {
-            let mut key = face.clone();
-            key.sort_unstable();
-            by_set.entry(key).or_default().push((c, f));
-        }
-    }
-    for sharing in by_set.values() {
+    for sharing in set.faces_by_vertex_set().values() {
         match sharing[..] {
             [_] => {}
             [(ci, fi), (cj, fj)]
