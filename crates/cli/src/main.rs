@@ -4,13 +4,14 @@
 //! the file, the line or element, and the fix), 1 for any other failure.
 
 mod commands;
+mod output;
 mod progress;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-/// StarCages command-line tool: bind cage coordinates and, later, deform and render scenes.
+/// StarCages command-line tool: scenes, cages, coordinates.
 #[derive(Debug, Parser)]
 #[command(name = "starcages-cli", version, about)]
 struct Cli {
@@ -22,6 +23,18 @@ struct Cli {
 enum Command {
     /// Coordinates of points with respect to one cage, as JSON on standard output.
     Weights(commands::weights::WeightsArgs),
+    /// Write a generated demo scene (`demo --list` names them).
+    Demo(commands::demo::DemoArgs),
+    /// Print a scene's diagnostics; exit 0 only for a valid scene.
+    Validate(commands::validate::ValidateArgs),
+    /// Counts, bounds and per-cage settings of a scene.
+    Info(commands::info::InfoArgs),
+    /// A grid of box cages around a mesh, written as a scene.
+    Autocage(commands::autocage::AutocageArgs),
+    /// Assemble a scene from a mesh and a cage OBJ file.
+    New(commands::new::NewArgs),
+    /// Write a scene's leaf cages, in a pose, to OBJ.
+    Cages(commands::cages::CagesArgs),
 }
 
 /// An error the user caused with their input (exit status 2).
@@ -33,16 +46,26 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Weights(args) => commands::weights::run(&args),
+        Command::Demo(args) => commands::demo::run(&args),
+        Command::Validate(args) => commands::validate::run(&args),
+        Command::Info(args) => commands::info::run(&args),
+        Command::Autocage(args) => commands::autocage::run(&args),
+        Command::New(args) => commands::new::run(&args),
+        Command::Cages(args) => commands::cages::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(error) if output::is_broken_pipe(&error) => ExitCode::SUCCESS,
         Err(error) => {
             eprintln!("error: {error:#}");
-            if error.downcast_ref::<InputError>().is_some()
+            let input = error.downcast_ref::<InputError>().is_some()
                 || error
                     .downcast_ref::<starcages_core::io::FileError>()
                     .is_some()
-            {
+                || error
+                    .downcast_ref::<starcages_core::scene::SceneFileError>()
+                    .is_some();
+            if input {
                 ExitCode::from(2)
             } else {
                 ExitCode::FAILURE

@@ -351,8 +351,8 @@ fn bad_scene_files_get_clear_errors() {
         &dir,
         "missing-mesh.json",
         &text.replacen(
-            &text[text.find("\"mesh\"").unwrap()..text.find("\"settings\"").unwrap()],
-            "\"mesh\": {\"path\": \"nowhere/mesh.obj\"},\n  ",
+            &text[text.find("\"mesh\"").unwrap()..text.rfind('}').unwrap()],
+            "\"mesh\": {\"path\": \"nowhere/mesh.obj\"}\n",
             1,
         ),
     );

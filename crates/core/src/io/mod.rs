@@ -4,6 +4,7 @@
 //! Every error names the file, and for text formats the 1-based line, with the reason.
 
 mod atomic;
+mod cage_set_obj;
 mod mesh_gltf;
 mod mesh_obj;
 mod mesh_write;
@@ -18,6 +19,7 @@ use crate::cage::CageError;
 use crate::mesh::{Mesh, MeshError};
 
 pub use atomic::write_atomic;
+pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
 pub use mesh_write::{glb_bytes, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
 pub use points::{parse_points, read_points};

@@ -88,7 +88,6 @@ enum MeshRef {
 struct SceneFileV1 {
     format: String,
     version: u32,
-    mesh: MeshRef,
     #[serde(default)]
     settings: SceneSettings,
     cage_vertices: Vec<DVec3>,
@@ -100,6 +99,8 @@ struct SceneFileV1 {
     /// Absent when the current pose is the rest pose.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     current_pose: Option<Vec<DVec3>>,
+    /// Last, since an embedded mesh can be long.
+    mesh: MeshRef,
 }
 
 /// Migrations from each older version to the next, applied in order on the raw JSON. Version 1
@@ -194,13 +195,13 @@ pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
     let file = SceneFileV1 {
         format: SCENE_FORMAT.to_owned(),
         version: SCENE_VERSION,
-        mesh,
         settings: scene.settings,
         cage_vertices: scene.cages.vertices.clone(),
         cages: scene.cages.leaves.clone(),
         internal_cages: scene.cages.internals.clone(),
         poses: scene.poses.clone(),
         current_pose: (scene.pose != scene.cages.vertices).then(|| scene.pose.clone()),
+        mesh,
     };
     // Serialising plain data to a Value cannot fail (no maps with non-string keys).
     let value = serde_json::to_value(&file).unwrap_or(Value::Null);

@@ -26,6 +26,7 @@ pub use containment::{Containment, leaf_containment};
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
 };
+pub use pretty_json::to_pretty as to_pretty_json;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use validate::{SceneProblem, ValidationReport, validate_scene};
 

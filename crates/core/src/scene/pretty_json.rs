@@ -5,7 +5,8 @@ use std::fmt::Write as _;
 
 use serde_json::Value;
 
-/// Pretty-prints `value` with two-space indentation and compact numeric arrays.
+/// Pretty-prints `value` with two-space indentation and compact numeric arrays (ends with a
+/// newline).
 pub fn to_pretty(value: &Value) -> String {
     let mut out = String::new();
     write_value(value, 0, &mut out);

@@ -1,0 +1,46 @@
+//! `starcages-cli cages`: the leaf cages of a scene, in a pose, as one OBJ with one `o` group
+//! per cage over the scene's shared vertex list (so it can come back as a pose file).
+
+use std::path::PathBuf;
+
+use clap::Args;
+use starcages_core::io::{cage_set_obj_text, write_atomic};
+
+use crate::InputError;
+
+/// Arguments of `cages`.
+#[derive(Debug, Args)]
+pub struct CagesArgs {
+    /// Scene file.
+    scene: PathBuf,
+    /// A named pose of the scene (default: the current pose).
+    #[arg(long)]
+    pose: Option<String>,
+    /// OBJ file to write.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Runs the command.
+pub fn run(args: &CagesArgs) -> anyhow::Result<()> {
+    let scene = super::load(&args.scene)?;
+    let positions = scene.pose_named(args.pose.as_deref()).ok_or_else(|| {
+        let known: Vec<&str> = scene.poses.keys().map(String::as_str).collect();
+        InputError(format!(
+            "{}: no pose named '{}'; known poses: {}",
+            args.scene.display(),
+            args.pose.as_deref().unwrap_or_default(),
+            if known.is_empty() {
+                "none".to_owned()
+            } else {
+                known.join(", ")
+            }
+        ))
+    })?;
+    write_atomic(
+        &args.out,
+        cage_set_obj_text(&scene.cages, positions).as_bytes(),
+    )?;
+    crate::output::line(format_args!("{}", args.out.display()))?;
+    Ok(())
+}

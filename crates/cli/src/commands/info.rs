@@ -1,0 +1,173 @@
+//! `starcages-cli info`: the mesh's counts and bounds, and per cage its name, kind, h, level,
+//! parent and vertex/face counts.
+
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+
+use clap::Args;
+use serde::Serialize;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::scene::{MeshSource, Scene};
+
+/// Arguments of `info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Scene file.
+    scene: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct MeshInfo {
+    source: String,
+    vertices: usize,
+    welded_vertices: usize,
+    triangles: usize,
+    bounds_min: [f64; 3],
+    bounds_max: [f64; 3],
+}
+
+#[derive(Serialize)]
+struct CageInfo {
+    name: String,
+    kind: CoordinateKind,
+    h: Option<f64>,
+    level: &'static str,
+    depth: usize,
+    parent: Option<String>,
+    vertices: usize,
+    faces: usize,
+}
+
+#[derive(Serialize)]
+struct Info {
+    mesh: MeshInfo,
+    cage_vertices: usize,
+    cages: Vec<CageInfo>,
+    poses: Vec<String>,
+}
+
+fn info(scene: &Scene) -> Info {
+    let (lo, hi) = scene.mesh.bounds();
+    let set = &scene.cages;
+    let vertex_sets: Vec<BTreeSet<u32>> = set
+        .leaves
+        .iter()
+        .map(|c| &c.faces)
+        .chain(set.internals.iter().map(|c| &c.faces))
+        .map(|faces| faces.iter().flatten().copied().collect())
+        .collect();
+    let leaves = set.leaves.len();
+    // The parent of a cage: the first internal cage owning one of its vertices.
+    let parent = |cage: usize| {
+        set.internals
+            .iter()
+            .find(|i| i.owns.iter().any(|v| vertex_sets[cage].contains(v)))
+            .map(|i| i.name.clone())
+    };
+    // Depth: 0 for leaves; an internal cage is one above the deepest cage it drives.
+    let mut depth = vec![0usize; vertex_sets.len()];
+    for _ in 0..set.internals.len() {
+        for (k, internal) in set.internals.iter().enumerate() {
+            let driven = (0..vertex_sets.len())
+                .filter(|&c| {
+                    c != leaves + k && internal.owns.iter().any(|v| vertex_sets[c].contains(v))
+                })
+                .map(|c| depth[c])
+                .max();
+            depth[leaves + k] = driven.map_or(1, |d| d + 1).min(set.internals.len() + 1);
+        }
+    }
+    let mut cages: Vec<CageInfo> = set
+        .leaves
+        .iter()
+        .enumerate()
+        .map(|(c, cage)| CageInfo {
+            name: cage.name.clone(),
+            kind: cage.kind,
+            h: Some(scene.cage_h(c)),
+            level: "leaf",
+            depth: 0,
+            parent: parent(c),
+            vertices: vertex_sets[c].len(),
+            faces: cage.faces.len(),
+        })
+        .collect();
+    cages.extend(set.internals.iter().enumerate().map(|(k, cage)| CageInfo {
+        name: cage.name.clone(),
+        kind: cage.kind,
+        h: None,
+        level: "internal",
+        depth: depth[leaves + k],
+        parent: parent(leaves + k),
+        vertices: vertex_sets[leaves + k].len(),
+        faces: cage.faces.len(),
+    }));
+    Info {
+        mesh: MeshInfo {
+            source: match &scene.mesh_source {
+                MeshSource::File(path) => path.display().to_string(),
+                MeshSource::Embedded => "embedded".into(),
+            },
+            vertices: scene.mesh.positions().len(),
+            welded_vertices: scene.mesh.welded_positions().len(),
+            triangles: scene.mesh.triangles().len(),
+            bounds_min: lo.to_array(),
+            bounds_max: hi.to_array(),
+        },
+        cage_vertices: set.vertices.len(),
+        cages,
+        poses: scene.poses.keys().cloned().collect(),
+    }
+}
+
+/// Runs the command.
+pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
+    let scene = super::load(&args.scene)?;
+    let info = info(&scene);
+    if args.json {
+        crate::output::line(starcages_core::scene::to_pretty_json(
+            &serde_json::to_value(&info)?,
+        ))?;
+        return Ok(());
+    }
+    let m = &info.mesh;
+    crate::output::line(format_args!(
+        "mesh: {} ({} vertices, {} welded, {} triangles)",
+        m.source, m.vertices, m.welded_vertices, m.triangles
+    ))?;
+    crate::output::line(format_args!(
+        "bounds: {:?} .. {:?}",
+        m.bounds_min, m.bounds_max
+    ))?;
+    crate::output::line(format_args!(
+        "cage vertices: {}; poses: {}",
+        info.cage_vertices,
+        info.poses.join(", ")
+    ))?;
+    crate::output::line(format_args!(
+        "{:<20} {:<4} {:>5} {:<9} {:<16} {:>8} {:>6}",
+        "cage", "kind", "h", "level", "parent", "vertices", "faces"
+    ))?;
+    for c in &info.cages {
+        let h = c.h.map_or("-".to_owned(), |h| format!("{h:.3}"));
+        let level = if c.level == "leaf" {
+            "leaf".to_owned()
+        } else {
+            format!("internal{}", c.depth)
+        };
+        crate::output::line(format_args!(
+            "{:<20} {:<4} {:>5} {:<9} {:<16} {:>8} {:>6}",
+            c.name,
+            c.kind.short_name(),
+            h,
+            level,
+            c.parent.as_deref().unwrap_or("-"),
+            c.vertices,
+            c.faces
+        ))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,68 @@
+//! `starcages-cli new`: assemble a scene from a mesh and an artist's cage OBJ file.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use starcages_core::coords::CoordinateKind;
+use starcages_core::io::{read_cage_set_obj, read_mesh};
+use starcages_core::scene::{MeshSource, OutsidePolicy, Scene, SceneSettings, save_scene};
+
+use crate::InputError;
+
+/// `--outside` values.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum Outside {
+    /// Mesh vertices outside every cage are an error.
+    Error,
+    /// They follow the nearest cage.
+    Nearest,
+}
+
+/// Arguments of `new`.
+#[derive(Debug, Args)]
+pub struct NewArgs {
+    /// Mesh file (OBJ, glTF or GLB).
+    mesh: PathBuf,
+    /// Cage OBJ file: each `o`/`g` group is one leaf cage; shared positions are welded.
+    #[arg(long)]
+    cages: PathBuf,
+    /// Coordinates of every cage: mvc, hc or gc.
+    #[arg(long, default_value = "mvc", value_parser = |s: &str| s.parse::<CoordinateKind>())]
+    kind: CoordinateKind,
+    /// What to do with mesh vertices outside every cage.
+    #[arg(long, value_enum, default_value = "error")]
+    outside: Outside,
+    /// Scene file to write.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Runs the command.
+pub fn run(args: &NewArgs) -> anyhow::Result<()> {
+    let mesh = read_mesh(&args.mesh)?;
+    let cages = read_cage_set_obj(&args.cages, args.kind)?;
+    let settings = SceneSettings {
+        outside: match args.outside {
+            Outside::Error => OutsidePolicy::Error,
+            Outside::Nearest => OutsidePolicy::Nearest,
+        },
+        ..Default::default()
+    };
+    let source = std::path::absolute(&args.mesh).unwrap_or_else(|_| args.mesh.clone());
+    let scene = Scene::new(MeshSource::File(source), mesh, cages, settings);
+    save_scene(&scene, &args.out)?;
+    let report = super::report(&scene, &args.out.display().to_string());
+    crate::output::line(format_args!(
+        "{}: {} cages",
+        args.out.display(),
+        scene.cages.leaves.len()
+    ))?;
+    if report.is_valid() {
+        Ok(())
+    } else {
+        Err(InputError(
+            "the scene was written but does not validate; see the problems above".into(),
+        )
+        .into())
+    }
+}

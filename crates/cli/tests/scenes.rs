@@ -1,0 +1,199 @@
+//! End-to-end tests of the scene commands: demo, validate, info, autocage, new, cages.
+
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn cli(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
+        .args(args)
+        .output()
+        .expect("run starcages-cli")
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "starcages-cli-scenes-{}-{name}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn demos_are_listed_written_valid_and_described() {
+    let out = dir("demo");
+    let list = cli(&["demo", "--list"]);
+    assert!(list.status.success());
+    for name in ["bar", "prism", "egg", "bumpy"] {
+        assert!(stdout(&list).contains(name));
+    }
+    let written = cli(&["demo", "all", "--out", s(&out), "--detail", "0.3"]);
+    assert!(written.status.success(), "{}", stderr(&written));
+    for name in ["bar", "prism", "egg", "bumpy"] {
+        let scene = out.join(format!("{name}.json"));
+        let v = cli(&["validate", s(&scene)]);
+        assert!(v.status.success(), "{name}: {}", stderr(&v));
+    }
+    let info = cli(&["info", s(&out.join("egg.json")), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(json["cages"].as_array().unwrap().len(), 12);
+    assert_eq!(json["cages"][2]["kind"], "gc");
+    assert_eq!(json["cages"][0]["level"], "leaf");
+    assert_eq!(json["cage_vertices"], 36);
+    assert!(json["mesh"]["triangles"].as_u64().unwrap() > 100);
+    let unknown = cli(&["demo", "nope", "--out", s(&out)]);
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(stderr(&unknown).contains("unknown demo 'nope'"));
+}
+
+#[test]
+fn autocage_new_and_cages_round_trip() {
+    let d = dir("autocage");
+    // A mesh file to cage: the bar demo's mesh, exported through `cages`-like OBJ writing.
+    let mesh = d.join("box.obj");
+    std::fs::write(
+        &mesh,
+        "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    let scene = d.join("auto.json");
+    let auto = cli(&[
+        "autocage",
+        s(&mesh),
+        "--grid",
+        "2",
+        "1",
+        "1",
+        "--kind",
+        "gc",
+        "--out",
+        s(&scene),
+    ]);
+    assert!(auto.status.success(), "{}", stderr(&auto));
+    assert!(
+        std::fs::read_to_string(&scene)
+            .unwrap()
+            .contains("\"path\": \"box.obj\"")
+    );
+    assert!(cli(&["validate", s(&scene)]).status.success());
+
+    // Cages out, then back in through `new`.
+    let cages = d.join("cages.obj");
+    assert!(
+        cli(&["cages", s(&scene), "--out", s(&cages)])
+            .status
+            .success()
+    );
+    let rebuilt = d.join("rebuilt.json");
+    let new = cli(&[
+        "new",
+        s(&mesh),
+        "--cages",
+        s(&cages),
+        "--kind",
+        "hc",
+        "--out",
+        s(&rebuilt),
+    ]);
+    assert!(new.status.success(), "{}", stderr(&new));
+    let info = cli(&["info", s(&rebuilt), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(json["cages"].as_array().unwrap().len(), 2);
+    assert_eq!(json["cages"][1]["kind"], "hc");
+    assert_eq!(json["cage_vertices"], 12);
+
+    let missing = cli(&["cages", s(&scene), "--pose", "nope", "--out", s(&cages)]);
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(
+        stderr(&missing).contains("no pose named 'nope'"),
+        "{}",
+        stderr(&missing)
+    );
+}
+
+#[test]
+fn invalid_scenes_and_files_exit_with_status_2() {
+    let d = dir("invalid");
+    let mesh = d.join("box.obj");
+    std::fs::write(
+        &mesh,
+        "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    // A cage too small for the mesh: the scene is written, but does not validate.
+    let small = d.join("small.obj");
+    std::fs::write(
+        &small,
+        "o tiny\nv 0 0 0\nv .5 0 0\nv 0 .5 0\nv .5 .5 0\nv 0 0 .5\nv .5 0 .5\nv 0 .5 .5\nv .5 .5 .5\n\
+         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    let scene = d.join("small.json");
+    let new = cli(&["new", s(&mesh), "--cages", s(&small), "--out", s(&scene)]);
+    assert_eq!(new.status.code(), Some(2));
+    assert!(
+        stderr(&new).contains("mesh vertices lie outside every leaf cage"),
+        "{}",
+        stderr(&new)
+    );
+    let validate = cli(&["validate", s(&scene)]);
+    assert_eq!(validate.status.code(), Some(2));
+    let nearest = d.join("nearest.json");
+    let ok = cli(&[
+        "new",
+        s(&mesh),
+        "--cages",
+        s(&small),
+        "--outside",
+        "nearest",
+        "--out",
+        s(&nearest),
+    ]);
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    assert!(stderr(&ok).contains("warning"));
+
+    let newer = d.join("newer.json");
+    let text =
+        std::fs::read_to_string(&nearest)
+            .unwrap()
+            .replacen("\"version\": 1", "\"version\": 99", 1);
+    std::fs::write(&newer, text).unwrap();
+    let refused = cli(&["info", s(&newer)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(
+        stderr(&refused).contains("newer StarCages"),
+        "{}",
+        stderr(&refused)
+    );
+
+    let garbage = d.join("garbage.json");
+    std::fs::write(
+        &garbage,
+        "{\"format\": \"starcages-scene\", \"version\": 1, \"cages\": [",
+    )
+    .unwrap();
+    let bad = cli(&["validate", s(&garbage)]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(
+        stderr(&bad).contains("garbage.json: not a valid scene file"),
+        "{}",
+        stderr(&bad)
+    );
+}
