@@ -6,6 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+const BOX_OBJ: &str = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+
 fn cli(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
         .args(args)
@@ -66,12 +69,7 @@ fn autocage_new_and_cages_round_trip() {
     let d = dir("autocage");
     // A mesh file to cage: the bar demo's mesh, exported through `cages`-like OBJ writing.
     let mesh = d.join("box.obj");
-    std::fs::write(
-        &mesh,
-        "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
-         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
-    )
-    .unwrap();
+    std::fs::write(&mesh, BOX_OBJ).unwrap();
     let scene = d.join("auto.json");
     let auto = cli(&[
         "autocage",
@@ -131,12 +129,7 @@ fn autocage_new_and_cages_round_trip() {
 fn invalid_scenes_and_files_exit_with_status_2() {
     let d = dir("invalid");
     let mesh = d.join("box.obj");
-    std::fs::write(
-        &mesh,
-        "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
-         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
-    )
-    .unwrap();
+    std::fs::write(&mesh, BOX_OBJ).unwrap();
     // A cage too small for the mesh: the scene is written, but does not validate.
     let small = d.join("small.obj");
     std::fs::write(

@@ -5,9 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::io::read_mesh;
-use starcages_core::scene::{
-    AutocageOptions, MeshSource, Scene, SceneSettings, autocage, save_scene,
-};
+use starcages_core::scene::{AutocageOptions, MeshSource, Scene, SceneSettings, autocage};
 
 use crate::InputError;
 
@@ -66,20 +64,10 @@ pub fn run(args: &AutocageArgs) -> anyhow::Result<()> {
         cages,
         SceneSettings::default(),
     );
-    save_scene(&scene, &args.out)?;
-    let report = super::report(&scene, &args.out.display().to_string());
-    crate::output::line(format_args!(
-        "{}: {} cages over {} cells",
-        args.out.display(),
+    let summary = format!(
+        "{} cages over {} cells",
         scene.cages.leaves.len(),
         grid.iter().product::<u32>()
-    ))?;
-    if report.is_valid() {
-        Ok(())
-    } else {
-        Err(InputError(
-            "the scene was written but does not validate; see the problems above".into(),
-        )
-        .into())
-    }
+    );
+    super::save_new_scene(&scene, &args.out, &summary)
 }

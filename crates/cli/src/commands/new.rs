@@ -5,9 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use starcages_core::coords::CoordinateKind;
 use starcages_core::io::{read_cage_set_obj, read_mesh};
-use starcages_core::scene::{MeshSource, OutsidePolicy, Scene, SceneSettings, save_scene};
-
-use crate::InputError;
+use starcages_core::scene::{MeshSource, OutsidePolicy, Scene, SceneSettings};
 
 /// `--outside` values.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -50,19 +48,6 @@ pub fn run(args: &NewArgs) -> anyhow::Result<()> {
     };
     let source = std::path::absolute(&args.mesh).unwrap_or_else(|_| args.mesh.clone());
     let scene = Scene::new(MeshSource::File(source), mesh, cages, settings);
-    save_scene(&scene, &args.out)?;
-    let report = super::report(&scene, &args.out.display().to_string());
-    crate::output::line(format_args!(
-        "{}: {} cages",
-        args.out.display(),
-        scene.cages.leaves.len()
-    ))?;
-    if report.is_valid() {
-        Ok(())
-    } else {
-        Err(InputError(
-            "the scene was written but does not validate; see the problems above".into(),
-        )
-        .into())
-    }
+    let summary = format!("{} cages", scene.cages.leaves.len());
+    super::save_new_scene(&scene, &args.out, &summary)
 }
