@@ -12,6 +12,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod scene;
+pub mod star;
 
 pub use cage::{Cage, CageError};
 pub use coords::{BindControl, BindSettings, CageWeights, CoordError, CoordinateKind, bind};

@@ -163,3 +163,21 @@ fn negative_somewhere_in_non_convex_cages() {
         );
     }
 }
+
+#[test]
+fn point_on_the_diagonal_of_a_fanned_quad_interpolates_linearly() {
+    // The face x = 1 of the unit cube is fanned into two triangles sharing the diagonal from
+    // (1,0,0) to (1,1,1); on it, MVC are linear interpolation of the diagonal's ends (a
+    // regression: cos(θ/2) from sqrt(1 − sin²) missed the θ = π case there).
+    let cage = shapes::cuboid(DVec3::ZERO, DVec3::ONE);
+    let p = DVec3::new(1.0, 0.3, 0.3);
+    let w = &mvc(
+        &cage,
+        &[p, DVec3::splat(0.5), DVec3::splat(0.4), DVec3::splat(0.6)],
+    )[0];
+    assert!(
+        (w[1] - 0.7).abs() < 1e-12 && (w[7] - 0.3).abs() < 1e-12,
+        "{w:?}"
+    );
+    assert_reproduces(&cage, p, w, 1e-12);
+}

@@ -59,10 +59,14 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
     let inv_dist = &scratch.inv_dist;
     scratch.theta.clear();
     scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
-        // l = |u_a − u_b|, θ = 2 arcsin(l / 2): the arc between u_a and u_b.
-        let half_sin = (0.5 * (unit[a as usize] - unit[b as usize]).length()).min(1.0);
-        let half_cos = (1.0 - half_sin * half_sin).max(0.0).sqrt();
-        [2.0 * half_sin.asin(), half_sin, half_cos]
+        // The arc θ between u_a and u_b from sin(θ/2) = |u_a − u_b| / 2 and
+        // cos(θ/2) = |u_a + u_b| / 2, both direct: sqrt(1 − sin²) would lose every digit
+        // next to θ = π (a point on an edge), and asin near 1 likewise.
+        let (ua, ub) = (unit[a as usize], unit[b as usize]);
+        let (s, c) = (0.5 * (ua - ub).length(), 0.5 * (ua + ub).length());
+        let norm = (s * s + c * c).sqrt();
+        let (half_sin, half_cos) = (s / norm, c / norm);
+        [2.0 * half_sin.atan2(half_cos), half_sin, half_cos]
     }));
     let theta = &scratch.theta;
     let mut total = 0.0;
@@ -189,12 +193,16 @@ pub(crate) fn mvc_points4(
     scratch.theta.clear();
     scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
         let (ua, ub) = (&unit[a as usize], &unit[b as usize]);
-        // sin(θ/2) = |u_a − u_b| / 2; θ, sin θ = 2 sin(θ/2) cos(θ/2), cos θ = 1 − 2 sin²(θ/2).
+        // sin(θ/2) = |u_a − u_b| / 2 and cos(θ/2) = |u_a + u_b| / 2, both direct (see
+        // mvc_point); θ, sin θ = 2 sin(θ/2) cos(θ/2), cos θ = 1 − 2 sin²(θ/2).
         let (dx, dy, dz) = (ua.x - ub.x, ua.y - ub.y, ua.z - ub.z);
-        let half_sin = (half * (dx * dx + dy * dy + dz * dz).sqrt()).min(one);
-        let half_cos = (one - half_sin * half_sin).max(Lane::ZERO).sqrt();
+        let (sx, sy, sz) = (ua.x + ub.x, ua.y + ub.y, ua.z + ub.z);
+        let s = half * (dx * dx + dy * dy + dz * dz).sqrt();
+        let c = half * (sx * sx + sy * sy + sz * sz).sqrt();
+        let inv = one / (s * s + c * c).sqrt();
+        let (half_sin, half_cos) = (s * inv, c * inv);
         [
-            two * half_sin.asin(),
+            two * half_sin.atan2(half_cos),
             two * half_sin * half_cos,
             one - two * half_sin * half_sin,
         ]

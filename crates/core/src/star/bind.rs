@@ -1,0 +1,537 @@
+//! Binding (section 3): for every point, the linear row of S_{c_i}(p) (eq. 3) over the cage
+//! degrees of freedom, with every coordinate computed in batches (per leaf cage, per join cage).
+//!
+//! S_{c_i}(p) = b T_{c_i}(p) + (1 − b) Σ_{v ∈ B_{c_i}} W_n(v, p) L_v(p), and T, L_v are linear in
+//! the posed vertices and Green face terms (paper-notes item 9), so the row is
+//! b·row(T) + (1 − b)·Σ W_n(v, p)·row(L_v), with b, W, Ω and I from rest positions only.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Instant;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::StarError;
+use super::green_dofs::GreenDofs;
+use super::topology::{JoinCage, Topology};
+use crate::coords::{BindControl, BindSettings, CageWeights, CoordinateKind, bind};
+use crate::scene::{CageSet, LocalCage, SceneSettings, Smoothing};
+
+/// Where a point is bound.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Placement {
+    /// Inside (or on) this leaf cage.
+    Cage(usize),
+    /// Outside every cage, following this nearest cage (the scene's `nearest` policy).
+    Nearest(usize),
+}
+
+/// A sparse row over the operator's columns: cage vertices, then Green DOFs.
+pub(crate) type Row = Vec<(u32, f64)>;
+
+/// Everything a bind produces before packing.
+pub(crate) struct BoundRows {
+    pub rows: Vec<Row>,
+    pub boundary_weight: Vec<f64>,
+    pub green: GreenDofs,
+    pub seconds_cage: f64,
+    pub seconds_join: f64,
+}
+
+/// Coordinates of a sorted set of points in one cage.
+struct Table {
+    points: Vec<usize>,
+    weights: CageWeights,
+}
+
+impl Table {
+    fn compute(
+        kind: CoordinateKind,
+        cage: &LocalCage,
+        all: &[DVec3],
+        points: Vec<usize>,
+        settings: &BindSettings,
+        control: &BindControl,
+        what: &str,
+    ) -> Result<Self, StarError> {
+        let positions: Vec<DVec3> = points.iter().map(|&i| all[i]).collect();
+        let weights = bind(kind, &cage.cage, &positions, settings, control).map_err(|source| {
+            StarError::Coordinates {
+                what: what.to_owned(),
+                source,
+            }
+        })?;
+        Ok(Self { points, weights })
+    }
+
+    /// (vertex weights, Green ψ) of point `i`, if the table has it.
+    fn get(&self, i: usize) -> Option<(&[f64], Option<&[f64]>)> {
+        let k = self.points.binary_search(&i).ok()?;
+        Some(match &self.weights {
+            CageWeights::Vertex { weights, .. } => (weights.row(k), None),
+            CageWeights::Green(g) => (g.phi_row(k), Some(g.psi_row(k))),
+        })
+    }
+}
+
+/// Adds `scale` × a coordinate row of `cage` (local vertices, optional ψ over its triangles).
+fn add_row(
+    out: &mut Row,
+    scale: f64,
+    (w, psi): (&[f64], Option<&[f64]>),
+    cage: &LocalCage,
+    dofs: &[u32],
+    vertex_count: u32,
+) {
+    for (k, &x) in w.iter().enumerate() {
+        if x != 0.0 {
+            out.push((cage.global[k], scale * x));
+        }
+    }
+    if let Some(psi) = psi {
+        for (t, &x) in psi.iter().enumerate() {
+            if x != 0.0 {
+                out.push((vertex_count + dofs[t], scale * x));
+            }
+        }
+    }
+}
+
+/// Sorts a row by column and sums duplicates.
+fn merge(mut row: Row) -> Row {
+    row.sort_unstable_by_key(|&(c, _)| c);
+    let mut out: Row = Vec::with_capacity(row.len());
+    for (c, w) in row {
+        match out.last_mut() {
+            Some((last, acc)) if *last == c => *acc += w,
+            _ => out.push((c, w)),
+        }
+    }
+    out
+}
+
+/// Per join cage: Ω's faces and normalisers, and the special points' coordinates.
+struct JoinData<'a> {
+    join: &'a JoinCage,
+    /// Faces of jc(v) not incident to v, as local vertex lists (F(jc(v), v) in eq. 6).
+    far_faces: Vec<Vec<usize>>,
+    /// d_{jc(v)}(t, v) per far face (1 for non-interior v).
+    normaliser: Vec<f64>,
+    /// Interpolating coordinates (MVC/HC) of the points that need Ω(v, ·).
+    interp: Option<Table>,
+    /// Coordinates of kind `join.kind` of the points that need L_v.
+    transform: Option<Table>,
+    /// For interior v: row of T_{jc(v)}(v) (eq. 10).
+    vertex_row: Row,
+    dofs: Vec<u32>,
+}
+
+impl JoinData<'_> {
+    /// Ω(v, p) (eq. 6) from p's interpolating weights in jc(v).
+    fn omega(&self, w: &[f64], smoothing: Smoothing) -> f64 {
+        self.far_faces
+            .iter()
+            .zip(&self.normaliser)
+            .map(|(face, &dv)| {
+                // d_{jc(v)}(t, p) = 1 − Σ_{u ∈ V(t)} w(u, p)   (eq. 7)
+                let d = 1.0 - face.iter().map(|&k| w[k]).sum::<f64>();
+                smoothing.eval(d / dv, 1.0)
+            })
+            .product()
+    }
+}
+
+/// The interpolating kind used for d (eq. 7) in a cage of kind `kind`: Green φ do not
+/// interpolate (paper-notes item 4), so Green cages use MVC there.
+fn interpolating(kind: CoordinateKind) -> CoordinateKind {
+    match kind {
+        CoordinateKind::Green => CoordinateKind::MeanValue,
+        other => other,
+    }
+}
+
+/// Binds `points` placed by `placement` to the leaf cages of `set`.
+pub(crate) fn bind_rows(
+    set: &CageSet,
+    topology: &Topology,
+    settings: &SceneSettings,
+    points: &[DVec3],
+    placement: &[Placement],
+    control: &BindControl,
+) -> Result<BoundRows, StarError> {
+    let coord_settings = BindSettings {
+        harmonic: settings.harmonic,
+    };
+    let vertex_count = set.vertices.len() as u32;
+    let smoothing = settings.smoothing;
+    let start = Instant::now();
+    let mut green = GreenDofs::default();
+
+    // Leaf cages: T coordinates and interpolating weights for b (eq. 11).
+    let n_cages = set.leaves.len();
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_cages];
+    let mut rigid: Vec<usize> = Vec::new();
+    for (i, p) in placement.iter().enumerate() {
+        match *p {
+            Placement::Cage(c) => members[c].push(i),
+            Placement::Nearest(c) if set.leaves[c].kind == CoordinateKind::Harmonic => {
+                rigid.push(i)
+            }
+            Placement::Nearest(c) => members[c].push(i),
+        }
+    }
+    let mut cage_t = Vec::with_capacity(n_cages);
+    let mut cage_w = Vec::with_capacity(n_cages);
+    let mut cage_dofs = Vec::with_capacity(n_cages);
+    for (c, list) in members.iter().enumerate() {
+        control.check().map_err(|_| StarError::Cancelled)?;
+        let kind = set.leaves[c].kind;
+        let local = &topology.leaves[c];
+        let name = format!("leaf cage '{}'", set.leaves[c].name);
+        cage_dofs.push(if kind == CoordinateKind::Green {
+            green.register(local)
+        } else {
+            Vec::new()
+        });
+        let t = Table::compute(
+            kind,
+            local,
+            points,
+            list.clone(),
+            &coord_settings,
+            control,
+            &name,
+        )?;
+        // Interpolating weights for b of the points inside (nearest ones keep b = 1).
+        let inside: Vec<usize> = list
+            .iter()
+            .copied()
+            .filter(|&i| placement[i] == Placement::Cage(c))
+            .collect();
+        let w = if interpolating(kind) == kind {
+            None
+        } else {
+            Some(Table::compute(
+                interpolating(kind),
+                local,
+                points,
+                inside,
+                &coord_settings,
+                control,
+                &name,
+            )?)
+        };
+        cage_t.push(t);
+        cage_w.push(w);
+    }
+    let seconds_cage = start.elapsed().as_secs_f64();
+
+    // b per point (eq. 11), from the interpolating weights of its cage.
+    let border_local: Vec<Vec<(usize, Vec<usize>, f64)>> = (0..n_cages)
+        .map(|c| {
+            let local = &topology.leaves[c];
+            let cage = &set.leaves[c];
+            topology.borders[c]
+                .iter()
+                .map(|border| {
+                    let locals = border
+                        .vertices
+                        .iter()
+                        .filter_map(|v| local.global.binary_search(v).ok())
+                        .collect();
+                    let neighbour = &set.leaves[border.other].name;
+                    let h = cage.border_h.get(neighbour).copied().unwrap_or(f64::NAN);
+                    (border.other, locals, h)
+                })
+                .collect()
+        })
+        .collect();
+    let boundary_weight: Vec<f64> = (0..points.len())
+        .into_par_iter()
+        .map(|i| {
+            let Placement::Cage(c) = placement[i] else {
+                return 1.0;
+            };
+            if border_local[c].is_empty() {
+                return 1.0; // no neighbour: b = 1 (section 3.2)
+            }
+            let table = cage_w[c].as_ref().unwrap_or(&cage_t[c]);
+            let Some((w, _)) = table.get(i) else {
+                return 1.0;
+            };
+            let h = set.leaves[c].h.unwrap_or(settings.default_h);
+            // 1 − Σ_{v ∈ B_{c_i c_j}} w_{c_i}(v, p) per border.
+            let factors = border_local[c]
+                .iter()
+                .map(|(_, locals, hb)| (1.0 - locals.iter().map(|&k| w[k]).sum::<f64>(), *hb));
+            if border_local[c].iter().any(|(_, _, hb)| hb.is_finite()) {
+                // Per-border overrides: each border's factor smoothed with its own h.
+                factors
+                    .map(|(x, hb)| smoothing.eval(x, if hb.is_finite() { hb } else { h }))
+                    .product()
+            } else {
+                smoothing.eval(factors.map(|(x, _)| x).product(), h)
+            }
+        })
+        .collect();
+
+    // Which join cages each point needs.
+    let join_start = Instant::now();
+    let mut need_transform: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
+    let mut need_omega: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
+    for (i, &b) in boundary_weight.iter().enumerate() {
+        let Placement::Cage(c) = placement[i] else {
+            continue;
+        };
+        if b >= 1.0 {
+            continue;
+        }
+        for v in &topology.boundary[c] {
+            need_transform.entry(*v).or_default().insert(i);
+            need_omega.entry(*v).or_default().insert(i);
+            for u in &topology.interior_neighbours[v] {
+                // Ω(u, ·) vanishes outside jc(u), the union of the cages incident at u.
+                if topology.joins[u].cages.contains(&c) {
+                    need_omega.entry(*u).or_default().insert(i);
+                }
+            }
+        }
+    }
+    let mut joins: BTreeMap<u32, JoinData> = BTreeMap::new();
+    for (&v, join) in &topology.joins {
+        control.check().map_err(|_| StarError::Cancelled)?;
+        let local = &join.local;
+        let far_faces: Vec<Vec<usize>> = join
+            .polygons
+            .iter()
+            .filter(|f| !f.contains(&v))
+            .map(|f| {
+                f.iter()
+                    .filter_map(|g| local.global.binary_search(g).ok())
+                    .collect()
+            })
+            .collect();
+        let what = format!("join cage of vertex {v}");
+        let interp_kind = interpolating(join.kind);
+        let dofs = if join.kind == CoordinateKind::Green {
+            green.register(local)
+        } else {
+            Vec::new()
+        };
+        // Interior v: its own coordinates in jc(v) give the normalisers d(t, v) and T_{jc(v)}(v).
+        let (normaliser, vertex_row) =
+            if join.interior {
+                let x = [set.vertices[v as usize]];
+                let w = bind(interp_kind, &local.cage, &x, &coord_settings, control).map_err(
+                    |source| StarError::Coordinates {
+                        what: what.clone(),
+                        source,
+                    },
+                )?;
+                let t = bind(join.kind, &local.cage, &x, &coord_settings, control).map_err(
+                    |source| StarError::Coordinates {
+                        what: what.clone(),
+                        source,
+                    },
+                )?;
+                let w0 = match &w {
+                    CageWeights::Vertex { weights, .. } => weights.row(0).to_vec(),
+                    CageWeights::Green(g) => g.phi_row(0).to_vec(),
+                };
+                let normaliser = far_faces
+                    .iter()
+                    .map(|f| 1.0 - f.iter().map(|&k| w0[k]).sum::<f64>())
+                    .collect();
+                let mut row = Vec::new();
+                let t_row = match &t {
+                    CageWeights::Vertex { weights, .. } => (weights.row(0), None),
+                    CageWeights::Green(g) => (g.phi_row(0), Some(g.psi_row(0))),
+                };
+                add_row(&mut row, 1.0, t_row, local, &dofs, vertex_count);
+                (normaliser, row)
+            } else {
+                (vec![1.0; far_faces.len()], Vec::new())
+            };
+        let omega_points: Vec<usize> = need_omega
+            .get(&v)
+            .map(|s| s.iter().copied().collect())
+            .unwrap_or_default();
+        let transform_points: Vec<usize> = need_transform
+            .get(&v)
+            .map(|s| s.iter().copied().collect())
+            .unwrap_or_default();
+        let interp = if omega_points.is_empty() {
+            None
+        } else {
+            Some(Table::compute(
+                interp_kind,
+                local,
+                points,
+                omega_points,
+                &coord_settings,
+                control,
+                &what,
+            )?)
+        };
+        let transform = if transform_points.is_empty() || interp_kind == join.kind {
+            None
+        } else {
+            Some(Table::compute(
+                join.kind,
+                local,
+                points,
+                transform_points,
+                &coord_settings,
+                control,
+                &what,
+            )?)
+        };
+        joins.insert(
+            v,
+            JoinData {
+                join,
+                far_faces,
+                normaliser,
+                interp,
+                transform,
+                vertex_row,
+                dofs,
+            },
+        );
+    }
+    // Ω(u, v) for interior u at each boundary vertex v that has u as an interior neighbour.
+    let mut omega_at_vertex: BTreeMap<(u32, u32), f64> = BTreeMap::new();
+    for (&v, near) in &topology.interior_neighbours {
+        for &u in near {
+            let data = &joins[&u];
+            let x = set.vertices[v as usize];
+            let cage = &data.join.local.cage;
+            let inside =
+                cage.winding_number(x) > 0.5 || cage.closest_point(x).2 <= 1e-9 * cage.diagonal();
+            let value = if inside {
+                let w = bind(
+                    interpolating(data.join.kind),
+                    cage,
+                    &[x],
+                    &coord_settings,
+                    control,
+                )
+                .map_err(|source| StarError::Coordinates {
+                    what: format!("join cage of vertex {u}"),
+                    source,
+                })?;
+                match &w {
+                    CageWeights::Vertex { weights, .. } => data.omega(weights.row(0), smoothing),
+                    CageWeights::Green(g) => data.omega(g.phi_row(0), smoothing),
+                }
+            } else {
+                0.0
+            };
+            omega_at_vertex.insert((u, v), value);
+        }
+    }
+    let seconds_join = join_start.elapsed().as_secs_f64();
+
+    // Assemble every row.
+    let rows: Vec<Row> = (0..points.len())
+        .into_par_iter()
+        .map(|i| {
+            let c = match placement[i] {
+                Placement::Cage(c) | Placement::Nearest(c) => c,
+            };
+            let local = &topology.leaves[c];
+            let mut row = Row::new();
+            if let Some(t) = cage_t[c].get(i) {
+                // T_{c_i}(p), eq. 2 (or Lipman et al.'s GC map).
+                add_row(&mut row, 1.0, t, local, &cage_dofs[c], vertex_count);
+            } else {
+                // Outside an HC cage under the 'nearest' policy: follow the closest cage
+                // point rigidly (translation with it).
+                let (t, bary, _) = local.cage.closest_point(points[i]);
+                let tri = local.cage.triangles()[t];
+                for k in 0..3 {
+                    row.push((local.global[tri[k] as usize], bary[k]));
+                }
+                return merge(row);
+            }
+            let b = boundary_weight[i];
+            if b >= 1.0 {
+                return merge(row);
+            }
+            // W(v, p) = Ω(v, p) I(v, p) for the boundary vertices of c (eqs. 5, 6, 8).
+            let omega_of = |u: u32| -> f64 {
+                let data = &joins[&u];
+                data.interp
+                    .as_ref()
+                    .and_then(|t| t.get(i))
+                    .map_or(0.0, |(w, _)| data.omega(w, smoothing))
+            };
+            let mut omega: BTreeMap<u32, f64> = BTreeMap::new();
+            for &v in &topology.boundary[c] {
+                for &u in std::iter::once(&v).chain(&topology.interior_neighbours[&v]) {
+                    omega.entry(u).or_insert_with(|| omega_of(u));
+                }
+            }
+            let weights: Vec<(u32, f64)> = topology.boundary[c]
+                .iter()
+                .map(|&v| {
+                    let interior_influence: f64 = topology.interior_neighbours[&v]
+                        .iter()
+                        .map(|&u| {
+                            let omega_u = omega[&u];
+                            let at_v = omega_at_vertex[&(u, v)];
+                            // f((1 − Ω(u, p)) / (1 − Ω(u, v))), eq. 8 (h = 1: see docs/math.md).
+                            smoothing.eval((1.0 - omega_u) / (1.0 - at_v), 1.0)
+                        })
+                        .product();
+                    (v, omega[&v] * interior_influence)
+                })
+                .collect();
+            let total: f64 = weights.iter().map(|(_, w)| w).sum();
+            if total <= 1e-14 {
+                return merge(row); // far from every boundary vertex: b = 1 to working precision
+            }
+            // S = b T + (1 − b) Σ W_n(v, p) L_v(p)   (eqs. 3, 4)
+            for (_, w) in row.iter_mut() {
+                *w *= b;
+            }
+            for (v, w) in weights {
+                if w == 0.0 {
+                    continue;
+                }
+                let data = &joins[&v];
+                let scale = (1.0 - b) * w / total;
+                let table = data.transform.as_ref().or(data.interp.as_ref());
+                let Some(l) = table.and_then(|t| t.get(i)) else {
+                    continue;
+                };
+                // L_v(p) = T_{jc(v)}(p)   (eq. 9)
+                add_row(
+                    &mut row,
+                    scale,
+                    l,
+                    &data.join.local,
+                    &data.dofs,
+                    vertex_count,
+                );
+                if data.join.interior {
+                    // + W(v, p) (v' − T_{jc(v)}(v))   (eq. 10), with the raw W (paper-notes 5).
+                    row.push((v, scale * w));
+                    row.extend(
+                        data.vertex_row
+                            .iter()
+                            .map(|&(col, x)| (col, -scale * w * x)),
+                    );
+                }
+            }
+            merge(row)
+        })
+        .collect();
+    Ok(BoundRows {
+        rows,
+        boundary_weight,
+        green,
+        seconds_cage,
+        seconds_join,
+    })
+}

@@ -1,0 +1,67 @@
+//! The Green face degrees of freedom of the compiled operator: every oriented cage triangle
+//! that some Green-coordinate cage (leaf or join) uses, and their per-frame values s_t n'_t
+//! (Lipman et al.'s stretch times the posed unit normal).
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use crate::scene::LocalCage;
+
+/// Registry of oriented triangles (shared vertex indices) used as Green face DOFs.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GreenDofs {
+    triangles: Vec<[u32; 3]>,
+    index: BTreeMap<[u32; 3], u32>,
+}
+
+impl GreenDofs {
+    /// The DOF of each triangle of `local` (registering new ones), in its triangle order.
+    pub fn register(&mut self, local: &LocalCage) -> Vec<u32> {
+        local
+            .cage
+            .triangles()
+            .iter()
+            .map(|t| {
+                let key = t.map(|v| local.global[v as usize]);
+                *self.index.entry(key).or_insert_with(|| {
+                    self.triangles.push(key);
+                    self.triangles.len() as u32 - 1
+                })
+            })
+            .collect()
+    }
+
+    /// Number of DOFs.
+    pub fn len(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// The oriented triangles, in DOF order.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// s_t n'_t per DOF for the posed vertices (Lipman et al. eq. 13 in 3D; see
+    /// [`crate::coords::green_stretch`]).
+    pub fn values(&self, rest: &[DVec3], posed: &[DVec3]) -> Vec<DVec3> {
+        self.triangles
+            .iter()
+            .map(|&[a, b, c]| {
+                let (a, b, c) = (a as usize, b as usize, c as usize);
+                let (u, v) = (rest[b] - rest[a], rest[c] - rest[a]);
+                let (up, vp) = (posed[b] - posed[a], posed[c] - posed[a]);
+                let area = 0.5 * u.cross(v).length();
+                let num = up.length_squared() * v.length_squared() - 2.0 * up.dot(vp) * u.dot(v)
+                    + vp.length_squared() * u.length_squared();
+                let stretch = num.max(0.0).sqrt() / (8f64.sqrt() * area);
+                up.cross(vp).normalize_or_zero() * stretch
+            })
+            .collect()
+    }
+}

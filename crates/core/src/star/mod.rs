@@ -1,0 +1,248 @@
+//! *Cages (section 3 of the paper): leaf cages glued C1-smoothly by join transformations,
+//! compiled into one sparse linear operator.
+//!
+//! * [`topology`]: adjacency, borders, boundaries, join cages, interior vertices.
+//! * [`bind`](self::bind): the rows of S (eq. 3) for a set of points, coordinates in batches.
+//! * [`operator`]: the f32 CSR operator, its transpose, full and incremental application.
+//! * [`green_dofs`]: Green face degrees of freedom.
+
+mod bind;
+mod green_dofs;
+mod operator;
+pub mod topology;
+
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+use thiserror::Error;
+
+pub use bind::Placement;
+pub use green_dofs::GreenDofs;
+pub use operator::StarOperator;
+pub use topology::{Border, JoinCage, Topology, TopologyError};
+
+use crate::coords::{BindControl, CoordError, CoordinateKind};
+use crate::scene::{CageSet, LeafCage, OutsidePolicy, Scene, leaf_containment};
+
+/// Why a scene could not be bound.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum StarError {
+    /// The cage topology is unusable.
+    #[error(transparent)]
+    Topology(#[from] TopologyError),
+    /// Coordinates failed in one cage.
+    #[error("{what}: {source}")]
+    Coordinates {
+        /// Which cage.
+        what: String,
+        /// Why.
+        source: CoordError,
+    },
+    /// Points outside every leaf cage under the `error` outside policy.
+    #[error(
+        "{count} point(s) lie outside every leaf cage (first: {listed}); enlarge the cages or set the \
+         scene's outside policy to 'nearest'"
+    )]
+    Outside {
+        /// How many.
+        count: usize,
+        /// The first few, formatted.
+        listed: String,
+    },
+    /// Cancelled through the [`BindControl`].
+    #[error("binding was cancelled")]
+    Cancelled,
+}
+
+/// Timings and sizes of a bind (the paper's Table I/II columns).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BindStats {
+    /// Seconds spent on leaf-cage coordinates.
+    pub seconds_cage_coordinates: f64,
+    /// Seconds spent on join cages (coordinates and Ω normalisers).
+    pub seconds_join_cages: f64,
+    /// Total seconds, placement and packing included.
+    pub seconds_total: f64,
+    /// Bytes of the CSR operator.
+    pub operator_bytes: usize,
+    /// Bytes of the transpose (for incremental updates).
+    pub transpose_bytes: usize,
+    /// Stored non-zero weights.
+    pub nonzeros: usize,
+}
+
+/// A bound scene (or point set): the compiled operator and per-point data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StarBinding {
+    /// The compiled operator (rows: the bound points).
+    pub operator: StarOperator,
+    /// b_{c_i}(p) per point (eq. 11): 1 where T is fully applied, 0 on borders.
+    pub boundary_weight: Vec<f32>,
+    /// The leaf cage each point was bound to.
+    pub cage_of: Vec<u32>,
+    /// Timings and sizes.
+    pub stats: BindStats,
+}
+
+impl StarBinding {
+    /// Binds the scene's (welded) mesh vertices.
+    pub fn bind_scene(scene: &Scene, control: &BindControl) -> Result<Self, StarError> {
+        Self::bind_points(scene, scene.mesh.welded_positions(), control)
+    }
+
+    /// Binds arbitrary points (at rest) to the scene's leaf cages.
+    pub fn bind_points(
+        scene: &Scene,
+        points: &[DVec3],
+        control: &BindControl,
+    ) -> Result<Self, StarError> {
+        let start = Instant::now();
+        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
+        let placement = place(scene, &topology, points)?;
+        let rows = bind::bind_rows(
+            &scene.cages,
+            &topology,
+            &scene.settings,
+            points,
+            &placement,
+            control,
+        )?;
+        let operator = StarOperator::from_rows(&rows.rows, scene.cages.vertices.len(), rows.green);
+        let stats = BindStats {
+            seconds_cage_coordinates: rows.seconds_cage,
+            seconds_join_cages: rows.seconds_join,
+            seconds_total: start.elapsed().as_secs_f64(),
+            operator_bytes: operator.byte_size(),
+            transpose_bytes: operator.transpose_byte_size(),
+            nonzeros: operator.nonzeros(),
+        };
+        Ok(Self {
+            operator,
+            boundary_weight: rows.boundary_weight.iter().map(|&b| b as f32).collect(),
+            cage_of: placement
+                .iter()
+                .map(|p| match p {
+                    Placement::Cage(c) | Placement::Nearest(c) => *c as u32,
+                })
+                .collect(),
+            stats,
+        })
+    }
+
+    /// Deformed positions of the bound points for the posed cage vertices `posed`.
+    pub fn deform(&self, rest: &[DVec3], posed: &[DVec3]) -> Vec<Vec3> {
+        let x = self.operator.dofs(rest, posed);
+        let mut out = vec![Vec3::ZERO; self.operator.row_count()];
+        self.operator.apply(&x, &mut out);
+        out
+    }
+}
+
+/// Deformed positions of `points` for the posed cage `posed`, evaluated in f64 from the
+/// unpacked rows of S (eq. 3): the reference the f32 operator is tested against, and the
+/// evaluation for arbitrary points (`starcages-cli eval`).
+pub fn evaluate_points(
+    scene: &Scene,
+    points: &[DVec3],
+    posed: &[DVec3],
+    control: &BindControl,
+) -> Result<Vec<DVec3>, StarError> {
+    let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
+    let placement = place(scene, &topology, points)?;
+    let rows = bind::bind_rows(
+        &scene.cages,
+        &topology,
+        &scene.settings,
+        points,
+        &placement,
+        control,
+    )?;
+    let mut x: Vec<DVec3> = posed.to_vec();
+    x.extend(rows.green.values(&scene.cages.vertices, posed));
+    Ok(rows
+        .rows
+        .iter()
+        .map(|row| row.iter().map(|&(c, w)| x[c as usize] * w).sum())
+        .collect())
+}
+
+/// Places each point in the first leaf cage containing it (inside or on its surface), or in the
+/// nearest one under the `nearest` policy.
+fn place(
+    scene: &Scene,
+    topology: &Topology,
+    points: &[DVec3],
+) -> Result<Vec<Placement>, StarError> {
+    let containment = leaf_containment(&topology.leaves, points);
+    let mut outside = Vec::new();
+    let placement: Vec<Placement> = containment
+        .iter()
+        .enumerate()
+        .map(|(i, c)| match (c.inside.first(), c.on_surface.first()) {
+            (Some(&cage), _) | (None, Some(&cage)) => Placement::Cage(cage),
+            (None, None) => {
+                outside.push(i);
+                let nearest = topology
+                    .leaves
+                    .iter()
+                    .enumerate()
+                    .map(|(c, l)| (c, l.cage.closest_point(points[i]).2))
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map_or(0, |(c, _)| c);
+                Placement::Nearest(nearest)
+            }
+        })
+        .collect();
+    if !outside.is_empty() && scene.settings.outside == OutsidePolicy::Error {
+        let mut listed = outside
+            .iter()
+            .take(8)
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        if outside.len() > 8 {
+            listed.push_str(", …");
+        }
+        return Err(StarError::Outside {
+            count: outside.len(),
+            listed,
+        });
+    }
+    Ok(placement)
+}
+
+/// The single-cage baseline of a scene: the union of all its leaf cages (shared faces
+/// removed) as one cage of `kind`, over the same vertex array so poses apply unchanged.
+pub fn single_cage_scene(scene: &Scene, kind: CoordinateKind) -> Scene {
+    let mut count = std::collections::BTreeMap::<Vec<u32>, usize>::new();
+    for face in scene.cages.leaves.iter().flat_map(|c| &c.faces) {
+        let mut key = face.clone();
+        key.sort_unstable();
+        *count.entry(key).or_default() += 1;
+    }
+    let faces: Vec<Vec<u32>> = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|c| c.faces.iter())
+        .filter(|f| {
+            let mut key = (*f).clone();
+            key.sort_unstable();
+            count[&key] == 1
+        })
+        .cloned()
+        .collect();
+    let mut single = scene.clone();
+    single.cages = CageSet {
+        vertices: scene.cages.vertices.clone(),
+        leaves: vec![LeafCage {
+            name: "single".into(),
+            kind,
+            h: None,
+            border_h: Default::default(),
+            faces,
+        }],
+        internals: Vec::new(),
+    };
+    single
+}

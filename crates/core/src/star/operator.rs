@@ -1,0 +1,164 @@
+//! The compiled *Cages operator: one sparse matrix (rows: points; columns: cage vertices, then
+//! Green face DOFs) in f32 CSR, with its transpose for incremental updates. A frame is the
+//! Green face terms from the posed cage, then one parallel sparse matrix–vector product.
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use super::bind::Row;
+use super::green_dofs::GreenDofs;
+
+/// The compiled operator.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StarOperator {
+    vertex_count: usize,
+    green: GreenDofs,
+    row_start: Vec<u32>,
+    columns: Vec<u32>,
+    values: Vec<f32>,
+    /// Transpose: for each column, the rows that reference it.
+    column_start: Vec<u32>,
+    column_rows: Vec<u32>,
+}
+
+impl StarOperator {
+    pub(crate) fn from_rows(rows: &[Row], vertex_count: usize, green: GreenDofs) -> Self {
+        let mut row_start = Vec::with_capacity(rows.len() + 1);
+        let nnz: usize = rows.iter().map(Vec::len).sum();
+        let (mut columns, mut values) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+        row_start.push(0);
+        for row in rows {
+            for &(c, w) in row {
+                columns.push(c);
+                values.push(w as f32);
+            }
+            row_start.push(columns.len() as u32);
+        }
+        let n_columns = vertex_count + green.len();
+        let mut counts = vec![0u32; n_columns + 1];
+        for &c in &columns {
+            counts[c as usize + 1] += 1;
+        }
+        for k in 1..counts.len() {
+            counts[k] += counts[k - 1];
+        }
+        let column_start = counts.clone();
+        let mut column_rows = vec![0u32; columns.len()];
+        let mut fill = counts;
+        for (r, row) in rows.iter().enumerate() {
+            for &(c, _) in row {
+                column_rows[fill[c as usize] as usize] = r as u32;
+                fill[c as usize] += 1;
+            }
+        }
+        Self {
+            vertex_count,
+            green,
+            row_start,
+            columns,
+            values,
+            column_start,
+            column_rows,
+        }
+    }
+
+    /// Number of rows (bound points).
+    pub fn row_count(&self) -> usize {
+        self.row_start.len() - 1
+    }
+
+    /// Stored non-zeros.
+    pub fn nonzeros(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Bytes of the CSR operator (values, column indices, row starts).
+    pub fn byte_size(&self) -> usize {
+        self.values.len() * 4 + self.columns.len() * 4 + self.row_start.len() * 4
+    }
+
+    /// Bytes of the transpose kept for incremental updates.
+    pub fn transpose_byte_size(&self) -> usize {
+        (self.column_start.len() + self.column_rows.len()) * 4
+    }
+
+    /// The Green face DOFs (oriented triangles).
+    pub fn green_dofs(&self) -> &GreenDofs {
+        &self.green
+    }
+
+    /// Row `r` as (column, weight) pairs.
+    pub fn row(&self, r: usize) -> impl Iterator<Item = (u32, f32)> + '_ {
+        let (a, b) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
+        self.columns[a..b]
+            .iter()
+            .copied()
+            .zip(self.values[a..b].iter().copied())
+    }
+
+    /// The degrees of freedom of a pose: posed vertices, then s_t n'_t per Green DOF.
+    pub fn dofs(&self, rest: &[DVec3], posed: &[DVec3]) -> Vec<Vec3> {
+        let mut x: Vec<Vec3> = posed.iter().map(|p| p.as_vec3()).collect();
+        x.extend(self.green.values(rest, posed).iter().map(|v| v.as_vec3()));
+        x
+    }
+
+    fn apply_row(&self, r: usize, x: &[Vec3]) -> Vec3 {
+        let (a, b) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
+        let mut acc = Vec3::ZERO;
+        for k in a..b {
+            acc += x[self.columns[k] as usize] * self.values[k];
+        }
+        acc
+    }
+
+    /// Every row applied to the DOFs `x` (one parallel sparse product).
+    pub fn apply(&self, x: &[Vec3], out: &mut [Vec3]) {
+        out.par_iter_mut()
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(r, y)| *y = self.apply_row(r, x));
+    }
+
+    /// The rows that reference any of `moved` cage vertices or Green DOFs (the points a move
+    /// can change), sorted.
+    pub fn rows_touched(&self, moved_columns: &[u32]) -> Vec<u32> {
+        let mut rows: Vec<u32> = moved_columns
+            .iter()
+            .flat_map(|&c| {
+                let (a, b) = (
+                    self.column_start[c as usize] as usize,
+                    self.column_start[c as usize + 1] as usize,
+                );
+                self.column_rows[a..b].iter().copied()
+            })
+            .collect();
+        rows.sort_unstable();
+        rows.dedup();
+        rows
+    }
+
+    /// Columns affected when the given cage vertices move: those vertices and every Green DOF
+    /// whose triangle uses one of them.
+    pub fn columns_of_moved_vertices(&self, moved: &[u32]) -> Vec<u32> {
+        let moved_set: std::collections::BTreeSet<u32> = moved.iter().copied().collect();
+        let mut columns: Vec<u32> = moved.to_vec();
+        for (d, tri) in self.green.triangles().iter().enumerate() {
+            if tri.iter().any(|v| moved_set.contains(v)) {
+                columns.push((self.vertex_count + d) as u32);
+            }
+        }
+        columns
+    }
+
+    /// Updates only the rows in `rows` (from [`StarOperator::rows_touched`]).
+    pub fn apply_rows(&self, rows: &[u32], x: &[Vec3], out: &mut [Vec3]) {
+        let values: Vec<Vec3> = rows
+            .par_iter()
+            .map(|&r| self.apply_row(r as usize, x))
+            .collect();
+        for (&r, v) in rows.iter().zip(values) {
+            out[r as usize] = v;
+        }
+    }
+}

@@ -1,0 +1,304 @@
+//! *Cages topology (section 3.1): adjacency, borders B_{c_i c_j}, boundaries B_{c_i}, boundary
+//! vertices, the join cage jc(v) of each boundary vertex (the union of the cages incident at v
+//! with their shared faces removed), and the interior / non-interior classification of v.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use thiserror::Error;
+
+use crate::cage::CageError;
+use crate::coords::CoordinateKind;
+use crate::scene::{CageSet, JoinPolicy, LocalCage};
+
+/// Why the cage set cannot be used for *Cages.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TopologyError {
+    /// A leaf cage is invalid (the scene should have been validated first).
+    #[error("cage '{cage}': {problem}")]
+    Cage {
+        /// The cage.
+        cage: String,
+        /// Its problem.
+        problem: CageError,
+    },
+    /// A join cage is not a closed manifold: cages meet at a vertex only along an edge or at
+    /// the vertex itself.
+    #[error(
+        "the join cage of cage vertex {vertex} (the union of cages {cages}) is not a valid cage: {problem}; \
+         cages meeting at a vertex must also share faces there (fill the gap with a cage, or split the vertex)"
+    )]
+    JoinCage {
+        /// The boundary vertex.
+        vertex: u32,
+        /// The incident cages' names.
+        cages: String,
+        /// The join cage's problem.
+        problem: CageError,
+    },
+}
+
+/// A border between two leaf cages: the other cage and the shared vertices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Border {
+    /// The neighbouring cage.
+    pub other: usize,
+    /// Vertices of the shared faces (B_{c_i c_j}).
+    pub vertices: Vec<u32>,
+}
+
+/// The join cage of a boundary vertex.
+#[derive(Debug, Clone)]
+pub struct JoinCage {
+    /// The boundary vertex v.
+    pub vertex: u32,
+    /// Leaf cages incident at v.
+    pub cages: Vec<usize>,
+    /// The union as a cage (vertices numbered locally; `global` maps back).
+    pub local: LocalCage,
+    /// Its polygon faces over shared vertex indices.
+    pub polygons: Vec<Vec<u32>>,
+    /// Whether v is inside jc(v) (no face of jc(v) contains it).
+    pub interior: bool,
+    /// Coordinates of T_{jc(v)} (eqs. 9, 10) by the scene's join policy.
+    pub kind: CoordinateKind,
+    /// Whether the join cage is convex (decides the automatic policy, Fig. 10).
+    pub convex: bool,
+}
+
+/// The whole topology of a leaf-cage set.
+#[derive(Debug, Clone)]
+pub struct Topology {
+    /// Leaf cages as validated local cages.
+    pub leaves: Vec<LocalCage>,
+    /// Per leaf cage, its borders.
+    pub borders: Vec<Vec<Border>>,
+    /// Per leaf cage, its boundary vertices (union of its borders' vertices), sorted.
+    pub boundary: Vec<Vec<u32>>,
+    /// Join cages by boundary vertex.
+    pub joins: BTreeMap<u32, JoinCage>,
+    /// Per boundary vertex v, the interior vertices u ≠ v sharing a leaf cage with v
+    /// (Int(jc(v)) − {v} in eq. 8).
+    pub interior_neighbours: BTreeMap<u32, Vec<u32>>,
+}
+
+impl Topology {
+    /// Builds the topology of the leaf cages of `set`.
+    pub fn new(set: &CageSet, policy: JoinPolicy) -> Result<Self, TopologyError> {
+        let leaves = set
+            .leaves
+            .iter()
+            .map(|c| {
+                LocalCage::new(&set.vertices, &c.faces).map_err(|problem| TopologyError::Cage {
+                    cage: c.name.clone(),
+                    problem,
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let n = set.leaves.len();
+        let mut borders: Vec<Vec<Border>> = vec![Vec::new(); n];
+        for adjacency in set.adjacency() {
+            let (i, j) = (adjacency.first, adjacency.second);
+            let mut vertices: Vec<u32> = adjacency
+                .faces
+                .iter()
+                .flat_map(|&(fi, _)| set.leaves[i].faces[fi].iter().copied())
+                .collect();
+            vertices.sort_unstable();
+            vertices.dedup();
+            borders[i].push(Border {
+                other: j,
+                vertices: vertices.clone(),
+            });
+            borders[j].push(Border { other: i, vertices });
+        }
+        let boundary: Vec<Vec<u32>> = borders
+            .iter()
+            .map(|bs| {
+                let set: BTreeSet<u32> =
+                    bs.iter().flat_map(|b| b.vertices.iter().copied()).collect();
+                set.into_iter().collect()
+            })
+            .collect();
+        let cage_vertices: Vec<BTreeSet<u32>> = set
+            .leaves
+            .iter()
+            .map(|c| c.faces.iter().flatten().copied().collect())
+            .collect();
+        let all_boundary: BTreeSet<u32> = boundary.iter().flatten().copied().collect();
+        let mut joins = BTreeMap::new();
+        for &v in &all_boundary {
+            let cages: Vec<usize> = (0..n).filter(|&c| cage_vertices[c].contains(&v)).collect();
+            // Union of the incident cages, shared faces (between any two of them) removed.
+            let mut count: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
+            for &c in &cages {
+                for face in &set.leaves[c].faces {
+                    let mut key = face.clone();
+                    key.sort_unstable();
+                    *count.entry(key).or_default() += 1;
+                }
+            }
+            let polygons: Vec<Vec<u32>> = cages
+                .iter()
+                .flat_map(|&c| set.leaves[c].faces.iter())
+                .filter(|face| {
+                    let mut key = (*face).clone();
+                    key.sort_unstable();
+                    count[&key] == 1
+                })
+                .cloned()
+                .collect();
+            let local = LocalCage::new(&set.vertices, &polygons).map_err(|problem| {
+                TopologyError::JoinCage {
+                    vertex: v,
+                    cages: cages
+                        .iter()
+                        .map(|&c| set.leaves[c].name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    problem,
+                }
+            })?;
+            let interior = !polygons.iter().any(|f| f.contains(&v));
+            let convex = is_convex(&local);
+            let kind = match policy {
+                JoinPolicy::Auto => {
+                    if convex {
+                        CoordinateKind::MeanValue
+                    } else {
+                        CoordinateKind::Harmonic
+                    }
+                }
+                JoinPolicy::Mvc => CoordinateKind::MeanValue,
+                JoinPolicy::Hc => CoordinateKind::Harmonic,
+                JoinPolicy::Gc => CoordinateKind::Green,
+            };
+            joins.insert(
+                v,
+                JoinCage {
+                    vertex: v,
+                    cages,
+                    local,
+                    polygons,
+                    interior,
+                    kind,
+                    convex,
+                },
+            );
+        }
+        let interior_vertices: Vec<u32> = joins
+            .values()
+            .filter(|j| j.interior)
+            .map(|j| j.vertex)
+            .collect();
+        let interior_neighbours = joins
+            .iter()
+            .map(|(&v, join)| {
+                let near: Vec<u32> = interior_vertices
+                    .iter()
+                    .copied()
+                    .filter(|&u| {
+                        u != v && join.cages.iter().any(|&c| cage_vertices[c].contains(&u))
+                    })
+                    .collect();
+                (v, near)
+            })
+            .collect();
+        Ok(Self {
+            leaves,
+            borders,
+            boundary,
+            joins,
+            interior_neighbours,
+        })
+    }
+}
+
+/// Whether every vertex lies behind (or on) every face plane.
+fn is_convex(local: &LocalCage) -> bool {
+    let cage = &local.cage;
+    let p = cage.positions();
+    let tolerance = 1e-9 * cage.diagonal();
+    cage.triangles()
+        .iter()
+        .zip(cage.triangle_normals())
+        .all(|(tri, n)| {
+            let a = p[tri[0] as usize];
+            p.iter().all(|x| n.dot(*x - a) <= tolerance)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::demo::demo_scene;
+
+    #[test]
+    fn egg_has_two_interior_vertices_and_bar_none() {
+        let egg = demo_scene("egg", 0.2).unwrap();
+        let t = Topology::new(&egg.cages, JoinPolicy::Auto).unwrap();
+        let interior: Vec<u32> = t
+            .joins
+            .values()
+            .filter(|j| j.interior)
+            .map(|j| j.vertex)
+            .collect();
+        assert_eq!(interior.len(), 2, "{interior:?}");
+        for &v in &interior {
+            assert_eq!(t.joins[&v].cages.len(), 8);
+            assert!(t.joins[&v].convex);
+            assert_eq!(t.joins[&v].kind, CoordinateKind::MeanValue);
+        }
+        let bar = demo_scene("bar", 0.2).unwrap();
+        let t = Topology::new(&bar.cages, JoinPolicy::Auto).unwrap();
+        assert_eq!(t.joins.len(), 4);
+        assert!(t.joins.values().all(|j| !j.interior && j.cages.len() == 2));
+        assert_eq!(t.boundary[0].len(), 4);
+    }
+
+    #[test]
+    fn concave_join_cages_get_harmonic_coordinates_automatically() {
+        // Three boxes in an L: the corner vertex's join cage is L-shaped (concave).
+        use crate::cage::shapes::box_faces;
+        use crate::scene::LeafCage;
+        use glam::DVec3;
+        let mut set = CageSet::default();
+        for z in [0.0, 1.0] {
+            for y in [0.0, 1.0, 2.0] {
+                for x in [0.0, 1.0, 2.0] {
+                    set.vertices.push(DVec3::new(x, y, z));
+                }
+            }
+        }
+        let id = |i: u32, j: u32, k: u32| i + 3 * j + 9 * k;
+        for (i, j) in [(0, 0), (1, 0), (0, 1)] {
+            set.leaves.push(LeafCage {
+                name: format!("c{i}{j}"),
+                kind: CoordinateKind::MeanValue,
+                h: None,
+                border_h: BTreeMap::new(),
+                faces: box_faces(std::array::from_fn(|c| {
+                    let c = c as u32;
+                    id(i + (c & 1), j + ((c >> 1) & 1), c >> 2)
+                })),
+            });
+        }
+        let t = Topology::new(&set, JoinPolicy::Auto).unwrap();
+        let corner = t.joins.get(&id(1, 1, 0)).unwrap();
+        assert_eq!(corner.cages.len(), 3);
+        assert!(!corner.convex);
+        assert_eq!(corner.kind, CoordinateKind::Harmonic);
+        assert!(
+            t.joins
+                .values()
+                .filter(|j| j.cages.len() == 2)
+                .all(|j| j.convex && j.kind == CoordinateKind::MeanValue)
+        );
+        let forced = Topology::new(&set, JoinPolicy::Gc).unwrap();
+        assert!(
+            forced
+                .joins
+                .values()
+                .all(|j| j.kind == CoordinateKind::Green)
+        );
+    }
+}

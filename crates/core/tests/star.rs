@@ -1,0 +1,300 @@
+//! *Cages deformation properties on the demo scenes and on grids with mixed kinds: identity,
+//! linear precision (similarity with Green cages), interpolation on free faces, C0 and C1
+//! across borders (where plain piecewise T is only C0), locality, incremental = full, and the
+//! f32 operator against f64 evaluation.
+
+// Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
+#![allow(clippy::unwrap_used)]
+
+use glam::{DMat3, DQuat, DVec3};
+use starcages_core::BindControl;
+use starcages_core::cage::shapes::box_faces;
+use starcages_core::coords::{BindSettings, CoordinateKind, bind};
+use starcages_core::scene::demo::{box_mesh, demo_scene};
+use starcages_core::scene::{
+    CageSet, JoinPolicy, LeafCage, LocalCage, MeshSource, Scene, SceneSettings,
+};
+use starcages_core::star::{StarBinding, evaluate_points};
+
+fn control() -> BindControl {
+    BindControl::default()
+}
+
+/// A row of `n` unit box cages along x with the given kinds, around a tessellated bar.
+fn row_scene(kinds: &[CoordinateKind], policy: JoinPolicy) -> Scene {
+    let n = kinds.len();
+    let mut set = CageSet::default();
+    for z in [-0.6, 0.6] {
+        for y in [-0.6, 0.6] {
+            for i in 0..=n {
+                set.vertices
+                    .push(DVec3::new(i as f64 - n as f64 / 2.0, y, z));
+            }
+        }
+    }
+    let row = (n + 1) as u32;
+    for (i, &kind) in kinds.iter().enumerate() {
+        let corners = std::array::from_fn(|c| {
+            let c = c as u32;
+            i as u32 + (c & 1) + row * ((c >> 1) & 1) + 2 * row * (c >> 2)
+        });
+        set.leaves.push(LeafCage {
+            name: format!("c{i}"),
+            kind,
+            h: None,
+            border_h: Default::default(),
+            faces: box_faces(corners),
+        });
+    }
+    let half = n as f64 / 2.0 - 0.2;
+    let mesh = box_mesh(
+        DVec3::new(-half, -0.4, -0.4),
+        DVec3::new(half, 0.4, 0.4),
+        [8 * n as u32, 4, 4],
+    );
+    let mut settings = SceneSettings {
+        join_coordinates: policy,
+        ..Default::default()
+    };
+    settings.harmonic.resolution = 24; // enough for the properties, fast in tests
+    Scene::new(MeshSource::Embedded, mesh, set, settings)
+}
+
+/// A smooth non-affine pose.
+fn wavy(p: DVec3) -> DVec3 {
+    p + DVec3::new(
+        0.1 * (1.3 * p.y + 0.7 * p.z).sin(),
+        0.15 * (0.9 * p.x).sin() * p.z,
+        0.2 * (p.x * p.y).cos(),
+    )
+}
+
+#[test]
+fn rest_pose_is_the_identity() {
+    for name in ["bar", "egg", "bumpy", "prism"] {
+        let scene = demo_scene(name, 0.3).unwrap();
+        let binding = StarBinding::bind_scene(&scene, &control()).unwrap();
+        let out = binding.deform(&scene.cages.vertices, &scene.cages.vertices);
+        let diag = (scene.mesh.bounds().1 - scene.mesh.bounds().0).length();
+        for (a, b) in out.iter().zip(scene.mesh.welded_positions()) {
+            assert!(
+                (a.as_dvec3() - *b).length() < 1e-5 * diag,
+                "{name}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn affine_maps_are_reproduced_with_every_join_policy() {
+    let map = |p: DVec3| {
+        DMat3::from_cols_array(&[1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.2]) * p
+            + DVec3::new(0.3, -0.2, 0.5)
+    };
+    for policy in [JoinPolicy::Auto, JoinPolicy::Mvc, JoinPolicy::Hc] {
+        let kinds = [
+            CoordinateKind::MeanValue,
+            CoordinateKind::Harmonic,
+            CoordinateKind::MeanValue,
+            CoordinateKind::MeanValue,
+        ];
+        for scene in [
+            row_scene(&kinds, policy),
+            demo_scene("egg", 0.3)
+                .map(|mut s| {
+                    s.cages
+                        .leaves
+                        .iter_mut()
+                        .for_each(|c| c.kind = CoordinateKind::MeanValue);
+                    s.settings.join_coordinates = policy;
+                    s.settings.harmonic.resolution = 24;
+                    s
+                })
+                .unwrap(),
+        ] {
+            let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| map(p)).collect();
+            let points = scene.mesh.welded_positions();
+            let out = evaluate_points(&scene, points, &posed, &control()).unwrap();
+            // HC is exact away from the grid cells the cage cuts and O(h) inside them: allow a
+            // tenth of a cell of the whole set's grid (join cages are smaller, so finer).
+            let uses_hc = policy != JoinPolicy::Mvc
+                || scene
+                    .cages
+                    .leaves
+                    .iter()
+                    .any(|c| c.kind == CoordinateKind::Harmonic);
+            let (lo, hi) = starcages_core::cage::bounds_of(&scene.cages.vertices);
+            let cell = (hi - lo).max_element() / f64::from(scene.settings.harmonic.resolution);
+            let tolerance = if uses_hc { 0.1 * cell } else { 1e-9 };
+            let worst = points
+                .iter()
+                .zip(&out)
+                .map(|(p, q)| (map(*p) - *q).length())
+                .fold(0.0, f64::max);
+            assert!(worst < tolerance, "{policy:?}: affine error {worst}");
+        }
+    }
+}
+
+#[test]
+fn similarities_are_reproduced_with_green_cages_in_the_mix() {
+    let rotation = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
+    let map = |p: DVec3| rotation * p * 1.3 + DVec3::new(-0.4, 0.2, 0.1);
+    for policy in [JoinPolicy::Mvc, JoinPolicy::Gc] {
+        let scene = row_scene(
+            &[
+                CoordinateKind::Green,
+                CoordinateKind::MeanValue,
+                CoordinateKind::Green,
+            ],
+            policy,
+        );
+        let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| map(p)).collect();
+        let points = scene.mesh.welded_positions();
+        let out = evaluate_points(&scene, points, &posed, &control()).unwrap();
+        let worst = points
+            .iter()
+            .zip(&out)
+            .map(|(p, q)| (map(*p) - *q).length())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-8, "{policy:?}: similarity error {worst}");
+    }
+}
+
+fn plain_t(scene: &Scene, cage: usize, p: DVec3, posed: &[DVec3]) -> DVec3 {
+    let local = LocalCage::new(&scene.cages.vertices, &scene.cages.leaves[cage].faces).unwrap();
+    let w = bind(
+        scene.cages.leaves[cage].kind,
+        &local.cage,
+        &[p],
+        &BindSettings::default(),
+        &control(),
+    )
+    .unwrap();
+    let local_posed: Vec<DVec3> = local.global.iter().map(|&g| posed[g as usize]).collect();
+    w.deform(&local.cage, &local_posed).unwrap()[0]
+}
+
+/// Jumps of the one-sided difference quotients across the border x = x0, at step `delta`.
+fn derivative_jump(f: impl Fn(DVec3) -> DVec3, x0: f64, y: f64, z: f64, delta: f64) -> f64 {
+    let at = |x: f64| f(DVec3::new(x, y, z));
+    let left = (at(x0) - at(x0 - delta)) / delta;
+    let right = (at(x0 + delta) - at(x0)) / delta;
+    (right - left).length()
+}
+
+#[test]
+fn c1_across_borders_where_plain_t_is_only_c0() {
+    for kinds in [
+        [CoordinateKind::MeanValue, CoordinateKind::MeanValue],
+        [CoordinateKind::Green, CoordinateKind::MeanValue],
+        [CoordinateKind::Harmonic, CoordinateKind::MeanValue],
+    ] {
+        let scene = row_scene(&kinds, JoinPolicy::Mvc);
+        let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| wavy(p)).collect();
+        let (y, z) = (0.13, -0.21);
+        let star = |p: DVec3| evaluate_points(&scene, &[p], &posed, &control()).unwrap()[0];
+        // C0: both sides meet.
+        let e = 1e-9;
+        let gap = (star(DVec3::new(-e, y, z)) - star(DVec3::new(e, y, z))).length();
+        assert!(gap < 1e-6, "{kinds:?}: C0 gap {gap}");
+        // C1: the jump of the difference quotients shrinks linearly with the step.
+        let (j1, j2) = (
+            derivative_jump(star, 0.0, y, z, 1e-2),
+            derivative_jump(star, 0.0, y, z, 1e-3),
+        );
+        assert!(
+            j2 < 0.2 * j1 + 1e-5,
+            "{kinds:?}: jump {j1} at 1e-2, {j2} at 1e-3"
+        );
+        // Plain piecewise T keeps a constant jump.
+        let plain = |p: DVec3| plain_t(&scene, if p.x < 0.0 { 0 } else { 1 }, p, &posed);
+        let (p1, p2) = (
+            derivative_jump(plain, 0.0, y, z, 1e-2),
+            derivative_jump(plain, 0.0, y, z, 1e-3),
+        );
+        assert!(
+            p1 > 1e-2 && p2 > 0.5 * p1,
+            "{kinds:?}: plain T jump {p1} -> {p2}"
+        );
+        assert!(j2 < 0.1 * p2, "{kinds:?}: *Cages jump {j2} vs plain {p2}");
+    }
+}
+
+#[test]
+fn free_faces_are_interpolated_and_borders_get_b_zero() {
+    let scene = row_scene(
+        &[CoordinateKind::MeanValue, CoordinateKind::MeanValue],
+        JoinPolicy::Mvc,
+    );
+    let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| wavy(p)).collect();
+    // The left end face x = -1 has no boundary vertex: S = T interpolates it.
+    let on_free = DVec3::new(-1.0, 0.2, -0.3);
+    let s = evaluate_points(&scene, &[on_free], &posed, &control()).unwrap()[0];
+    let t = plain_t(&scene, 0, on_free, &posed);
+    assert!((s - t).length() < 1e-9, "{s} vs {t}");
+    // b = f_h(1 − Σ_{v ∈ B} w(v, p)); along x the border weights sum to x + 1 in the left cube,
+    // so b = 1 up to x = -0.5 (h = 0.5) and blends between there and the border.
+    let binding = StarBinding::bind_points(
+        &scene,
+        &[
+            on_free,
+            DVec3::new(0.0, 0.1, 0.2),
+            DVec3::new(-0.2, 0.0, 0.0),
+        ],
+        &control(),
+    )
+    .unwrap();
+    assert_eq!(binding.boundary_weight[0], 1.0);
+    assert_eq!(binding.boundary_weight[1], 0.0);
+    assert!(binding.boundary_weight[2] > 0.0 && binding.boundary_weight[2] < 1.0);
+}
+
+#[test]
+fn moving_an_outer_vertex_of_the_first_cage_moves_nothing_in_the_third_and_fourth() {
+    let kinds = [CoordinateKind::MeanValue; 4];
+    let scene = row_scene(&kinds, JoinPolicy::Mvc);
+    let binding = StarBinding::bind_scene(&scene, &control()).unwrap();
+    let rest = &scene.cages.vertices;
+    let before = binding.deform(rest, rest);
+    let mut posed = rest.clone();
+    posed[0] += DVec3::new(-0.3, 0.2, 0.1); // an outer corner of c0 (x = -2)
+    let after = binding.deform(rest, &posed);
+    let mut moved_somewhere = false;
+    for (i, (a, b)) in before.iter().zip(&after).enumerate() {
+        if binding.cage_of[i] >= 2 {
+            assert_eq!(a, b, "vertex {i} in cage {} moved", binding.cage_of[i]);
+        }
+        moved_somewhere |= a != b;
+    }
+    assert!(moved_somewhere);
+    // Incremental update: only the touched rows, same result as the full product.
+    let columns = binding.operator.columns_of_moved_vertices(&[0]);
+    let rows = binding.operator.rows_touched(&columns);
+    assert!(rows.iter().all(|&r| binding.cage_of[r as usize] < 2));
+    let x = binding.operator.dofs(rest, &posed);
+    let mut incremental = before.clone();
+    binding.operator.apply_rows(&rows, &x, &mut incremental);
+    for (a, b) in incremental.iter().zip(&after) {
+        assert!((*a - *b).length() < 1e-6);
+    }
+}
+
+#[test]
+fn f32_operator_matches_f64_evaluation() {
+    for name in ["bumpy", "egg"] {
+        let scene = demo_scene(name, 0.3).unwrap();
+        let pose = scene.poses.values().next().unwrap().clone();
+        let binding = StarBinding::bind_scene(&scene, &control()).unwrap();
+        let fast = binding.deform(&scene.cages.vertices, &pose);
+        let exact =
+            evaluate_points(&scene, scene.mesh.welded_positions(), &pose, &control()).unwrap();
+        let worst = fast
+            .iter()
+            .zip(&exact)
+            .map(|(a, b)| (a.as_dvec3() - *b).length())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-5, "{name}: {worst}");
+        assert!(binding.stats.operator_bytes > 0 && binding.stats.seconds_total > 0.0);
+    }
+}
