@@ -35,6 +35,12 @@ enum Command {
     New(commands::new::NewArgs),
     /// Write a scene's leaf cages, in a pose, to OBJ.
     Cages(commands::cages::CagesArgs),
+    /// Deform a scene's mesh into a pose and write it (OBJ or GLB).
+    Deform(commands::deform::DeformArgs),
+    /// Deformed positions of arbitrary points, as JSON.
+    Eval(commands::eval::EvalArgs),
+    /// *Cages against single-cage baselines: memory, bind, frame and move times.
+    Bench(commands::bench::BenchArgs),
 }
 
 /// An error the user caused with their input (exit status 2).
@@ -52,6 +58,9 @@ fn main() -> ExitCode {
         Command::Autocage(args) => commands::autocage::run(&args),
         Command::New(args) => commands::new::run(&args),
         Command::Cages(args) => commands::cages::run(&args),
+        Command::Deform(args) => commands::deform::run(&args),
+        Command::Eval(args) => commands::eval::run(&args),
+        Command::Bench(args) => commands::bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

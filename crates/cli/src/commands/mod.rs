@@ -1,10 +1,14 @@
 //! One module per subcommand.
 
 pub mod autocage;
+pub mod bench;
 pub mod cages;
+pub mod deform;
 pub mod demo;
+pub mod eval;
 pub mod info;
 pub mod new;
+pub mod pose;
 pub mod validate;
 pub mod weights;
 

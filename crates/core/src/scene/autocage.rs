@@ -48,6 +48,7 @@ pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
         let c = ((*p - lo) / cell).floor().as_uvec3().min(grid - UVec3::ONE);
         occupied[(c.x + grid.x * (c.y + grid.y * c.z)) as usize] = true;
     }
+    make_manifold(&mut occupied, grid);
     let mut index: BTreeMap<(u32, u32, u32), u32> = BTreeMap::new();
     let mut set = CageSet::default();
     for k in 0..grid.z {
@@ -77,4 +78,108 @@ pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
         }
     }
     set
+}
+
+/// Adds cells until the union of the occupied cells is a manifold: around every grid vertex,
+/// the occupied cells of its 2×2×2 block and the empty ones must each be face-connected
+/// (otherwise cells meet only along an edge or at a vertex, and the *Cages join cage there is
+/// not a valid cage). Offending blocks are filled whole; cells are only ever added, so this
+/// terminates.
+fn make_manifold(occupied: &mut [bool], grid: UVec3) {
+    let cell = |i: i64, j: i64, k: i64| -> Option<usize> {
+        let g = grid.as_i64vec3();
+        (i >= 0 && j >= 0 && k >= 0 && i < g.x && j < g.y && k < g.z)
+            .then(|| (i + g.x * (j + g.y * k)) as usize)
+    };
+    loop {
+        let mut changed = false;
+        for k in 0..=i64::from(grid.z) {
+            for j in 0..=i64::from(grid.y) {
+                for i in 0..=i64::from(grid.x) {
+                    // The 8 cells around grid vertex (i, j, k); bit c = (dx, dy, dz).
+                    let cells: [Option<usize>; 8] = std::array::from_fn(|c| {
+                        cell(
+                            i - 1 + (c as i64 & 1),
+                            j - 1 + ((c as i64 >> 1) & 1),
+                            k - 1 + (c as i64 >> 2),
+                        )
+                    });
+                    let mask: u8 = (0..8)
+                        .filter(|&c| cells[c].is_some_and(|x| occupied[x]))
+                        .fold(0, |m, c| m | 1 << c);
+                    if face_connected(mask) && face_connected(!mask) {
+                        continue;
+                    }
+                    for x in cells.into_iter().flatten() {
+                        changed |= !occupied[x];
+                        occupied[x] = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            return;
+        }
+    }
+}
+
+/// Whether the cells set in `mask` (of a 2×2×2 block, bit c = x + 2y + 4z) are connected
+/// through shared faces (cells differing in one bit). The empty set is connected.
+fn face_connected(mask: u8) -> bool {
+    let Some(first) = (0..8).find(|&c| mask & (1 << c) != 0) else {
+        return true;
+    };
+    let mut seen = 1u8 << first;
+    let mut stack = vec![first];
+    while let Some(c) = stack.pop() {
+        for bit in [1, 2, 4] {
+            let n = c ^ bit;
+            if mask & (1 << n) != 0 && seen & (1 << n) == 0 {
+                seen |= 1 << n;
+                stack.push(n);
+            }
+        }
+    }
+    seen == mask
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{JoinPolicy, MeshSource, Scene, SceneSettings, validate_scene};
+    use crate::star::Topology;
+
+    #[test]
+    fn face_connectivity_of_blocks() {
+        assert!(face_connected(0));
+        assert!(face_connected(0b0000_0011));
+        assert!(!face_connected(0b0000_1001)); // cells 0 and 3 share an edge only
+        assert!(!face_connected(0b1000_0001)); // cells 0 and 7 share a vertex only
+    }
+
+    #[test]
+    fn diagonal_cells_get_filled_so_join_cages_are_valid() {
+        // Mesh vertices only near two diagonally opposite cells of a 2x2x1 grid.
+        let positions = vec![
+            DVec3::new(0.1, 0.1, 0.1),
+            DVec3::new(0.2, 0.1, 0.1),
+            DVec3::new(0.1, 0.2, 0.1),
+            DVec3::new(1.9, 1.9, 0.9),
+            DVec3::new(1.8, 1.9, 0.9),
+            DVec3::new(1.9, 1.8, 0.9),
+        ];
+        let mesh = Mesh::new(positions, vec![[0, 1, 2], [3, 4, 5]], None, None).unwrap();
+        let set = autocage(
+            &mesh,
+            &AutocageOptions {
+                grid: [2, 2, 1],
+                padding: 0.0,
+                ..Default::default()
+            },
+        );
+        assert_eq!(set.leaves.len(), 4, "the diagonal pair was completed");
+        assert!(Topology::new(&set, JoinPolicy::Auto).is_ok());
+        let scene = Scene::new(MeshSource::Embedded, mesh, set, SceneSettings::default());
+        assert!(validate_scene(&scene).is_valid());
+    }
 }

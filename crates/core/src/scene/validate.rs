@@ -134,6 +134,9 @@ pub enum SceneProblem {
         /// The vertex.
         vertex: usize,
     },
+    /// The leaf cages' *Cages topology is unusable (e.g. a non-manifold join cage).
+    #[error("{0}")]
+    Topology(String),
     /// An internal cage owns a vertex that does not exist or is its own.
     #[error(
         "internal cage '{cage}' owns vertex {vertex}, which {reason}; remove it from its owned list"
@@ -246,6 +249,11 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
     if leaves.iter().all(Option::is_some) && !leaves.is_empty() {
         let leaves: Vec<LocalCage> = leaves.into_iter().flatten().collect();
         check_overlaps_and_coverage(scene, &leaves, &mut report);
+        if report.errors.is_empty()
+            && let Err(e) = crate::star::Topology::new(set, scene.settings.join_coordinates)
+        {
+            report.errors.push(SceneProblem::Topology(e.to_string()));
+        }
     }
     report
 }

@@ -1,0 +1,294 @@
+//! `starcages-cli bench`: the paper's Table II in one run: *Cages against single-cage MVC, GC
+//! and HC on the demo scenes (and optionally real meshes with a 4×4×4 automatic grid): memory,
+//! bind time (cage coordinates / total), time per full frame and per single cage-vertex move,
+//! plus a plain array read for the machine's memory bandwidth.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use glam::{DVec3, Vec3};
+use serde::Serialize;
+use starcages_core::BindControl;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::io::read_mesh;
+use starcages_core::scene::demo::demo_scene;
+use starcages_core::scene::{AutocageOptions, MeshSource, Scene, SceneSettings, autocage};
+use starcages_core::star::{StarBinding, single_cage_scene};
+
+/// Arguments of `bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Print JSON (otherwise a table).
+    #[arg(long)]
+    json: bool,
+    /// Tessellation of the prism demo (3 gives about 200k triangles).
+    #[arg(long, default_value_t = 3.0)]
+    prism_detail: f64,
+    /// Also bench every OBJ in this folder with a 4×4×4 automatic grid (e.g. ../shared/meshes).
+    #[arg(long)]
+    meshes: Option<PathBuf>,
+    /// Only these scenes (names as in the output).
+    #[arg(long)]
+    only: Vec<String>,
+    /// Skip the single-cage HC baseline (its bind is the slowest).
+    #[arg(long)]
+    no_hc: bool,
+}
+
+#[derive(Serialize)]
+struct Row {
+    scene: String,
+    method: String,
+    mesh_vertices: usize,
+    cages: usize,
+    memory_mb: f64,
+    bind_cage_s: f64,
+    bind_total_s: f64,
+    frame_s: f64,
+    move_s: f64,
+    stream_gb_s: f64,
+}
+
+#[derive(Serialize)]
+struct Ratios {
+    scene: String,
+    frame_vs_mvc: f64,
+    frame_vs_gc: f64,
+    move_vs_mvc: f64,
+    move_vs_gc: f64,
+    memory_vs_mvc: f64,
+    memory_vs_gc: f64,
+}
+
+#[derive(Serialize)]
+struct Report {
+    threads: usize,
+    array_read_gb_s: f64,
+    rows: Vec<Row>,
+    ratios: Vec<Ratios>,
+}
+
+/// Best of `n` timings of `f`, in seconds.
+fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
+    (0..n)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// GB/s of summing a 256 MB f32 array (parallel), best of 5.
+fn array_read_bandwidth() -> f64 {
+    use rayon::prelude::*;
+    let data = vec![1.0f32; 64 << 20];
+    let seconds = best_of(5, || {
+        let s: f32 = data
+            .par_chunks(1 << 16)
+            .map(|c| c.iter().sum::<f32>())
+            .sum();
+        std::hint::black_box(s);
+    });
+    (data.len() * 4) as f64 / seconds / 1e9
+}
+
+fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyhow::Result<Row> {
+    let control = BindControl::default();
+    let binding = StarBinding::bind_scene(scene, &control)
+        .map_err(|e| anyhow::anyhow!("{name} ({method}): {e}"))?;
+    let rest = &scene.cages.vertices;
+    let operator = &binding.operator;
+    let mut out = vec![Vec3::ZERO; operator.row_count()];
+    let x = operator.dofs(rest, pose);
+    let frame_s = best_of(10, || {
+        let x = operator.dofs(rest, pose);
+        operator.apply(&x, &mut out);
+    });
+    let apply_s = best_of(10, || operator.apply(&x, &mut out));
+    // A single cage-vertex move: every vertex in turn (up to 32), incremental update.
+    let step = (rest.len() / 32).max(1);
+    let samples: Vec<u32> = (0..rest.len() as u32).step_by(step).take(32).collect();
+    let mut moved = pose.to_vec();
+    let t = Instant::now();
+    for &v in &samples {
+        moved[v as usize] += DVec3::splat(0.01);
+        let x = operator.dofs(rest, &moved);
+        let rows = operator.rows_touched(&operator.columns_of_moved_vertices(&[v]));
+        operator.apply_rows(&rows, &x, &mut out);
+    }
+    let move_s = t.elapsed().as_secs_f64() / samples.len() as f64;
+    let streamed = operator.byte_size() + operator.row_count() * 12 + x.len() * 12;
+    Ok(Row {
+        scene: name.to_owned(),
+        method: method.to_owned(),
+        mesh_vertices: scene.mesh.welded_positions().len(),
+        cages: scene.cages.leaves.len(),
+        memory_mb: binding.stats.operator_bytes as f64 / 1e6,
+        bind_cage_s: binding.stats.seconds_cage_coordinates,
+        bind_total_s: binding.stats.seconds_total,
+        frame_s,
+        move_s,
+        stream_gb_s: streamed as f64 / apply_s / 1e9,
+    })
+}
+
+/// A smooth test pose: every cage vertex moved by a wave.
+fn wave(scene: &Scene) -> Vec<DVec3> {
+    scene
+        .cages
+        .vertices
+        .iter()
+        .map(|p| {
+            *p + DVec3::new(
+                0.05 * (2.0 * p.y).sin(),
+                0.05 * (2.0 * p.z).sin(),
+                0.05 * (2.0 * p.x).sin(),
+            )
+        })
+        .collect()
+}
+
+/// Runs the command.
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let mut scenes: Vec<(String, Scene)> = Vec::new();
+    for (name, detail) in [
+        ("bar", 1.0),
+        ("egg", 1.0),
+        ("bumpy", 1.0),
+        ("prism", args.prism_detail),
+    ] {
+        if let Some(scene) = demo_scene(name, detail) {
+            scenes.push((name.to_owned(), scene));
+        }
+    }
+    if let Some(folder) = &args.meshes {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
+            .map_err(|e| crate::InputError(format!("{}: cannot list: {e}", folder.display())))?
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+            .collect();
+        files.sort();
+        for file in files {
+            let mesh = read_mesh(&file)?;
+            let cages = autocage(
+                &mesh,
+                &AutocageOptions {
+                    grid: [4, 4, 4],
+                    ..Default::default()
+                },
+            );
+            let name = file
+                .file_stem()
+                .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+            scenes.push((
+                format!("{name}-4x4x4"),
+                Scene::new(
+                    MeshSource::File(file),
+                    mesh,
+                    cages,
+                    SceneSettings::default(),
+                ),
+            ));
+        }
+    }
+    scenes.retain(|(n, _)| args.only.is_empty() || args.only.contains(n));
+    let mut rows = Vec::new();
+    let mut ratios = Vec::new();
+    for (name, scene) in &scenes {
+        let pose = wave(scene);
+        let star = bench_method(name, "stars", scene, &pose)?;
+        let mvc = bench_method(
+            name,
+            "single-mvc",
+            &single_cage_scene(scene, CoordinateKind::MeanValue),
+            &pose,
+        )?;
+        let gc = bench_method(
+            name,
+            "single-gc",
+            &single_cage_scene(scene, CoordinateKind::Green),
+            &pose,
+        )?;
+        ratios.push(Ratios {
+            scene: name.clone(),
+            frame_vs_mvc: mvc.frame_s / star.frame_s,
+            frame_vs_gc: gc.frame_s / star.frame_s,
+            move_vs_mvc: mvc.move_s / star.move_s,
+            move_vs_gc: gc.move_s / star.move_s,
+            memory_vs_mvc: mvc.memory_mb / star.memory_mb,
+            memory_vs_gc: gc.memory_mb / star.memory_mb,
+        });
+        rows.extend([star, mvc, gc]);
+        if !args.no_hc {
+            rows.push(bench_method(
+                name,
+                "single-hc",
+                &single_cage_scene(scene, CoordinateKind::Harmonic),
+                &pose,
+            )?);
+        }
+        if !args.json {
+            eprintln!("benched {name}");
+        }
+    }
+    let report = Report {
+        threads: rayon::current_num_threads(),
+        array_read_gb_s: array_read_bandwidth(),
+        rows,
+        ratios,
+    };
+    if args.json {
+        crate::output::line(starcages_core::scene::to_pretty_json(
+            &serde_json::to_value(&report)?,
+        ))?;
+        return Ok(());
+    }
+    crate::output::line(format_args!(
+        "threads: {}; plain array read: {:.1} GB/s",
+        report.threads, report.array_read_gb_s
+    ))?;
+    crate::output::line(format_args!(
+        "{:<16} {:<11} {:>8} {:>5} {:>9} {:>9} {:>9} {:>10} {:>10} {:>8}",
+        "scene",
+        "method",
+        "vertices",
+        "cages",
+        "MB",
+        "bind cc",
+        "bind s",
+        "frame s",
+        "move s",
+        "GB/s"
+    ))?;
+    for r in &report.rows {
+        crate::output::line(format_args!(
+            "{:<16} {:<11} {:>8} {:>5} {:>9.2} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
+            r.scene,
+            r.method,
+            r.mesh_vertices,
+            r.cages,
+            r.memory_mb,
+            r.bind_cage_s,
+            r.bind_total_s,
+            r.frame_s,
+            r.move_s,
+            r.stream_gb_s
+        ))?;
+    }
+    for q in &report.ratios {
+        crate::output::line(format_args!(
+            "{:<16} *Cages vs single MVC: frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x",
+            q.scene,
+            q.frame_vs_mvc,
+            q.move_vs_mvc,
+            q.memory_vs_mvc,
+            q.frame_vs_gc,
+            q.move_vs_gc,
+            q.memory_vs_gc
+        ))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,68 @@
+//! `starcages-cli deform`: bind a scene, deform its mesh into a pose, write OBJ or GLB.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use starcages_core::BindControl;
+use starcages_core::io::write_mesh;
+use starcages_core::star::StarBinding;
+
+use super::pose::PoseArgs;
+use crate::InputError;
+use crate::progress::with_progress;
+
+/// Arguments of `deform`.
+#[derive(Debug, Args)]
+pub struct DeformArgs {
+    /// Scene file.
+    scene: PathBuf,
+    #[command(flatten)]
+    pose: PoseArgs,
+    /// Deformed mesh to write: .obj or .glb (normals recomputed).
+    #[arg(long)]
+    out: PathBuf,
+    /// Print memory and times to standard error.
+    #[arg(long)]
+    stats: bool,
+}
+
+/// Runs the command.
+pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
+    let scene = super::load(&args.scene)?;
+    let label = args.scene.display().to_string();
+    if !super::report(&scene, &label).is_valid() {
+        return Err(InputError(format!(
+            "{label}: the scene does not validate; see the problems above"
+        ))
+        .into());
+    }
+    let posed = args.pose.positions(&scene, &args.scene)?;
+    let scene = args.pose.method_scene(scene);
+    let control = BindControl::default();
+    let binding = with_progress("binding", &control, || {
+        StarBinding::bind_scene(&scene, &control)
+    })
+    .map_err(|e| InputError(format!("{label}: {e}")))?;
+    let start = Instant::now();
+    let welded = binding.deform(&scene.cages.vertices, &posed);
+    let seconds_frame = start.elapsed().as_secs_f64();
+    let welded: Vec<glam::DVec3> = welded.iter().map(|p| p.as_dvec3()).collect();
+    write_mesh(&args.out, &scene.mesh, &scene.mesh.unweld(&welded))?;
+    if args.stats {
+        let s = binding.stats;
+        eprintln!(
+            "bind: {:.3} s (cage coordinates {:.3} s, join cages {:.3} s); weights: {:.2} MB in {} non-zeros \
+             (+{:.2} MB transpose); frame: {:.4} s",
+            s.seconds_total,
+            s.seconds_cage_coordinates,
+            s.seconds_join_cages,
+            s.operator_bytes as f64 / 1e6,
+            s.nonzeros,
+            s.transpose_bytes as f64 / 1e6,
+            seconds_frame
+        );
+    }
+    crate::output::line(args.out.display())?;
+    Ok(())
+}
