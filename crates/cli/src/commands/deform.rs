@@ -6,7 +6,7 @@ use std::time::Instant;
 use clap::Args;
 use starcages_core::BindControl;
 use starcages_core::io::write_mesh;
-use starcages_core::star::StarBinding;
+use starcages_core::star::{CacheOutcome, StarBinding};
 
 use super::pose::PoseArgs;
 use crate::InputError;
@@ -25,6 +25,10 @@ pub struct DeformArgs {
     /// Print memory and times to standard error.
     #[arg(long)]
     stats: bool,
+    /// Keep the binding in a cache beside the scene (SCENE.json.bind) and reuse it while the
+    /// mesh, cages and settings are unchanged.
+    #[arg(long, conflicts_with = "single_cage")]
+    cache: bool,
 }
 
 /// Runs the command.
@@ -41,7 +45,18 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     let scene = args.pose.method_scene(scene);
     let control = BindControl::default();
     let binding = with_progress("binding", &control, || {
-        StarBinding::bind_scene(&scene, &control)
+        if !args.cache {
+            return StarBinding::bind_scene(&scene, &control);
+        }
+        let (binding, outcome) = StarBinding::bind_scene_cached(&scene, &args.scene, &control)?;
+        match outcome {
+            CacheOutcome::Hit => eprintln!("{label}: binding read from its cache"),
+            CacheOutcome::Written => {}
+            CacheOutcome::Replaced(why) | CacheOutcome::NotWritten(why) => {
+                eprintln!("warning: {why}")
+            }
+        }
+        Ok(binding)
     })
     .map_err(|e| InputError(format!("{label}: {e}")))?;
     let start = Instant::now();

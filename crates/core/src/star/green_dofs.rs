@@ -32,6 +32,16 @@ impl GreenDofs {
             .collect()
     }
 
+    /// A registry from stored triangles (a binding cache).
+    pub(crate) fn from_triangles(triangles: Vec<[u32; 3]>) -> Self {
+        let index = triangles
+            .iter()
+            .enumerate()
+            .map(|(i, t)| (*t, i as u32))
+            .collect();
+        Self { triangles, index }
+    }
+
     /// Number of DOFs.
     pub fn len(&self) -> usize {
         self.triangles.len()

@@ -5,8 +5,10 @@
 //! * [`bind`](self::bind): the rows of S (eq. 3) for a set of points, coordinates in batches.
 //! * [`operator`]: the f32 CSR operator, its transpose, full and incremental application.
 //! * [`green_dofs`]: Green face degrees of freedom.
+//! * `cache`: the binding cache beside a scene file.
 
 mod bind;
+mod cache;
 mod green_dofs;
 mod operator;
 pub mod topology;
@@ -17,6 +19,7 @@ use glam::{DVec3, Vec3};
 use thiserror::Error;
 
 pub use bind::Placement;
+pub use cache::{CacheOutcome, binding_key, cache_path};
 pub use green_dofs::GreenDofs;
 pub use operator::StarOperator;
 pub use topology::{Border, JoinCage, Topology, TopologyError};

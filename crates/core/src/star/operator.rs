@@ -62,6 +62,57 @@ impl StarOperator {
         }
     }
 
+    /// Rebuilds an operator from its stored parts (a binding cache), checking every index.
+    pub(crate) fn from_parts(
+        vertex_count: usize,
+        green: GreenDofs,
+        row_start: Vec<u32>,
+        columns: Vec<u32>,
+        values: Vec<f32>,
+    ) -> Result<Self, String> {
+        let n_columns = (vertex_count + green.len()) as u32;
+        let monotone = row_start.first() == Some(&0) && row_start.windows(2).all(|w| w[0] <= w[1]);
+        if !monotone
+            || row_start.last().map(|&l| l as usize) != Some(columns.len())
+            || columns.len() != values.len()
+        {
+            return Err("inconsistent row structure".into());
+        }
+        if columns.iter().any(|&c| c >= n_columns) || values.iter().any(|v| !v.is_finite()) {
+            return Err("column index or weight out of range".into());
+        }
+        if green
+            .triangles()
+            .iter()
+            .flatten()
+            .any(|&v| v as usize >= vertex_count)
+        {
+            return Err("Green triangle refers to a missing vertex".into());
+        }
+        let rows: Vec<Row> = row_start
+            .windows(2)
+            .map(|w| {
+                (w[0] as usize..w[1] as usize)
+                    .map(|k| (columns[k], f64::from(values[k])))
+                    .collect()
+            })
+            .collect();
+        let mut rebuilt = Self::from_rows(&rows, vertex_count, green);
+        // Keep the stored f32 values bit for bit.
+        rebuilt.values = values;
+        Ok(rebuilt)
+    }
+
+    /// The stored parts: vertex count, row starts, columns, values.
+    pub(crate) fn parts(&self) -> (usize, &[u32], &[u32], &[f32]) {
+        (
+            self.vertex_count,
+            &self.row_start,
+            &self.columns,
+            &self.values,
+        )
+    }
+
     /// Number of rows (bound points).
     pub fn row_count(&self) -> usize {
         self.row_start.len() - 1

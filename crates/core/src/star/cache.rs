@@ -1,0 +1,262 @@
+//! The binding cache: a binary file beside the scene (`SCENE.json.bind`) holding the compiled
+//! operator, keyed by a hash of the mesh, the cages and the settings, with a checksum of its
+//! content. A missing, stale or corrupt cache is ignored with a reason and rebuilt; it is never
+//! trusted without both the key and the checksum matching.
+
+use std::path::{Path, PathBuf};
+
+use super::{BindStats, GreenDofs, StarBinding, StarError, StarOperator};
+use crate::coords::BindControl;
+use crate::io::write_atomic;
+use crate::scene::Scene;
+
+const MAGIC: &[u8; 8] = b"SCBIND01";
+
+/// What happened with the cache.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CacheOutcome {
+    /// The cache matched: no bind was needed.
+    Hit,
+    /// There was no cache; the scene was bound and the cache written.
+    Written,
+    /// The cache was stale or unreadable (the reason); the scene was bound and the cache
+    /// rewritten.
+    Replaced(String),
+    /// The bind succeeded but the cache could not be written (the reason).
+    NotWritten(String),
+}
+
+/// The cache file of a scene file.
+pub fn cache_path(scene_path: &Path) -> PathBuf {
+    let mut name = scene_path
+        .file_name()
+        .map(std::ffi::OsString::from)
+        .unwrap_or_default();
+    name.push(".bind");
+    scene_path.with_file_name(name)
+}
+
+/// FNV-1a, 64 bit: a stable hash (unlike `DefaultHasher`, fixed across Rust versions).
+#[derive(Clone, Copy)]
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn bytes(mut self, bytes: &[u8]) -> Self {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+        self
+    }
+}
+
+/// The key of a scene's binding: mesh (welded positions and triangles), cages and settings.
+pub fn binding_key(scene: &Scene) -> u64 {
+    let mut h = Fnv::new();
+    for p in scene.mesh.welded_positions() {
+        for c in p.to_array() {
+            h = h.bytes(&c.to_le_bytes());
+        }
+    }
+    for t in scene.mesh.welded_triangles() {
+        for v in t {
+            h = h.bytes(&v.to_le_bytes());
+        }
+    }
+    // The cages' rest geometry, kinds and h values, and the settings, through their JSON form
+    // (field order is fixed by the types; floats print exactly).
+    let cages = serde_json::to_string(&scene.cages).unwrap_or_default();
+    let settings = serde_json::to_string(&scene.settings).unwrap_or_default();
+    h.bytes(cages.as_bytes()).bytes(settings.as_bytes()).0
+}
+
+fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
+    let (vertex_count, row_start, columns, values) = binding.operator.parts();
+    let triangles = binding.operator.green_dofs().triangles();
+    let mut payload = Vec::new();
+    let mut put = |x: u32| payload.extend_from_slice(&x.to_le_bytes());
+    for n in [
+        vertex_count,
+        row_start.len(),
+        columns.len(),
+        triangles.len(),
+    ] {
+        put(n as u32);
+    }
+    row_start.iter().chain(columns).for_each(|&x| put(x));
+    values.iter().for_each(|v| put(v.to_bits()));
+    triangles.iter().flatten().for_each(|&x| put(x));
+    binding
+        .boundary_weight
+        .iter()
+        .for_each(|v| put(v.to_bits()));
+    binding.cage_of.iter().for_each(|&x| put(x));
+    let mut out = Vec::with_capacity(payload.len() + 32);
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&key.to_le_bytes());
+    out.extend_from_slice(&Fnv::new().bytes(&payload).0.to_le_bytes());
+    out.extend_from_slice(&payload);
+    out
+}
+
+fn decode(bytes: &[u8], key: u64) -> Result<StarBinding, String> {
+    if bytes.len() < 24 || &bytes[..8] != MAGIC {
+        return Err("not a StarCages binding cache (or an older format)".into());
+    }
+    let stored_key = u64::from_le_bytes(bytes[8..16].try_into().map_err(|_| "truncated")?);
+    if stored_key != key {
+        return Err("the mesh, cages or settings changed since it was written".into());
+    }
+    let checksum = u64::from_le_bytes(bytes[16..24].try_into().map_err(|_| "truncated")?);
+    let payload = &bytes[24..];
+    if Fnv::new().bytes(payload).0 != checksum {
+        return Err("its content is corrupt (checksum mismatch)".into());
+    }
+    let words: Vec<u32> = payload
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    if !payload.len().is_multiple_of(4) || words.len() < 4 {
+        return Err("truncated".into());
+    }
+    let [vertex_count, n_rows1, nnz, n_tris] = [0, 1, 2, 3].map(|i| words[i] as usize);
+    let rows = n_rows1.checked_sub(1).ok_or("no rows")?;
+    let expected = 4 + n_rows1 + 2 * nnz + 3 * n_tris + 2 * rows;
+    if words.len() != expected {
+        return Err(format!(
+            "truncated ({} words, {expected} expected)",
+            words.len()
+        ));
+    }
+    let mut at = 4;
+    let mut take = |n: usize| {
+        let slice = &words[at..at + n];
+        at += n;
+        slice
+    };
+    let row_start = take(n_rows1).to_vec();
+    let columns = take(nnz).to_vec();
+    let values: Vec<f32> = take(nnz).iter().map(|&b| f32::from_bits(b)).collect();
+    let triangles: Vec<[u32; 3]> = take(3 * n_tris)
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    let boundary_weight: Vec<f32> = take(rows).iter().map(|&b| f32::from_bits(b)).collect();
+    let cage_of = take(rows).to_vec();
+    let operator = StarOperator::from_parts(
+        vertex_count,
+        GreenDofs::from_triangles(triangles),
+        row_start,
+        columns,
+        values,
+    )?;
+    let stats = BindStats {
+        operator_bytes: operator.byte_size(),
+        transpose_bytes: operator.transpose_byte_size(),
+        nonzeros: operator.nonzeros(),
+        ..Default::default()
+    };
+    Ok(StarBinding {
+        operator,
+        boundary_weight,
+        cage_of,
+        stats,
+    })
+}
+
+impl StarBinding {
+    /// Binds the scene's mesh through the cache beside `scene_path`: a matching cache is used
+    /// as is; otherwise the scene is bound and the cache (re)written atomically.
+    pub fn bind_scene_cached(
+        scene: &Scene,
+        scene_path: &Path,
+        control: &BindControl,
+    ) -> Result<(Self, CacheOutcome), StarError> {
+        let key = binding_key(scene);
+        let path = cache_path(scene_path);
+        let stale = match std::fs::read(&path) {
+            Ok(bytes) => match decode(&bytes, key) {
+                Ok(binding)
+                    if binding.operator.row_count() == scene.mesh.welded_positions().len() =>
+                {
+                    return Ok((binding, CacheOutcome::Hit));
+                }
+                Ok(_) => Some("it was written for another mesh".to_owned()),
+                Err(reason) => Some(reason),
+            },
+            Err(_) => None,
+        };
+        let binding = Self::bind_scene(scene, control)?;
+        let outcome = match (write_atomic(&path, &encode(key, &binding)), stale) {
+            (Err(e), _) => CacheOutcome::NotWritten(e.to_string()),
+            (Ok(()), Some(reason)) => CacheOutcome::Replaced(format!(
+                "{}: ignored the binding cache: {reason}",
+                path.display()
+            )),
+            (Ok(()), None) => CacheOutcome::Written,
+        };
+        Ok((binding, outcome))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::demo::demo_scene;
+
+    #[test]
+    fn cache_is_used_rebuilt_when_stale_and_never_trusted_when_corrupt() {
+        let dir = std::env::temp_dir().join(format!("starcages-cache-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene_path = dir.join("egg.json");
+        let mut scene = demo_scene("egg", 0.2).unwrap();
+        let control = BindControl::default();
+        let (first, outcome) =
+            StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
+        assert_eq!(outcome, CacheOutcome::Written);
+        let (second, outcome) =
+            StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
+        assert_eq!(outcome, CacheOutcome::Hit);
+        assert_eq!(second.operator, first.operator);
+        assert_eq!(second.boundary_weight, first.boundary_weight);
+        // A changed setting makes the cache stale.
+        scene.cages.leaves[0].h = Some(0.3);
+        let (_, outcome) = StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
+        assert!(
+            matches!(&outcome, CacheOutcome::Replaced(r) if r.contains("changed")),
+            "{outcome:?}"
+        );
+        // Flipping one byte of the content is caught by the checksum.
+        let cache = cache_path(&scene_path);
+        let mut bytes = std::fs::read(&cache).unwrap();
+        let last = bytes.len() - 5;
+        bytes[last] ^= 0x40;
+        std::fs::write(&cache, &bytes).unwrap();
+        let (rebound, outcome) =
+            StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
+        assert!(
+            matches!(&outcome, CacheOutcome::Replaced(r) if r.contains("corrupt")),
+            "{outcome:?}"
+        );
+        let fresh = StarBinding::bind_scene(&scene, &control).unwrap();
+        assert_eq!(rebound.operator, fresh.operator);
+        // Truncated and garbage files too.
+        std::fs::write(&cache, &bytes[..bytes.len() / 2]).unwrap();
+        assert!(matches!(
+            StarBinding::bind_scene_cached(&scene, &scene_path, &control)
+                .unwrap()
+                .1,
+            CacheOutcome::Replaced(_)
+        ));
+        std::fs::write(&cache, b"garbage").unwrap();
+        assert!(matches!(
+            StarBinding::bind_scene_cached(&scene, &scene_path, &control)
+                .unwrap()
+                .1,
+            CacheOutcome::Replaced(_)
+        ));
+    }
+}
