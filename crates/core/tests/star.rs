@@ -298,3 +298,107 @@ fn f32_operator_matches_f64_evaluation() {
         assert!(binding.stats.operator_bytes > 0 && binding.stats.seconds_total > 0.0);
     }
 }
+
+/// A random grid of box cages (nx × ny × nz cells of size 1) with the given kinds.
+fn grid_scene(dims: [usize; 3], kinds: &[CoordinateKind], policy: JoinPolicy) -> Scene {
+    let [nx, ny, nz] = dims;
+    let mut set = CageSet::default();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                set.vertices.push(DVec3::new(i as f64, j as f64, k as f64));
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| (i + (nx + 1) * (j + (ny + 1) * k)) as u32;
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let cell = i + nx * (j + ny * k);
+                set.leaves.push(LeafCage {
+                    name: format!("c{cell}"),
+                    kind: kinds[cell % kinds.len()],
+                    h: None,
+                    border_h: Default::default(),
+                    faces: box_faces(std::array::from_fn(|c| {
+                        id(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))
+                    })),
+                });
+            }
+        }
+    }
+    let mesh = box_mesh(
+        DVec3::splat(0.1),
+        DVec3::new(nx as f64, ny as f64, nz as f64) - 0.1,
+        [4 * nx as u32, 4 * ny as u32, 4 * nz as u32],
+    );
+    let mut settings = SceneSettings {
+        join_coordinates: policy,
+        ..Default::default()
+    };
+    settings.harmonic.resolution = 16;
+    Scene::new(MeshSource::Embedded, mesh, set, settings)
+}
+
+mod random_grids {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn kind() -> impl Strategy<Value = CoordinateKind> {
+        prop_oneof![
+            Just(CoordinateKind::MeanValue),
+            Just(CoordinateKind::Green),
+            Just(CoordinateKind::Harmonic)
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(6))]
+
+        /// Similarities are reproduced by every mix of kinds; with no Green cage in the mix,
+        /// any affine map is (HC within a tenth of its grid cell).
+        #[test]
+        fn mixed_kind_grids_reproduce_similarities(
+            dims in (1usize..=3, 1usize..=2, 1usize..=2),
+            kinds in prop::collection::vec(kind(), 1..4),
+            angle in -1.0f64..1.0,
+            scale in 0.5f64..2.0,
+            shear in -0.3f64..0.3,
+            auto_policy in any::<bool>(),
+        ) {
+            let policy = if auto_policy { JoinPolicy::Auto } else { JoinPolicy::Mvc };
+            let scene = grid_scene([dims.0, dims.1, dims.2], &kinds, policy);
+            let has_green = scene.cages.leaves.iter().any(|c| c.kind == CoordinateKind::Green);
+            let linear = if has_green {
+                DMat3::from_quat(DQuat::from_rotation_z(angle)) * scale
+            } else {
+                DMat3::from_quat(DQuat::from_rotation_z(angle)) * scale + DMat3::from_cols_array(&[0.0, shear, 0.0, 0.0, 0.0, shear, shear, 0.0, 0.0])
+            };
+            let map = |p: DVec3| linear * p + DVec3::new(0.2, -0.1, 0.3);
+            let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| map(p)).collect();
+            let points: Vec<DVec3> = scene.mesh.welded_positions().iter().step_by(7).copied().collect();
+            let out = evaluate_points(&scene, &points, &posed, &control()).unwrap();
+            let uses_hc = auto_policy || scene.cages.leaves.iter().any(|c| c.kind == CoordinateKind::Harmonic);
+            let tolerance = if uses_hc { 0.1 * 3.0 / 16.0 * scale.max(1.0) } else { 1e-8 };
+            let worst = points.iter().zip(&out).map(|(p, q)| (map(*p) - *q).length()).fold(0.0, f64::max);
+            prop_assert!(worst < tolerance, "{dims:?} {kinds:?} {policy:?}: error {worst}");
+        }
+    }
+}
+
+#[test]
+fn bumpy_gc_mvc_border_is_c1() {
+    let scene = demo_scene("bumpy", 0.3).unwrap();
+    let pose = scene.poses["lift"].clone();
+    let posed: Vec<DVec3> = pose.iter().map(|&p| wavy(p)).collect();
+    // The border between the middle (MVC) and right (GC) cages is the plane x = 0.5.
+    let star = |p: DVec3| evaluate_points(&scene, &[p], &posed, &control()).unwrap()[0];
+    let (y, z) = (0.1, 0.03);
+    let gap = (star(DVec3::new(0.5 - 1e-9, y, z)) - star(DVec3::new(0.5 + 1e-9, y, z))).length();
+    assert!(gap < 1e-6, "C0 gap {gap}");
+    let (j1, j2) = (
+        derivative_jump(star, 0.5, y, z, 1e-2),
+        derivative_jump(star, 0.5, y, z, 1e-3),
+    );
+    assert!(j2 < 0.2 * j1 + 1e-5, "jump {j1} at 1e-2, {j2} at 1e-3");
+}
