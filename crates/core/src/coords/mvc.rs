@@ -63,10 +63,14 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
         // cos(θ/2) = |u_a + u_b| / 2, both direct: sqrt(1 − sin²) would lose every digit
         // next to θ = π (a point on an edge), and asin near 1 likewise.
         let (ua, ub) = (unit[a as usize], unit[b as usize]);
-        let (s, c) = (0.5 * (ua - ub).length(), 0.5 * (ua + ub).length());
-        let norm = (s * s + c * c).sqrt();
-        let (half_sin, half_cos) = (s / norm, c / norm);
-        [2.0 * half_sin.atan2(half_cos), half_sin, half_cos]
+        let (half_sin, half_cos) = (0.5 * (ua - ub).length(), 0.5 * (ua + ub).length());
+        // θ/2 by asin of the smaller of the two (≤ 1/√2, where asin is well conditioned).
+        let half = if half_sin <= half_cos {
+            half_sin.asin()
+        } else {
+            std::f64::consts::FRAC_PI_2 - half_cos.asin()
+        };
+        [2.0 * half, half_sin, half_cos]
     }));
     let theta = &scratch.theta;
     let mut total = 0.0;
@@ -178,6 +182,7 @@ pub(crate) fn mvc_points4(
     let on_vertex = Lane::from(ON_VERTEX * cage.diagonal());
     let coplanar = Lane::from(COPLANAR);
     let (one, half, two) = (Lane::from(1.0), Lane::from(0.5), Lane::from(2.0));
+    let quarter_turn = Lane::from(std::f64::consts::FRAC_PI_2);
     let mut special = 0u32;
     scratch.unit.clear();
     scratch.inv_dist.clear();
@@ -197,12 +202,14 @@ pub(crate) fn mvc_points4(
         // mvc_point); θ, sin θ = 2 sin(θ/2) cos(θ/2), cos θ = 1 − 2 sin²(θ/2).
         let (dx, dy, dz) = (ua.x - ub.x, ua.y - ub.y, ua.z - ub.z);
         let (sx, sy, sz) = (ua.x + ub.x, ua.y + ub.y, ua.z + ub.z);
-        let s = half * (dx * dx + dy * dy + dz * dz).sqrt();
-        let c = half * (sx * sx + sy * sy + sz * sz).sqrt();
-        let inv = one / (s * s + c * c).sqrt();
-        let (half_sin, half_cos) = (s * inv, c * inv);
+        let half_sin = half * (dx * dx + dy * dy + dz * dz).sqrt();
+        let half_cos = half * (sx * sx + sy * sy + sz * sz).sqrt();
+        // θ/2 = asin(min) or π/2 − asin(min): one asin, on an argument ≤ 1/√2.
+        let small = half_sin.min(half_cos).asin();
+        let reflect = half_sin.simd_gt(half_cos) & one;
+        let half_angle = small + reflect * (quarter_turn - two * small);
         [
-            two * half_sin.atan2(half_cos),
+            two * half_angle,
             two * half_sin * half_cos,
             one - two * half_sin * half_sin,
         ]
