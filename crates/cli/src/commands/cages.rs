@@ -6,8 +6,6 @@ use std::path::PathBuf;
 use clap::Args;
 use starcages_core::io::{cage_set_obj_text, write_atomic};
 
-use crate::InputError;
-
 /// Arguments of `cages`.
 #[derive(Debug, Args)]
 pub struct CagesArgs {
@@ -24,22 +22,10 @@ pub struct CagesArgs {
 /// Runs the command.
 pub fn run(args: &CagesArgs) -> anyhow::Result<()> {
     let scene = super::load(&args.scene)?;
-    let positions = scene.pose_named(args.pose.as_deref()).ok_or_else(|| {
-        let known: Vec<&str> = scene.poses.keys().map(String::as_str).collect();
-        InputError(format!(
-            "{}: no pose named '{}'; known poses: {}",
-            args.scene.display(),
-            args.pose.as_deref().unwrap_or_default(),
-            if known.is_empty() {
-                "none".to_owned()
-            } else {
-                known.join(", ")
-            }
-        ))
-    })?;
+    let positions = super::pose::named_pose(&scene, args.pose.as_deref(), &args.scene)?;
     write_atomic(
         &args.out,
-        cage_set_obj_text(&scene.cages, positions).as_bytes(),
+        cage_set_obj_text(&scene.cages, &positions).as_bytes(),
     )?;
     crate::output::line(format_args!("{}", args.out.display()))?;
     Ok(())

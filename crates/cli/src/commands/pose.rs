@@ -44,19 +44,29 @@ impl PoseArgs {
         if let Some(file) = &self.pose_file {
             return Ok(read_pose_obj(file, scene.cages.vertices.len())?);
         }
-        let pose = scene.pose_named(self.pose.as_deref()).ok_or_else(|| {
-            let known: Vec<&str> = scene.poses.keys().map(String::as_str).collect();
-            InputError(format!(
-                "{}: no pose named '{}'; known poses: {}",
-                scene_path.display(),
-                self.pose.as_deref().unwrap_or_default(),
-                if known.is_empty() {
-                    "none".to_owned()
-                } else {
-                    known.join(", ")
-                }
-            ))
-        })?;
-        Ok(pose.to_vec())
+        named_pose(scene, self.pose.as_deref(), scene_path)
     }
+}
+
+/// The positions of pose `name` (the current pose for `None`), or an input error listing the
+/// scene's poses.
+pub fn named_pose(
+    scene: &Scene,
+    name: Option<&str>,
+    scene_path: &std::path::Path,
+) -> anyhow::Result<Vec<DVec3>> {
+    let pose = scene.pose_named(name).ok_or_else(|| {
+        let known: Vec<&str> = scene.poses.keys().map(String::as_str).collect();
+        InputError(format!(
+            "{}: no pose named '{}'; known poses: {}",
+            scene_path.display(),
+            name.unwrap_or_default(),
+            if known.is_empty() {
+                "none".to_owned()
+            } else {
+                known.join(", ")
+            }
+        ))
+    })?;
+    Ok(pose.to_vec())
 }
