@@ -402,3 +402,35 @@ fn bumpy_gc_mvc_border_is_c1() {
     );
     assert!(j2 < 0.2 * j1 + 1e-5, "jump {j1} at 1e-2, {j2} at 1e-3");
 }
+
+#[test]
+fn moving_any_cage_vertex_changes_nothing_beyond_its_join_cages() {
+    let scene = demo_scene("egg", 0.3).unwrap();
+    let binding = StarBinding::bind_scene(&scene, &control()).unwrap();
+    let rest = &scene.cages.vertices;
+    let before = binding.deform(rest, rest);
+    let vertices_of: Vec<std::collections::BTreeSet<u32>> = scene
+        .cages
+        .leaves
+        .iter()
+        .map(|c| c.faces.iter().flatten().copied().collect())
+        .collect();
+    for u in 0..rest.len() as u32 {
+        let mut posed = rest.clone();
+        posed[u as usize] += DVec3::new(0.2, -0.1, 0.15);
+        let after = binding.deform(rest, &posed);
+        let containing: Vec<usize> = (0..vertices_of.len())
+            .filter(|&c| vertices_of[c].contains(&u))
+            .collect();
+        for (i, (a, b)) in before.iter().zip(&after).enumerate() {
+            let cage = binding.cage_of[i] as usize;
+            let shares = containing
+                .iter()
+                .any(|&c| !vertices_of[c].is_disjoint(&vertices_of[cage]));
+            let b_is_one = binding.boundary_weight[i] >= 1.0;
+            if !shares || (b_is_one && !containing.contains(&cage)) {
+                assert_eq!(a, b, "u = {u}: vertex {i} in cage {cage} moved");
+            }
+        }
+    }
+}
