@@ -185,3 +185,26 @@ fn cancelled_bind_stops() {
         assert_eq!(r.unwrap_err(), CoordError::Cancelled);
     }
 }
+
+#[test]
+fn continuous_where_two_faces_are_equally_near() {
+    // (0.5, -0.5, 0) is 0.1 from both the x = 0.6 and the y = -0.6 faces, inside the blend band
+    // towards the cage values: a single closest point would jump there (a regression).
+    let cage = shapes::cuboid(DVec3::new(-0.6, -0.6, -0.1), DVec3::new(0.6, 0.6, 2.0));
+    let p = DVec3::new(0.5, -0.5, 0.0);
+    let nudged = [
+        p,
+        p + DVec3::new(1e-12, 0.0, 0.0),
+        p + DVec3::new(0.0, -1e-12, 0.0),
+        p + DVec3::splat(1e-9),
+    ];
+    let w = hc_at(&cage, &nudged, 16).unwrap();
+    for other in &w[1..] {
+        let gap = other
+            .iter()
+            .zip(&w[0])
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(gap < 1e-7, "jump {gap}");
+    }
+}

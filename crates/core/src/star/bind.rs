@@ -297,6 +297,30 @@ pub(crate) fn bind_rows(
             }
         }
     }
+    // Cage vertices as extra points (index `offset + v`), bound in the same batches: an
+    // interior vertex's own coordinates in its join cage (d(t, v), T_{jc(v)}(v)), and each
+    // boundary vertex v inside jc(u) of an interior neighbour u (Ω(u, v) in eq. 8).
+    let offset = points.len();
+    let mut all_points = points.to_vec();
+    all_points.extend_from_slice(&set.vertices);
+    for (&v, join) in &topology.joins {
+        if join.interior {
+            need_omega.entry(v).or_default().insert(offset + v as usize);
+        }
+    }
+    for (&v, near) in &topology.interior_neighbours {
+        for &u in near {
+            let cage = &topology.joins[&u].local.cage;
+            let x = set.vertices[v as usize];
+            if cage.winding_number(x) > 0.5 || cage.closest_point(x).2 <= 1e-9 * cage.diagonal() {
+                need_omega.entry(u).or_default().insert(offset + v as usize);
+            }
+        }
+    }
+    let points = &all_points[..];
+    // Harmonic join cages that are translated copies of each other share one solve.
+    let mut shared =
+        shared_harmonic_tables(topology, &need_omega, points, &coord_settings, control)?;
     let mut joins: BTreeMap<u32, JoinData> = BTreeMap::new();
     for (&v, join) in &topology.joins {
         control.check().map_err(|_| StarError::Cancelled)?;
@@ -318,40 +342,6 @@ pub(crate) fn bind_rows(
         } else {
             Vec::new()
         };
-        // Interior v: its own coordinates in jc(v) give the normalisers d(t, v) and T_{jc(v)}(v).
-        let (normaliser, vertex_row) =
-            if join.interior {
-                let x = [set.vertices[v as usize]];
-                let w = bind(interp_kind, &local.cage, &x, &coord_settings, control).map_err(
-                    |source| StarError::Coordinates {
-                        what: what.clone(),
-                        source,
-                    },
-                )?;
-                let t = bind(join.kind, &local.cage, &x, &coord_settings, control).map_err(
-                    |source| StarError::Coordinates {
-                        what: what.clone(),
-                        source,
-                    },
-                )?;
-                let w0 = match &w {
-                    CageWeights::Vertex { weights, .. } => weights.row(0).to_vec(),
-                    CageWeights::Green(g) => g.phi_row(0).to_vec(),
-                };
-                let normaliser = far_faces
-                    .iter()
-                    .map(|f| 1.0 - f.iter().map(|&k| w0[k]).sum::<f64>())
-                    .collect();
-                let mut row = Vec::new();
-                let t_row = match &t {
-                    CageWeights::Vertex { weights, .. } => (weights.row(0), None),
-                    CageWeights::Green(g) => (g.phi_row(0), Some(g.psi_row(0))),
-                };
-                add_row(&mut row, 1.0, t_row, local, &dofs, vertex_count);
-                (normaliser, row)
-            } else {
-                (vec![1.0; far_faces.len()], Vec::new())
-            };
         let omega_points: Vec<usize> = need_omega
             .get(&v)
             .map(|s| s.iter().copied().collect())
@@ -362,6 +352,8 @@ pub(crate) fn bind_rows(
             .unwrap_or_default();
         let interp = if omega_points.is_empty() {
             None
+        } else if let Some(table) = shared.remove(&v) {
+            Some(table)
         } else {
             Some(Table::compute(
                 interp_kind,
@@ -386,6 +378,35 @@ pub(crate) fn bind_rows(
                 &what,
             )?)
         };
+        // Interior v: its own coordinates in jc(v) give the normalisers d(t, v) and T_{jc(v)}(v).
+        let own = interp.as_ref().and_then(|t| t.get(offset + v as usize));
+        let (normaliser, vertex_row) = match (join.interior, own) {
+            (true, Some((w0, _))) => {
+                let normaliser = far_faces
+                    .iter()
+                    .map(|f| 1.0 - f.iter().map(|&k| w0[k]).sum::<f64>())
+                    .collect();
+                let mut row = Vec::new();
+                if join.kind == interp_kind {
+                    add_row(&mut row, 1.0, (w0, None), local, &dofs, vertex_count);
+                } else {
+                    let x = [set.vertices[v as usize]];
+                    let t = bind(join.kind, &local.cage, &x, &coord_settings, control).map_err(
+                        |source| StarError::Coordinates {
+                            what: what.clone(),
+                            source,
+                        },
+                    )?;
+                    let t_row = match &t {
+                        CageWeights::Vertex { weights, .. } => (weights.row(0), None),
+                        CageWeights::Green(g) => (g.phi_row(0), Some(g.psi_row(0))),
+                    };
+                    add_row(&mut row, 1.0, t_row, local, &dofs, vertex_count);
+                }
+                (normaliser, row)
+            }
+            _ => (vec![1.0; far_faces.len()], Vec::new()),
+        };
         joins.insert(
             v,
             JoinData {
@@ -399,41 +420,24 @@ pub(crate) fn bind_rows(
             },
         );
     }
-    // Ω(u, v) for interior u at each boundary vertex v that has u as an interior neighbour.
+    // Ω(u, v) for interior u at each boundary vertex v that has u as an interior neighbour
+    // (0 where v lies outside jc(u)).
     let mut omega_at_vertex: BTreeMap<(u32, u32), f64> = BTreeMap::new();
     for (&v, near) in &topology.interior_neighbours {
         for &u in near {
             let data = &joins[&u];
-            let x = set.vertices[v as usize];
-            let cage = &data.join.local.cage;
-            let inside =
-                cage.winding_number(x) > 0.5 || cage.closest_point(x).2 <= 1e-9 * cage.diagonal();
-            let value = if inside {
-                let w = bind(
-                    interpolating(data.join.kind),
-                    cage,
-                    &[x],
-                    &coord_settings,
-                    control,
-                )
-                .map_err(|source| StarError::Coordinates {
-                    what: format!("join cage of vertex {u}"),
-                    source,
-                })?;
-                match &w {
-                    CageWeights::Vertex { weights, .. } => data.omega(weights.row(0), smoothing),
-                    CageWeights::Green(g) => data.omega(g.phi_row(0), smoothing),
-                }
-            } else {
-                0.0
-            };
+            let value = data
+                .interp
+                .as_ref()
+                .and_then(|t| t.get(offset + v as usize))
+                .map_or(0.0, |(w, _)| data.omega(w, smoothing));
             omega_at_vertex.insert((u, v), value);
         }
     }
     let seconds_join = join_start.elapsed().as_secs_f64();
 
     // Assemble every row.
-    let rows: Vec<Row> = (0..points.len())
+    let rows: Vec<Row> = (0..offset)
         .into_par_iter()
         .map(|i| {
             let c = match placement[i] {
@@ -534,4 +538,215 @@ pub(crate) fn bind_rows(
         seconds_cage,
         seconds_join,
     })
+}
+
+/// A join cage's shape up to translation: its vertices in a canonical order (by quantised
+/// position relative to its bounding box) and its polygons over that order, corners in their
+/// own order (the fan diagonal changes the hat functions). Also the canonical rank of each
+/// local vertex and the bounding box minimum.
+type ShapeKey = (Vec<[i64; 3]>, Vec<Vec<u32>>);
+
+fn shape_of(join: &JoinCage) -> (ShapeKey, Vec<usize>, DVec3) {
+    let local = &join.local;
+    let positions = local.cage.positions();
+    let (lo, _) = local.cage.bounds();
+    let quantum = 1e-9 * local.cage.diagonal();
+    let quantised: Vec<[i64; 3]> = positions
+        .iter()
+        .map(|p| {
+            let q = (*p - lo) / quantum;
+            [q.z.round() as i64, q.y.round() as i64, q.x.round() as i64]
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..positions.len()).collect();
+    order.sort_by_key(|&k| quantised[k]);
+    let mut rank = vec![0usize; order.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r;
+    }
+    let mut faces: Vec<Vec<u32>> = join
+        .polygons
+        .iter()
+        .map(|f| {
+            f.iter()
+                .filter_map(|g| local.global.binary_search(g).ok())
+                .map(|k| rank[k] as u32)
+                .collect()
+        })
+        .collect();
+    faces.sort();
+    let sorted: Vec<[i64; 3]> = order.iter().map(|&k| quantised[k]).collect();
+    ((sorted, faces), rank, lo)
+}
+
+/// Interpolating HC tables of the join cages that share a shape, from one solve per shape:
+/// every member's points, translated into the first member's frame, are bound together and
+/// the rows are mapped back through the canonical vertex order. Join cages alone in their
+/// shape, or whose combined solve fails, are left to the caller.
+fn shared_harmonic_tables(
+    topology: &Topology,
+    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
+    points: &[DVec3],
+    settings: &BindSettings,
+    control: &BindControl,
+) -> Result<BTreeMap<u32, Table>, StarError> {
+    let mut groups: BTreeMap<ShapeKey, Vec<(u32, Vec<usize>, DVec3)>> = BTreeMap::new();
+    for (&v, needed) in need_omega {
+        let join = &topology.joins[&v];
+        if interpolating(join.kind) != CoordinateKind::Harmonic || needed.is_empty() {
+            continue;
+        }
+        let (key, rank, lo) = shape_of(join);
+        groups.entry(key).or_default().push((v, rank, lo));
+    }
+    let mut tables = BTreeMap::new();
+    for members in groups.values().filter(|m| m.len() > 1) {
+        control.check().map_err(|_| StarError::Cancelled)?;
+        let (first, first_rank, first_lo) = &members[0];
+        let mut by_rank = vec![0usize; first_rank.len()];
+        for (k, &r) in first_rank.iter().enumerate() {
+            by_rank[r] = k;
+        }
+        let canonical = &topology.joins[first].local;
+        let lists: Vec<Vec<usize>> = members
+            .iter()
+            .map(|(v, _, _)| need_omega[v].iter().copied().collect())
+            .collect();
+        let translated: Vec<DVec3> = members
+            .iter()
+            .zip(&lists)
+            .flat_map(|((_, _, lo), list)| list.iter().map(move |&i| points[i] - *lo + *first_lo))
+            .collect();
+        let Ok(CageWeights::Vertex { weights, .. }) = bind(
+            CoordinateKind::Harmonic,
+            &canonical.cage,
+            &translated,
+            settings,
+            control,
+        ) else {
+            continue; // e.g. round-off put a point outside: bind each member on its own
+        };
+        let n = weights.vertex_count;
+        let mut row_index = 0;
+        for ((v, rank, _), list) in members.iter().zip(lists) {
+            let mut rows = Vec::with_capacity(list.len() * n);
+            for _ in &list {
+                let row = weights.row(row_index);
+                row_index += 1;
+                rows.extend(rank.iter().map(|&r| row[by_rank[r]]));
+            }
+            tables.insert(
+                *v,
+                Table {
+                    points: list,
+                    weights: CageWeights::Vertex {
+                        kind: CoordinateKind::Harmonic,
+                        weights: crate::coords::VertexWeights {
+                            vertex_count: n,
+                            weights: rows,
+                        },
+                    },
+                },
+            );
+        }
+    }
+    Ok(tables)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::JoinPolicy;
+    use crate::scene::demo::demo_scene;
+
+    #[test]
+    fn translated_harmonic_join_cages_share_one_solve_with_the_same_weights() {
+        let mut scene = demo_scene("prism", 0.2).unwrap();
+        scene.settings.harmonic.resolution = 16;
+        let topology = Topology::new(&scene.cages, JoinPolicy::Hc).unwrap();
+        let points = scene.mesh.welded_positions();
+        // Every join cage's points: those inside its incident cages.
+        let containment = crate::scene::leaf_containment(&topology.leaves, points);
+        let need: BTreeMap<u32, BTreeSet<usize>> = topology
+            .joins
+            .iter()
+            .map(|(&v, join)| {
+                let inside = (0..points.len())
+                    .filter(|&i| {
+                        containment[i]
+                            .inside
+                            .iter()
+                            .chain(&containment[i].on_surface)
+                            .any(|c| join.cages.contains(c))
+                    })
+                    .collect();
+                (v, inside)
+            })
+            .collect();
+        let settings = BindSettings {
+            harmonic: scene.settings.harmonic,
+        };
+        let control = BindControl::default();
+        let shared = shared_harmonic_tables(&topology, &need, points, &settings, &control).unwrap();
+        // The prism's middle rings have translated join cages.
+        assert!(shared.len() >= 4, "only {} shared", shared.len());
+        for (v, table) in &shared {
+            let alone = Table::compute(
+                CoordinateKind::Harmonic,
+                &topology.joins[v].local,
+                points,
+                table.points.clone(),
+                &settings,
+                &control,
+                "test",
+            )
+            .unwrap();
+            for &i in table.points.iter().step_by(5) {
+                let (a, b) = (table.get(i).unwrap().0, alone.get(i).unwrap().0);
+                if (a[0] - b[0]).abs() > 1e-6 {
+                    let local = &topology.joins[v].local;
+                    let four: Vec<DVec3> = (0..4)
+                        .flat_map(|_| table.points.iter().map(|&k| points[k]))
+                        .collect();
+                    let w4 = bind(
+                        CoordinateKind::Harmonic,
+                        &local.cage,
+                        &four,
+                        &settings,
+                        &control,
+                    )
+                    .unwrap();
+                    let w1 = bind(
+                        CoordinateKind::Harmonic,
+                        &local.cage,
+                        &[points[i]],
+                        &settings,
+                        &control,
+                    )
+                    .unwrap();
+                    let k = table.points.binary_search(&i).unwrap();
+                    if let (
+                        CageWeights::Vertex { weights: x4, .. },
+                        CageWeights::Vertex { weights: x1, .. },
+                    ) = (&w4, &w1)
+                    {
+                        eprintln!(
+                            "DBG p {} shared {:?}\nDBG alone {:?}\nDBG four {:?}\nDBG one {:?}",
+                            points[i],
+                            &a[..4],
+                            &b[..4],
+                            &x4.row(k)[..4],
+                            &x1.row(0)[..4]
+                        );
+                    }
+                }
+                let worst = a
+                    .iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max);
+                assert!(worst < 1e-6, "join {v}, point {i}: {worst}");
+            }
+        }
+    }
 }

@@ -61,13 +61,8 @@ impl Default for HarmonicSettings {
 const ON_CAGE: f64 = 1e-9;
 
 enum Site {
-    Inside {
-        closest: (usize, [f64; 3]),
-        distance: f64,
-    },
-    OnCage {
-        closest: (usize, [f64; 3]),
-    },
+    Inside { distance: f64 },
+    OnCage { closest: (usize, [f64; 3]) },
 }
 
 /// Harmonic coordinates of `points` (row-major, points × cage vertices).
@@ -86,10 +81,7 @@ pub(crate) fn harmonic_bind(
             if distance <= on_cage {
                 Some(Site::OnCage { closest: (t, bary) })
             } else if cage.winding_number(p) > 0.5 {
-                Some(Site::Inside {
-                    closest: (t, bary),
-                    distance,
-                })
+                Some(Site::Inside { distance })
             } else {
                 None
             }
@@ -144,6 +136,23 @@ pub(crate) fn harmonic_bind(
             ))
         })
         .collect();
+    // The cage value each point blends towards: exact on the cage, and off it a distance-
+    // weighted average over the nearby faces, so it stays continuous where the closest face
+    // changes (a single closest point jumps there).
+    let surface_values: Vec<Vec<(u32, f64)>> = points
+        .par_iter()
+        .zip(&sites)
+        .map(|(&p, site)| match site {
+            Some(Site::OnCage { closest }) => {
+                let tri = triangles[closest.0];
+                (0..3).map(|k| (tri[k], closest.1[k])).collect()
+            }
+            Some(Site::Inside { distance, .. }) if *distance < grid.spacing => {
+                near_surface_value(cage, p, *distance, grid.spacing)
+            }
+            _ => Vec::new(),
+        })
+        .collect();
     let mut out = vec![0.0; points.len() * n];
     let chunks = n.div_ceil(K);
     control.set_total(chunks);
@@ -183,13 +192,11 @@ pub(crate) fn harmonic_bind(
             }
         };
         out.par_chunks_mut(n)
-            .zip(points.par_iter().zip(&sites))
-            .for_each(|(row, (&p, site))| {
-                let (closest, blend) = match site {
-                    Some(Site::OnCage { closest }) => (*closest, 0.0),
-                    Some(Site::Inside { closest, distance }) => {
-                        (*closest, (distance / grid.spacing).min(1.0))
-                    }
+            .zip(points.par_iter().zip(&sites).zip(&surface_values))
+            .for_each(|(row, ((&p, site), surface))| {
+                let blend = match site {
+                    Some(Site::OnCage { .. }) => 0.0,
+                    Some(Site::Inside { distance }) => (distance / grid.spacing).min(1.0),
                     None => return,
                 };
                 let mut value = [0.0; K];
@@ -206,14 +213,14 @@ pub(crate) fn harmonic_bind(
                         }
                     }
                 }
-                let tri = triangles[closest.0];
                 for c in 0..columns {
-                    let v = first + c;
-                    let exact: f64 = (0..3)
-                        .filter(|&k| tri[k] as usize == v)
-                        .map(|k| closest.1[k])
+                    let v = (first + c) as u32;
+                    let exact: f64 = surface
+                        .iter()
+                        .filter(|(u, _)| *u == v)
+                        .map(|(_, w)| w)
                         .sum();
-                    row[v] = blend * value[c] + (1.0 - blend) * exact;
+                    row[v as usize] = blend * value[c] + (1.0 - blend) * exact;
                 }
             });
         control.advance();
@@ -227,6 +234,38 @@ pub(crate) fn harmonic_bind(
         }
     });
     Ok(out)
+}
+
+/// Hat-function values of the cage seen from `p` at distance `nearest` from it: faces t within
+/// two cells weighted by (nearest / d_t)⁴ times a C1 cutoff from one to two cells, so the
+/// result is continuous in p, a partition of unity, non-negative, and exactly the hat values
+/// of the face p approaches.
+fn near_surface_value(cage: &Cage, p: DVec3, nearest: f64, cell: f64) -> Vec<(u32, f64)> {
+    let positions = cage.positions();
+    let mut value: Vec<(u32, f64)> = Vec::new();
+    let mut total = 0.0;
+    for tri in cage.triangles() {
+        let [a, b, c] = tri.map(|v| positions[v as usize]);
+        let (q, bary) = crate::geometry::closest_point_on_triangle(p, a, b, c);
+        let d = q.distance(p);
+        if d >= 2.0 * cell {
+            continue;
+        }
+        let x = ((d / cell) - 1.0).clamp(0.0, 1.0);
+        let cutoff = 1.0 - x * x * (3.0 - 2.0 * x);
+        let kappa = (nearest / d.max(nearest)).powi(4) * cutoff;
+        if kappa <= 0.0 {
+            continue;
+        }
+        total += kappa;
+        for k in 0..3 {
+            value.push((tri[k], kappa * bary[k]));
+        }
+    }
+    if total > 0.0 {
+        value.iter_mut().for_each(|(_, w)| *w /= total);
+    }
+    value
 }
 
 /// Number of the 6 neighbours of unknown `n` that are not unknowns.
