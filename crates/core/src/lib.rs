@@ -11,6 +11,7 @@ pub mod coords;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+mod messages;
 pub mod scene;
 pub mod star;
 

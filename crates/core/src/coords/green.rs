@@ -371,16 +371,21 @@ pub fn green_stretch(cage: &Cage, posed: &[DVec3]) -> Vec<f64> {
     let rest = cage.positions();
     cage.triangles()
         .iter()
-        .map(|&[a, b, c]| {
-            let (a, b, c) = (a as usize, b as usize, c as usize);
-            let (u, v) = (rest[b] - rest[a], rest[c] - rest[a]);
-            let (up, vp) = (posed[b] - posed[a], posed[c] - posed[a]);
-            let area = 0.5 * u.cross(v).length();
-            let num = up.length_squared() * v.length_squared() - 2.0 * up.dot(vp) * u.dot(v)
-                + vp.length_squared() * u.length_squared();
-            num.max(0.0).sqrt() / (8f64.sqrt() * area)
+        .map(|t| {
+            let t = t.map(|v| v as usize);
+            triangle_stretch(t.map(|v| rest[v]), t.map(|v| posed[v]))
         })
         .collect()
+}
+
+/// s_t of one triangle from its rest and posed corners (see [`green_stretch`]).
+pub(crate) fn triangle_stretch(rest: [DVec3; 3], posed: [DVec3; 3]) -> f64 {
+    let (u, v) = (rest[1] - rest[0], rest[2] - rest[0]);
+    let (up, vp) = (posed[1] - posed[0], posed[2] - posed[0]);
+    let area = 0.5 * u.cross(v).length();
+    let num = up.length_squared() * v.length_squared() - 2.0 * up.dot(vp) * u.dot(v)
+        + vp.length_squared() * u.length_squared();
+    num.max(0.0).sqrt() / (8f64.sqrt() * area)
 }
 
 #[cfg(test)]

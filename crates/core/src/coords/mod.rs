@@ -27,6 +27,7 @@ use crate::cage::Cage;
 
 pub use control::BindControl;
 pub use green::green_stretch;
+pub(crate) use green::triangle_stretch;
 pub use harmonic::HarmonicSettings;
 
 /// The coordinate systems a cage can use.
@@ -131,15 +132,7 @@ pub enum CoordError {
 
 impl CoordError {
     fn outside(points: Vec<usize>) -> Self {
-        let mut listed = points
-            .iter()
-            .take(10)
-            .map(usize::to_string)
-            .collect::<Vec<_>>()
-            .join(", ");
-        if points.len() > 10 {
-            listed.push_str(", …");
-        }
+        let listed = crate::messages::list_first(&points, 10);
         Self::OutsideCage {
             count: points.len(),
             points,

@@ -410,15 +410,7 @@ fn check_overlaps_and_coverage(scene: &Scene, leaves: &[LocalCage], report: &mut
     if !outside.is_empty() {
         let (lo, hi) =
             crate::cage::bounds_of(&outside.iter().map(|&v| mesh_points[v]).collect::<Vec<_>>());
-        let mut listed = outside
-            .iter()
-            .take(8)
-            .map(usize::to_string)
-            .collect::<Vec<_>>()
-            .join(", ");
-        if outside.len() > 8 {
-            listed.push_str(", …");
-        }
+        let listed = crate::messages::list_first(&outside, 8);
         let problem = SceneProblem::MeshOutside {
             count: outside.len(),
             vertices: outside,

@@ -62,15 +62,11 @@ impl GreenDofs {
     pub fn values(&self, rest: &[DVec3], posed: &[DVec3]) -> Vec<DVec3> {
         self.triangles
             .iter()
-            .map(|&[a, b, c]| {
-                let (a, b, c) = (a as usize, b as usize, c as usize);
-                let (u, v) = (rest[b] - rest[a], rest[c] - rest[a]);
-                let (up, vp) = (posed[b] - posed[a], posed[c] - posed[a]);
-                let area = 0.5 * u.cross(v).length();
-                let num = up.length_squared() * v.length_squared() - 2.0 * up.dot(vp) * u.dot(v)
-                    + vp.length_squared() * u.length_squared();
-                let stretch = num.max(0.0).sqrt() / (8f64.sqrt() * area);
-                up.cross(vp).normalize_or_zero() * stretch
+            .map(|t| {
+                let t = t.map(|v| v as usize);
+                let p = t.map(|v| posed[v]);
+                let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+                normal * crate::coords::triangle_stretch(t.map(|v| rest[v]), p)
             })
             .collect()
     }

@@ -100,16 +100,7 @@ impl StarBinding {
         control: &BindControl,
     ) -> Result<Self, StarError> {
         let start = Instant::now();
-        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
-        let placement = place(scene, &topology, points)?;
-        let rows = bind::bind_rows(
-            &scene.cages,
-            &topology,
-            &scene.settings,
-            points,
-            &placement,
-            control,
-        )?;
+        let (placement, rows) = bound_rows(scene, points, control)?;
         let operator = StarOperator::from_rows(&rows.rows, scene.cages.vertices.len(), rows.green);
         let stats = BindStats {
             seconds_cage_coordinates: rows.seconds_cage,
@@ -150,6 +141,22 @@ pub fn evaluate_points(
     posed: &[DVec3],
     control: &BindControl,
 ) -> Result<Vec<DVec3>, StarError> {
+    let (_, rows) = bound_rows(scene, points, control)?;
+    let mut x: Vec<DVec3> = posed.to_vec();
+    x.extend(rows.green.values(&scene.cages.vertices, posed));
+    Ok(rows
+        .rows
+        .iter()
+        .map(|row| row.iter().map(|&(c, w)| x[c as usize] * w).sum())
+        .collect())
+}
+
+/// Topology, placement and the unpacked rows of S for `points`.
+fn bound_rows(
+    scene: &Scene,
+    points: &[DVec3],
+    control: &BindControl,
+) -> Result<(Vec<Placement>, bind::BoundRows), StarError> {
     let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
     let placement = place(scene, &topology, points)?;
     let rows = bind::bind_rows(
@@ -160,13 +167,7 @@ pub fn evaluate_points(
         &placement,
         control,
     )?;
-    let mut x: Vec<DVec3> = posed.to_vec();
-    x.extend(rows.green.values(&scene.cages.vertices, posed));
-    Ok(rows
-        .rows
-        .iter()
-        .map(|row| row.iter().map(|&(c, w)| x[c as usize] * w).sum())
-        .collect())
+    Ok((placement, rows))
 }
 
 /// Places each point in the first leaf cage containing it (inside or on its surface), or in the
@@ -197,15 +198,7 @@ fn place(
         })
         .collect();
     if !outside.is_empty() && scene.settings.outside == OutsidePolicy::Error {
-        let mut listed = outside
-            .iter()
-            .take(8)
-            .map(usize::to_string)
-            .collect::<Vec<_>>()
-            .join(", ");
-        if outside.len() > 8 {
-            listed.push_str(", …");
-        }
+        let listed = crate::messages::list_first(&outside, 8);
         return Err(StarError::Outside {
             count: outside.len(),
             listed,
