@@ -3,28 +3,9 @@
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn cli(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
-        .args(args)
-        .output()
-        .expect("run starcages-cli")
-}
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "starcages-cli-deform-{}-{name}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn ok(o: &Output) {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
+use common::{cli, dir, ok};
 
 #[test]
 fn deform_eval_baselines_pose_files_and_cache() {

@@ -45,16 +45,13 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         all_normals,
         all_uvs,
     } = out;
-    Mesh::new(
+    super::mesh_from_file(
+        path,
         positions,
         triangles,
         all_normals.then_some(normals),
         all_uvs.then_some(uvs),
     )
-    .map_err(|problem| FileError::InvalidMesh {
-        path: path.to_path_buf(),
-        problem,
-    })
 }
 
 fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileError> {

@@ -61,14 +61,11 @@ pub(super) fn read_obj_mesh(path: &Path) -> Result<Mesh, FileError> {
                 .map(|t| Vec2::new(t[0] as f32, t[1] as f32)),
         );
     }
-    Mesh::new(
+    super::mesh_from_file(
+        path,
         positions,
         triangles,
         all_normals.then_some(normals),
         all_uvs.then_some(uvs),
     )
-    .map_err(|problem| FileError::InvalidMesh {
-        path: path.to_path_buf(),
-        problem,
-    })
 }

@@ -37,6 +37,20 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
     }
 }
 
+/// A mesh read from `path`: validated and welded, problems reported against the file.
+pub(crate) fn mesh_from_file(
+    path: &Path,
+    positions: Vec<glam::DVec3>,
+    triangles: Vec<[u32; 3]>,
+    normals: Option<Vec<glam::Vec3>>,
+    uvs: Option<Vec<glam::Vec2>>,
+) -> Result<Mesh, FileError> {
+    Mesh::new(positions, triangles, normals, uvs).map_err(|problem| FileError::InvalidMesh {
+        path: path.to_path_buf(),
+        problem,
+    })
+}
+
 /// Lower-case extension of a path ("" when none).
 pub(crate) fn extension(path: &Path) -> String {
     path.extension()
