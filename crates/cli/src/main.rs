@@ -31,6 +31,8 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// A grid of box cages around a mesh, written as a scene.
     Autocage(commands::autocage::AutocageArgs),
+    /// Add a box internal cage around chosen cage vertices, as their parent.
+    InternalCage(commands::internal_cage::InternalCageArgs),
     /// Assemble a scene from a mesh and a cage OBJ file.
     New(commands::new::NewArgs),
     /// Write a scene's leaf cages, in a pose, to OBJ.
@@ -56,6 +58,7 @@ fn main() -> ExitCode {
         Command::Validate(args) => commands::validate::run(&args),
         Command::Info(args) => commands::info::run(&args),
         Command::Autocage(args) => commands::autocage::run(&args),
+        Command::InternalCage(args) => commands::internal_cage::run(&args),
         Command::New(args) => commands::new::run(&args),
         Command::Cages(args) => commands::cages::run(&args),
         Command::Deform(args) => commands::deform::run(&args),

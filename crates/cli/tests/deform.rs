@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{cli, dir, ok};
+use common::{cli, dir, ok, s, stderr, stdout};
 
 #[test]
 fn deform_eval_baselines_pose_files_and_cache() {
@@ -117,4 +117,113 @@ fn deform_eval_baselines_pose_files_and_cache() {
         std::fs::read(p("c1.obj")).unwrap(),
         std::fs::read(p("c2.obj")).unwrap()
     );
+}
+
+/// `--apply` edits propagate down the hierarchy: translating the critter's root moves every
+/// point by exactly that vector, and an unknown cage or a bad edit is an input error.
+#[test]
+fn apply_edits_and_internal_cages() {
+    let d = dir("apply");
+    ok(&cli(&[
+        "demo",
+        "critter",
+        "--detail",
+        "0.3",
+        "--out",
+        s(&d),
+    ]));
+    let scene = d.join("critter.json");
+    let points = d.join("points.txt");
+    std::fs::write(&points, "0 0 0\n0.3 -0.5 0.2\n-0.4 0.6 1.5\n").unwrap();
+    let eval = |extra: &[&str]| -> Vec<Vec<f64>> {
+        let mut args = vec!["eval", s(&scene), "--points", s(&points)];
+        args.extend_from_slice(extra);
+        let out = cli(&args);
+        ok(&out);
+        let json: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+        serde_json::from_value(json["points"].clone()).unwrap()
+    };
+    let rest = eval(&[]);
+    let moved = eval(&[
+        "--apply",
+        "head: translate 0.5 0 -1",
+        "--apply",
+        "head: scale 1",
+    ]);
+    for (a, b) in rest.iter().zip(&moved) {
+        let shift = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        for (got, want) in shift.iter().zip([0.5, 0.0, -1.0]) {
+            assert!((got - want).abs() < 1e-6, "{shift:?}");
+        }
+    }
+    // A leaf edit under the same root move is carried along.
+    let both = eval(&[
+        "--pose",
+        "fig13",
+        "--apply",
+        "ear_left: translate 0 0 0.3",
+        "--apply",
+        "head: rotate 0 0 1 10",
+    ]);
+    assert!(both.iter().flatten().all(|x| x.is_finite()));
+    let out = cli(&[
+        "eval",
+        s(&scene),
+        "--points",
+        s(&points),
+        "--apply",
+        "nose: scale 2",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("the cages are:"), "{}", stderr(&out));
+    let out = cli(&[
+        "eval",
+        s(&scene),
+        "--points",
+        s(&points),
+        "--apply",
+        "head scale 2",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    // A new internal cage over the bar's right cage, then posed through it.
+    ok(&cli(&["demo", "bar", "--out", s(&d)]));
+    let bar = d.join("bar.json");
+    let boxed = d.join("boxed.json");
+    ok(&cli(&[
+        "internal-cage",
+        s(&bar),
+        "--name",
+        "end",
+        "--cages",
+        "cage_1_0_0",
+        "--kind",
+        "hc",
+        "--cells",
+        "1",
+        "2",
+        "2",
+        "--out",
+        s(&boxed),
+    ]));
+    let mesh = d.join("bent.obj");
+    ok(&cli(&[
+        "deform",
+        s(&boxed),
+        "--apply",
+        "end: rotate 0 1 0 30",
+        "--out",
+        s(&mesh),
+    ]));
+    let out = cli(&[
+        "internal-cage",
+        s(&boxed),
+        "--name",
+        "twice",
+        "--vertices",
+        "1",
+        "--out",
+        s(&boxed),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("already owned"), "{}", stderr(&out));
 }

@@ -5,10 +5,14 @@
 //! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
 //! * [`io`]: cage OBJ files and point lists, with errors naming file and line.
 //! * [`geometry`]: small geometric primitives.
+//! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
+//! * [`scene`]: the scene model, its validation, files and demos.
+//! * [`star`]: *Cages deformation compiled into one sparse operator.
 
 pub mod cage;
 pub mod coords;
 pub mod geometry;
+pub mod hierarchy;
 pub mod io;
 pub mod mesh;
 mod messages;

@@ -50,32 +50,10 @@ pub fn interior_points(cage: &Cage, seeds: &[(DVec3, f64)]) -> Vec<DVec3> {
         .iter()
         .filter_map(|&(dir, frac)| {
             let dir = dir.try_normalize()?;
-            let hit = ray_exit(cage, centre, dir)?;
+            let hit = Some(cage.ray_exit(centre, dir)).filter(|t| t.is_finite())?;
             Some(centre + dir * hit * frac)
         })
         .collect()
-}
-
-fn ray_exit(cage: &Cage, origin: DVec3, dir: DVec3) -> Option<f64> {
-    let p = cage.positions();
-    cage.triangles()
-        .iter()
-        .filter_map(|&[a, b, c]| {
-            let (a, b, c) = (p[a as usize], p[b as usize], p[c as usize]);
-            let (e1, e2) = (b - a, c - a);
-            let h = dir.cross(e2);
-            let det = e1.dot(h);
-            if det.abs() < 1e-14 {
-                return None;
-            }
-            let s = origin - a;
-            let u = s.dot(h) / det;
-            let q = s.cross(e1);
-            let v = dir.dot(q) / det;
-            let t = e2.dot(q) / det;
-            (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
-        })
-        .reduce(f64::min)
 }
 
 pub fn seeds(n: usize) -> impl Strategy<Value = Vec<(DVec3, f64)>> {

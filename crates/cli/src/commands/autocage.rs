@@ -30,24 +30,8 @@ pub struct AutocageArgs {
 
 /// Runs the command.
 pub fn run(args: &AutocageArgs) -> anyhow::Result<()> {
-    let grid: [u32; 3] = args
-        .grid
-        .clone()
-        .try_into()
-        .map_err(|_| InputError("--grid needs three numbers: NX NY NZ".into()))?;
-    if grid.iter().any(|&n| n == 0 || n > 64) {
-        return Err(InputError(format!(
-            "--grid {grid:?}: each count must be between 1 and 64"
-        ))
-        .into());
-    }
-    if !(0.0..=10.0).contains(&args.padding) {
-        return Err(InputError(format!(
-            "--padding {} is out of range; use a value in [0, 10]",
-            args.padding
-        ))
-        .into());
-    }
+    let grid = super::three_counts(&args.grid, "--grid", 64)?;
+    super::check_padding(args.padding)?;
     let mesh = read_mesh(&args.mesh)?;
     let cages = autocage(
         &mesh,

@@ -7,6 +7,7 @@ pub mod deform;
 pub mod demo;
 pub mod eval;
 pub mod info;
+pub mod internal_cage;
 pub mod new;
 pub mod pose;
 pub mod validate;
@@ -47,4 +48,30 @@ pub fn report(scene: &Scene, label: &str) -> ValidationReport {
         eprintln!("error: {label}: {error}");
     }
     report
+}
+
+/// Three counts NX NY NZ given to `flag`, each in 1..=`max`.
+pub fn three_counts(values: &[u32], flag: &str, max: u32) -> anyhow::Result<[u32; 3]> {
+    let counts: [u32; 3] = values
+        .try_into()
+        .map_err(|_| crate::InputError(format!("{flag} needs three numbers: NX NY NZ")))?;
+    if counts.iter().any(|&n| n == 0 || n > max) {
+        return Err(crate::InputError(format!(
+            "{flag} {counts:?}: each count must be between 1 and {max}"
+        ))
+        .into());
+    }
+    Ok(counts)
+}
+
+/// A padding fraction in [0, 10].
+pub fn check_padding(padding: f64) -> anyhow::Result<()> {
+    if (0.0..=10.0).contains(&padding) {
+        Ok(())
+    } else {
+        Err(crate::InputError(format!(
+            "--padding {padding} is out of range; use a value in [0, 10]"
+        ))
+        .into())
+    }
 }

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use clap::Args;
 use glam::DVec3;
 use starcages_core::coords::CoordinateKind;
+use starcages_core::hierarchy::{CageEdit, Hierarchy};
 use starcages_core::io::read_pose_obj;
-use starcages_core::scene::Scene;
+use starcages_core::scene::{HierarchyState, Scene};
 use starcages_core::star::single_cage_scene;
 
 use crate::InputError;
@@ -24,6 +25,11 @@ pub struct PoseArgs {
     /// single-cage baseline.
     #[arg(long, value_parser = |s: &str| s.parse::<CoordinateKind>())]
     single_cage: Option<CoordinateKind>,
+    /// A hand edit on top of the pose, repeatable and applied in order, propagating down the
+    /// cage hierarchy: "CAGE: translate X Y Z", "CAGE: rotate AX AY AZ DEG" (about the cage's
+    /// centroid) or "CAGE: scale S" (about the centroid).
+    #[arg(long = "apply", value_name = "EDIT", value_parser = |s: &str| s.parse::<CageEdit>())]
+    edits: Vec<CageEdit>,
 }
 
 impl PoseArgs {
@@ -35,16 +41,40 @@ impl PoseArgs {
         }
     }
 
-    /// Posed cage vertices.
+    /// Posed cage vertices: the chosen pose with the `--apply` edits on top. A pose file
+    /// carries positions only, so its hierarchy starts from the rest state.
     pub fn positions(
         &self,
         scene: &Scene,
         scene_path: &std::path::Path,
     ) -> anyhow::Result<Vec<DVec3>> {
-        if let Some(file) = &self.pose_file {
-            return Ok(read_pose_obj(file, scene.cages.vertices.len())?);
+        let (mut pose, state) = match &self.pose_file {
+            Some(file) => (
+                read_pose_obj(file, scene.cages.vertices.len())?,
+                HierarchyState::default(),
+            ),
+            None => (
+                named_pose(scene, self.pose.as_deref(), scene_path)?,
+                scene.pose_state_named(self.pose.as_deref()),
+            ),
+        };
+        if self.edits.is_empty() {
+            return Ok(pose);
         }
-        named_pose(scene, self.pose.as_deref(), scene_path)
+        let label = scene_path.display();
+        let mut posed = scene.clone();
+        posed.pose_state = state;
+        let mut hierarchy =
+            Hierarchy::bind(&posed).map_err(|e| InputError(format!("{label}: {e}")))?;
+        for edit in &self.edits {
+            let moves = edit
+                .moves(&scene.cages, &pose)
+                .map_err(|e| InputError(format!("{label}: {e}")))?;
+            hierarchy
+                .apply(&mut pose, &moves)
+                .map_err(|e| InputError(format!("{label}: {e}")))?;
+        }
+        Ok(pose)
     }
 }
 

@@ -183,6 +183,23 @@ impl Cage {
         total / (4.0 * std::f64::consts::PI)
     }
 
+    /// The smallest t > 0 where the ray `origin + t·direction` meets the cage surface
+    /// (infinity when it never does).
+    pub fn ray_exit(&self, origin: DVec3, direction: DVec3) -> f64 {
+        self.triangles
+            .iter()
+            .filter_map(|&[a, b, c]| {
+                crate::geometry::ray_triangle(
+                    origin,
+                    direction,
+                    self.positions[a as usize],
+                    self.positions[b as usize],
+                    self.positions[c as usize],
+                )
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Closest point on the cage surface to `p`: `(triangle, barycentric, distance)`.
     pub fn closest_point(&self, p: DVec3) -> (usize, [f64; 3], f64) {
         let mut best = (0, [1.0, 0.0, 0.0], f64::INFINITY);

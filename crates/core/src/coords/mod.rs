@@ -222,6 +222,25 @@ impl CageWeights {
         }
     }
 
+    /// The weights of point `i` alone.
+    pub fn row(&self, i: usize) -> CageWeights {
+        match self {
+            Self::Vertex { kind, weights } => Self::Vertex {
+                kind: *kind,
+                weights: VertexWeights {
+                    vertex_count: weights.vertex_count,
+                    weights: weights.row(i).to_vec(),
+                },
+            },
+            Self::Green(g) => Self::Green(GreenWeights {
+                vertex_count: g.vertex_count,
+                face_count: g.face_count,
+                phi: g.phi_row(i).to_vec(),
+                psi: g.psi_row(i).to_vec(),
+            }),
+        }
+    }
+
     /// Bytes of weights stored.
     pub fn byte_size(&self) -> usize {
         match self {

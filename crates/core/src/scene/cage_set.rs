@@ -155,6 +155,34 @@ impl CageSet {
         by_set
     }
 
+    /// The vertices of the leaf or internal cage called `name`, sorted.
+    pub fn cage_vertices(&self, name: &str) -> Option<Vec<u32>> {
+        let faces = self
+            .leaves
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| &c.faces)
+            .or_else(|| {
+                self.internals
+                    .iter()
+                    .find(|c| c.name == name)
+                    .map(|c| &c.faces)
+            })?;
+        let mut vertices: Vec<u32> = faces.iter().flatten().copied().collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        Some(vertices)
+    }
+
+    /// Names of every cage, leaves first.
+    pub fn cage_names(&self) -> Vec<&str> {
+        self.leaves
+            .iter()
+            .map(|c| c.name.as_str())
+            .chain(self.internals.iter().map(|c| c.name.as_str()))
+            .collect()
+    }
+
     /// Index of the leaf cage called `name`.
     pub fn leaf_index(&self, name: &str) -> Option<usize> {
         self.leaves.iter().position(|c| c.name == name)

@@ -11,7 +11,7 @@ use crate::coords::CoordinateKind;
 use crate::mesh::Mesh;
 
 /// Names and one-line descriptions of the demo scenes.
-pub const DEMOS: [(&str, &str); 4] = [
+pub const DEMOS: [(&str, &str); 5] = [
     ("bar", "a subdivided box in two cages side by side (Fig. 2)"),
     (
         "prism",
@@ -25,6 +25,10 @@ pub const DEMOS: [(&str, &str); 4] = [
         "bumpy",
         "a bumpy plate in three cages: MVC, MVC and GC (Fig. 11)",
     ),
+    (
+        "critter",
+        "a head with two ears: ten leaf cages, an HC ears cage and an MVC head cage over them (Fig. 13)",
+    ),
 ];
 
 /// The demo scene `name` at `detail` (1 = default tessellation; the prism reaches about 200k
@@ -36,6 +40,7 @@ pub fn demo_scene(name: &str, detail: f64) -> Option<Scene> {
         "prism" => prism([d(24.0), d(24.0), d(96.0)]),
         "egg" => egg(d(48.0)),
         "bumpy" => bumpy([d(120.0), d(40.0)]),
+        "critter" => critter(d(40.0)),
         _ => return None,
     })
 }
@@ -188,20 +193,25 @@ fn prism(cells: [u32; 3]) -> Scene {
     scene
 }
 
-fn egg(resolution: u32) -> Scene {
-    // A UV sphere stretched into an egg: wider at −x than at +x.
-    let (rings, segments) = (resolution, 2 * resolution);
-    let mut positions = vec![DVec3::new(-1.5, 0.0, 0.0)];
+/// A UV sphere with `rings` rings and `2·rings` segments, each unit direction d placed at
+/// `shape(d)`.
+fn uv_sphere(rings: u32, shape: impl Fn(DVec3) -> DVec3) -> Mesh {
+    let rings = rings.max(3);
+    let segments = 2 * rings;
+    let mut positions = vec![shape(DVec3::NEG_X)];
     for r in 1..rings {
         let theta = std::f64::consts::PI * f64::from(r) / f64::from(rings);
-        let x = -theta.cos();
-        let radius = theta.sin() * (1.0 - 0.25 * x);
         for s in 0..segments {
             let phi = std::f64::consts::TAU * f64::from(s) / f64::from(segments);
-            positions.push(DVec3::new(1.5 * x, radius * phi.cos(), radius * phi.sin()));
+            let d = DVec3::new(
+                -theta.cos(),
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+            );
+            positions.push(shape(d));
         }
     }
-    positions.push(DVec3::new(1.5, 0.0, 0.0));
+    positions.push(shape(DVec3::X));
     let last = positions.len() as u32 - 1;
     let ring = |r: u32, s: u32| 1 + (r - 1) * segments + s % segments;
     let mut triangles = Vec::new();
@@ -215,8 +225,16 @@ fn egg(resolution: u32) -> Scene {
             triangles.push([ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)]);
         }
     }
-    let mesh = Mesh::new(positions, triangles, None, None)
-        .unwrap_or_else(|e| unreachable!("egg mesh: {e}"));
+    Mesh::new(positions, triangles, None, None)
+        .unwrap_or_else(|e| unreachable!("UV sphere mesh: {e}"))
+}
+
+fn egg(resolution: u32) -> Scene {
+    // A UV sphere stretched into an egg: wider at −x than at +x.
+    let mesh = uv_sphere(resolution, |d| {
+        let squeeze = 1.0 - 0.25 * d.x;
+        DVec3::new(1.5 * d.x, d.y * squeeze, d.z * squeeze)
+    });
     let cages = grid_cages(
         &[-1.6, -0.5, 0.5, 1.6],
         &[-1.3, 0.0, 1.3],
@@ -295,5 +313,98 @@ fn bumpy(cells: [u32; 2]) -> Scene {
         })
         .collect();
     scene.poses.insert("lift".into(), lift);
+    scene
+}
+
+fn critter(resolution: u32) -> Scene {
+    use crate::hierarchy::{AutoInternalCage, CageEdit, Hierarchy, add_auto_internal_cage};
+    // A unit head with two ears growing up and back.
+    let ears = [DVec3::new(-0.4, 0.35, 0.85), DVec3::new(0.4, 0.35, 0.85)].map(DVec3::normalize);
+    let mesh = uv_sphere(resolution, |d| {
+        let bump: f64 = ears
+            .iter()
+            .map(|e| 1.4 * (-(d - *e).length_squared() / 0.03).exp())
+            .sum();
+        d * (1.0 + bump)
+    });
+    let (xs, ys, zs) = ([-1.5, 0.0, 1.5], [-1.3, 0.0, 1.3], [-1.3, 0.0, 1.3]);
+    let mut cages = grid_cages(&xs, &ys, &zs, |_, _, _| CoordinateKind::MeanValue);
+    for cage in &mut cages.leaves {
+        cage.name = cage.name.replace("cage_", "head_");
+    }
+    // Two ear cages standing on the top faces of the back cells, sharing a face between them.
+    let id = |i: usize, j: usize| (i + 3 * (j + 3 * 2)) as u32;
+    let top = cages.vertices.len() as u32;
+    for y in [0.0, 1.3] {
+        for x in xs {
+            cages.vertices.push(DVec3::new(x, y, 2.6));
+        }
+    }
+    let top_id = |i: usize, j: usize| top + (i + 3 * j) as u32;
+    for (i, name, kind) in [
+        (0, "ear_left", CoordinateKind::MeanValue),
+        (1, "ear_right", CoordinateKind::Green),
+    ] {
+        let corners = [
+            id(i, 1),
+            id(i + 1, 1),
+            id(i, 2),
+            id(i + 1, 2),
+            top_id(i, 0),
+            top_id(i + 1, 0),
+            top_id(i, 1),
+            top_id(i + 1, 1),
+        ];
+        push_box_cage(&mut cages, name, kind, corners);
+    }
+    let mut scene = Scene::new(MeshSource::Embedded, mesh, cages, SceneSettings::default());
+    let leaf_vertices = scene.cages.vertices.len() as u32;
+    let ear_tops: Vec<u32> = (top..leaf_vertices).collect();
+    let add = |scene: &mut Scene, name: &str, kind, padding, vertices: &[u32]| {
+        let options = AutoInternalCage {
+            name: name.into(),
+            kind,
+            padding,
+            cells: [1, 1, 1],
+        };
+        add_auto_internal_cage(scene, &options, vertices)
+            .unwrap_or_else(|e| unreachable!("critter cage {name}: {e}"))
+    };
+    let ears_cage = add(
+        &mut scene,
+        "ears",
+        CoordinateKind::Harmonic,
+        0.25,
+        &ear_tops,
+    );
+    let mut head_owns: Vec<u32> = (0..top).collect();
+    head_owns.extend(scene.cages.internals[ears_cage].faces.iter().flatten());
+    add(
+        &mut scene,
+        "head",
+        CoordinateKind::MeanValue,
+        0.1,
+        &head_owns,
+    );
+    // Fig. 13's sequence as a pose: a leaf, its parent, the grandparent, a leaf again.
+    let mut hierarchy =
+        Hierarchy::bind(&scene).unwrap_or_else(|e| unreachable!("critter hierarchy: {e}"));
+    let mut pose = scene.pose.clone();
+    for edit in [
+        "ear_left: scale 1.3",
+        "ears: rotate 1 0 0 -25",
+        "head: rotate 0 0 1 20",
+        "head_1_0_1: translate 0.15 -0.2 0",
+    ] {
+        let edit: CageEdit = edit.parse().unwrap_or_else(|e| unreachable!("{e}"));
+        let moves = edit
+            .moves(&scene.cages, &pose)
+            .unwrap_or_else(|e| unreachable!("{e}"));
+        hierarchy
+            .apply(&mut pose, &moves)
+            .unwrap_or_else(|e| unreachable!("critter pose: {e}"));
+    }
+    scene.poses.insert("fig13".into(), pose);
+    scene.pose_states.insert("fig13".into(), hierarchy.state());
     scene
 }

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use thiserror::Error;
 
-use super::{CageSet, InternalCage, LeafCage, MeshSource, Scene, SceneSettings};
+use super::{CageSet, HierarchyState, InternalCage, LeafCage, MeshSource, Scene, SceneSettings};
 use crate::io::{FileError, read_mesh, write_atomic};
 use crate::mesh::{Mesh, MeshError};
 
@@ -96,9 +96,15 @@ struct SceneFileV1 {
     internal_cages: Vec<InternalCage>,
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     poses: BTreeMap<String, Vec<DVec3>>,
+    /// Hierarchy state of named poses (absent: rest state).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pose_hierarchy: BTreeMap<String, HierarchyState>,
     /// Absent when the current pose is the rest pose.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     current_pose: Option<Vec<DVec3>>,
+    /// Hierarchy state of the current pose (absent: rest state).
+    #[serde(default, skip_serializing_if = "HierarchyState::is_rest")]
+    current_hierarchy: HierarchyState,
     /// Last, since an embedded mesh can be long.
     mesh: MeshRef,
 }
@@ -175,6 +181,8 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
         settings: file.settings,
         poses: file.poses,
         pose,
+        pose_state: file.current_hierarchy,
+        pose_states: file.pose_hierarchy,
     })
 }
 
@@ -200,7 +208,14 @@ pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
         cages: scene.cages.leaves.clone(),
         internal_cages: scene.cages.internals.clone(),
         poses: scene.poses.clone(),
+        pose_hierarchy: scene
+            .pose_states
+            .iter()
+            .filter(|(_, s)| !s.is_rest())
+            .map(|(n, s)| (n.clone(), s.clone()))
+            .collect(),
         current_pose: (scene.pose != scene.cages.vertices).then(|| scene.pose.clone()),
+        current_hierarchy: scene.pose_state.clone(),
         mesh,
     };
     // Serialising plain data to a Value cannot fail (no maps with non-string keys).

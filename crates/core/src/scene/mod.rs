@@ -7,6 +7,7 @@ mod cage_set;
 mod containment;
 pub mod demo;
 mod file;
+mod pose_state;
 mod pretty_json;
 mod settings;
 mod validate;
@@ -26,8 +27,10 @@ pub use containment::{Containment, leaf_containment};
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
 };
+pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
+pub(crate) use validate::check_hierarchy;
 pub use validate::{SceneProblem, ValidationReport, validate_scene};
 
 /// Where the scene's mesh comes from.
@@ -54,6 +57,10 @@ pub struct Scene {
     pub poses: BTreeMap<String, Vec<DVec3>>,
     /// Current positions of every cage vertex.
     pub pose: Vec<DVec3>,
+    /// The hierarchy's state in the current pose (section 3.4).
+    pub pose_state: HierarchyState,
+    /// The hierarchy's state in each named pose (rest state where absent).
+    pub pose_states: BTreeMap<String, HierarchyState>,
 }
 
 impl Scene {
@@ -72,6 +79,8 @@ impl Scene {
             settings,
             poses: BTreeMap::new(),
             pose,
+            pose_state: HierarchyState::default(),
+            pose_states: BTreeMap::new(),
         }
     }
 
@@ -80,6 +89,14 @@ impl Scene {
         match name {
             None => Some(&self.pose),
             Some(n) => self.poses.get(n).map(Vec::as_slice),
+        }
+    }
+
+    /// The hierarchy state of a named pose, or of the current pose for `None`.
+    pub fn pose_state_named(&self, name: Option<&str>) -> HierarchyState {
+        match name {
+            None => self.pose_state.clone(),
+            Some(n) => self.pose_states.get(n).cloned().unwrap_or_default(),
         }
     }
 

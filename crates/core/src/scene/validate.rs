@@ -299,7 +299,7 @@ fn check_shared_faces(scene: &Scene, errors: &mut Vec<SceneProblem>) {
     }
 }
 
-fn check_hierarchy(scene: &Scene, errors: &mut Vec<SceneProblem>) {
+pub(crate) fn check_hierarchy(scene: &Scene, errors: &mut Vec<SceneProblem>) {
     let set = &scene.cages;
     let n = set.vertices.len();
     let mut parent: BTreeMap<u32, usize> = BTreeMap::new();

@@ -113,6 +113,17 @@ impl StarOperator {
         )
     }
 
+    /// The CSR arrays: row starts (rows + 1), column of each non-zero, its weight. Columns
+    /// index [`StarOperator::dofs`]: cage vertices, then Green face DOFs. For GPU upload.
+    pub fn csr(&self) -> (&[u32], &[u32], &[f32]) {
+        (&self.row_start, &self.columns, &self.values)
+    }
+
+    /// Number of columns (degrees of freedom): cage vertices plus Green face DOFs.
+    pub fn dof_count(&self) -> usize {
+        self.vertex_count + self.green.len()
+    }
+
     /// Number of rows (bound points).
     pub fn row_count(&self) -> usize {
         self.row_start.len() - 1
