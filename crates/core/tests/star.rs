@@ -248,6 +248,26 @@ fn free_faces_are_interpolated_and_borders_get_b_zero() {
     assert_eq!(binding.boundary_weight[0], 1.0);
     assert_eq!(binding.boundary_weight[1], 0.0);
     assert!(binding.boundary_weight[2] > 0.0 && binding.boundary_weight[2] < 1.0);
+    // W_n (eq. 4) is kept where b < 1: non-negative over border vertices, summing to 1.
+    let joins = &binding.join_weights;
+    assert_eq!(joins.row_start[1], 0, "b = 1: no join weights");
+    let border: Vec<u32> = (0..scene.cages.vertices.len() as u32)
+        .filter(|&v| scene.cages.vertices[v as usize].x.abs() < 1e-12)
+        .collect();
+    for p in [1, 2] {
+        let entries = joins.row_start[p] as usize..joins.row_start[p + 1] as usize;
+        assert!(!entries.is_empty());
+        let total: f32 = entries.clone().map(|k| joins.weight[k]).sum();
+        assert!((total - 1.0).abs() < 1e-5, "{total}");
+        assert!(
+            entries
+                .clone()
+                .all(|k| joins.weight[k] >= 0.0 && border.contains(&joins.vertex[k]))
+        );
+    }
+    let of_first = joins.of_vertex(border[0]);
+    assert_eq!(of_first.len(), 3);
+    assert_eq!(of_first[0], 0.0);
 }
 
 #[test]

@@ -33,6 +33,8 @@ pub(crate) type Row = Vec<(u32, f64)>;
 pub(crate) struct BoundRows {
     pub rows: Vec<Row>,
     pub boundary_weight: Vec<f64>,
+    /// Per point, the normalised join weights W_n(v, p) of eq. 4 (empty where b = 1).
+    pub join_weights: Vec<Vec<(u32, f64)>>,
     pub green: GreenDofs,
     pub seconds_cage: f64,
     pub seconds_join: f64,
@@ -437,7 +439,7 @@ pub(crate) fn bind_rows(
     let seconds_join = join_start.elapsed().as_secs_f64();
 
     // Assemble every row.
-    let rows: Vec<Row> = (0..offset)
+    let (rows, join_weights): (Vec<Row>, Vec<Vec<(u32, f64)>>) = (0..offset)
         .into_par_iter()
         .map(|i| {
             let c = match placement[i] {
@@ -456,11 +458,11 @@ pub(crate) fn bind_rows(
                 for k in 0..3 {
                     row.push((local.global[tri[k] as usize], bary[k]));
                 }
-                return merge(row);
+                return (merge(row), Vec::new());
             }
             let b = boundary_weight[i];
             if b >= 1.0 {
-                return merge(row);
+                return (merge(row), Vec::new());
             }
             // W(v, p) = Ω(v, p) I(v, p) for the boundary vertices of c (eqs. 5, 6, 8).
             let omega_of = |u: u32| -> f64 {
@@ -493,8 +495,14 @@ pub(crate) fn bind_rows(
                 .collect();
             let total: f64 = weights.iter().map(|(_, w)| w).sum();
             if total <= 1e-14 {
-                return merge(row); // far from every boundary vertex: b = 1 to working precision
+                // Far from every boundary vertex: b = 1 to working precision.
+                return (merge(row), Vec::new());
             }
+            let normalised: Vec<(u32, f64)> = weights
+                .iter()
+                .filter(|(_, w)| *w != 0.0)
+                .map(|&(v, w)| (v, w / total))
+                .collect();
             // S = b T + (1 − b) Σ W_n(v, p) L_v(p)   (eqs. 3, 4)
             for (_, w) in row.iter_mut() {
                 *w *= b;
@@ -528,12 +536,13 @@ pub(crate) fn bind_rows(
                     );
                 }
             }
-            merge(row)
+            (merge(row), normalised)
         })
-        .collect();
+        .unzip();
     Ok(BoundRows {
         rows,
         boundary_weight,
+        join_weights,
         green,
         seconds_cage,
         seconds_join,

@@ -5,12 +5,12 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{BindStats, GreenDofs, StarBinding, StarError, StarOperator};
+use super::{BindStats, GreenDofs, JoinWeights, StarBinding, StarError, StarOperator};
 use crate::coords::BindControl;
 use crate::io::write_atomic;
 use crate::scene::Scene;
 
-const MAGIC: &[u8; 8] = b"SCBIND01";
+const MAGIC: &[u8; 8] = b"SCBIND02";
 
 /// What happened with the cache.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,11 +78,13 @@ fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
     let triangles = binding.operator.green_dofs().triangles();
     let mut payload = Vec::new();
     let mut put = |x: u32| payload.extend_from_slice(&x.to_le_bytes());
+    let joins = &binding.join_weights;
     for n in [
         vertex_count,
         row_start.len(),
         columns.len(),
         triangles.len(),
+        joins.vertex.len(),
     ] {
         put(n as u32);
     }
@@ -94,6 +96,12 @@ fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
         .iter()
         .for_each(|v| put(v.to_bits()));
     binding.cage_of.iter().for_each(|&x| put(x));
+    joins
+        .row_start
+        .iter()
+        .chain(&joins.vertex)
+        .for_each(|&x| put(x));
+    joins.weight.iter().for_each(|v| put(v.to_bits()));
     let mut out = Vec::with_capacity(payload.len() + 32);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&key.to_le_bytes());
@@ -119,19 +127,19 @@ fn decode(bytes: &[u8], key: u64) -> Result<StarBinding, String> {
         .chunks_exact(4)
         .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect();
-    if !payload.len().is_multiple_of(4) || words.len() < 4 {
+    if !payload.len().is_multiple_of(4) || words.len() < 5 {
         return Err("truncated".into());
     }
-    let [vertex_count, n_rows1, nnz, n_tris] = [0, 1, 2, 3].map(|i| words[i] as usize);
+    let [vertex_count, n_rows1, nnz, n_tris, n_joins] = [0, 1, 2, 3, 4].map(|i| words[i] as usize);
     let rows = n_rows1.checked_sub(1).ok_or("no rows")?;
-    let expected = 4 + n_rows1 + 2 * nnz + 3 * n_tris + 2 * rows;
+    let expected = 5 + n_rows1 + 2 * nnz + 3 * n_tris + 2 * rows + n_rows1 + 2 * n_joins;
     if words.len() != expected {
         return Err(format!(
             "truncated ({} words, {expected} expected)",
             words.len()
         ));
     }
-    let mut at = 4;
+    let mut at = 5;
     let mut take = |n: usize| {
         let slice = &words[at..at + n];
         at += n;
@@ -146,6 +154,21 @@ fn decode(bytes: &[u8], key: u64) -> Result<StarBinding, String> {
         .collect();
     let boundary_weight: Vec<f32> = take(rows).iter().map(|&b| f32::from_bits(b)).collect();
     let cage_of = take(rows).to_vec();
+    let join_weights = JoinWeights {
+        row_start: take(n_rows1).to_vec(),
+        vertex: take(n_joins).to_vec(),
+        weight: take(n_joins).iter().map(|&b| f32::from_bits(b)).collect(),
+    };
+    let join_rows_ok = join_weights.row_start.first() == Some(&0)
+        && join_weights.row_start.windows(2).all(|w| w[0] <= w[1])
+        && join_weights.row_start.last().map(|&l| l as usize) == Some(n_joins)
+        && join_weights
+            .vertex
+            .iter()
+            .all(|&v| (v as usize) < vertex_count);
+    if !join_rows_ok {
+        return Err("inconsistent join weights".into());
+    }
     let operator = StarOperator::from_parts(
         vertex_count,
         GreenDofs::from_triangles(triangles),
@@ -163,6 +186,7 @@ fn decode(bytes: &[u8], key: u64) -> Result<StarBinding, String> {
         operator,
         boundary_weight,
         cage_of,
+        join_weights,
         stats,
     })
 }
@@ -221,6 +245,8 @@ mod tests {
             StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
         assert_eq!(outcome, CacheOutcome::Hit);
         assert_eq!(second.operator, first.operator);
+        assert_eq!(second.join_weights, first.join_weights);
+        assert!(!first.join_weights.vertex.is_empty());
         assert_eq!(second.boundary_weight, first.boundary_weight);
         // A changed setting makes the cache stale.
         scene.cages.leaves[0].h = Some(0.3);

@@ -83,8 +83,56 @@ pub struct StarBinding {
     pub boundary_weight: Vec<f32>,
     /// The leaf cage each point was bound to.
     pub cage_of: Vec<u32>,
+    /// W_n(v, p) (eq. 4): each point's normalised join weights over its cage's boundary
+    /// vertices, for influence maps.
+    pub join_weights: JoinWeights,
     /// Timings and sizes.
     pub stats: BindStats,
+}
+
+/// Sparse per-point join weights W_n(v, p) (eq. 4), CSR: points with b = 1 have none.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JoinWeights {
+    /// Start of each point's entries (points + 1).
+    pub row_start: Vec<u32>,
+    /// Boundary vertex of each entry.
+    pub vertex: Vec<u32>,
+    /// W_n(v, p) of each entry.
+    pub weight: Vec<f32>,
+}
+
+impl JoinWeights {
+    fn from_rows(rows: &[Vec<(u32, f64)>]) -> Self {
+        let mut out = Self {
+            row_start: vec![0],
+            ..Self::default()
+        };
+        for row in rows {
+            for &(v, w) in row {
+                out.vertex.push(v);
+                out.weight.push(w as f32);
+            }
+            out.row_start.push(out.vertex.len() as u32);
+        }
+        out
+    }
+
+    /// W_n(`vertex`, p) for every point p (0 where `vertex` has no say).
+    pub fn of_vertex(&self, vertex: u32) -> Vec<f32> {
+        self.row_start
+            .windows(2)
+            .map(|r| {
+                (r[0] as usize..r[1] as usize)
+                    .find(|&k| self.vertex[k] == vertex)
+                    .map_or(0.0, |k| self.weight[k])
+            })
+            .collect()
+    }
+
+    /// Bytes stored.
+    pub fn byte_size(&self) -> usize {
+        (self.row_start.len() + self.vertex.len() + self.weight.len()) * 4
+    }
 }
 
 impl StarBinding {
@@ -113,6 +161,7 @@ impl StarBinding {
         Ok(Self {
             operator,
             boundary_weight: rows.boundary_weight.iter().map(|&b| b as f32).collect(),
+            join_weights: JoinWeights::from_rows(&rows.join_weights),
             cage_of: placement
                 .iter()
                 .map(|p| match p {

@@ -104,19 +104,13 @@ impl StarOperator {
     }
 
     /// The stored parts: vertex count, row starts, columns, values.
-    pub(crate) fn parts(&self) -> (usize, &[u32], &[u32], &[f32]) {
+    pub fn parts(&self) -> (usize, &[u32], &[u32], &[f32]) {
         (
             self.vertex_count,
             &self.row_start,
             &self.columns,
             &self.values,
         )
-    }
-
-    /// The CSR arrays: row starts (rows + 1), column of each non-zero, its weight. Columns
-    /// index [`StarOperator::dofs`]: cage vertices, then Green face DOFs. For GPU upload.
-    pub fn csr(&self) -> (&[u32], &[u32], &[f32]) {
-        (&self.row_start, &self.columns, &self.values)
     }
 
     /// Number of columns (degrees of freedom): cage vertices plus Green face DOFs.
