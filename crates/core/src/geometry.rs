@@ -63,6 +63,29 @@ pub fn triangle_area_vector(a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
     (b - a).cross(c - a)
 }
 
+/// The parameter t > 0 where the ray `origin + t·direction` crosses triangle (a, b, c)
+/// (Möller and Trumbore), or `None` when it misses or runs parallel to the triangle.
+pub fn ray_triangle(origin: DVec3, direction: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<f64> {
+    let (e1, e2) = (b - a, c - a);
+    let p = direction.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() <= f64::EPSILON * e1.length() * e2.length() * direction.length() {
+        return None;
+    }
+    let s = origin - a;
+    let u = s.dot(p) / det;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = direction.dot(q) / det;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) / det;
+    (t > 0.0).then_some(t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -86,27 +109,4 @@ mod tests {
         let omega = solid_angle(DVec3::X, DVec3::Y, DVec3::Z);
         assert!((omega - std::f64::consts::FRAC_PI_2).abs() < 1e-14);
     }
-}
-
-/// The parameter t > 0 where the ray `origin + t·direction` crosses triangle (a, b, c)
-/// (Möller and Trumbore), or `None` when it misses or runs parallel to the triangle.
-pub fn ray_triangle(origin: DVec3, direction: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<f64> {
-    let (e1, e2) = (b - a, c - a);
-    let p = direction.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() <= f64::EPSILON * e1.length() * e2.length() * direction.length() {
-        return None;
-    }
-    let s = origin - a;
-    let u = s.dot(p) / det;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = direction.dot(q) / det;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let t = e2.dot(q) / det;
-    (t > 0.0).then_some(t)
 }

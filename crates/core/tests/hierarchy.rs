@@ -14,6 +14,9 @@ use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{FollowRecord, Scene, SceneProblem, load_scene, save_scene};
 use starcages_core::star::StarBinding;
 
+/// Adds the parent's moves for the pose it is given.
+type ParentMove<'a> = &'a dyn Fn(&mut Vec<(u32, DVec3)>, &[DVec3]);
+
 fn critter() -> Scene {
     demo_scene("critter", 0.4).unwrap()
 }
@@ -295,7 +298,7 @@ fn hc_parent_follows_a_vertex_dragged_outside_it() {
         .fold(f64::MIN, f64::max);
     let start = scene.pose[owned as usize];
     let corner = ears_vertices[7];
-    let response = |s: f64, parent_move: &dyn Fn(&mut Vec<(u32, DVec3)>, &[DVec3])| {
+    let response = |s: f64, parent_move: ParentMove<'_>| {
         let mut h = Hierarchy::bind(&scene).unwrap();
         let mut pose = scene.pose.clone();
         let target = DVec3::new(start.x, start.y, start.z + s * (top - start.z));
