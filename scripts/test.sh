@@ -1,6 +1,19 @@
 #!/usr/bin/env bash
 # The project's one test command (see README): runs every test of the workspace.
-# Later issues add system packages here (e.g. a software Vulkan driver for offscreen images).
+#
+# The viewport's and editor's image tests render offscreen on a software Vulkan driver
+# (Mesa's lavapipe). When none is installed, this installs it (Debian: mesa-vulkan-drivers),
+# as root or through sudo.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+if ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
+    echo "scripts/test.sh: installing the software Vulkan driver (mesa-vulkan-drivers)" >&2
+    if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq mesa-vulkan-drivers >/dev/null
+fi
+# lavapipe complains without a runtime dir; give it one.
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+
 cargo test --workspace --locked -j"${CARGO_BUILD_JOBS:-2}" "$@"

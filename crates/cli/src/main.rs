@@ -39,6 +39,8 @@ enum Command {
     Cages(commands::cages::CagesArgs),
     /// Deform a scene's mesh into a pose and write it (OBJ or GLB).
     Deform(commands::deform::DeformArgs),
+    /// Render the scene in a pose to a PNG image (offscreen), with optional influence maps.
+    Render(commands::render::RenderArgs),
     /// Deformed positions of arbitrary points, as JSON.
     Eval(commands::eval::EvalArgs),
     /// *Cages against single-cage baselines: memory, bind, frame and move times.
@@ -63,6 +65,7 @@ fn main() -> ExitCode {
         Command::Cages(args) => commands::cages::run(&args),
         Command::Deform(args) => commands::deform::run(&args),
         Command::Eval(args) => commands::eval::run(&args),
+        Command::Render(args) => commands::render::run(&args),
         Command::Bench(args) => commands::bench::run(&args),
     };
     match result {

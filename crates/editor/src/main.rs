@@ -6,7 +6,7 @@
 fn main() {
     eprintln!(
         "The StarCages editor ({}) is not built yet. Use `cargo run --release -p starcages-cli -- --help` for the command-line tool.",
-        starcages_viewport::CRATE_NAME
+        env!("CARGO_PKG_NAME")
     );
     std::process::exit(1);
 }

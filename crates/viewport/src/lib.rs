@@ -1,8 +1,24 @@
-//! StarCages viewport: the wgpu renderer of meshes, cages and influence maps, GPU deformation
-//! and offscreen images.
+//! StarCages viewport: what the artist sees. A wgpu renderer of the deformed mesh, cages and
+//! influence maps, independent of egui (the editor embeds it through egui-wgpu paint callbacks;
+//! the CLI renders offscreen), GPU deformation with the compiled operator, and the camera and
+//! picking maths as pure functions.
 //!
-//! Not built yet: this crate arrives with the viewport issue. It exists so that the workspace
-//! has its final shape and the dependency direction (viewport → core) is fixed from the start.
+//! * [`camera`], [`picking`]: orbit camera, rays, projection, vertex picking, rectangle
+//!   selection — no GPU.
+//! * [`colors`], [`layers`], [`influence`]: the colour code, line and dot geometry of cages,
+//!   influence-map values with their legend — no GPU.
+//! * [`gpu`]: device, shaders (WGSL in `shaders/`), [`gpu::SceneRenderer`],
+//!   [`gpu::GpuDeformer`].
+//! * [`offscreen`]: images without a window, `render_to_image`.
 
-/// Name of the crate, for diagnostics until the renderer lands.
-pub const CRATE_NAME: &str = "starcages-viewport";
+pub mod camera;
+pub mod colors;
+pub mod gpu;
+pub mod influence;
+pub mod layers;
+pub mod offscreen;
+pub mod picking;
+
+pub use camera::{OrbitCamera, View};
+pub use gpu::{GpuContext, GpuError, Layers, SceneRenderer};
+pub use offscreen::{RenderOptions, framing_camera, render_to_image};

@@ -7,8 +7,6 @@ use starcages_core::coords::CoordinateKind;
 use starcages_core::io::read_mesh;
 use starcages_core::scene::{AutocageOptions, MeshSource, Scene, SceneSettings, autocage};
 
-use crate::InputError;
-
 /// Arguments of `autocage`.
 #[derive(Debug, Args)]
 pub struct AutocageArgs {

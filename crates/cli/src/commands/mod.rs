@@ -10,6 +10,7 @@ pub mod info;
 pub mod internal_cage;
 pub mod new;
 pub mod pose;
+pub mod render;
 pub mod validate;
 pub mod weights;
 

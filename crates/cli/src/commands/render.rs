@@ -1,0 +1,161 @@
+//! `starcages-cli render`: the scene in a pose as a PNG image, rendered offscreen on the GPU
+//! (or a software Vulkan driver), with optional influence maps.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use starcages_core::BindControl;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::io::write_atomic;
+use starcages_core::star::{StarBinding, single_cage_scene};
+use starcages_viewport::influence;
+use starcages_viewport::offscreen::encode_png;
+use starcages_viewport::{
+    GpuContext, Layers, RenderOptions, View, framing_camera, render_to_image,
+};
+
+use super::pose::PoseArgs;
+use crate::InputError;
+use crate::progress::with_progress;
+
+/// A standard view.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum ViewArg {
+    Front,
+    Side,
+    Top,
+}
+
+/// Arguments of `render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file.
+    scene: PathBuf,
+    #[command(flatten)]
+    pose: PoseArgs,
+    /// Paint the b map (eq. 11) of one leaf cage, or of `all`.
+    #[arg(long, value_name = "CAGE|all", conflicts_with_all = ["join_weight", "difference"])]
+    influence: Option<String>,
+    /// Paint W(v, p) (eq. 4) of cage vertex V.
+    #[arg(long, value_name = "V", conflicts_with = "difference")]
+    join_weight: Option<u32>,
+    /// Paint the difference to the single-cage deformation of this kind (Fig. 7); prints max
+    /// and RMS relative to the bounding box diagonal.
+    #[arg(long, value_name = "KIND", value_parser = |s: &str| s.parse::<CoordinateKind>())]
+    difference: Option<CoordinateKind>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1024x768", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Look from a standard view instead of the default three-quarter view.
+    #[arg(long, value_enum)]
+    view: Option<ViewArg>,
+    /// Draw the mesh's edges.
+    #[arg(long)]
+    wireframe: bool,
+    /// Flat shading.
+    #[arg(long)]
+    flat: bool,
+    /// Hide cages and their vertices.
+    #[arg(long)]
+    no_cages: bool,
+    /// The PNG file to write.
+    #[arg(long)]
+    png: PathBuf,
+}
+
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{text}': write the size as WIDTHxHEIGHT, e.g. 1024x768"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (16..=8192).contains(n))
+            .ok_or_else(|| format!("'{text}': each side must be a whole number from 16 to 8192"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// Runs the command.
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let scene = super::load(&args.scene)?;
+    let label = args.scene.display().to_string();
+    if !super::report(&scene, &label).is_valid() {
+        return Err(InputError(format!(
+            "{label}: the scene does not validate; see the problems above"
+        ))
+        .into());
+    }
+    let pose = args.pose.positions(&scene, &args.scene)?;
+    let scene = args.pose.method_scene(scene);
+    let control = BindControl::default();
+    let bind = |scene| {
+        with_progress("binding", &control, || {
+            StarBinding::bind_scene(scene, &control)
+        })
+        .map_err(|e| InputError(format!("{label}: {e}")))
+    };
+    let binding = bind(&scene)?;
+    let map = if let Some(which) = &args.influence {
+        let cage = match which.as_str() {
+            "all" => None,
+            name => Some(scene.cages.leaf_index(name).ok_or_else(|| {
+                let names: Vec<&str> = scene.cages.leaves.iter().map(|c| c.name.as_str()).collect();
+                InputError(format!(
+                    "{label}: no leaf cage named '{name}'; use all or one of: {}",
+                    names.join(", ")
+                ))
+            })?),
+        };
+        Some(influence::boundary(&binding, cage))
+    } else if let Some(v) = args.join_weight {
+        if v as usize >= scene.cages.vertices.len() {
+            return Err(InputError(format!(
+                "{label}: cage vertex {v} does not exist; the scene has {}",
+                scene.cages.vertices.len()
+            ))
+            .into());
+        }
+        Some(influence::join_weight(&binding, v))
+    } else if let Some(kind) = args.difference {
+        let single = single_cage_scene(&scene, kind);
+        let single_binding = bind(&single)?;
+        let a = binding.deform(&scene.cages.vertices, &pose);
+        let b = single_binding.deform(&scene.cages.vertices, &pose);
+        let (map, stats) = influence::difference(&a, &b);
+        eprintln!(
+            "difference to single-cage {kind}: max {:.3e}, RMS {:.3e} of the bounding box diagonal",
+            stats.max, stats.rms
+        );
+        Some(map)
+    } else {
+        None
+    };
+    let gpu = GpuContext::headless()?;
+    let mut camera = framing_camera(&scene, &pose);
+    if let Some(view) = args.view {
+        camera.set_view(match view {
+            ViewArg::Front => View::Front,
+            ViewArg::Side => View::Side,
+            ViewArg::Top => View::Top,
+        });
+    }
+    let options = RenderOptions {
+        width: args.size.0,
+        height: args.size.1,
+        layers: Layers {
+            flat: args.flat,
+            wireframe: args.wireframe,
+            cages: !args.no_cages,
+            vertices: !args.no_cages,
+            ..Layers::default()
+        },
+        map,
+        ..RenderOptions::default()
+    };
+    let image = render_to_image(&gpu, &scene, &binding, &pose, &camera, &options)?;
+    write_atomic(&args.png, &encode_png(&image))?;
+    crate::output::line(args.png.display())?;
+    Ok(())
+}

@@ -1,0 +1,229 @@
+//! GPU deformation: the compiled operator uploaded once; per frame only the degrees of freedom
+//! (posed cage vertices and Green face terms) go up, and a compute pass writes positions and
+//! normals straight into the mesh's vertex buffers. `cpu_normals` is the CPU path's twin.
+
+use glam::Vec3;
+use rayon::prelude::*;
+use starcages_core::star::StarOperator;
+use wgpu::util::DeviceExt as _;
+
+use super::context::GpuContext;
+use super::shaders;
+
+const WORKGROUP: u32 = 64;
+
+/// The operator and mesh topology on the GPU, bound to a mesh's position and normal buffers.
+#[derive(Debug)]
+pub struct GpuDeformer {
+    dofs: wgpu::Buffer,
+    dof_count: usize,
+    bind_group: wgpu::BindGroup,
+    deform: wgpu::ComputePipeline,
+    normals: wgpu::ComputePipeline,
+    groups: (u32, u32),
+    /// Bytes uploaded once (operator and topology).
+    pub resident_bytes: u64,
+}
+
+fn storage(device: &wgpu::Device, label: &str, contents: &[u8]) -> wgpu::Buffer {
+    // Empty bindings are not allowed: pad to one word.
+    let padded: &[u8] = if contents.is_empty() {
+        &[0; 4]
+    } else {
+        contents
+    };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: padded,
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// Incident triangles of each vertex, CSR: (start per vertex + 1, triangle indices).
+pub fn vertex_triangles(vertex_count: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; vertex_count + 1];
+    for t in triangles {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for i in 1..start.len() {
+        start[i] += start[i - 1];
+    }
+    let mut fill = start.clone();
+    let mut list = vec![0u32; start[vertex_count] as usize];
+    for (i, t) in triangles.iter().enumerate() {
+        for &v in t {
+            list[fill[v as usize] as usize] = i as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    (start, list)
+}
+
+/// Area-weighted vertex normals, as the GPU computes them.
+pub fn cpu_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
+    let (start, list) = vertex_triangles(positions.len(), triangles);
+    (0..positions.len())
+        .into_par_iter()
+        .map(|v| {
+            let n: Vec3 = list[start[v] as usize..start[v + 1] as usize]
+                .iter()
+                .map(|&t| {
+                    let [a, b, c] = triangles[t as usize].map(|i| positions[i as usize]);
+                    (b - a).cross(c - a)
+                })
+                .sum();
+            n.try_normalize().unwrap_or(Vec3::Z)
+        })
+        .collect()
+}
+
+impl GpuDeformer {
+    /// Uploads `operator` and the mesh `triangles`; positions and normals are written into
+    /// `positions` and `normals` (3 floats per vertex, usage STORAGE | VERTEX).
+    pub fn new(
+        gpu: &GpuContext,
+        operator: &StarOperator,
+        triangles: &[[u32; 3]],
+        positions: &wgpu::Buffer,
+        normals: &wgpu::Buffer,
+    ) -> Self {
+        let device = &gpu.device;
+        let (_, row_start, columns, values) = operator.parts();
+        let rows = operator.row_count();
+        let (vt_start, vt_list) = vertex_triangles(rows, triangles);
+        let flat_triangles: Vec<u32> = triangles.iter().flatten().copied().collect();
+        let buffers = [
+            storage(device, "row starts", bytemuck::cast_slice(row_start)),
+            storage(device, "columns", bytemuck::cast_slice(columns)),
+            storage(device, "values", bytemuck::cast_slice(values)),
+        ];
+        let topology = [
+            storage(
+                device,
+                "vertex triangle starts",
+                bytemuck::cast_slice(&vt_start),
+            ),
+            storage(device, "vertex triangles", bytemuck::cast_slice(&vt_list)),
+            storage(device, "triangles", bytemuck::cast_slice(&flat_triangles)),
+        ];
+        let dof_count = operator.dof_count();
+        let dofs = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dofs"),
+            size: (dof_count.max(1) * 12) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let workgroups = (rows as u32).div_ceil(WORKGROUP).max(1);
+        let max = device.limits().max_compute_workgroups_per_dimension.max(1);
+        let groups = (workgroups.min(max), workgroups.div_ceil(max));
+        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("deform params"),
+            contents: bytemuck::cast_slice(&[rows as u32, groups.0 * WORKGROUP, 0, 0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let entry = |binding: u32, read_only: bool, uniform: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: if uniform {
+                    wgpu::BufferBindingType::Uniform
+                } else {
+                    wgpu::BufferBindingType::Storage { read_only }
+                },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deform"),
+            entries: &[
+                entry(0, true, true),
+                entry(1, true, false),
+                entry(2, true, false),
+                entry(3, true, false),
+                entry(4, true, false),
+                entry(5, false, false),
+                entry(6, true, false),
+                entry(7, true, false),
+                entry(8, true, false),
+                entry(9, false, false),
+            ],
+        });
+        let resources: [&wgpu::Buffer; 10] = [
+            &params,
+            &buffers[0],
+            &buffers[1],
+            &buffers[2],
+            &dofs,
+            positions,
+            &topology[0],
+            &topology[1],
+            &topology[2],
+            normals,
+        ];
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("deform"),
+            layout: &layout,
+            entries: &entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("deform"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let module = shaders::module(device, "deform");
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let resident_bytes = buffers
+            .iter()
+            .chain(&topology)
+            .map(wgpu::Buffer::size)
+            .sum();
+        Self {
+            dofs,
+            dof_count,
+            deform: pipeline("deform"),
+            normals: pipeline("vertex_normals"),
+            bind_group,
+            groups,
+            resident_bytes,
+        }
+    }
+
+    /// Uploads this frame's degrees of freedom and records the deformation and the normals.
+    pub fn record(&self, gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, dofs: &[Vec3]) {
+        let n = dofs.len().min(self.dof_count);
+        if n > 0 {
+            gpu.queue
+                .write_buffer(&self.dofs, 0, bytemuck::cast_slice(&dofs[..n]));
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("deform"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_pipeline(&self.deform);
+        pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+        pass.set_pipeline(&self.normals);
+        pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+    }
+}

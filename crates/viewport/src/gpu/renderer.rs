@@ -1,0 +1,472 @@
+//! The scene renderer: background, shaded mesh, wireframe, cage lines and vertex dots into a
+//! colour target (optionally multisampled) with a depth buffer. Independent of any window: the
+//! editor renders through it into a texture, the CLI into an image.
+
+use glam::{Mat4, Vec2, Vec3};
+use wgpu::util::DeviceExt as _;
+
+use super::context::GpuContext;
+use super::deform::{GpuDeformer, cpu_normals};
+use super::shaders;
+use crate::camera::OrbitCamera;
+use crate::colors;
+use crate::layers::{Dot, LineVertex, mesh_edges};
+
+/// The depth format.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The per-frame uniform block (`shaders/common.wgsl`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct FrameUniforms {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    viewport: [f32; 4],
+    background_top: [f32; 4],
+    background_bottom: [f32; 4],
+}
+
+/// Which layers to draw and how.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layers {
+    /// The shaded mesh.
+    pub mesh: bool,
+    /// Flat instead of smooth shading.
+    pub flat: bool,
+    /// The mesh's edges over it.
+    pub wireframe: bool,
+    /// Cage edges.
+    pub cages: bool,
+    /// Cage vertices.
+    pub vertices: bool,
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Self {
+            mesh: true,
+            flat: false,
+            wireframe: false,
+            cages: true,
+            vertices: true,
+        }
+    }
+}
+
+struct MeshBuffers {
+    positions: wgpu::Buffer,
+    normals: wgpu::Buffer,
+    colors: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    edges: wgpu::Buffer,
+    edge_count: u32,
+    vertex_count: usize,
+    triangles: Vec<[u32; 3]>,
+    deformer: Option<GpuDeformer>,
+}
+
+/// A growable vertex buffer for lines and dots.
+struct Dynamic {
+    buffer: Option<wgpu::Buffer>,
+    count: u32,
+}
+
+impl Dynamic {
+    fn upload(&mut self, gpu: &GpuContext, label: &str, bytes: &[u8], count: usize) {
+        self.count = count as u32;
+        if bytes.is_empty() {
+            return;
+        }
+        match &self.buffer {
+            Some(b) if b.size() >= bytes.len() as u64 => gpu.queue.write_buffer(b, 0, bytes),
+            _ => {
+                self.buffer = Some(gpu.device.create_buffer_init(
+                    &wgpu::util::BufferInitDescriptor {
+                        label: Some(label),
+                        contents: bytes,
+                        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    },
+                ));
+            }
+        }
+    }
+}
+
+/// The renderer's pipelines and the scene's GPU buffers.
+pub struct SceneRenderer {
+    sample_count: u32,
+    frame: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    background: wgpu::RenderPipeline,
+    mesh_pipeline: wgpu::RenderPipeline,
+    wire_pipeline: wgpu::RenderPipeline,
+    line_pipeline: wgpu::RenderPipeline,
+    dot_pipeline: wgpu::RenderPipeline,
+    mesh: Option<MeshBuffers>,
+    lines: Dynamic,
+    dots: Dynamic,
+}
+
+impl std::fmt::Debug for SceneRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SceneRenderer")
+            .field("sample_count", &self.sample_count)
+            .field("mesh_vertices", &self.mesh.as_ref().map(|m| m.vertex_count))
+            .finish_non_exhaustive()
+    }
+}
+
+const POSITION: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
+const NORMAL: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![1 => Float32x3];
+const COLOR: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![2 => Unorm8x4];
+const LINE: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
+const DOT: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4, 2 => Float32];
+
+fn layout(
+    stride: u64,
+    step: wgpu::VertexStepMode,
+    attributes: &[wgpu::VertexAttribute],
+) -> wgpu::VertexBufferLayout<'_> {
+    wgpu::VertexBufferLayout {
+        array_stride: stride,
+        step_mode: step,
+        attributes,
+    }
+}
+
+impl SceneRenderer {
+    /// Pipelines for colour targets of `format` with `sample_count` samples.
+    pub fn new(gpu: &GpuContext, format: wgpu::TextureFormat, sample_count: u32) -> Self {
+        let device = &gpu.device;
+        let frame = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &frame_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame.as_entire_binding(),
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[Some(&frame_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |name: &str,
+                        vertex_entry: &str,
+                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                        topology: wgpu::PrimitiveTopology,
+                        depth_write: bool,
+                        depth_compare: wgpu::CompareFunction| {
+            let module = shaders::module(device, name);
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(name),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vertex_entry),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(depth_compare),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState {
+                    count: sample_count,
+                    ..Default::default()
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let vertex = wgpu::VertexStepMode::Vertex;
+        let less = wgpu::CompareFunction::Less;
+        let background = pipeline(
+            "background",
+            "vs_main",
+            &[],
+            wgpu::PrimitiveTopology::TriangleList,
+            false,
+            wgpu::CompareFunction::Always,
+        );
+        let mesh_pipeline = pipeline(
+            "mesh",
+            "vs_main",
+            &[
+                Some(layout(12, vertex, &POSITION)),
+                Some(layout(12, vertex, &NORMAL)),
+                Some(layout(4, vertex, &COLOR)),
+            ],
+            wgpu::PrimitiveTopology::TriangleList,
+            true,
+            less,
+        );
+        let wire_pipeline = pipeline(
+            "lines",
+            "vs_wire",
+            &[Some(layout(12, vertex, &POSITION))],
+            wgpu::PrimitiveTopology::LineList,
+            false,
+            wgpu::CompareFunction::LessEqual,
+        );
+        let line_pipeline = pipeline(
+            "lines",
+            "vs_main",
+            &[Some(layout(16, vertex, &LINE))],
+            wgpu::PrimitiveTopology::LineList,
+            true,
+            wgpu::CompareFunction::LessEqual,
+        );
+        let dot_pipeline = pipeline(
+            "dots",
+            "vs_main",
+            &[Some(layout(20, wgpu::VertexStepMode::Instance, &DOT))],
+            wgpu::PrimitiveTopology::TriangleList,
+            true,
+            wgpu::CompareFunction::LessEqual,
+        );
+        Self {
+            sample_count,
+            frame,
+            frame_group,
+            background,
+            mesh_pipeline,
+            wire_pipeline,
+            line_pipeline,
+            dot_pipeline,
+            mesh: None,
+            lines: Dynamic {
+                buffer: None,
+                count: 0,
+            },
+            dots: Dynamic {
+                buffer: None,
+                count: 0,
+            },
+        }
+    }
+
+    /// Samples per pixel of the colour targets this renderer draws into.
+    pub fn sample_count(&self) -> usize {
+        self.sample_count as usize
+    }
+
+    /// Uploads a mesh (welded positions and triangles) at its rest shape, and, when compute
+    /// shaders are available and `operator` is given, the operator for GPU deformation.
+    pub fn set_mesh(
+        &mut self,
+        gpu: &GpuContext,
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        operator: Option<&starcages_core::star::StarOperator>,
+    ) {
+        let device = &gpu.device;
+        let geometry = wgpu::BufferUsages::VERTEX
+            | wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC;
+        let normals = cpu_normals(positions, triangles);
+        let init = |label: &str, contents: &[u8], usage| {
+            let padded: &[u8] = if contents.is_empty() {
+                &[0; 16]
+            } else {
+                contents
+            };
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: padded,
+                usage,
+            })
+        };
+        let positions_buffer = init("positions", bytemuck::cast_slice(positions), geometry);
+        let normals_buffer = init("normals", bytemuck::cast_slice(&normals), geometry);
+        let colours = vec![colors::to_u8(colors::MESH); positions.len()];
+        let colors_buffer = init(
+            "colours",
+            bytemuck::cast_slice(&colours),
+            wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        );
+        let flat: Vec<u32> = triangles.iter().flatten().copied().collect();
+        let indices = init(
+            "indices",
+            bytemuck::cast_slice(&flat),
+            wgpu::BufferUsages::INDEX,
+        );
+        let edge_list = mesh_edges(triangles);
+        let edges = init(
+            "edges",
+            bytemuck::cast_slice(&edge_list),
+            wgpu::BufferUsages::INDEX,
+        );
+        let deformer = operator
+            .filter(|_| gpu.compute)
+            .map(|op| GpuDeformer::new(gpu, op, triangles, &positions_buffer, &normals_buffer));
+        self.mesh = Some(MeshBuffers {
+            positions: positions_buffer,
+            normals: normals_buffer,
+            colors: colors_buffer,
+            indices,
+            index_count: flat.len() as u32,
+            edges,
+            edge_count: edge_list.len() as u32,
+            vertex_count: positions.len(),
+            triangles: triangles.to_vec(),
+            deformer,
+        });
+    }
+
+    /// Whether deformation runs on the GPU (a mesh with an operator, compute available).
+    pub fn deforms_on_gpu(&self) -> bool {
+        self.mesh.as_ref().is_some_and(|m| m.deformer.is_some())
+    }
+
+    /// Records the GPU deformation for this frame's degrees of freedom
+    /// ([`StarOperator::dofs`](starcages_core::star::StarOperator::dofs)). Returns false when
+    /// there is no GPU deformer (use [`SceneRenderer::set_positions`]).
+    pub fn deform_on_gpu(
+        &self,
+        gpu: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        dofs: &[Vec3],
+    ) -> bool {
+        match self.mesh.as_ref().and_then(|m| m.deformer.as_ref()) {
+            Some(deformer) => {
+                deformer.record(gpu, encoder, dofs);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The CPU path: uploads deformed positions and recomputes normals.
+    pub fn set_positions(&self, gpu: &GpuContext, positions: &[Vec3]) {
+        if let Some(mesh) = &self.mesh
+            && positions.len() == mesh.vertex_count
+        {
+            let normals = cpu_normals(positions, &mesh.triangles);
+            gpu.queue
+                .write_buffer(&mesh.positions, 0, bytemuck::cast_slice(positions));
+            gpu.queue
+                .write_buffer(&mesh.normals, 0, bytemuck::cast_slice(&normals));
+        }
+    }
+
+    /// Per-vertex colours of the mesh (an influence map, or the studio colour).
+    pub fn set_colors(&self, gpu: &GpuContext, colours: &[[u8; 4]]) {
+        if let Some(mesh) = &self.mesh
+            && colours.len() == mesh.vertex_count
+        {
+            gpu.queue
+                .write_buffer(&mesh.colors, 0, bytemuck::cast_slice(colours));
+        }
+    }
+
+    /// Cage edges to draw.
+    pub fn set_lines(&mut self, gpu: &GpuContext, lines: &[LineVertex]) {
+        self.lines
+            .upload(gpu, "cage lines", bytemuck::cast_slice(lines), lines.len());
+    }
+
+    /// Cage vertices to draw.
+    pub fn set_dots(&mut self, gpu: &GpuContext, dots: &[Dot]) {
+        self.dots
+            .upload(gpu, "cage dots", bytemuck::cast_slice(dots), dots.len());
+    }
+
+    /// The mesh's position buffer (for reading GPU results back in tests and benchmarks).
+    pub fn position_buffer(&self) -> Option<&wgpu::Buffer> {
+        self.mesh.as_ref().map(|m| &m.positions)
+    }
+
+    /// Writes the camera for a target of `size` pixels.
+    pub fn set_camera(&self, gpu: &GpuContext, camera: &OrbitCamera, size: Vec2, layers: &Layers) {
+        let view_proj: Mat4 = camera.view_projection(size);
+        let uniforms = FrameUniforms {
+            view_proj: view_proj.to_cols_array_2d(),
+            eye: camera.eye().extend(1.0).to_array(),
+            viewport: [size.x, size.y, if layers.flat { 1.0 } else { 0.0 }, 0.0],
+            background_top: colors::BACKGROUND_TOP,
+            background_bottom: colors::BACKGROUND_BOTTOM,
+        };
+        gpu.queue
+            .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
+    }
+
+    /// Draws every enabled layer into an open render pass (colour and depth attached, cleared
+    /// or not).
+    pub fn draw<'pass>(&'pass self, pass: &mut wgpu::RenderPass<'pass>, layers: &Layers) {
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_pipeline(&self.background);
+        pass.draw(0..3, 0..1);
+        if let Some(mesh) = &self.mesh {
+            if layers.mesh && mesh.index_count > 0 {
+                pass.set_pipeline(&self.mesh_pipeline);
+                pass.set_vertex_buffer(0, mesh.positions.slice(..));
+                pass.set_vertex_buffer(1, mesh.normals.slice(..));
+                pass.set_vertex_buffer(2, mesh.colors.slice(..));
+                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+            }
+            if layers.wireframe && mesh.edge_count > 0 {
+                pass.set_pipeline(&self.wire_pipeline);
+                pass.set_vertex_buffer(0, mesh.positions.slice(..));
+                pass.set_index_buffer(mesh.edges.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..mesh.edge_count, 0, 0..1);
+            }
+        }
+        if layers.cages
+            && self.lines.count > 0
+            && let Some(buffer) = &self.lines.buffer
+        {
+            pass.set_pipeline(&self.line_pipeline);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            pass.draw(0..self.lines.count, 0..1);
+        }
+        if layers.vertices
+            && self.dots.count > 0
+            && let Some(buffer) = &self.dots.buffer
+        {
+            pass.set_pipeline(&self.dot_pipeline);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            pass.draw(0..6, 0..self.dots.count);
+        }
+    }
+}

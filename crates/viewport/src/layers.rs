@@ -1,0 +1,261 @@
+//! What to draw, as plain data: cage edges as coloured lines (kind colours, pink borders,
+//! grey internal cages, other hierarchy levels dimmed), cage vertices as screen-space dots
+//! (selection and hover highlighted), and the mesh's edges for the wireframe overlay.
+
+use std::collections::BTreeSet;
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use starcages_core::scene::CageSet;
+
+use crate::colors::{self, Rgba};
+
+/// One end of a line segment.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct LineVertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// RGBA colour, 8 bits each.
+    pub color: [u8; 4],
+}
+
+/// A cage vertex drawn as a round dot of constant screen size.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Dot {
+    /// World position.
+    pub position: [f32; 3],
+    /// RGBA colour, 8 bits each.
+    pub color: [u8; 4],
+    /// Diameter in pixels.
+    pub size: f32,
+}
+
+/// How cages are shown.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CageStyle {
+    /// Per cage (leaves, then internal cages): drawn or not. Missing entries are visible.
+    pub hidden: BTreeSet<usize>,
+    /// Selected cage vertices.
+    pub selected: BTreeSet<u32>,
+    /// The cage vertex under the cursor.
+    pub hovered: Option<u32>,
+    /// Show only this hierarchy level at full strength (0: leaf cages); others dimmed.
+    pub focus_level: Option<usize>,
+}
+
+/// Hierarchy level of every cage, leaves then internal cages: 0 for leaves, and for an
+/// internal cage one more than the highest level among the cages holding vertices it owns.
+pub fn cage_levels(set: &CageSet) -> Vec<usize> {
+    let leaves = set.leaves.len();
+    let mut level = vec![0usize; leaves + set.internals.len()];
+    let vertices_of =
+        |faces: &[Vec<u32>]| -> BTreeSet<u32> { faces.iter().flatten().copied().collect() };
+    let all: Vec<BTreeSet<u32>> = set
+        .leaves
+        .iter()
+        .map(|c| vertices_of(&c.faces))
+        .chain(set.internals.iter().map(|c| vertices_of(&c.faces)))
+        .collect();
+    // Relax until stable: the hierarchy is acyclic, so this ends within #internal passes.
+    for _ in 0..=set.internals.len() {
+        let mut changed = false;
+        for (i, cage) in set.internals.iter().enumerate() {
+            let below = (0..all.len())
+                .filter(|&j| j != leaves + i && cage.owns.iter().any(|v| all[j].contains(v)))
+                .map(|j| level[j])
+                .max()
+                .unwrap_or(0);
+            if level[leaves + i] != below + 1 {
+                level[leaves + i] = below + 1;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    level
+}
+
+/// The unique edges of polygon faces, as sorted pairs.
+fn polygon_edges(faces: &[Vec<u32>]) -> BTreeSet<(u32, u32)> {
+    let mut edges = BTreeSet::new();
+    for face in faces {
+        for (k, &a) in face.iter().enumerate() {
+            let b = face[(k + 1) % face.len()];
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    edges
+}
+
+/// Cage edges as line segments in `pose`.
+pub fn cage_lines(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<LineVertex> {
+    let levels = cage_levels(set);
+    let dim_for = |cage: usize| match style.focus_level {
+        Some(level) if levels[cage] != level => 0.65,
+        _ => 0.0,
+    };
+    // Edges of faces shared by two leaf cages are borders.
+    let mut border_edges = BTreeSet::new();
+    for sharing in set.faces_by_vertex_set().values() {
+        if let [(c, f), _] = sharing[..] {
+            border_edges.extend(polygon_edges(std::slice::from_ref(&set.leaves[c].faces[f])));
+        }
+    }
+    let mut out = Vec::new();
+    let mut push = |edges: BTreeSet<(u32, u32)>, colour: &dyn Fn((u32, u32)) -> Rgba| {
+        for (a, b) in edges {
+            let c = colors::to_u8(colour((a, b)));
+            for v in [a, b] {
+                if let Some(p) = pose.get(v as usize) {
+                    out.push(LineVertex {
+                        position: p.as_vec3().to_array(),
+                        color: c,
+                    });
+                }
+            }
+        }
+    };
+    // An edge shared by neighbouring leaf cages is drawn once.
+    let mut drawn = BTreeSet::new();
+    for (i, cage) in set.leaves.iter().enumerate() {
+        if style.hidden.contains(&i) {
+            continue;
+        }
+        let base = colors::kind(cage.kind);
+        let dim = dim_for(i);
+        let mut edges = polygon_edges(&cage.faces);
+        edges.retain(|e| drawn.insert(*e));
+        push(edges, &|e| {
+            let c = if border_edges.contains(&e) {
+                colors::BORDER
+            } else {
+                base
+            };
+            colors::dim(c, dim)
+        });
+    }
+    let leaves = set.leaves.len();
+    for (i, cage) in set.internals.iter().enumerate() {
+        if style.hidden.contains(&(leaves + i)) {
+            continue;
+        }
+        let c = colors::dim(colors::INTERNAL, dim_for(leaves + i));
+        push(polygon_edges(&cage.faces), &|_| c);
+    }
+    out
+}
+
+/// Cage vertices of visible cages as dots in `pose`: selected ones orange and larger, the
+/// hovered one light yellow, vertices only on dimmed levels faded.
+pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
+    let levels = cage_levels(set);
+    let leaves = set.leaves.len();
+    let faces_of = |c: usize| {
+        if c < leaves {
+            &set.leaves[c].faces
+        } else {
+            &set.internals[c - leaves].faces
+        }
+    };
+    // Per vertex: visible at all, and on the focused level.
+    let mut visible = vec![false; pose.len()];
+    let mut focused = vec![style.focus_level.is_none(); pose.len()];
+    for (c, &level) in levels.iter().enumerate() {
+        if style.hidden.contains(&c) {
+            continue;
+        }
+        for &v in faces_of(c).iter().flatten() {
+            if let Some(slot) = visible.get_mut(v as usize) {
+                *slot = true;
+                focused[v as usize] |= style.focus_level == Some(level);
+            }
+        }
+    }
+    (0..pose.len())
+        .filter(|&v| visible[v])
+        .map(|v| {
+            let id = v as u32;
+            let (colour, size) = if style.hovered == Some(id) {
+                (colors::HOVERED, 10.0)
+            } else if style.selected.contains(&id) {
+                (colors::SELECTED, 9.0)
+            } else if focused[v] {
+                (colors::VERTEX, 7.0)
+            } else {
+                (colors::dim(colors::VERTEX, 0.5), 5.0)
+            };
+            Dot {
+                position: pose[v].as_vec3().to_array(),
+                color: colors::to_u8(colour),
+                size,
+            }
+        })
+        .collect()
+}
+
+/// The mesh's unique edges, as index pairs for the wireframe overlay.
+pub fn mesh_edges(triangles: &[[u32; 3]]) -> Vec<u32> {
+    let mut edges = BTreeSet::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    edges.into_iter().flat_map(|(a, b)| [a, b]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use starcages_core::scene::demo::demo_scene;
+
+    #[test]
+    fn levels_follow_the_hierarchy() {
+        let scene = demo_scene("critter", 0.2).unwrap();
+        let levels = cage_levels(&scene.cages);
+        let leaves = scene.cages.leaves.len();
+        assert!(levels[..leaves].iter().all(|&l| l == 0));
+        assert_eq!(levels[leaves..], [1, 2]); // ears, then head over the ears cage
+    }
+
+    #[test]
+    fn borders_are_pink_and_kinds_keep_their_colours() {
+        let scene = demo_scene("bumpy", 0.2).unwrap();
+        let lines = cage_lines(&scene.cages, &scene.pose, &CageStyle::default());
+        let colours: BTreeSet<[u8; 4]> = lines.iter().map(|l| l.color).collect();
+        for c in [
+            colors::BORDER,
+            colors::kind(starcages_core::coords::CoordinateKind::MeanValue),
+            colors::kind(starcages_core::coords::CoordinateKind::Green),
+        ] {
+            assert!(colours.contains(&colors::to_u8(c)));
+        }
+        // Three boxes in a row: 12 edges each, 4 shared per border, two borders.
+        assert_eq!(lines.len(), 2 * (3 * 12 - 2 * 4));
+    }
+
+    #[test]
+    fn dots_show_selection_hover_and_hidden_cages() {
+        let scene = demo_scene("bar", 0.2).unwrap();
+        let style = CageStyle {
+            selected: [0, 1].into(),
+            hovered: Some(3),
+            hidden: [1].into(),
+            ..CageStyle::default()
+        };
+        let dots = cage_dots(&scene.cages, &scene.pose, &style);
+        // The right cage is hidden: only the left cage's 8 vertices remain.
+        assert_eq!(dots.len(), 8);
+        let selected = colors::to_u8(colors::SELECTED);
+        assert_eq!(dots.iter().filter(|d| d.color == selected).count(), 2);
+        assert!(
+            dots.iter()
+                .any(|d| d.color == colors::to_u8(colors::HOVERED))
+        );
+    }
+}

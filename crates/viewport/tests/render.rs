@@ -1,0 +1,309 @@
+//! Offscreen rendering on the software Vulkan driver (lavapipe): snapshots of the demo scenes
+//! (plain, influence map, wireframe, selection) with pixel checks of what must be visible, and
+//! GPU deformation against the CPU operator.
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+use std::sync::LazyLock;
+
+use glam::{DVec3, Vec3};
+use image::RgbaImage;
+use starcages_core::BindControl;
+use starcages_core::scene::Scene;
+use starcages_core::scene::demo::demo_scene;
+use starcages_core::star::StarBinding;
+use starcages_viewport::colors;
+use starcages_viewport::gpu::{GpuContext, OFFSCREEN_FORMAT, SceneRenderer};
+use starcages_viewport::influence;
+use starcages_viewport::layers::CageStyle;
+use starcages_viewport::offscreen::download;
+use starcages_viewport::{Layers, RenderOptions, framing_camera, render_to_image};
+
+/// One device for the whole test binary.
+static GPU: LazyLock<GpuContext> = LazyLock::new(|| {
+    let gpu = GpuContext::headless().unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("adapter: {:?}", gpu.adapter_info);
+    gpu
+});
+
+fn bound(name: &str, detail: f64) -> (Scene, StarBinding) {
+    let scene = demo_scene(name, detail).unwrap();
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    (scene, binding)
+}
+
+fn options() -> RenderOptions {
+    // No MSAA: sample placement differs between rasterisers.
+    RenderOptions {
+        width: 256,
+        height: 192,
+        msaa: false,
+        ..RenderOptions::default()
+    }
+}
+
+fn snapshot_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots")
+}
+
+/// Compares with the stored snapshot: a pixel fails when a channel differs by more than 24
+/// (lavapipe JIT differences stay far below), and at most 0.5 % of pixels may fail. A missing
+/// snapshot is written as `NAME.new.png` and fails, unless UPDATE_SNAPSHOTS=1 stores it.
+fn check_snapshot(name: &str, image: &RgbaImage) {
+    let dir = snapshot_dir();
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.png"));
+    if std::env::var_os("UPDATE_SNAPSHOTS").is_some() {
+        image.save(&path).unwrap();
+        return;
+    }
+    let Ok(stored) = image::open(&path) else {
+        image.save(dir.join(format!("{name}.new.png"))).unwrap();
+        panic!(
+            "missing snapshot {}: run with UPDATE_SNAPSHOTS=1 after looking at {name}.new.png",
+            path.display()
+        );
+    };
+    let stored = stored.to_rgba8();
+    assert_eq!(
+        stored.dimensions(),
+        image.dimensions(),
+        "{name}: size changed"
+    );
+    let failing = stored
+        .pixels()
+        .zip(image.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 24))
+        .count();
+    let allowed = (image.width() * image.height()) as usize / 200;
+    if failing > allowed {
+        image.save(dir.join(format!("{name}.new.png"))).unwrap();
+        panic!(
+            "{name}: {failing} pixels differ from the snapshot (at most {allowed}); see {name}.new.png"
+        );
+    }
+}
+
+/// Pixels close to `colour` (each channel within `tolerance`).
+fn count_near(image: &RgbaImage, colour: [u8; 4], tolerance: u8) -> usize {
+    image
+        .pixels()
+        .filter(|p| {
+            p.0[..3]
+                .iter()
+                .zip(&colour[..3])
+                .all(|(a, b)| a.abs_diff(*b) <= tolerance)
+        })
+        .count()
+}
+
+/// Distinct colours, a blank-image check.
+fn distinct(image: &RgbaImage) -> usize {
+    let mut colours: Vec<[u8; 4]> = image.pixels().map(|p| p.0).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    colours.len()
+}
+
+/// Pixels that are clearly reddish / bluish (influence-map ends, after lighting).
+fn reddish(image: &RgbaImage) -> usize {
+    image
+        .pixels()
+        .filter(|p| {
+            let [r, g, b, _] = p.0.map(u16::from);
+            r > 120 && r > 2 * b && r > g + 40
+        })
+        .count()
+}
+
+fn bluish(image: &RgbaImage) -> usize {
+    image
+        .pixels()
+        .filter(|p| {
+            let [r, _, b, _] = p.0.map(u16::from);
+            b > 120 && b > 2 * r
+        })
+        .count()
+}
+
+fn render(
+    scene: &Scene,
+    binding: &StarBinding,
+    pose: &[DVec3],
+    options: &RenderOptions,
+) -> RgbaImage {
+    let camera = framing_camera(scene, pose);
+    render_to_image(&GPU, scene, binding, pose, &camera, options).unwrap()
+}
+
+/// Keeps a copy of every rendered image for looking at (target/tmp).
+fn keep(name: &str, image: &RgbaImage) {
+    image
+        .save(Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}.png")))
+        .unwrap();
+}
+
+#[test]
+fn plain_demo_scene() {
+    let (scene, binding) = bound("bar", 0.5);
+    let pose = &scene.poses["bend"];
+    let image = render(&scene, &binding, pose, &options());
+    keep("bar_bend", &image);
+    assert!(distinct(&image) > 50, "blank image");
+    // The clay mesh covers a good part of the view; cage lines in MVC blue are drawn.
+    let clay = image
+        .pixels()
+        .filter(|p| p.0[0] > 90 && p.0[0].abs_diff(p.0[1]) < 25 && p.0[2] < p.0[0])
+        .count();
+    assert!(clay > 2000, "{clay} clay pixels");
+    let mvc = colors::to_u8(colors::kind(
+        starcages_core::coords::CoordinateKind::MeanValue,
+    ));
+    assert!(count_near(&image, mvc, 30) > 50, "no blue cage lines");
+    check_snapshot("bar_bend", &image);
+}
+
+#[test]
+fn influence_map_has_both_ends() {
+    let (scene, binding) = bound("bumpy", 0.4);
+    let map = influence::boundary(&binding, None);
+    let image = render(
+        &scene,
+        &binding,
+        &scene.poses["lift"],
+        &RenderOptions {
+            map: Some(map),
+            layers: Layers {
+                cages: false,
+                vertices: false,
+                ..Layers::default()
+            },
+            ..options()
+        },
+    );
+    keep("bumpy_b_map", &image);
+    assert!(
+        reddish(&image) > 300,
+        "no red (T) in the b map: {}",
+        reddish(&image)
+    );
+    assert!(
+        bluish(&image) > 300,
+        "no blue (join) in the b map: {}",
+        bluish(&image)
+    );
+    check_snapshot("bumpy_b_map", &image);
+}
+
+#[test]
+fn wireframe_and_flat_shading() {
+    let (scene, binding) = bound("bumpy", 0.25);
+    let plain = render(
+        &scene,
+        &binding,
+        &scene.poses["lift"],
+        &RenderOptions {
+            layers: Layers {
+                cages: false,
+                vertices: false,
+                ..Layers::default()
+            },
+            ..options()
+        },
+    );
+    let wire = render(
+        &scene,
+        &binding,
+        &scene.poses["lift"],
+        &RenderOptions {
+            layers: Layers {
+                cages: false,
+                vertices: false,
+                wireframe: true,
+                flat: true,
+                ..Layers::default()
+            },
+            ..options()
+        },
+    );
+    keep("bumpy_plain", &plain);
+    keep("bumpy_wireframe", &wire);
+    let dark = |image: &RgbaImage| {
+        image
+            .pixels()
+            .filter(|p| p.0[..3].iter().all(|&c| c < 60))
+            .count()
+    };
+    assert!(
+        dark(&wire) > dark(&plain) + 200,
+        "wireframe not drawn: {} vs {}",
+        dark(&wire),
+        dark(&plain)
+    );
+    check_snapshot("bumpy_wireframe", &wire);
+}
+
+#[test]
+fn selection_is_highlighted() {
+    let (scene, binding) = bound("critter", 0.5);
+    let ears = scene.cages.cage_vertices("ears").unwrap();
+    let style = CageStyle {
+        selected: ears.iter().copied().collect(),
+        hovered: Some(0),
+        focus_level: Some(1),
+        ..CageStyle::default()
+    };
+    let pose = &scene.poses["fig13"];
+    let image = render(
+        &scene,
+        &binding,
+        pose,
+        &RenderOptions { style, ..options() },
+    );
+    keep("critter_selection", &image);
+    let orange = count_near(&image, colors::to_u8(colors::SELECTED), 40);
+    assert!(orange > 100, "{orange} selected-vertex pixels");
+    check_snapshot("critter_selection", &image);
+}
+
+#[test]
+fn gpu_deformation_matches_the_cpu_operator() {
+    let (scene, binding) = bound("prism", 0.5);
+    if !GPU.compute {
+        eprintln!("no compute shaders on this adapter: the CPU path is used");
+        return;
+    }
+    let rest: Vec<Vec3> = scene
+        .mesh
+        .welded_positions()
+        .iter()
+        .map(|p| p.as_vec3())
+        .collect();
+    let mut renderer = SceneRenderer::new(&GPU, OFFSCREEN_FORMAT, 1);
+    renderer.set_mesh(
+        &GPU,
+        &rest,
+        scene.mesh.welded_triangles(),
+        Some(&binding.operator),
+    );
+    assert!(renderer.deforms_on_gpu());
+    let pose = &scene.poses["twist"];
+    let mut encoder = GPU.device.create_command_encoder(&Default::default());
+    let dofs = binding.operator.dofs(&scene.cages.vertices, pose);
+    assert!(renderer.deform_on_gpu(&GPU, &mut encoder, &dofs));
+    GPU.queue.submit([encoder.finish()]);
+    let bytes = download(&GPU, renderer.position_buffer().unwrap()).unwrap();
+    let gpu: &[Vec3] = bytemuck::cast_slice(&bytes[..rest.len() * 12]);
+    let cpu = binding.deform(&scene.cages.vertices, pose);
+    let (lo, hi) = scene.mesh.bounds();
+    let diagonal = (hi - lo).length() as f32;
+    let worst = gpu
+        .iter()
+        .zip(&cpu)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(
+        worst <= 1e-5 * diagonal,
+        "GPU and CPU differ by {worst} (diagonal {diagonal})"
+    );
+}

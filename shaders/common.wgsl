@@ -1,0 +1,13 @@
+// Per-frame uniforms shared by every StarCages draw pipeline (prepended to each shader).
+struct Frame {
+    view_proj: mat4x4<f32>,
+    // xyz: eye position.
+    eye: vec4<f32>,
+    // x, y: viewport size in pixels; z: flat shading (1) or smooth (0); w: unused.
+    viewport: vec4<f32>,
+    // Background gradient, top and bottom.
+    background_top: vec4<f32>,
+    background_bottom: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
