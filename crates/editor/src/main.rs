@@ -1,12 +1,44 @@
-//! `starcages`: the StarCages desktop cage editor.
-//!
-//! The interactive editor arrives with the editor issue; until then this binary says so and
-//! points to the command-line tool, which already binds coordinates.
+//! `starcages`: the StarCages desktop cage editor. `starcages` opens the built-in demo scene,
+//! `starcages SCENE.json` or `starcages MESH.obj` opens a file.
 
-fn main() {
-    eprintln!(
-        "The StarCages editor ({}) is not built yet. Use `cargo run --release -p starcages-cli -- --help` for the command-line tool.",
-        env!("CARGO_PKG_NAME")
-    );
-    std::process::exit(1);
+use anyhow::Context as _;
+use starcages_editor::{Document, recent};
+
+fn main() -> anyhow::Result<()> {
+    let path = std::env::args_os().nth(1).map(std::path::PathBuf::from);
+    let (doc, error) = match &path {
+        Some(path) => match Document::open(path) {
+            Ok(doc) => (doc, None),
+            Err(e) => (
+                Document::demo(),
+                Some(format!("could not open {e}; showing the demo scene")),
+            ),
+        },
+        None => (Document::demo(), None),
+    };
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title(doc.title())
+            .with_inner_size([1400.0, 900.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    eframe::run_native(
+        "StarCages",
+        options,
+        Box::new(move |cc| {
+            let mut app = starcages_editor::create(cc, doc);
+            app.recent_file = recent::default_file();
+            if let Some(file) = &app.recent_file {
+                app.recent = recent::load(file);
+            }
+            if let Some(error) = error {
+                app.error(error);
+            }
+            Ok(Box::new(app))
+        }),
+    )
+    .map_err(|e| anyhow::anyhow!("{e}"))
+    .context("the editor window could not be opened (is there a display?)")
 }

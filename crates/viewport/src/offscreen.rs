@@ -1,13 +1,13 @@
 //! Offscreen rendering: a scene in a pose, seen by a camera, as an RGBA image, without a
 //! window (the CLI's `render`, snapshot tests, thumbnails).
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec3};
 use image::RgbaImage;
 use starcages_core::scene::Scene;
 use starcages_core::star::StarBinding;
 
 use crate::camera::OrbitCamera;
-use crate::gpu::{GpuContext, GpuError, Layers, OFFSCREEN_FORMAT, SceneRenderer, renderer};
+use crate::gpu::{GpuContext, GpuError, Layers, OFFSCREEN_FORMAT, SceneRenderer, ViewTarget};
 use crate::influence::{MapValues, vertex_colors};
 use crate::layers::{CageStyle, cage_dots, cage_lines};
 
@@ -82,134 +82,54 @@ pub fn render_to_image(
     renderer.set_colors(gpu, &vertex_colors(values, rest.len()));
     renderer.set_lines(gpu, &cage_lines(&scene.cages, pose, &options.style));
     renderer.set_dots(gpu, &cage_dots(&scene.cages, pose, &options.style));
-    let target = Target::new(gpu, options.width, options.height, samples);
+    let target = ViewTarget::new(gpu, options.width, options.height, samples);
     renderer.set_camera(gpu, camera, target.size(), &options.layers);
-    target.render(gpu, &renderer, encoder, &options.layers)
+    render_and_read(gpu, &renderer, &target, encoder, &options.layers)
 }
 
-/// Colour (multisampled or not), resolve and depth textures of one image.
-struct Target {
-    width: u32,
-    height: u32,
-    color: wgpu::Texture,
-    resolve: Option<wgpu::Texture>,
-    depth: wgpu::Texture,
-}
-
-impl Target {
-    fn new(gpu: &GpuContext, width: u32, height: u32, samples: u32) -> Self {
-        let (width, height) = (width.clamp(1, 8192), height.clamp(1, 8192));
-        let texture = |label, format, samples, usage| {
-            gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let copy = wgpu::TextureUsages::COPY_SRC;
-        let (color, resolve) = if samples > 1 {
-            (
-                texture("colour (MSAA)", OFFSCREEN_FORMAT, samples, attach),
-                Some(texture("colour", OFFSCREEN_FORMAT, 1, attach | copy)),
-            )
-        } else {
-            (texture("colour", OFFSCREEN_FORMAT, 1, attach | copy), None)
-        };
-        let depth = texture("depth", renderer::DEPTH_FORMAT, samples, attach);
-        Self {
+/// Renders into `target` and reads the image back.
+fn render_and_read(
+    gpu: &GpuContext,
+    renderer: &SceneRenderer,
+    target: &ViewTarget,
+    mut encoder: wgpu::CommandEncoder,
+    layers: &Layers,
+) -> Result<RgbaImage, GpuError> {
+    target.render(&mut encoder, renderer, layers);
+    let size = target.size();
+    let (width, height) = (size.x as u32, size.y as u32);
+    let bytes_per_row = (width * 4).div_ceil(256) * 256;
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: u64::from(bytes_per_row) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_texture_to_buffer(
+        target.image().as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &readback,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(bytes_per_row),
+                rows_per_image: Some(height),
+            },
+        },
+        wgpu::Extent3d {
             width,
             height,
-            color,
-            resolve,
-            depth,
-        }
+            depth_or_array_layers: 1,
+        },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(gpu, &readback)?;
+    let mut image = RgbaImage::new(width, height);
+    let row = (width * 4) as usize;
+    for (y, chunk) in bytes.chunks(bytes_per_row as usize).enumerate() {
+        let start = y * row;
+        image.as_mut()[start..start + row].copy_from_slice(&chunk[..row]);
     }
-
-    fn size(&self) -> Vec2 {
-        Vec2::new(self.width as f32, self.height as f32)
-    }
-
-    fn render(
-        &self,
-        gpu: &GpuContext,
-        renderer: &SceneRenderer,
-        mut encoder: wgpu::CommandEncoder,
-        layers: &Layers,
-    ) -> Result<RgbaImage, GpuError> {
-        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
-        let color_view = view(&self.color);
-        let resolve_view = self.resolve.as_ref().map(view);
-        let depth_view = view(&self.depth);
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("scene"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
-                    depth_slice: None,
-                    resolve_target: resolve_view.as_ref(),
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            renderer.draw(&mut pass, layers);
-        }
-        let source = self.resolve.as_ref().unwrap_or(&self.color);
-        let bytes_per_row = (self.width * 4).div_ceil(256) * 256;
-        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: u64::from(bytes_per_row) * u64::from(self.height),
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        encoder.copy_texture_to_buffer(
-            source.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(bytes_per_row),
-                    rows_per_image: Some(self.height),
-                },
-            },
-            wgpu::Extent3d {
-                width: self.width,
-                height: self.height,
-                depth_or_array_layers: 1,
-            },
-        );
-        gpu.queue.submit([encoder.finish()]);
-        let bytes = read_buffer(gpu, &readback)?;
-        let mut image = RgbaImage::new(self.width, self.height);
-        let row = (self.width * 4) as usize;
-        for (y, chunk) in bytes.chunks(bytes_per_row as usize).enumerate() {
-            let start = y * row;
-            image.as_mut()[start..start + row].copy_from_slice(&chunk[..row]);
-        }
-        Ok(image)
-    }
+    Ok(image)
 }
 
 /// Maps `buffer` (MAP_READ) and copies its bytes out.

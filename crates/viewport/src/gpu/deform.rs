@@ -17,7 +17,8 @@ const WORKGROUP: u32 = 64;
 pub struct GpuDeformer {
     dofs: wgpu::Buffer,
     dof_count: usize,
-    bind_group: wgpu::BindGroup,
+    product_group: wgpu::BindGroup,
+    normals_group: wgpu::BindGroup,
     deform: wgpu::ComputePipeline,
     normals: wgpu::ComputePipeline,
     groups: (u32, u32),
@@ -137,53 +138,77 @@ impl GpuDeformer {
             },
             count: None,
         };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("deform"),
-            entries: &[
-                entry(0, true, true),
-                entry(1, true, false),
-                entry(2, true, false),
-                entry(3, true, false),
-                entry(4, true, false),
-                entry(5, false, false),
-                entry(6, true, false),
-                entry(7, true, false),
-                entry(8, true, false),
-                entry(9, false, false),
+        // Two passes, two bind groups: each stays within the default limit of 8 storage
+        // buffers per stage (the product: 5; the normals: 5).
+        let group = |label: &str, bindings: &[(u32, bool, bool)], buffers: &[&wgpu::Buffer]| {
+            let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
+                .iter()
+                .map(|&(b, read_only, uniform)| entry(b, read_only, uniform))
+                .collect();
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            });
+            let resources: Vec<wgpu::BindGroupEntry<'_>> = bindings
+                .iter()
+                .zip(buffers)
+                .map(|(&(b, _, _), buffer)| wgpu::BindGroupEntry {
+                    binding: b,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect();
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &layout,
+                entries: &resources,
+            });
+            (layout, bind_group)
+        };
+        let (product_layout, product_group) = group(
+            "deform product",
+            &[
+                (0, true, true),
+                (1, true, false),
+                (2, true, false),
+                (3, true, false),
+                (4, true, false),
+                (5, false, false),
             ],
-        });
-        let resources: [&wgpu::Buffer; 10] = [
-            &params,
-            &buffers[0],
-            &buffers[1],
-            &buffers[2],
-            &dofs,
-            positions,
-            &topology[0],
-            &topology[1],
-            &topology[2],
-            normals,
-        ];
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("deform"),
-            layout: &layout,
-            entries: &entries,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("deform"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+            &[
+                &params,
+                &buffers[0],
+                &buffers[1],
+                &buffers[2],
+                &dofs,
+                positions,
+            ],
+        );
+        let (normals_layout, normals_group) = group(
+            "deform normals",
+            &[
+                (0, true, true),
+                (5, false, false),
+                (6, true, false),
+                (7, true, false),
+                (8, true, false),
+                (9, false, false),
+            ],
+            &[
+                &params,
+                positions,
+                &topology[0],
+                &topology[1],
+                &topology[2],
+                normals,
+            ],
+        );
         let module = shaders::module(device, "deform");
-        let pipeline = |entry: &str| {
+        let pipeline = |entry: &str, layout: &wgpu::BindGroupLayout| {
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry),
+                bind_group_layouts: &[Some(layout)],
+                immediate_size: 0,
+            });
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: Some(&pipeline_layout),
@@ -201,9 +226,10 @@ impl GpuDeformer {
         Self {
             dofs,
             dof_count,
-            deform: pipeline("deform"),
-            normals: pipeline("vertex_normals"),
-            bind_group,
+            deform: pipeline("deform", &product_layout),
+            normals: pipeline("vertex_normals", &normals_layout),
+            product_group,
+            normals_group,
             groups,
             resident_bytes,
         }
@@ -220,9 +246,10 @@ impl GpuDeformer {
             label: Some("deform"),
             timestamp_writes: None,
         });
-        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_bind_group(0, &self.product_group, &[]);
         pass.set_pipeline(&self.deform);
         pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+        pass.set_bind_group(0, &self.normals_group, &[]);
         pass.set_pipeline(&self.normals);
         pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
     }

@@ -3,7 +3,7 @@
 const COMMON: &str = include_str!("../../../../shaders/common.wgsl");
 
 /// The shader modules: name and source as written in `shaders/`.
-pub const SOURCES: [(&str, &str); 5] = [
+pub const SOURCES: [(&str, &str); 6] = [
     ("mesh", include_str!("../../../../shaders/mesh.wgsl")),
     ("lines", include_str!("../../../../shaders/lines.wgsl")),
     ("dots", include_str!("../../../../shaders/dots.wgsl")),
@@ -12,15 +12,16 @@ pub const SOURCES: [(&str, &str); 5] = [
         include_str!("../../../../shaders/background.wgsl"),
     ),
     ("deform", include_str!("../../../../shaders/deform.wgsl")),
+    ("blit", include_str!("../../../../shaders/blit.wgsl")),
 ];
 
-/// The full source of shader `name`: draw shaders get the per-frame uniform block first.
+/// The full source of shader `name`: scene draw shaders get the per-frame uniform block first.
 pub fn source(name: &str) -> String {
     let body = SOURCES
         .iter()
         .find(|(n, _)| *n == name)
         .map_or("", |(_, s)| s);
-    if name == "deform" {
+    if name == "deform" || name == "blit" {
         body.to_owned()
     } else {
         format!("{COMMON}\n{body}")

@@ -1,0 +1,104 @@
+//! The open document: a scene, where it lives on disk, and whether it has unsaved changes.
+//! Opening accepts scene files and bare meshes (which get automatic grid cages).
+
+use std::path::{Path, PathBuf};
+
+use starcages_core::io::read_mesh;
+use starcages_core::scene::demo::demo_scene;
+use starcages_core::scene::{
+    AutocageOptions, MeshSource, Scene, SceneSettings, autocage, load_scene, save_scene,
+    validate_scene,
+};
+
+/// The demo scene `cargo run --release` opens.
+pub const DEMO: &str = "critter";
+
+/// A scene being edited.
+#[derive(Debug, Clone)]
+pub struct Document {
+    /// The scene.
+    pub scene: Scene,
+    /// Its file, once saved or opened.
+    pub path: Option<PathBuf>,
+    /// Changed since the last save.
+    pub dirty: bool,
+}
+
+impl Document {
+    /// The built-in demo scene (generated, nothing read from disk).
+    pub fn demo() -> Self {
+        let scene = demo_scene(DEMO, 1.0).unwrap_or_else(|| unreachable!("the demo exists"));
+        Self {
+            scene,
+            path: None,
+            dirty: false,
+        }
+    }
+
+    /// Opens a scene (`.json`) or a mesh (`.obj`, `.gltf`, `.glb`; boxed in automatic grid
+    /// cages). The error names the file, what is wrong and what to do.
+    pub fn open(path: &Path) -> Result<Self, String> {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        if extension == "json" {
+            let scene = load_scene(path).map_err(|e| e.to_string())?;
+            let report = validate_scene(&scene);
+            if let Some(problem) = report.errors.first() {
+                return Err(format!(
+                    "{}: {problem} ({} problem(s); `starcages-cli validate` lists them all)",
+                    path.display(),
+                    report.errors.len()
+                ));
+            }
+            return Ok(Self {
+                scene,
+                path: Some(path.to_path_buf()),
+                dirty: false,
+            });
+        }
+        Ok(Self {
+            scene: scene_from_mesh(
+                path,
+                &AutocageOptions {
+                    grid: [3, 3, 3],
+                    ..AutocageOptions::default()
+                },
+            )?,
+            path: None,
+            dirty: true,
+        })
+    }
+
+    /// Saves atomically to `path` and remembers it.
+    pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
+        save_scene(&self.scene, path).map_err(|e| e.to_string())?;
+        self.path = Some(path.to_path_buf());
+        self.dirty = false;
+        Ok(())
+    }
+
+    /// The window title: file name and an unsaved-changes marker.
+    pub fn title(&self) -> String {
+        let name = self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+            || "untitled".to_owned(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        format!("{}{name} — StarCages", if self.dirty { "● " } else { "" })
+    }
+}
+
+/// A new scene around the mesh at `path`, in a grid of box cages.
+pub fn scene_from_mesh(path: &Path, options: &AutocageOptions) -> Result<Scene, String> {
+    let mesh = read_mesh(path).map_err(|e| e.to_string())?;
+    let cages = autocage(&mesh, options);
+    let source = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    Ok(Scene::new(
+        MeshSource::File(source),
+        mesh,
+        cages,
+        SceneSettings::default(),
+    ))
+}

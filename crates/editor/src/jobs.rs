@@ -1,0 +1,108 @@
+//! Binding on a worker thread: the UI keeps drawing, shows progress and can cancel; the
+//! previous binding stays in use until the new one arrives.
+
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::Instant;
+
+use starcages_core::BindControl;
+use starcages_core::hierarchy::Hierarchy;
+use starcages_core::scene::Scene;
+use starcages_core::star::StarBinding;
+
+/// What a finished bind delivers.
+#[derive(Debug)]
+pub struct Bound {
+    /// The mesh binding.
+    pub binding: StarBinding,
+    /// The internal-cage hierarchy.
+    pub hierarchy: Hierarchy,
+    /// Wall seconds of the whole bind.
+    pub seconds: f64,
+    /// The edit generation it was started for.
+    pub generation: u64,
+}
+
+/// A bind in progress.
+#[derive(Debug)]
+pub struct BindJob {
+    control: Arc<BindControl>,
+    receiver: Receiver<Result<Bound, String>>,
+    /// When it started.
+    pub started: Instant,
+    /// What it binds, for the status line.
+    pub label: String,
+}
+
+/// What polling a job found.
+#[derive(Debug)]
+pub enum Poll {
+    /// Still working, with the fraction done.
+    Running(f64),
+    /// Finished.
+    Done(Box<Result<Bound, String>>),
+}
+
+impl BindJob {
+    /// Starts binding `scene` on a worker thread; `wake` is called when it ends (to repaint).
+    pub fn start(
+        scene: Scene,
+        generation: u64,
+        label: &str,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let control = Arc::new(BindControl::default());
+        let (sender, receiver) = channel();
+        let worker_control = Arc::clone(&control);
+        std::thread::spawn(move || {
+            let start = Instant::now();
+            let result = StarBinding::bind_scene(&scene, &worker_control)
+                .map_err(|e| e.to_string())
+                .and_then(|binding| {
+                    let hierarchy = Hierarchy::bind(&scene).map_err(|e| e.to_string())?;
+                    Ok(Bound {
+                        binding,
+                        hierarchy,
+                        seconds: start.elapsed().as_secs_f64(),
+                        generation,
+                    })
+                });
+            sender.send(result).ok();
+            wake();
+        });
+        Self {
+            control,
+            receiver,
+            started: Instant::now(),
+            label: label.to_owned(),
+        }
+    }
+
+    /// Asks the worker to stop; it then reports a cancellation error.
+    pub fn cancel(&self) {
+        self.control.cancel();
+    }
+
+    /// Fraction of the work done.
+    pub fn progress(&self) -> f64 {
+        self.control.progress()
+    }
+
+    /// Progress or the result, without blocking.
+    pub fn poll(&self) -> Poll {
+        match self.receiver.try_recv() {
+            Ok(result) => Poll::Done(Box::new(result)),
+            Err(TryRecvError::Empty) => Poll::Running(self.control.progress()),
+            Err(TryRecvError::Disconnected) => Poll::Done(Box::new(Err(
+                "the binding worker stopped unexpectedly".into(),
+            ))),
+        }
+    }
+
+    /// Blocks until the job ends (tests and headless use).
+    pub fn wait(self) -> Result<Bound, String> {
+        self.receiver
+            .recv()
+            .unwrap_or_else(|_| Err("the binding worker stopped unexpectedly".into()))
+    }
+}
