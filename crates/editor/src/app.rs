@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 use starcages_core::coords::CoordinateKind;
-use starcages_core::hierarchy::Hierarchy;
+use starcages_core::hierarchy::{AutoInternalCage, Hierarchy, add_auto_internal_cage};
 use starcages_core::io::{cage_set_obj_text, write_atomic, write_mesh};
-use starcages_core::scene::Scene;
+use starcages_core::scene::{AutocageOptions, Scene};
 use starcages_core::star::{StarBinding, single_cage_scene};
 use starcages_viewport::influence::{self, MapValues};
 use starcages_viewport::layers::CageStyle;
@@ -151,6 +151,8 @@ pub struct EditorApp {
     pub(crate) mesh_upload: Option<(u64, Arc<crate::viewport::MeshUpload>)>,
     /// The scene before a slider drag (one undo step per drag).
     pub(crate) drag_before: Option<Snapshot>,
+    /// The automatic-cages dialog of File ▸ New from mesh, while open.
+    pub new_mesh_dialog: Option<(PathBuf, AutocageOptions)>,
 }
 
 /// What an influence map depends on: the choice, the inspected cage, the single selected
@@ -204,6 +206,7 @@ impl EditorApp {
             map_cache: MapCache::default(),
             mesh_upload: None,
             drag_before: None,
+            new_mesh_dialog: None,
         };
         app.start_bind("binding the scene");
         app
@@ -442,20 +445,68 @@ impl EditorApp {
         }
     }
 
+    /// Replaces the document (new or opened), keeping app-wide settings.
+    pub fn replace_document(&mut self, doc: Document) {
+        let gpu = self.gpu;
+        let repaint = self.repaint.take();
+        let recent = std::mem::take(&mut self.recent);
+        let recent_file = self.recent_file.take();
+        let (layers, viewport, show_timings) =
+            (self.view.layers, self.view.viewport, self.show_timings);
+        *self = Self::new(doc, repaint, gpu);
+        self.recent = recent;
+        self.recent_file = recent_file;
+        self.view.layers = layers;
+        self.view.viewport = viewport;
+        self.show_timings = show_timings;
+    }
+
+    /// A new scene from the mesh at `path` in automatic grid cages.
+    pub fn new_from_mesh(&mut self, path: &Path, options: &AutocageOptions) {
+        match crate::document::scene_from_mesh(path, options) {
+            Ok(scene) => {
+                self.replace_document(Document {
+                    scene,
+                    path: None,
+                    dirty: true,
+                });
+                self.info(format!("new scene around {}", path.display()));
+            }
+            Err(e) => self.error(format!("could not read the mesh: {e}")),
+        }
+    }
+
+    /// Adds a box internal cage owning the selected vertices (an undoable hierarchy edit).
+    pub fn add_internal_cage_around_selection(&mut self, kind: CoordinateKind) {
+        let vertices: Vec<u32> = self.view.style.selected.iter().copied().collect();
+        let taken: Vec<&str> = self.doc.scene.cages.cage_names();
+        let name = (1..)
+            .map(|i| format!("internal_{i}"))
+            .find(|n| !taken.contains(&n.as_str()))
+            .unwrap_or_default();
+        let options = AutoInternalCage {
+            name: name.clone(),
+            kind,
+            ..AutoInternalCage::default()
+        };
+        let mut result = Ok(0);
+        self.edit_scene("add internal cage", |scene| {
+            result = add_auto_internal_cage(scene, &options, &vertices);
+        });
+        match result {
+            Ok(_) => self.info(format!(
+                "added internal cage '{name}' owning {} vertices",
+                vertices.len()
+            )),
+            Err(e) => self.error(e.to_string()),
+        }
+    }
+
     /// Opens a file (scene or mesh) in place of the current document.
     pub fn open(&mut self, path: &Path) {
         match Document::open(path) {
             Ok(doc) => {
-                let gpu = self.gpu;
-                let repaint = self.repaint.take();
-                let recent = std::mem::take(&mut self.recent);
-                let recent_file = self.recent_file.take();
-                let view = self.view.clone();
-                *self = Self::new(doc, repaint, gpu);
-                self.recent = recent;
-                self.recent_file = recent_file;
-                self.view.layers = view.layers;
-                self.view.viewport = view.viewport;
+                self.replace_document(doc);
                 self.remember(path);
                 self.info(format!("opened {}", path.display()));
             }

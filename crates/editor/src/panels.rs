@@ -6,6 +6,8 @@ use starcages_core::coords::CoordinateKind;
 use starcages_core::scene::{JoinPolicy, Smoothing};
 use starcages_viewport::View;
 
+use starcages_core::scene::AutocageOptions;
+
 use crate::app::{EditorApp, InfluenceChoice, Pending};
 use crate::interaction;
 
@@ -49,14 +51,19 @@ impl eframe::App for EditorApp {
             .frame(egui::Frame::NONE)
             .show(ui, |ui| interaction::viewport_ui(self, ui));
         unsaved_prompt(self, &ctx);
+        new_mesh_dialog(self, &ctx);
     }
 }
 
 fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
-            if ui.button("New from mesh…").clicked() {
-                open_dialog(app);
+            if ui.button("New from mesh…").clicked()
+                && let Some(path) = rfd::FileDialog::new()
+                    .add_filter("mesh", &["obj", "gltf", "glb"])
+                    .pick_file()
+            {
+                app.new_mesh_dialog = Some((path, AutocageOptions::default()));
             }
             if ui.button("Open…  Ctrl+O").clicked() {
                 open_dialog(app);
@@ -243,6 +250,52 @@ fn unsaved_prompt(app: &mut EditorApp, ctx: &egui::Context) {
     }
 }
 
+/// File ▸ New from mesh: grid size, padding and coordinates of the automatic cages.
+fn new_mesh_dialog(app: &mut EditorApp, ctx: &egui::Context) {
+    let Some((path, mut options)) = app.new_mesh_dialog.clone() else {
+        return;
+    };
+    let mut answer = None;
+    egui::Modal::new(egui::Id::unique("new-from-mesh")).show(ctx, |ui| {
+        ui.heading("New from mesh");
+        ui.label(path.display().to_string());
+        ui.horizontal(|ui| {
+            ui.label("Grid cells");
+            for n in &mut options.grid {
+                ui.add(egui::DragValue::new(n).range(1..=16));
+            }
+        });
+        ui.add(egui::Slider::new(&mut options.padding, 0.0..=0.5).text("padding"));
+        egui::ComboBox::from_label("Coordinates")
+            .selected_text(kind_name(options.kind))
+            .show_ui(ui, |ui| {
+                for k in KINDS {
+                    ui.selectable_value(&mut options.kind, k, kind_name(k));
+                }
+            });
+        ui.horizontal(|ui| {
+            if ui.button("Create").clicked() {
+                answer = Some(true);
+            }
+            if ui.button("Cancel").clicked() {
+                answer = Some(false);
+            }
+        });
+    });
+    match answer {
+        Some(true) => {
+            app.new_mesh_dialog = None;
+            if app.doc.dirty {
+                app.error("save or discard the current scene first (File ▸ Save), then create the new one".into());
+            } else {
+                app.new_from_mesh(&path, &options);
+            }
+        }
+        Some(false) => app.new_mesh_dialog = None,
+        None => app.new_mesh_dialog = Some((path, options)),
+    }
+}
+
 fn outliner(app: &mut EditorApp, ui: &mut egui::Ui) {
     ui.heading("Outliner");
     ui.checkbox(&mut app.view.layers.mesh, "Mesh");
@@ -316,6 +369,15 @@ pub fn select_cage(app: &mut EditorApp, i: usize) {
 
 fn inspector(app: &mut EditorApp, ui: &mut egui::Ui) {
     ui.heading("Cage");
+    if !app.view.style.selected.is_empty() {
+        ui.menu_button("Add internal cage around selection", |ui| {
+            for k in KINDS {
+                if ui.button(kind_name(k)).clicked() {
+                    app.add_internal_cage_around_selection(k);
+                }
+            }
+        });
+    }
     let Some(cage) = app.view.selected_cage else {
         ui.label("Select a cage in the outliner.");
         scene_settings(app, ui);

@@ -189,6 +189,50 @@ fn the_h_slider_changes_the_influence_map() {
     harness.run_steps(2);
     let app = harness.state();
     assert_eq!(app.doc.scene.cages.leaves[leaf(app, "head_0_0_0")].h, None);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
+    harness.run_steps(2);
+    let app = harness.state();
+    assert_eq!(
+        app.doc.scene.cages.leaves[leaf(app, "head_0_0_0")].h,
+        Some(0.15)
+    );
+}
+
+#[test]
+fn grab_with_an_axis_lock_and_a_typed_distance_then_cancel_a_rotation() {
+    let mut harness = harness();
+    let app = harness.state_mut();
+    let v = app.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    app.select_vertex(v, false);
+    let start = app.doc.scene.pose[v as usize];
+    let centre = app.view.viewport.center();
+    harness.hover_at(centre);
+    harness.key_press(egui::Key::G);
+    harness.run_steps(1);
+    assert!(harness.state().tool.is_some());
+    for text in ["z", "0", ".", "2", "5"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    let app = harness.state();
+    assert!(app.tool.is_none());
+    let moved = app.doc.scene.pose[v as usize] - start;
+    assert!(
+        (moved - glam::DVec3::new(0.0, 0.0, 0.25)).length() < 1e-12,
+        "{moved}"
+    );
+    // R, move the mouse, Esc: nothing changes and nothing is recorded.
+    let after_grab = app.doc.scene.pose.clone();
+    harness.key_press(egui::Key::R);
+    harness.run_steps(1);
+    harness.hover_at(centre + egui::vec2(80.0, 40.0));
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert_eq!(harness.state().doc.scene.pose, after_grab);
+    assert_eq!(harness.state().undo.undo_label(), Some("grab"));
 }
 
 #[test]
@@ -253,4 +297,78 @@ fn main_window_snapshot() {
             .threshold(2.0)
             .max_failed_pixels(1200),
     );
+}
+
+#[test]
+fn a_bind_runs_in_the_background_and_cancel_keeps_the_previous_binding() {
+    let mut harness = harness();
+    let old = std::sync::Arc::clone(&harness.state().rig.as_ref().unwrap().binding);
+    // A fine HC grid makes the ears cage's bind slow enough to cancel.
+    harness
+        .state_mut()
+        .edit_scene("HC grid", |scene| scene.settings.harmonic.resolution = 128);
+    assert!(harness.state().job.is_some());
+    let mut frames = Vec::new();
+    for _ in 0..5 {
+        let start = std::time::Instant::now();
+        harness.step();
+        frames.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    frames.sort_by(f64::total_cmp);
+    assert!(frames[2] < 50.0, "UI frames while binding: {frames:?} ms");
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    let app = harness.state_mut();
+    assert!(!app.wait_for_bind(), "the cancelled bind was installed");
+    let message = app.message.clone().unwrap();
+    assert!(
+        message.error && message.text.contains("cancelled"),
+        "{}",
+        message.text
+    );
+    assert!(std::sync::Arc::ptr_eq(
+        &old,
+        &app.rig.as_ref().unwrap().binding
+    ));
+}
+
+#[test]
+fn adding_an_internal_cage_around_the_selection_is_an_undoable_hierarchy_edit() {
+    let mut harness = harness();
+    let ears = harness
+        .state()
+        .doc
+        .scene
+        .cages
+        .cage_vertices("ear_left")
+        .unwrap();
+    // The ear's lower vertices belong to the head cage; its top ones to the ears cage.
+    let app = harness.state_mut();
+    app.view.style.selected = ears.iter().copied().collect();
+    app.add_internal_cage_around_selection(CoordinateKind::MeanValue);
+    let message = app.message.clone().unwrap();
+    assert!(
+        message.error && message.text.contains("already owned"),
+        "{}",
+        message.text
+    );
+    assert_eq!(app.doc.scene.cages.internals.len(), 2);
+    // Unowned vertices: a new top-level cage over the head cage's own vertices.
+    let head = app.doc.scene.cages.cage_vertices("head").unwrap();
+    app.view.style.selected = head.iter().copied().collect();
+    app.add_internal_cage_around_selection(CoordinateKind::Harmonic);
+    settle(&mut harness);
+    let app = harness.state_mut();
+    assert_eq!(app.doc.scene.cages.internals.len(), 3);
+    assert!(
+        app.rig
+            .as_ref()
+            .unwrap()
+            .hierarchy
+            .parent_of(head[0])
+            .is_some()
+    );
+    app.undo();
+    settle(&mut harness);
+    assert_eq!(harness.state().doc.scene.cages.internals.len(), 2);
 }
