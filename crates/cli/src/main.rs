@@ -43,6 +43,8 @@ enum Command {
     Render(commands::render::RenderArgs),
     /// Deformed positions of arbitrary points, as JSON.
     Eval(commands::eval::EvalArgs),
+    /// GPU deformation and drawing against the CPU operator, per frame (prism demo).
+    BenchGpu(commands::bench_gpu::BenchGpuArgs),
     /// *Cages against single-cage baselines: memory, bind, frame and move times.
     Bench(commands::bench::BenchArgs),
 }
@@ -67,6 +69,7 @@ fn main() -> ExitCode {
         Command::Eval(args) => commands::eval::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Bench(args) => commands::bench::run(&args),
+        Command::BenchGpu(args) => commands::bench_gpu::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

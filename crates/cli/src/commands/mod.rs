@@ -2,6 +2,7 @@
 
 pub mod autocage;
 pub mod bench;
+pub mod bench_gpu;
 pub mod cages;
 pub mod deform;
 pub mod demo;
