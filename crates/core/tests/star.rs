@@ -454,3 +454,35 @@ fn moving_any_cage_vertex_changes_nothing_beyond_its_join_cages() {
         }
     }
 }
+
+/// Re-binding only the cages whose kind or h changed gives the same deformation as binding
+/// everything again.
+#[test]
+fn rebinding_changed_leaves_matches_a_full_bind() {
+    let mut scene = demo_scene("egg", 0.3).unwrap();
+    let old = StarBinding::bind_scene(&scene, &control()).unwrap();
+    scene.cages.leaves[0].h = Some(0.2);
+    scene.cages.leaves[5].kind = CoordinateKind::Green;
+    scene.cages.leaves[6].kind = CoordinateKind::MeanValue;
+    let partial = old.rebind_leaves(&scene, &[0, 5, 6], &control()).unwrap();
+    let full = StarBinding::bind_scene(&scene, &control()).unwrap();
+    let pose = &scene.poses["dent"];
+    let a = partial.deform(&scene.cages.vertices, pose);
+    let b = full.deform(&scene.cages.vertices, pose);
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max);
+    assert!(worst < 1e-5, "{worst}");
+    assert_eq!(partial.boundary_weight, full.boundary_weight);
+    assert_eq!(partial.cage_of, full.cage_of);
+    // Untouched cages keep their rows bit for bit.
+    let untouched = (0..old.cage_of.len())
+        .find(|&i| ![0, 5, 6].contains(&(old.cage_of[i] as usize)))
+        .unwrap();
+    assert_eq!(
+        partial.operator.row(untouched).collect::<Vec<_>>(),
+        old.operator.row(untouched).collect::<Vec<_>>()
+    );
+}

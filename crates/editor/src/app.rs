@@ -9,7 +9,7 @@ use glam::{DVec3, Vec3};
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::{AutoInternalCage, Hierarchy, add_auto_internal_cage};
 use starcages_core::io::{cage_set_obj_text, write_atomic, write_mesh};
-use starcages_core::scene::{AutocageOptions, Scene};
+use starcages_core::scene::{AutocageOptions, CageSet, Scene, SceneSettings};
 use starcages_core::star::{StarBinding, single_cage_scene};
 use starcages_viewport::influence::{self, MapValues};
 use starcages_viewport::layers::CageStyle;
@@ -17,7 +17,7 @@ use starcages_viewport::{Layers, OrbitCamera};
 
 use crate::document::Document;
 use crate::interaction::{Drag, TransformTool};
-use crate::jobs::{BindJob, Poll};
+use crate::jobs::{BindJob, Poll, Scope};
 use crate::undo::{Snapshot, UndoStack};
 
 /// The bound scene: mesh operator, hierarchy and the deformed mesh.
@@ -31,6 +31,8 @@ pub struct Rig {
     pub deformed: Arc<Vec<Vec3>>,
     /// Degrees of freedom of the current pose (for GPU deformation).
     pub dofs: Arc<Vec<Vec3>>,
+    /// The cages and settings this binding is for.
+    pub bound_for: (CageSet, SceneSettings),
 }
 
 /// Which influence map is painted.
@@ -212,15 +214,21 @@ impl EditorApp {
         app
     }
 
-    /// Starts binding the current scene on a worker thread (the old binding stays in use).
+    /// Starts binding the current scene on a worker thread, as much as changed since the
+    /// current binding (the old binding stays in use meanwhile).
     pub fn start_bind(&mut self, label: &str) {
         if let Some(job) = self.job.take() {
             job.cancel();
         }
+        let scope = self
+            .rig
+            .as_ref()
+            .map_or(Scope::Full, |rig| rebind_scope(rig, &self.doc.scene));
         self.generations.edit += 1;
         let wake = self.repaint.clone();
         self.job = Some(BindJob::start(
             self.doc.scene.clone(),
+            scope,
             self.generations.edit,
             label,
             move || {
@@ -266,14 +274,20 @@ impl EditorApp {
                     self.doc.scene.pose_state = hierarchy.state();
                 }
                 self.stats.bind_seconds = bound.seconds;
-                let binding = Arc::new(bound.binding);
+                let same_mesh = self
+                    .rig
+                    .as_ref()
+                    .is_some_and(|rig| Arc::ptr_eq(&rig.binding, &bound.binding));
                 self.rig = Some(Rig {
-                    binding,
+                    binding: bound.binding,
                     hierarchy,
                     deformed: Arc::new(Vec::new()),
                     dofs: Arc::new(Vec::new()),
+                    bound_for: bound.bound_for,
                 });
-                self.generations.mesh += 1;
+                if !same_mesh {
+                    self.generations.mesh += 1;
+                }
                 self.redeform_all();
                 self.map_cache = MapCache::default();
                 true
@@ -372,11 +386,16 @@ impl EditorApp {
         self.undo.push(label, Snapshot::of(&self.doc.scene));
     }
 
-    /// After the scene's state was replaced (undo, redo, cancel, pose switch): rebinds when
-    /// cages or settings changed, else restores the hierarchy state and redeforms.
-    pub fn state_replaced(&mut self, rebind: bool) {
+    /// After the scene's state was replaced (an edit, undo, redo, cancel, pose switch): binds
+    /// again what the change affects (see [`rebind_scope`]), else restores the hierarchy state
+    /// and redeforms.
+    pub fn state_replaced(&mut self) {
         self.doc.dirty = true;
-        if rebind {
+        let changed = match &self.rig {
+            Some(rig) => rig.bound_for != (self.doc.scene.cages.clone(), self.doc.scene.settings),
+            None => true,
+        };
+        if changed || self.job.is_some() {
             self.start_bind("binding after the change");
             return;
         }
@@ -395,9 +414,9 @@ impl EditorApp {
     pub fn undo(&mut self) {
         self.tool = None;
         match self.undo.undo(&mut self.doc.scene) {
-            Some((label, rebind)) => {
+            Some(label) => {
                 self.info(format!("undid: {label}"));
-                self.state_replaced(rebind);
+                self.state_replaced();
             }
             None => self.info("nothing to undo".into()),
         }
@@ -407,9 +426,9 @@ impl EditorApp {
     pub fn redo(&mut self) {
         self.tool = None;
         match self.undo.redo(&mut self.doc.scene) {
-            Some((label, rebind)) => {
+            Some(label) => {
                 self.info(format!("redid: {label}"));
-                self.state_replaced(rebind);
+                self.state_replaced();
             }
             None => self.info("nothing to redo".into()),
         }
@@ -432,7 +451,7 @@ impl EditorApp {
         } else {
             self.doc.scene.cages.internals[cage - leaves].kind = kind;
         }
-        self.state_replaced(true);
+        self.state_replaced();
     }
 
     /// Applies a settings change made by `change` as one undoable edit, then rebinds.
@@ -441,7 +460,7 @@ impl EditorApp {
         change(&mut self.doc.scene);
         if Snapshot::of(&self.doc.scene) != before {
             self.undo.push(label, before);
-            self.state_replaced(true);
+            self.state_replaced();
         }
     }
 
@@ -647,5 +666,34 @@ impl EditorApp {
     /// The painted map's values and legend, if any.
     pub fn map_values(&self) -> Option<&MapValues> {
         self.map_cache.values.as_ref()
+    }
+}
+
+/// How much of `rig` must be bound again for `scene`: nothing new is a full bind only when the
+/// geometry, the hierarchy's structure or the settings changed; a leaf cage's kind, h or border
+/// h changes only its own mesh rows; internal cages change only the hierarchy.
+pub fn rebind_scope(rig: &Rig, scene: &Scene) -> Scope {
+    let (bound, settings) = &rig.bound_for;
+    let now = &scene.cages;
+    if *settings != scene.settings
+        || bound.vertices != now.vertices
+        || bound.leaves.len() != now.leaves.len()
+        || bound.internals.len() != now.internals.len()
+    {
+        return Scope::Full;
+    }
+    let mut leaves = Vec::new();
+    for (i, (a, b)) in bound.leaves.iter().zip(&now.leaves).enumerate() {
+        if a.faces != b.faces || a.name != b.name {
+            return Scope::Full;
+        }
+        if a != b {
+            leaves.push(i);
+        }
+    }
+    if leaves.is_empty() {
+        Scope::Hierarchy(Arc::clone(&rig.binding))
+    } else {
+        Scope::Leaves(Arc::clone(&rig.binding), leaves)
     }
 }

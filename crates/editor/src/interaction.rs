@@ -222,8 +222,8 @@ impl EditorApp {
         if keep {
             self.undo.push(label, *tool.before);
         } else {
-            let rebind = tool.before.restore(&mut self.doc.scene);
-            self.state_replaced(rebind);
+            tool.before.restore(&mut self.doc.scene);
+            self.state_replaced();
         }
     }
 

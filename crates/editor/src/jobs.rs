@@ -7,20 +7,33 @@ use std::time::Instant;
 
 use starcages_core::BindControl;
 use starcages_core::hierarchy::Hierarchy;
-use starcages_core::scene::Scene;
+use starcages_core::scene::{CageSet, Scene, SceneSettings};
 use starcages_core::star::StarBinding;
+
+/// How much to bind again.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Scope {
+    /// Everything: the mesh and the hierarchy.
+    Full,
+    /// The mesh rows of these leaf cages (their kind or h changed), and the hierarchy.
+    Leaves(Arc<StarBinding>, Vec<usize>),
+    /// Only the hierarchy (internal cages changed); the mesh binding is kept.
+    Hierarchy(Arc<StarBinding>),
+}
 
 /// What a finished bind delivers.
 #[derive(Debug)]
 pub struct Bound {
     /// The mesh binding.
-    pub binding: StarBinding,
+    pub binding: Arc<StarBinding>,
     /// The internal-cage hierarchy.
     pub hierarchy: Hierarchy,
     /// Wall seconds of the whole bind.
     pub seconds: f64,
     /// The edit generation it was started for.
     pub generation: u64,
+    /// The cages and settings it was bound for.
+    pub bound_for: (CageSet, SceneSettings),
 }
 
 /// A bind in progress.
@@ -44,9 +57,11 @@ pub enum Poll {
 }
 
 impl BindJob {
-    /// Starts binding `scene` on a worker thread; `wake` is called when it ends (to repaint).
+    /// Starts binding `scene` (as much as `scope` says) on a worker thread; `wake` is called
+    /// when it ends (to repaint).
     pub fn start(
         scene: Scene,
+        scope: Scope,
         generation: u64,
         label: &str,
         wake: impl Fn() + Send + 'static,
@@ -56,17 +71,23 @@ impl BindJob {
         let worker_control = Arc::clone(&control);
         std::thread::spawn(move || {
             let start = Instant::now();
-            let result = StarBinding::bind_scene(&scene, &worker_control)
-                .map_err(|e| e.to_string())
-                .and_then(|binding| {
-                    let hierarchy = Hierarchy::bind(&scene).map_err(|e| e.to_string())?;
-                    Ok(Bound {
-                        binding,
-                        hierarchy,
-                        seconds: start.elapsed().as_secs_f64(),
-                        generation,
-                    })
-                });
+            let binding = match scope {
+                Scope::Full => StarBinding::bind_scene(&scene, &worker_control).map(Arc::new),
+                Scope::Leaves(old, leaves) => old
+                    .rebind_leaves(&scene, &leaves, &worker_control)
+                    .map(Arc::new),
+                Scope::Hierarchy(old) => Ok(old),
+            };
+            let result = binding.map_err(|e| e.to_string()).and_then(|binding| {
+                let hierarchy = Hierarchy::bind(&scene).map_err(|e| e.to_string())?;
+                Ok(Bound {
+                    binding,
+                    hierarchy,
+                    seconds: start.elapsed().as_secs_f64(),
+                    generation,
+                    bound_for: (scene.cages.clone(), scene.settings),
+                })
+            });
             sender.send(result).ok();
             wake();
         });

@@ -461,7 +461,7 @@ fn slider_edit(
         Some(before) => {
             change(&mut app.doc.scene);
             app.undo.push(label, before);
-            app.state_replaced(true);
+            app.state_replaced();
         }
         None => app.edit_scene(label, change),
     }
@@ -668,7 +668,7 @@ pub fn switch_pose(app: &mut EditorApp, name: Option<&str>) {
             scene.pose_state = Default::default();
         }
     }
-    app.state_replaced(false);
+    app.state_replaced();
 }
 
 fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {

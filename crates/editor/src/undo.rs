@@ -30,17 +30,14 @@ impl Snapshot {
         }
     }
 
-    /// Puts this state back into `scene`; returns whether the mesh must be bound again
-    /// (cages or settings differ).
-    pub fn restore(self, scene: &mut Scene) -> bool {
-        let rebind = self.cages != scene.cages || self.settings != scene.settings;
+    /// Puts this state back into `scene`.
+    pub fn restore(self, scene: &mut Scene) {
         scene.cages = self.cages;
         scene.settings = self.settings;
         scene.poses = self.poses;
         scene.pose = self.pose;
         scene.pose_state = self.pose_state;
         scene.pose_states = self.pose_states;
-        rebind
     }
 }
 
@@ -63,18 +60,20 @@ impl UndoStack {
         self.redo.clear();
     }
 
-    /// Undoes the last edit of `scene`; returns its label and whether to rebind.
-    pub fn undo(&mut self, scene: &mut Scene) -> Option<(String, bool)> {
+    /// Undoes the last edit of `scene`; returns its label.
+    pub fn undo(&mut self, scene: &mut Scene) -> Option<String> {
         let (label, before) = self.undo.pop()?;
         self.redo.push((label.clone(), Snapshot::of(scene)));
-        Some((label, before.restore(scene)))
+        before.restore(scene);
+        Some(label)
     }
 
-    /// Redoes the last undone edit.
-    pub fn redo(&mut self, scene: &mut Scene) -> Option<(String, bool)> {
+    /// Redoes the last undone edit; returns its label.
+    pub fn redo(&mut self, scene: &mut Scene) -> Option<String> {
         let (label, after) = self.redo.pop()?;
         self.undo.push((label.clone(), Snapshot::of(scene)));
-        Some((label, after.restore(scene)))
+        after.restore(scene);
+        Some(label)
     }
 
     /// Label of the edit Ctrl+Z would undo.

@@ -372,3 +372,23 @@ fn adding_an_internal_cage_around_the_selection_is_an_undoable_hierarchy_edit() 
     settle(&mut harness);
     assert_eq!(harness.state().doc.scene.cages.internals.len(), 2);
 }
+
+#[test]
+fn an_internal_cage_kind_change_rebinds_the_hierarchy_only() {
+    let mut harness = harness();
+    let old = std::sync::Arc::clone(&harness.state().rig.as_ref().unwrap().binding);
+    let leaves = harness.state().doc.scene.cages.leaves.len();
+    harness
+        .state_mut()
+        .set_cage_kind(leaves, CoordinateKind::MeanValue); // the ears cage
+    settle(&mut harness);
+    let app = harness.state();
+    assert_eq!(
+        app.doc.scene.cages.internals[0].kind,
+        CoordinateKind::MeanValue
+    );
+    assert!(
+        std::sync::Arc::ptr_eq(&old, &app.rig.as_ref().unwrap().binding),
+        "the mesh was rebound"
+    );
+}

@@ -11,6 +11,7 @@ mod bind;
 mod cache;
 mod green_dofs;
 mod operator;
+mod partial;
 pub mod topology;
 
 use std::time::Instant;
