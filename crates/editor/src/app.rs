@@ -118,6 +118,8 @@ pub struct EditorApp {
     pub rig: Option<Rig>,
     /// A bind in progress.
     pub job: Option<BindJob>,
+    /// A file being opened.
+    pub load: Option<crate::jobs::LoadJob>,
     /// View and selection.
     pub view: ViewState,
     /// Undo and redo.
@@ -181,6 +183,7 @@ impl EditorApp {
             doc,
             rig: None,
             job: None,
+            load: None,
             view: ViewState {
                 camera,
                 layers: Layers::default(),
@@ -521,17 +524,52 @@ impl EditorApp {
         }
     }
 
-    /// Opens a file (scene or mesh) in place of the current document.
+    /// Starts opening a file (scene or mesh) on a worker thread; the current document stays
+    /// until it has loaded, and stays for good if it fails.
     pub fn open(&mut self, path: &Path) {
-        match Document::open(path) {
-            Ok(doc) => {
-                self.replace_document(doc);
-                self.remember(path);
-                self.info(format!("opened {}", path.display()));
+        let wake = self.repaint.clone();
+        self.load = Some(crate::jobs::LoadJob::start(path.to_path_buf(), move || {
+            if let Some(ctx) = &wake {
+                ctx.request_repaint();
             }
-            Err(e) => self.error(format!(
-                "could not open {e}. The current scene is unchanged."
-            )),
+        }));
+        self.info(format!("opening {}…", path.display()));
+    }
+
+    /// Takes a finished load, if any (`wait` blocks until it ends); returns whether a new
+    /// document was installed.
+    pub fn poll_load(&mut self, wait: bool) -> bool {
+        let Some(job) = &self.load else {
+            return false;
+        };
+        let result = if wait {
+            self.load.take().map(crate::jobs::LoadJob::wait)
+        } else {
+            let result = job.poll();
+            if result.is_some() {
+                self.load = None;
+            }
+            result
+        };
+        let Some(result) = result else {
+            return false;
+        };
+        match result {
+            Ok(doc) => {
+                let path = doc.path.clone();
+                self.replace_document(doc);
+                if let Some(path) = path {
+                    self.remember(&path);
+                    self.info(format!("opened {}", path.display()));
+                }
+                true
+            }
+            Err(e) => {
+                self.error(format!(
+                    "could not open {e}. The current scene is unchanged."
+                ));
+                false
+            }
         }
     }
 

@@ -127,3 +127,50 @@ impl BindJob {
             .unwrap_or_else(|_| Err("the binding worker stopped unexpectedly".into()))
     }
 }
+
+/// Opening a file on a worker thread (big meshes take a while to read and weld).
+#[derive(Debug)]
+pub struct LoadJob {
+    receiver: Receiver<Result<crate::document::Document, String>>,
+    /// The file being opened.
+    pub path: std::path::PathBuf,
+    /// When it started.
+    pub started: Instant,
+}
+
+impl LoadJob {
+    /// Starts opening `path`; `wake` is called when it ends.
+    pub fn start(path: std::path::PathBuf, wake: impl Fn() + Send + 'static) -> Self {
+        let (sender, receiver) = channel();
+        let worker_path = path.clone();
+        std::thread::spawn(move || {
+            sender
+                .send(crate::document::Document::open(&worker_path))
+                .ok();
+            wake();
+        });
+        Self {
+            receiver,
+            path,
+            started: Instant::now(),
+        }
+    }
+
+    /// The opened document or the error, once done.
+    pub fn poll(&self) -> Option<Result<crate::document::Document, String>> {
+        match self.receiver.try_recv() {
+            Ok(result) => Some(result),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => {
+                Some(Err("the loading worker stopped unexpectedly".into()))
+            }
+        }
+    }
+
+    /// Blocks until done (tests).
+    pub fn wait(self) -> Result<crate::document::Document, String> {
+        self.receiver
+            .recv()
+            .unwrap_or_else(|_| Err("the loading worker stopped unexpectedly".into()))
+    }
+}

@@ -24,8 +24,9 @@ impl eframe::App for EditorApp {
             self.stats.frame_ms = (now - last).as_secs_f64() * 1e3;
         }
         let ctx = ui.ctx().clone();
+        self.poll_load(false);
         self.poll_bind();
-        if self.job.is_some() || self.tool.is_some() {
+        if self.job.is_some() || self.load.is_some() || self.tool.is_some() {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }
         dropped_files(self, &ctx);
@@ -673,6 +674,15 @@ pub fn switch_pose(app: &mut EditorApp, name: Option<&str>) {
 
 fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
+        if let Some(load) = &app.load {
+            ui.spinner();
+            ui.label(format!("opening {}", load.path.display()));
+            if ui.button("Cancel").clicked() {
+                app.load = None;
+                app.info("opening cancelled; the current scene is unchanged".into());
+                return;
+            }
+        }
         if let Some(job) = &app.job {
             let fraction = job.progress();
             ui.label(&job.label);

@@ -249,6 +249,14 @@ fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable(
     }
     let reopened = Document::open(&path).unwrap();
     assert_eq!(reopened.scene, harness.state().doc.scene);
+    // And through the app: open (on a worker), the same scene, clean, bound again.
+    let saved = harness.state().doc.scene.clone();
+    harness.state_mut().open(&path);
+    assert!(harness.state_mut().poll_load(true));
+    settle(&mut harness);
+    assert_eq!(harness.state().doc.scene, saved);
+    assert!(!harness.state().doc.dirty);
+    assert!(harness.state().rig.is_some());
     // A broken file: an error in the status bar, the scene untouched.
     let broken = dir.join("broken.json");
     std::fs::write(
@@ -258,6 +266,11 @@ fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable(
     .unwrap();
     let scene_before = harness.state().doc.scene.clone();
     harness.state_mut().open(&broken);
+    assert!(
+        harness.state().load.is_some(),
+        "opening runs in the background"
+    );
+    assert!(!harness.state_mut().poll_load(true));
     harness.run_steps(2);
     let app = harness.state();
     let message = app.message.clone().unwrap();
