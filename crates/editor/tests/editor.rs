@@ -405,3 +405,27 @@ fn an_internal_cage_kind_change_rebinds_the_hierarchy_only() {
         "the mesh was rebound"
     );
 }
+
+#[test]
+fn x_mirror_editing_moves_the_partner_vertex() {
+    let mut harness = harness();
+    let app = harness.state_mut();
+    app.view.mirror_x = true;
+    let rest = app.doc.scene.cages.vertices.clone();
+    let v = (0..rest.len()).find(|&i| rest[i].x < -1.0).unwrap() as u32;
+    let partner = (0..rest.len())
+        .find(|&i| {
+            (rest[i]
+                - glam::DVec3::new(-rest[v as usize].x, rest[v as usize].y, rest[v as usize].z))
+            .length()
+                < 1e-9
+        })
+        .unwrap();
+    let target = rest[v as usize] + glam::DVec3::new(-0.2, 0.1, 0.3);
+    app.apply_moves(&[(v, target)]);
+    let moved = app.doc.scene.pose[partner];
+    assert!(
+        (moved - glam::DVec3::new(-target.x, target.y, target.z)).length() < 1e-12,
+        "{moved}"
+    );
+}
