@@ -33,16 +33,7 @@ pub struct DeformArgs {
 
 /// Runs the command.
 pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
-    let scene = super::load(&args.scene)?;
-    let label = args.scene.display().to_string();
-    if !super::report(&scene, &label).is_valid() {
-        return Err(InputError(format!(
-            "{label}: the scene does not validate; see the problems above"
-        ))
-        .into());
-    }
-    let posed = args.pose.positions(&scene, &args.scene)?;
-    let scene = args.pose.method_scene(scene);
+    let (scene, posed, label) = args.pose.load_posed(&args.scene)?;
     let control = BindControl::default();
     let binding = with_progress("binding", &control, || {
         if !args.cache {

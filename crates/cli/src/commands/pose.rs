@@ -33,6 +33,24 @@ pub struct PoseArgs {
 }
 
 impl PoseArgs {
+    /// Loads and validates the scene at `path` (problems printed, an input error if invalid),
+    /// and returns the scene to bind, the posed cage vertices and the file's label.
+    pub fn load_posed(
+        &self,
+        path: &std::path::Path,
+    ) -> anyhow::Result<(Scene, Vec<DVec3>, String)> {
+        let scene = super::load(path)?;
+        let label = path.display().to_string();
+        if !super::report(&scene, &label).is_valid() {
+            return Err(InputError(format!(
+                "{label}: the scene does not validate; see the problems above"
+            ))
+            .into());
+        }
+        let posed = self.positions(&scene, path)?;
+        Ok((self.method_scene(scene), posed, label))
+    }
+
     /// The scene to bind: the scene itself, or its single-cage baseline.
     pub fn method_scene(&self, scene: Scene) -> Scene {
         match self.single_cage {

@@ -79,16 +79,7 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let scene = super::load(&args.scene)?;
-    let label = args.scene.display().to_string();
-    if !super::report(&scene, &label).is_valid() {
-        return Err(InputError(format!(
-            "{label}: the scene does not validate; see the problems above"
-        ))
-        .into());
-    }
-    let pose = args.pose.positions(&scene, &args.scene)?;
-    let scene = args.pose.method_scene(scene);
+    let (scene, pose, label) = args.pose.load_posed(&args.scene)?;
     let control = BindControl::default();
     let bind = |scene| {
         with_progress("binding", &control, || {
