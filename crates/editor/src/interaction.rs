@@ -327,11 +327,8 @@ pub fn viewport_ui(app: &mut EditorApp, ui: &mut egui::Ui) {
         )
     });
     let size = Vec2::new(rect.width(), rect.height());
-    if let Some(tool) = &app.tool {
-        if let Some(p) = pointer {
-            let moves = tool.moves(&app.view.camera, rect, p);
-            app.apply_moves(&moves);
-        }
+    if app.tool.is_some() {
+        // The tool follows the pointer in `shortcuts`; here only its mouse confirm / cancel.
         if response.clicked() {
             app.finish_tool(true);
         } else if secondary {
