@@ -97,6 +97,8 @@ pub enum Pending {
     Open(PathBuf),
     /// Close the window.
     Close,
+    /// Create a new scene around a mesh.
+    NewFromMesh(PathBuf, AutocageOptions),
 }
 
 /// Change counters telling the viewport what to upload again.
@@ -533,7 +535,7 @@ impl EditorApp {
                 ctx.request_repaint();
             }
         }));
-        self.info(format!("opening {}…", path.display()));
+        self.info(format!("opening {}...", path.display()));
     }
 
     /// Takes a finished load, if any (`wait` blocks until it ends); returns whether a new

@@ -80,13 +80,21 @@ impl Document {
         Ok(())
     }
 
-    /// The window title: file name and an unsaved-changes marker.
-    pub fn title(&self) -> String {
-        let name = self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+    /// The file name, or "untitled".
+    pub fn name(&self) -> String {
+        self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
             || "untitled".to_owned(),
             |n| n.to_string_lossy().into_owned(),
-        );
-        format!("{}{name} — StarCages", if self.dirty { "● " } else { "" })
+        )
+    }
+
+    /// The window title: file name and an unsaved-changes marker.
+    pub fn title(&self) -> String {
+        format!(
+            "{}{} — StarCages",
+            if self.dirty { "● " } else { "" },
+            self.name()
+        )
     }
 }
 

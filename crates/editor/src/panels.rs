@@ -59,14 +59,14 @@ impl eframe::App for EditorApp {
 fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
-            if ui.button("New from mesh…").clicked()
+            if ui.button("New from mesh...").clicked()
                 && let Some(path) = rfd::FileDialog::new()
                     .add_filter("mesh", &["obj", "gltf", "glb"])
                     .pick_file()
             {
                 app.new_mesh_dialog = Some((path, AutocageOptions::default()));
             }
-            if ui.button("Open…  Ctrl+O").clicked() {
+            if ui.button("Open...  Ctrl+O").clicked() {
                 open_dialog(app);
             }
             ui.menu_button("Open recent", |ui| {
@@ -83,11 +83,11 @@ fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             if ui.button("Save  Ctrl+S").clicked() {
                 save(app);
             }
-            if ui.button("Save As…  Ctrl+Shift+S").clicked() {
+            if ui.button("Save As...  Ctrl+Shift+S").clicked() {
                 save_as_dialog(app);
             }
             ui.separator();
-            if ui.button("Export deformed mesh…").clicked()
+            if ui.button("Export deformed mesh...").clicked()
                 && let Some(path) = rfd::FileDialog::new()
                     .add_filter("mesh", &["obj", "glb"])
                     .set_file_name("deformed.obj")
@@ -95,7 +95,7 @@ fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             {
                 app.export_mesh(&path);
             }
-            if ui.button("Export cages…").clicked()
+            if ui.button("Export cages...").clicked()
                 && let Some(path) = rfd::FileDialog::new()
                     .add_filter("OBJ", &["obj"])
                     .set_file_name("cages.obj")
@@ -215,7 +215,7 @@ fn unsaved_prompt(app: &mut EditorApp, ctx: &egui::Context) {
         ui.heading("Unsaved changes");
         ui.label(format!(
             "{} has changes that are not saved.",
-            app.doc.title()
+            app.doc.name()
         ));
         ui.horizontal(|ui| {
             if ui.button("Save").clicked() {
@@ -244,6 +244,7 @@ fn unsaved_prompt(app: &mut EditorApp, ctx: &egui::Context) {
     }
     match pending {
         Pending::Open(path) => app.open(&path),
+        Pending::NewFromMesh(path, options) => app.new_from_mesh(&path, &options),
         Pending::Close => {
             app.allow_close = true;
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
@@ -287,7 +288,7 @@ fn new_mesh_dialog(app: &mut EditorApp, ctx: &egui::Context) {
         Some(true) => {
             app.new_mesh_dialog = None;
             if app.doc.dirty {
-                app.error("save or discard the current scene first (File ▸ Save), then create the new one".into());
+                app.pending = Some(Pending::NewFromMesh(path, options));
             } else {
                 app.new_from_mesh(&path, &options);
             }

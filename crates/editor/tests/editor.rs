@@ -429,3 +429,29 @@ fn x_mirror_editing_moves_the_partner_vertex() {
         "{moved}"
     );
 }
+
+#[test]
+fn opening_over_unsaved_work_asks_first() {
+    let mut harness = harness();
+    let path = scratch("prompt").join("saved.json");
+    assert!(harness.state_mut().save_as(&path));
+    {
+        let app = harness.state_mut();
+        app.apply_moves(&[(0, app.doc.scene.pose[0] + glam::DVec3::Z * 0.2)]);
+        assert!(app.doc.dirty);
+        starcages_editor::panels::request_open(app, path.clone());
+        assert!(app.load.is_none(), "nothing opens before the answer");
+    }
+    harness.run_steps(2);
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    assert!(harness.state().pending.is_none() && harness.state().doc.dirty);
+    starcages_editor::panels::request_open(harness.state_mut(), path.clone());
+    harness.run_steps(2);
+    harness.get_by_label("Don't save").click();
+    harness.run_steps(2);
+    let app = harness.state_mut();
+    assert!(app.poll_load(true));
+    assert!(!app.doc.dirty);
+    assert_eq!(app.doc.path.as_deref(), Some(path.as_path()));
+}
