@@ -147,6 +147,11 @@ impl Mesh {
         &self.welded_positions
     }
 
+    /// The welded vertices in f32, as the renderer and the GPU use them.
+    pub fn welded_positions_f32(&self) -> Vec<glam::Vec3> {
+        self.welded_positions.iter().map(|p| p.as_vec3()).collect()
+    }
+
     /// Triangles over the welded vertices.
     pub fn welded_triangles(&self) -> &[[u32; 3]] {
         &self.welded_triangles

@@ -465,12 +465,7 @@ fn paint(app: &mut EditorApp, ui: &mut egui::Ui, rect: egui::Rect) {
             Some((g, m)) if *g == generation => (generation, Arc::clone(m)),
             _ => {
                 let upload = Arc::new(MeshUpload {
-                    positions: scene
-                        .mesh
-                        .welded_positions()
-                        .iter()
-                        .map(|p| p.as_vec3())
-                        .collect(),
+                    positions: scene.mesh.welded_positions_f32(),
                     triangles: scene.mesh.welded_triangles().to_vec(),
                     binding: Arc::clone(&rig.binding),
                 });

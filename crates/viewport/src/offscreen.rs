@@ -61,12 +61,7 @@ pub fn render_to_image(
 ) -> Result<RgbaImage, GpuError> {
     let samples = if options.msaa && gpu.msaa4 { 4 } else { 1 };
     let mut renderer = SceneRenderer::new(gpu, OFFSCREEN_FORMAT, samples);
-    let rest: Vec<Vec3> = scene
-        .mesh
-        .welded_positions()
-        .iter()
-        .map(|p| p.as_vec3())
-        .collect();
+    let rest: Vec<Vec3> = scene.mesh.welded_positions_f32();
     let triangles = scene.mesh.welded_triangles();
     renderer.set_mesh(gpu, &rest, triangles, Some(&binding.operator));
     let mut encoder = gpu

@@ -273,12 +273,7 @@ fn gpu_deformation_matches_the_cpu_operator() {
         eprintln!("no compute shaders on this adapter: the CPU path is used");
         return;
     }
-    let rest: Vec<Vec3> = scene
-        .mesh
-        .welded_positions()
-        .iter()
-        .map(|p| p.as_vec3())
-        .collect();
+    let rest: Vec<Vec3> = scene.mesh.welded_positions_f32();
     let mut renderer = SceneRenderer::new(&GPU, OFFSCREEN_FORMAT, 1);
     renderer.set_mesh(
         &GPU,

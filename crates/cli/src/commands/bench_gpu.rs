@@ -96,12 +96,7 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
     });
     let gpu = GpuContext::headless()?;
     let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT, 1);
-    let rest_mesh: Vec<Vec3> = scene
-        .mesh
-        .welded_positions()
-        .iter()
-        .map(|p| p.as_vec3())
-        .collect();
+    let rest_mesh: Vec<Vec3> = scene.mesh.welded_positions_f32();
     renderer.set_mesh(&gpu, &rest_mesh, triangles, Some(&binding.operator));
     let dofs = binding.operator.dofs(rest, &pose);
     let gpu_deform_ms = median_ms(args.frames, || {
