@@ -43,6 +43,8 @@ struct Row {
     mesh_vertices: usize,
     cages: usize,
     memory_mb: f64,
+    /// Stored weights per mesh vertex: memory and frame time follow it.
+    nonzeros_per_row: f64,
     bind_cage_s: f64,
     bind_total_s: f64,
     frame_s: f64,
@@ -80,15 +82,25 @@ fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// GB/s of summing a 256 MB f32 array (parallel), best of 5.
+/// GB/s of reading a 256 MB array (parallel), best of 5: 32-bit integer sums in sixteen
+/// independent lanes per chunk, which compile to SIMD adds, so memory is the bound, not the
+/// latency of one chain of additions.
 fn array_read_bandwidth() -> f64 {
     use rayon::prelude::*;
-    let data = vec![1.0f32; 64 << 20];
+    let data = vec![1u32; 64 << 20];
     let seconds = best_of(5, || {
-        let s: f32 = data
+        let s: u32 = data
             .par_chunks(1 << 16)
-            .map(|c| c.iter().sum::<f32>())
-            .sum();
+            .map(|c| {
+                let mut lanes = [0u32; 16];
+                for block in c.chunks_exact(16) {
+                    for (acc, &v) in lanes.iter_mut().zip(block) {
+                        *acc = acc.wrapping_add(v);
+                    }
+                }
+                lanes.iter().fold(0u32, |a, &b| a.wrapping_add(b))
+            })
+            .reduce(|| 0, u32::wrapping_add);
         std::hint::black_box(s);
     });
     (data.len() * 4) as f64 / seconds / 1e9
@@ -126,6 +138,7 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
         mesh_vertices: scene.mesh.welded_positions().len(),
         cages: scene.cages.leaves.len(),
         memory_mb: binding.stats.operator_bytes as f64 / 1e6,
+        nonzeros_per_row: operator.nonzeros() as f64 / operator.row_count().max(1) as f64,
         bind_cage_s: binding.stats.seconds_cage_coordinates,
         bind_total_s: binding.stats.seconds_total,
         frame_s,
@@ -251,12 +264,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         report.threads, report.array_read_gb_s
     ))?;
     crate::output::line(format_args!(
-        "{:<16} {:<11} {:>8} {:>5} {:>9} {:>9} {:>9} {:>10} {:>10} {:>8}",
+        "{:<16} {:<11} {:>8} {:>5} {:>9} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
         "scene",
         "method",
         "vertices",
         "cages",
         "MB",
+        "nnz/row",
         "bind cc",
         "bind s",
         "frame s",
@@ -265,12 +279,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     ))?;
     for r in &report.rows {
         crate::output::line(format_args!(
-            "{:<16} {:<11} {:>8} {:>5} {:>9.2} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
+            "{:<16} {:<11} {:>8} {:>5} {:>9.2} {:>7.1} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
             r.scene,
             r.method,
             r.mesh_vertices,
             r.cages,
             r.memory_mb,
+            r.nonzeros_per_row,
             r.bind_cage_s,
             r.bind_total_s,
             r.frame_s,

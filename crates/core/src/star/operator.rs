@@ -2,7 +2,7 @@
 //! Green face DOFs) in f32 CSR, with its transpose for incremental updates. A frame is the
 //! Green face terms from the posed cage, then one parallel sparse matrix–vector product.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::bind::Row;
@@ -159,21 +159,44 @@ impl StarOperator {
         x
     }
 
-    fn apply_row(&self, r: usize, x: &[Vec3]) -> Vec3 {
+    /// Row `r` times the DOFs: four independent SIMD accumulators, so the sum is bound by
+    /// loads rather than by the latency of one chain of additions.
+    fn apply_row(&self, r: usize, x: &[Vec3A]) -> Vec3 {
         let (a, b) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
-        let mut acc = Vec3::ZERO;
-        for k in a..b {
-            acc += x[self.columns[k] as usize] * self.values[k];
+        let (columns, values) = (&self.columns[a..b], &self.values[a..b]);
+        let mut acc = [Vec3A::ZERO; 4];
+        let (column_blocks, values_blocks) = (columns.chunks_exact(4), values.chunks_exact(4));
+        let (column_tail, value_tail) = (column_blocks.remainder(), values_blocks.remainder());
+        for (c, w) in column_blocks.zip(values_blocks) {
+            acc[0] += x[c[0] as usize] * w[0];
+            acc[1] += x[c[1] as usize] * w[1];
+            acc[2] += x[c[2] as usize] * w[2];
+            acc[3] += x[c[3] as usize] * w[3];
         }
-        acc
+        for (&c, &w) in column_tail.iter().zip(value_tail) {
+            acc[0] += x[c as usize] * w;
+        }
+        ((acc[0] + acc[1]) + (acc[2] + acc[3])).into()
+    }
+
+    /// The DOFs in 16-byte SIMD vectors, checked against the operator's column count.
+    fn simd_dofs(&self, x: &[Vec3]) -> Vec<Vec3A> {
+        assert!(
+            x.len() >= self.dof_count(),
+            "operator needs {} DOFs, got {}",
+            self.dof_count(),
+            x.len()
+        );
+        x.iter().map(|&v| Vec3A::from(v)).collect()
     }
 
     /// Every row applied to the DOFs `x` (one parallel sparse product).
     pub fn apply(&self, x: &[Vec3], out: &mut [Vec3]) {
+        let x = self.simd_dofs(x);
         out.par_iter_mut()
             .enumerate()
             .with_min_len(1024)
-            .for_each(|(r, y)| *y = self.apply_row(r, x));
+            .for_each(|(r, y)| *y = self.apply_row(r, &x));
     }
 
     /// The rows that reference any of `moved` cage vertices or Green DOFs (the points a move
@@ -209,9 +232,10 @@ impl StarOperator {
 
     /// Updates only the rows in `rows` (from [`StarOperator::rows_touched`]).
     pub fn apply_rows(&self, rows: &[u32], x: &[Vec3], out: &mut [Vec3]) {
+        let x = self.simd_dofs(x);
         let values: Vec<Vec3> = rows
             .par_iter()
-            .map(|&r| self.apply_row(r as usize, x))
+            .map(|&r| self.apply_row(r as usize, &x))
             .collect();
         for (&r, v) in rows.iter().zip(values) {
             out[r as usize] = v;
