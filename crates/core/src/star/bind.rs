@@ -712,43 +712,6 @@ mod tests {
             .unwrap();
             for &i in table.points.iter().step_by(5) {
                 let (a, b) = (table.get(i).unwrap().0, alone.get(i).unwrap().0);
-                if (a[0] - b[0]).abs() > 1e-6 {
-                    let local = &topology.joins[v].local;
-                    let four: Vec<DVec3> = (0..4)
-                        .flat_map(|_| table.points.iter().map(|&k| points[k]))
-                        .collect();
-                    let w4 = bind(
-                        CoordinateKind::Harmonic,
-                        &local.cage,
-                        &four,
-                        &settings,
-                        &control,
-                    )
-                    .unwrap();
-                    let w1 = bind(
-                        CoordinateKind::Harmonic,
-                        &local.cage,
-                        &[points[i]],
-                        &settings,
-                        &control,
-                    )
-                    .unwrap();
-                    let k = table.points.binary_search(&i).unwrap();
-                    if let (
-                        CageWeights::Vertex { weights: x4, .. },
-                        CageWeights::Vertex { weights: x1, .. },
-                    ) = (&w4, &w1)
-                    {
-                        eprintln!(
-                            "DBG p {} shared {:?}\nDBG alone {:?}\nDBG four {:?}\nDBG one {:?}",
-                            points[i],
-                            &a[..4],
-                            &b[..4],
-                            &x4.row(k)[..4],
-                            &x1.row(0)[..4]
-                        );
-                    }
-                }
                 let worst = a
                     .iter()
                     .zip(b)

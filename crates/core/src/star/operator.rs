@@ -202,18 +202,31 @@ impl StarOperator {
     /// The rows that reference any of `moved` cage vertices or Green DOFs (the points a move
     /// can change), sorted.
     pub fn rows_touched(&self, moved_columns: &[u32]) -> Vec<u32> {
-        let mut rows: Vec<u32> = moved_columns
-            .iter()
-            .flat_map(|&c| {
-                let (a, b) = (
-                    self.column_start[c as usize] as usize,
-                    self.column_start[c as usize + 1] as usize,
-                );
-                self.column_rows[a..b].iter().copied()
-            })
-            .collect();
-        rows.sort_unstable();
-        rows.dedup();
+        let rows_of = |c: u32| {
+            let (a, b) = (
+                self.column_start[c as usize] as usize,
+                self.column_start[c as usize + 1] as usize,
+            );
+            &self.column_rows[a..b]
+        };
+        if let [c] = moved_columns {
+            return rows_of(*c).to_vec(); // the transpose lists rows in order
+        }
+        // Several columns: mark the rows in a bitmap, then read it in order (no sort).
+        let mut marked = vec![0u64; self.row_count().div_ceil(64)];
+        for &c in moved_columns {
+            for &r in rows_of(c) {
+                marked[r as usize / 64] |= 1 << (r % 64);
+            }
+        }
+        let mut rows = Vec::new();
+        for (w, &bits) in marked.iter().enumerate() {
+            let mut bits = bits;
+            while bits != 0 {
+                rows.push((w * 64) as u32 + bits.trailing_zeros());
+                bits &= bits - 1;
+            }
+        }
         rows
     }
 
@@ -239,6 +252,31 @@ impl StarOperator {
             .collect();
         for (&r, v) in rows.iter().zip(values) {
             out[r as usize] = v;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_touched_lists_exactly_the_rows_referencing_the_columns_in_order() {
+        // 200 rows over 7 columns, each row a pseudo-random subset.
+        let rows: Vec<Row> = (0..200u32)
+            .map(|r| {
+                (0..7u32)
+                    .filter(|c| (r * 31 + c * 17) % 5 < 2)
+                    .map(|c| (c, 1.0))
+                    .collect()
+            })
+            .collect();
+        let operator = StarOperator::from_rows(&rows, 7, GreenDofs::default());
+        for moved in [vec![3], vec![0, 6], vec![1, 2, 5], vec![]] {
+            let expected: Vec<u32> = (0..200u32)
+                .filter(|&r| rows[r as usize].iter().any(|(c, _)| moved.contains(c)))
+                .collect();
+            assert_eq!(operator.rows_touched(&moved), expected, "columns {moved:?}");
         }
     }
 }
