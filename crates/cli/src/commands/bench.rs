@@ -1,7 +1,7 @@
 //! `starcages-cli bench`: the paper's Table II in one run: *Cages against single-cage MVC, GC
-//! and HC on the demo scenes (and optionally real meshes with a 4×4×4 automatic grid): memory,
-//! bind time (cage coordinates / total), time per full frame and per single cage-vertex move,
-//! plus a plain array read for the machine's memory bandwidth.
+//! and HC on the demo scenes (and optionally real meshes in an automatic grid, 4×4×4 unless
+//! `--grid` says otherwise): memory, bind time (cage coordinates / total), time per full frame
+//! and per single cage-vertex move, plus a plain array read for the machine's memory bandwidth.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -25,9 +25,12 @@ pub struct BenchArgs {
     /// Tessellation of the prism demo (3 gives about 200k triangles).
     #[arg(long, default_value_t = 3.0)]
     prism_detail: f64,
-    /// Also bench every OBJ in this folder with a 4×4×4 automatic grid (e.g. ../shared/meshes).
+    /// Also bench every OBJ in this folder with an automatic grid (e.g. ../shared/meshes).
     #[arg(long)]
     meshes: Option<PathBuf>,
+    /// Cells of the automatic grid along x, y and z for `--meshes`.
+    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = [4, 4, 4])]
+    grid: Vec<u32>,
     /// Only these scenes (names as in the output).
     #[arg(long)]
     only: Vec<String>,
@@ -187,12 +190,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             .filter(|p| p.extension().is_some_and(|e| e == "obj"))
             .collect();
         files.sort();
+        let grid: [u32; 3] = std::array::from_fn(|k| args.grid.get(k).copied().unwrap_or(4));
         for file in files {
             let mesh = read_mesh(&file)?;
             let cages = autocage(
                 &mesh,
                 &AutocageOptions {
-                    grid: [4, 4, 4],
+                    grid,
                     ..Default::default()
                 },
             );
@@ -200,7 +204,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 .file_stem()
                 .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
             scenes.push((
-                format!("{name}-4x4x4"),
+                format!("{name}-{}x{}x{}", grid[0], grid[1], grid[2]),
                 Scene::new(
                     MeshSource::File(file),
                     mesh,
