@@ -100,7 +100,7 @@ fn add_row(
 }
 
 /// Sorts a row by column and sums duplicates.
-fn merge(mut row: Row) -> Row {
+pub(super) fn merge(mut row: Row) -> Row {
     row.sort_unstable_by_key(|&(c, _)| c);
     let mut out: Row = Vec::with_capacity(row.len());
     for (c, w) in row {

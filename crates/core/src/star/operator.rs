@@ -279,4 +279,36 @@ mod tests {
             assert_eq!(operator.rows_touched(&moved), expected, "columns {moved:?}");
         }
     }
+
+    #[test]
+    fn product_matches_a_plain_sum_for_every_row_length() {
+        // Rows of 0 to 11 entries exercise the four-wide blocks and every tail length.
+        let rows: Vec<Row> = (0..12u32)
+            .map(|len| {
+                (0..len)
+                    .map(|k| ((k * 5 + len) % 13, 0.25 + f64::from(k)))
+                    .collect()
+            })
+            .map(super::super::bind::merge)
+            .collect();
+        let operator = StarOperator::from_rows(&rows, 13, GreenDofs::default());
+        let x: Vec<Vec3> = (0..13)
+            .map(|i| Vec3::new(i as f32, 1.0 - i as f32, 0.5 * i as f32))
+            .collect();
+        let mut out = vec![Vec3::ZERO; rows.len()];
+        operator.apply(&x, &mut out);
+        for (row, y) in rows.iter().zip(&out) {
+            let expected: Vec3 = row.iter().map(|&(c, w)| x[c as usize] * w as f32).sum();
+            assert!(
+                (*y - expected).length() <= 1e-4 * (1.0 + expected.length()),
+                "{y} vs {expected}"
+            );
+        }
+        let touched = operator.rows_touched(&[4]);
+        let mut partial = vec![Vec3::ZERO; rows.len()];
+        operator.apply_rows(&touched, &x, &mut partial);
+        for &r in &touched {
+            assert_eq!(partial[r as usize], out[r as usize]);
+        }
+    }
 }
