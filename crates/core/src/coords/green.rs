@@ -28,7 +28,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::lanes::{LANES, Lane, Vec3Lanes, mask_bits};
+use super::lanes::{ALL_LANES, LANES, Lane, LaneKernel, Vec3Lanes};
 use crate::cage::Cage;
 
 /// Precomputed per-cage data for Green coordinates.
@@ -196,39 +196,105 @@ fn green_point_raw(
     touching
 }
 
-/// Reusable per-thread buffers of a multi-point GC evaluation.
-#[derive(Debug, Default, Clone)]
-pub(crate) struct GreenLanesScratch {
-    rel: Vec<Vec3Lanes>,
-    len: Vec<Lane>,
+/// Reusable buffers of a multi-point GC evaluation.
+#[derive(Debug, Clone)]
+pub(crate) struct GreenLanesScratch<L> {
+    rel: Vec<Vec3Lanes<L>>,
+    len: Vec<L>,
     /// Per edge (a < b): L_e, v_a · v_b, v_a × v_b.
-    edge: Vec<(Lane, Lane, Vec3Lanes)>,
-    omega: Vec<Lane>,
-    phi: Vec<Lane>,
-    psi: Vec<Lane>,
+    edge: Vec<(L, L, Vec3Lanes<L>)>,
+    omega: Vec<L>,
+    phi: Vec<L>,
+    psi: Vec<L>,
     scalar: GreenScratch,
+}
+
+impl<L> Default for GreenLanesScratch<L> {
+    fn default() -> Self {
+        Self {
+            rel: Vec::new(),
+            len: Vec::new(),
+            edge: Vec::new(),
+            omega: Vec::new(),
+            phi: Vec::new(),
+            psi: Vec::new(),
+            scalar: GreenScratch::default(),
+        }
+    }
+}
+
+/// GC of a run of points into their φ rows (`points.len()` × vertices) and ψ rows
+/// (`points.len()` × triangles), [`LANES`] points at a time with the best SIMD backend.
+pub(crate) struct GreenRows<'a> {
+    /// The cage.
+    pub cage: &'a Cage,
+    /// Its precomputed data.
+    pub gc: &'a GreenCage,
+    /// The points.
+    pub points: &'a [DVec3],
+    /// φ rows, row-major.
+    pub phi: &'a mut [f64],
+    /// ψ rows, row-major.
+    pub psi: &'a mut [f64],
+}
+
+impl LaneKernel for GreenRows<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane>(self) {
+        let (n, f) = (self.cage.vertex_count(), self.cage.triangles().len());
+        let mut scratch = GreenLanesScratch::<L>::default();
+        let (mut phi4, mut psi4) = (Vec::new(), Vec::new());
+        let groups = self
+            .phi
+            .chunks_mut(LANES * n.max(1))
+            .zip(self.psi.chunks_mut(LANES * f.max(1)))
+            .zip(self.points.chunks(LANES));
+        for ((phi, psi), group) in groups {
+            let lane_points = std::array::from_fn(|l| group[l.min(group.len() - 1)]);
+            if group.len() == LANES {
+                green_points4(self.cage, self.gc, lane_points, phi, psi, &mut scratch);
+            } else {
+                phi4.resize(LANES * n, 0.0);
+                psi4.resize(LANES * f, 0.0);
+                green_points4(
+                    self.cage,
+                    self.gc,
+                    lane_points,
+                    &mut phi4,
+                    &mut psi4,
+                    &mut scratch,
+                );
+                phi.copy_from_slice(&phi4[..phi.len()]);
+                psi.copy_from_slice(&psi4[..psi.len()]);
+            }
+        }
+    }
 }
 
 /// GC of LANES points at once into `phi_rows` and `psi_rows` (LANES rows each), with the
 /// formulas of [`green_point`] in SIMD lanes. Lanes on the cage (or meeting round-off trouble)
 /// are recomputed by [`green_point`]; lanes outside get the exterior extension.
-pub(crate) fn green_points4(
+#[inline(always)]
+pub(crate) fn green_points4<L: Lane>(
     cage: &Cage,
     gc: &GreenCage,
     p: [DVec3; LANES],
     phi_rows: &mut [f64],
     psi_rows: &mut [f64],
-    scratch: &mut GreenLanesScratch,
+    scratch: &mut GreenLanesScratch<L>,
 ) {
     let positions = cage.positions();
     let (n, f) = (positions.len(), cage.triangles().len());
-    let on_cage = Lane::from(ON_CAGE * cage.diagonal());
-    let (zero, two) = (Lane::ZERO, Lane::from(2.0));
+    let on_cage = L::splat(ON_CAGE * cage.diagonal());
+    let (zero, two) = (L::zero(), L::splat(2.0));
+    let largest = L::splat(f64::MAX);
     let mut special = 0u32;
     scratch.rel.clear();
     scratch.len.clear();
     for &x in positions {
-        let v = Vec3Lanes::from_minus(x, &p);
+        let v = Vec3Lanes::<L>::from_minus(x, &p);
         scratch.len.push(v.dot(&v).sqrt());
         scratch.rel.push(v);
     }
@@ -238,12 +304,16 @@ pub(crate) fn green_points4(
         let (va, vb) = (&rel[a as usize], &rel[b as usize]);
         let dot = va.dot(vb);
         let sum = len[a as usize] + len[b as usize];
-        let l = Lane::from(l);
-        // L_e = ln((R_a + R_b + l) / (R_a + R_b − l)), the difference without cancellation.
-        let near = two * (len[a as usize] * len[b as usize] + dot);
-        special |= mask_bits(near.simd_le(zero));
-        let log = ((sum + l) * (sum + l) / near).ln();
-        scratch.edge.push((log, dot, va.cross(vb)));
+        let l = L::splat(l);
+        // L_e = ln((R_a + R_b + l) / (R_a + R_b − l)), the difference without cancellation:
+        // (R_a + R_b − l)(R_a + R_b + l) = 2 (R_a R_b + v_a·v_b).
+        let near = two * len[a as usize].mul_add(len[b as usize], dot);
+        let far = sum + l;
+        let ratio = far * far / near;
+        // ln needs a positive finite argument: η on the edge (near ≤ 0) or so close that the
+        // ratio overflows goes to the scalar routine.
+        special |= !L::bitmask(near.gt(zero) & ratio.le(largest)) & ALL_LANES;
+        scratch.edge.push((ratio.ln(), dot, va.cross(vb)));
     }
     let edge = &scratch.edge;
     scratch.phi.clear();
@@ -265,16 +335,18 @@ pub(crate) fn green_points4(
         let (_, d2, _) = edge[tri_edges[2] as usize];
         let c1 = if idx[1] < idx[2] { c1 } else { c1.neg() };
         let det = rel[idx[0]].dot(&c1);
-        let denom = r[0] * r[1] * r[2] + d0 * r[2] + d1 * r[0] + d2 * r[1];
+        let r01 = r[0] * r[1];
+        // Van Oosterom & Strackee: tan(Ω/2) = det / (R0 R1 R2 + d01 R2 + d12 R0 + d20 R1).
+        let denom = r01.mul_add(r[2], d0.mul_add(r[2], d1.mul_add(r[0], d2 * r[1])));
         let h = rel[idx[0]].dot_splat(gc.normals[t]);
-        let touching =
-            h.abs().simd_le(on_cage) & denom.simd_le(Lane::from(1e-9) * r[0] * r[1] * r[2]);
-        special |= mask_bits(touching);
+        let touching = h.abs().le(on_cage) & denom.le(L::splat(1e-9) * r01 * r[2]);
+        special |= L::bitmask(touching);
         let omega = two * det.atan2(denom);
         winding += omega;
         scratch.omega.push(omega);
     }
     // Pass 2: ψ (single layer) and φ (double layer) from Ω and the edge integrals.
+    let inv_four_pi = L::splat(1.0 / (4.0 * PI));
     for (t, (tri, tri_edges)) in cage
         .triangles()
         .iter()
@@ -283,37 +355,63 @@ pub(crate) fn green_points4(
     {
         let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
         let v = [rel[idx[0]], rel[idx[1]], rel[idx[2]]];
-        let directed = |k: usize| {
-            let (log, _, cross) = edge[tri_edges[k] as usize];
-            (
-                log,
-                if idx[k] < idx[(k + 1) % 3] {
-                    cross
-                } else {
-                    cross.neg()
-                },
-            )
-        };
-        let (l0, c0) = directed(0);
-        let (l1, c1) = directed(1);
-        let (l2, c2) = directed(2);
+        let (l0, c0) = directed_edge(edge, tri_edges, idx, 0);
+        let (l1, c1) = directed_edge(edge, tri_edges, idx, 1);
+        let (l2, c2) = directed_edge(edge, tri_edges, idx, 2);
         let n = gc.normals[t];
         let omega = scratch.omega[t];
         let h = v[0].dot_splat(n);
         let nu = gc.edge_normals[t];
-        let single =
-            v[0].dot_splat(nu[0]) * l0 + v[1].dot_splat(nu[1]) * l1 + v[2].dot_splat(nu[2]) * l2
-                - h * omega;
-        scratch.psi.push(single * Lane::from(1.0 / (4.0 * PI)));
+        // ψ_t = (Σ_e d_e L_e − h Ω) / 4π.
+        let single = v[0].dot_splat(nu[0]).mul_add(
+            l0,
+            v[1].dot_splat(nu[1])
+                .mul_add(l1, v[2].dot_splat(nu[2]).mul_sub(l2, h * omega)),
+        );
+        scratch.psi.push(single * inv_four_pi);
+        // G = Ω n − Σ_e ν_e L_e.
         let g = Vec3Lanes {
-            x: omega * n.x - l0 * nu[0].x - l1 * nu[1].x - l2 * nu[2].x,
-            y: omega * n.y - l0 * nu[0].y - l1 * nu[1].y - l2 * nu[2].y,
-            z: omega * n.z - l0 * nu[0].z - l1 * nu[1].z - l2 * nu[2].z,
+            x: omega.mul_sub(
+                L::splat(n.x),
+                l0.mul_add(
+                    L::splat(nu[0].x),
+                    l1.mul_add(L::splat(nu[1].x), l2 * L::splat(nu[2].x)),
+                ),
+            ),
+            y: omega.mul_sub(
+                L::splat(n.y),
+                l0.mul_add(
+                    L::splat(nu[0].y),
+                    l1.mul_add(L::splat(nu[1].y), l2 * L::splat(nu[2].y)),
+                ),
+            ),
+            z: omega.mul_sub(
+                L::splat(n.z),
+                l0.mul_add(
+                    L::splat(nu[0].z),
+                    l1.mul_add(L::splat(nu[1].z), l2 * L::splat(nu[2].z)),
+                ),
+            ),
         };
-        let scale = Lane::from(gc.inv_scaled_double_area[t]);
+        let scale = L::splat(gc.inv_scaled_double_area[t]);
         scratch.phi[idx[0]] += g.dot(&c1) * scale;
         scratch.phi[idx[1]] += g.dot(&c2) * scale;
         scratch.phi[idx[2]] += g.dot(&c0) * scale;
+    }
+    // Transpose the lanes into rows; a lane whose φ is not finite goes to the scalar routine.
+    let mut finite = L::bitmask(zero.le(zero));
+    for (i, acc) in scratch.phi.iter().enumerate() {
+        finite &= L::bitmask(acc.abs().le(largest));
+        let acc = acc.to_array();
+        for l in 0..LANES {
+            phi_rows[l * n + i] = acc[l];
+        }
+    }
+    for (t, acc) in scratch.psi.iter().enumerate() {
+        let acc = acc.to_array();
+        for l in 0..LANES {
+            psi_rows[l * f + t] = acc[l];
+        }
     }
     let winding = winding.to_array();
     for (l, (phi, psi)) in phi_rows
@@ -322,21 +420,26 @@ pub(crate) fn green_points4(
         .enumerate()
         .take(LANES)
     {
-        let all_finite = scratch.phi.iter().all(|w| w.as_array()[l].is_finite());
-        if special & (1 << l) != 0 || !all_finite {
+        if special & (1 << l) != 0 || finite & (1 << l) == 0 {
             green_point(cage, gc, p[l], phi, psi, &mut scratch.scalar);
-            continue;
-        }
-        for (w, acc) in phi.iter_mut().zip(&scratch.phi) {
-            *w = acc.as_array()[l];
-        }
-        for (w, acc) in psi.iter_mut().zip(&scratch.psi) {
-            *w = acc.as_array()[l];
-        }
-        if winding[l] < 2.0 * PI {
+        } else if winding[l] < 2.0 * PI {
             extend_outside(cage, gc, p[l], phi, psi);
         }
     }
+}
+
+/// Edge `k` of a triangle (corners `idx`, edges `tri_edges`) from the per-edge table, directed
+/// from corner k to corner k + 1: (L_e, v_k × v_{k+1}).
+#[inline(always)]
+fn directed_edge<L: Lane>(
+    edge: &[(L, L, Vec3Lanes<L>)],
+    tri_edges: &[u32; 3],
+    idx: [usize; 3],
+    k: usize,
+) -> (L, Vec3Lanes<L>) {
+    let (log, _, cross) = edge[tri_edges[k] as usize];
+    let forward = idx[k] < idx[(k + 1) % 3];
+    (log, if forward { cross } else { cross.neg() })
 }
 
 /// Lipman et al. §4.2: continue the coordinates through the nearest face so that the rest
@@ -393,37 +496,60 @@ mod tests {
     use super::*;
     use crate::cage::shapes;
 
+    /// The lane kernel on `points`, with one backend: (φ rows, ψ rows).
+    #[derive(Clone)]
+    struct Rows<'a>(&'a Cage, &'a [DVec3]);
+
+    impl LaneKernel for Rows<'_> {
+        type Output = (Vec<f64>, Vec<f64>);
+        fn run<L: Lane>(self) -> (Vec<f64>, Vec<f64>) {
+            let (cage, points) = (self.0, self.1);
+            let mut phi = vec![0.0; points.len() * cage.vertex_count()];
+            let mut psi = vec![0.0; points.len() * cage.triangles().len()];
+            let gc = GreenCage::new(cage);
+            GreenRows {
+                cage,
+                gc: &gc,
+                points,
+                phi: &mut phi,
+                psi: &mut psi,
+            }
+            .run::<L>();
+            (phi, psi)
+        }
+    }
+
     #[test]
-    fn lane_kernel_matches_scalar_routine() {
+    fn lane_kernel_matches_scalar_routine_on_every_backend() {
         let cage = shapes::l_prism();
         let gc = GreenCage::new(&cage);
-        let groups = [
-            [
-                DVec3::new(0.5, 0.5, 0.5),
-                DVec3::new(1.5, 0.5, 0.2),
-                DVec3::new(0.5, 1.5, 0.7),
-                DVec3::new(0.2, 0.3, 0.9),
-            ],
-            [
-                cage.positions()[2],
-                DVec3::new(0.5, 0.5, 1.0),
-                DVec3::new(1.5, 1.5, 0.5),
-                DVec3::new(-1.0, 0.5, 0.5),
-            ],
+        // Inside, a vertex, a face, outside, next to an edge, and a last partial group.
+        let points = [
+            DVec3::new(0.5, 0.5, 0.5),
+            DVec3::new(1.5, 0.5, 0.2),
+            DVec3::new(0.5, 1.5, 0.7),
+            DVec3::new(0.2, 0.3, 0.9),
+            cage.positions()[2],
+            DVec3::new(0.5, 0.5, 1.0),
+            DVec3::new(1.5, 1.5, 0.5),
+            DVec3::new(-1.0, 0.5, 0.5),
+            DVec3::new(1e-13, 0.5, 1e-13),
+            DVec3::new(0.25, 1.75, 0.1),
         ];
         let (n, f) = (cage.vertex_count(), cage.triangles().len());
-        let (mut lanes, mut scalar) = (GreenLanesScratch::default(), GreenScratch::default());
-        for points in groups {
-            let (mut phi, mut psi) = (vec![0.0; LANES * n], vec![0.0; LANES * f]);
-            green_points4(&cage, &gc, points, &mut phi, &mut psi, &mut lanes);
-            for (l, p) in points.iter().enumerate() {
+        let mut scalar = GreenScratch::default();
+        for (backend, (phi, psi)) in crate::coords::lanes::run_every_backend(Rows(&cage, &points)) {
+            for (i, p) in points.iter().enumerate() {
                 let (mut phi1, mut psi1) = (vec![0.0; n], vec![0.0; f]);
                 green_point(&cage, &gc, *p, &mut phi1, &mut psi1, &mut scalar);
-                let lane = phi[l * n..(l + 1) * n]
+                let lane = phi[i * n..(i + 1) * n]
                     .iter()
-                    .chain(&psi[l * f..(l + 1) * f]);
+                    .chain(&psi[i * f..(i + 1) * f]);
                 for (a, b) in lane.zip(phi1.iter().chain(&psi1)) {
-                    assert!((a - b).abs() < 1e-12, "lane {l} at {p}: {a} vs {b}");
+                    assert!(
+                        (a - b).abs() < 1e-12,
+                        "{backend}, point {i} at {p}: {a} vs {b}"
+                    );
                 }
             }
         }

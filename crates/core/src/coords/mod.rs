@@ -29,6 +29,7 @@ pub use control::BindControl;
 pub use green::green_stretch;
 pub(crate) use green::triangle_stretch;
 pub use harmonic::HarmonicSettings;
+pub use lanes::{SIMD_ENV, lane_backend};
 
 /// The coordinate systems a cage can use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -309,16 +310,16 @@ pub fn bind(
     Ok(match kind {
         CoordinateKind::MeanValue => {
             let mut weights = vec![0.0; points.len() * n];
-            for_each_row_chunk(
-                &mut weights,
-                n,
-                points,
-                control,
-                mvc::MvcLanesScratch::default,
-                |pts, rows, scratch| {
-                    mvc::mvc_points4(cage, pts, rows, scratch);
-                },
-            )?;
+            control.set_total(points.len().div_ceil(CHUNK));
+            weights
+                .par_chunks_mut(CHUNK * n.max(1))
+                .zip(points.par_chunks(CHUNK))
+                .try_for_each(|(rows, points)| {
+                    control.check()?;
+                    lanes::run_kernel(mvc::MvcRows { cage, points, rows });
+                    control.advance();
+                    Ok::<(), CoordError>(())
+                })?;
             CageWeights::Vertex {
                 kind,
                 weights: VertexWeights {
@@ -343,38 +344,19 @@ pub fn bind(
             phi.par_chunks_mut(CHUNK * n.max(1))
                 .zip(psi.par_chunks_mut(CHUNK * f.max(1)))
                 .zip(points.par_chunks(CHUNK))
-                .try_for_each_init(
-                    green::GreenLanesScratch::default,
-                    |scratch, ((phi, psi), pts)| {
-                        control.check()?;
-                        let groups = phi
-                            .chunks_mut(lanes::LANES * n.max(1))
-                            .zip(psi.chunks_mut(lanes::LANES * f.max(1)))
-                            .zip(pts.chunks(lanes::LANES));
-                        for ((phi, psi), group) in groups {
-                            let lane_points =
-                                std::array::from_fn(|l| group[l.min(group.len() - 1)]);
-                            if group.len() == lanes::LANES {
-                                green::green_points4(cage, &gc, lane_points, phi, psi, scratch);
-                            } else {
-                                let (mut phi4, mut psi4) =
-                                    (vec![0.0; lanes::LANES * n], vec![0.0; lanes::LANES * f]);
-                                green::green_points4(
-                                    cage,
-                                    &gc,
-                                    lane_points,
-                                    &mut phi4,
-                                    &mut psi4,
-                                    scratch,
-                                );
-                                phi.copy_from_slice(&phi4[..phi.len()]);
-                                psi.copy_from_slice(&psi4[..psi.len()]);
-                            }
-                        }
-                        control.advance();
-                        Ok::<(), CoordError>(())
-                    },
-                )?;
+                .try_for_each(|((phi, psi), points)| {
+                    control.check()?;
+                    let gc = &gc;
+                    lanes::run_kernel(green::GreenRows {
+                        cage,
+                        gc,
+                        points,
+                        phi,
+                        psi,
+                    });
+                    control.advance();
+                    Ok::<(), CoordError>(())
+                })?;
             CageWeights::Green(GreenWeights {
                 vertex_count: n,
                 face_count: f,
@@ -387,35 +369,3 @@ pub fn bind(
 
 /// Points per parallel work item (and per progress step).
 const CHUNK: usize = 64;
-
-/// Runs `per_lanes` over groups of [`lanes::LANES`] points and their rows, in parallel chunks;
-/// a last partial group is padded with copies of its last point into a scratch row block.
-fn for_each_row_chunk<S: Send>(
-    weights: &mut [f64],
-    n: usize,
-    points: &[DVec3],
-    control: &BindControl,
-    init: impl Fn() -> S + Send + Sync,
-    per_lanes: impl Fn([DVec3; lanes::LANES], &mut [f64], &mut S) + Send + Sync,
-) -> Result<(), CoordError> {
-    use lanes::LANES;
-    control.set_total(points.len().div_ceil(CHUNK));
-    weights
-        .par_chunks_mut(CHUNK * n.max(1))
-        .zip(points.par_chunks(CHUNK))
-        .try_for_each_init(init, |scratch, (rows, pts)| {
-            control.check()?;
-            for (rows, group) in rows.chunks_mut(LANES * n.max(1)).zip(pts.chunks(LANES)) {
-                let lane_points = std::array::from_fn(|l| group[l.min(group.len() - 1)]);
-                if group.len() == LANES {
-                    per_lanes(lane_points, rows, scratch);
-                } else {
-                    let mut padded = vec![0.0; LANES * n];
-                    per_lanes(lane_points, &mut padded, scratch);
-                    rows.copy_from_slice(&padded[..rows.len()]);
-                }
-            }
-            control.advance();
-            Ok(())
-        })
-}

@@ -13,7 +13,7 @@
 
 use glam::DVec3;
 
-use super::lanes::{ALL_LANES, LANES, Lane, Vec3Lanes, mask_bits};
+use super::lanes::{ALL_LANES, LANES, Lane, LaneKernel, Vec3Lanes, math};
 use crate::cage::Cage;
 
 /// Relative distance (to the cage diagonal) under which a point is on a vertex.
@@ -64,13 +64,8 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
         // next to θ = π (a point on an edge), and asin near 1 likewise.
         let (ua, ub) = (unit[a as usize], unit[b as usize]);
         let (half_sin, half_cos) = (0.5 * (ua - ub).length(), 0.5 * (ua + ub).length());
-        // θ/2 by asin of the smaller of the two (≤ 1/√2, where asin is well conditioned).
-        let half = if half_sin <= half_cos {
-            half_sin.asin()
-        } else {
-            std::f64::consts::FRAC_PI_2 - half_cos.asin()
-        };
-        [2.0 * half, half_sin, half_cos]
+        // θ/2 from both: atan2 is well conditioned everywhere, asin of either alone is not.
+        [2.0 * half_sin.atan2(half_cos), half_sin, half_cos]
     }));
     let theta = &scratch.theta;
     let mut total = 0.0;
@@ -157,69 +152,116 @@ fn barycentric(idx: [usize; 3], sin_th: [f64; 3], dist: &[f64], out: &mut [f64])
     }
 }
 
-/// Reusable per-thread buffers of a multi-point MVC evaluation.
-#[derive(Debug, Default, Clone)]
-pub(crate) struct MvcLanesScratch {
-    unit: Vec<Vec3Lanes>,
-    inv_dist: Vec<Lane>,
+/// Reusable buffers of a multi-point MVC evaluation.
+#[derive(Debug, Clone)]
+pub(crate) struct MvcLanesScratch<L> {
+    unit: Vec<Vec3Lanes<L>>,
+    inv_dist: Vec<L>,
     /// Per edge: θ, sin θ, cos θ.
-    theta: Vec<[Lane; 3]>,
-    weights: Vec<Lane>,
+    theta: Vec<[L; 3]>,
+    weights: Vec<L>,
     scalar: MvcScratch,
+}
+
+impl<L> Default for MvcLanesScratch<L> {
+    fn default() -> Self {
+        Self {
+            unit: Vec::new(),
+            inv_dist: Vec::new(),
+            theta: Vec::new(),
+            weights: Vec::new(),
+            scalar: MvcScratch::default(),
+        }
+    }
+}
+
+/// MVC of a run of points into their rows (`points.len()` rows of `cage.vertex_count()`
+/// weights), [`LANES`] points at a time with the best SIMD backend.
+pub(crate) struct MvcRows<'a> {
+    /// The cage.
+    pub cage: &'a Cage,
+    /// The points.
+    pub points: &'a [DVec3],
+    /// Their rows, row-major.
+    pub rows: &'a mut [f64],
+}
+
+impl LaneKernel for MvcRows<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane>(self) {
+        let n = self.cage.vertex_count();
+        let mut scratch = MvcLanesScratch::<L>::default();
+        let mut padded = Vec::new();
+        let groups = self
+            .rows
+            .chunks_mut(LANES * n.max(1))
+            .zip(self.points.chunks(LANES));
+        for (rows, group) in groups {
+            let lane_points = std::array::from_fn(|l| group[l.min(group.len() - 1)]);
+            if group.len() == LANES {
+                mvc_points4(self.cage, lane_points, rows, &mut scratch);
+            } else {
+                padded.resize(LANES * n, 0.0);
+                mvc_points4(self.cage, lane_points, &mut padded, &mut scratch);
+                rows.copy_from_slice(&padded[..rows.len()]);
+            }
+        }
+    }
 }
 
 /// MVC of LANES points at once into `rows` (LANES rows of `cage.vertex_count()` weights), with
 /// the formulas of [`mvc_point`] in SIMD lanes. Lanes that meet a special case (a point on a
 /// vertex, an edge's line or a face's plane) are recomputed by [`mvc_point`].
-pub(crate) fn mvc_points4(
+#[inline(always)]
+pub(crate) fn mvc_points4<L: Lane>(
     cage: &Cage,
     p: [DVec3; LANES],
     rows: &mut [f64],
-    scratch: &mut MvcLanesScratch,
+    scratch: &mut MvcLanesScratch<L>,
 ) {
     let positions = cage.positions();
     let n = positions.len();
-    let on_vertex = Lane::from(ON_VERTEX * cage.diagonal());
-    let coplanar = Lane::from(COPLANAR);
-    let (one, half, two) = (Lane::from(1.0), Lane::from(0.5), Lane::from(2.0));
-    let quarter_turn = Lane::from(std::f64::consts::FRAC_PI_2);
+    let on_vertex = L::splat(ON_VERTEX * cage.diagonal());
+    let coplanar = L::splat(COPLANAR);
+    let (one, half, two) = (L::splat(1.0), L::splat(0.5), L::splat(2.0));
     let mut special = 0u32;
     scratch.unit.clear();
     scratch.inv_dist.clear();
     for &x in positions {
-        let v = Vec3Lanes::from_minus(x, &p);
+        let v = Vec3Lanes::<L>::from_minus(x, &p);
         let d = v.dot(&v).sqrt();
-        special |= mask_bits(d.simd_lt(on_vertex));
+        special |= L::bitmask(d.lt(on_vertex));
         let inv = one / d;
         scratch.unit.push(v.scale(inv));
         scratch.inv_dist.push(inv);
     }
     let unit = &scratch.unit;
     scratch.theta.clear();
-    scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
+    // A loop, not a closure: the kernel must be one function for `#[target_feature]`.
+    for &[a, b] in cage.edges() {
         let (ua, ub) = (&unit[a as usize], &unit[b as usize]);
         // sin(θ/2) = |u_a − u_b| / 2 and cos(θ/2) = |u_a + u_b| / 2, both direct (see
-        // mvc_point); θ, sin θ = 2 sin(θ/2) cos(θ/2), cos θ = 1 − 2 sin²(θ/2).
+        // mvc_point); θ/2 = atan2 of the two; sin θ = 2 sin(θ/2) cos(θ/2),
+        // cos θ = 1 − 2 sin²(θ/2).
         let (dx, dy, dz) = (ua.x - ub.x, ua.y - ub.y, ua.z - ub.z);
         let (sx, sy, sz) = (ua.x + ub.x, ua.y + ub.y, ua.z + ub.z);
-        let half_sin = half * (dx * dx + dy * dy + dz * dz).sqrt();
-        let half_cos = half * (sx * sx + sy * sy + sz * sz).sqrt();
-        // θ/2 = asin(min) or π/2 − asin(min): one asin, on an argument ≤ 1/√2.
-        let small = half_sin.min(half_cos).asin();
-        let reflect = half_sin.simd_gt(half_cos) & one;
-        let half_angle = small + reflect * (quarter_turn - two * small);
-        [
+        let half_sin = half * dx.mul_add(dx, dy.mul_add(dy, dz * dz)).sqrt();
+        let half_cos = half * sx.mul_add(sx, sy.mul_add(sy, sz * sz)).sqrt();
+        let half_angle = math::atan2_nonnegative(half_sin, half_cos);
+        scratch.theta.push([
             two * half_angle,
             two * half_sin * half_cos,
-            one - two * half_sin * half_sin,
-        ]
-    }));
+            (-two * half_sin).mul_add(half_sin, one),
+        ]);
+    }
     let theta = &scratch.theta;
     let inv_dist = &scratch.inv_dist;
     scratch.weights.clear();
-    scratch.weights.resize(n, Lane::ZERO);
+    scratch.weights.resize(n, L::zero());
     let weights = &mut scratch.weights;
-    let mut total = Lane::ZERO;
+    let mut total = L::zero();
     for (tri, edges) in cage.triangles().iter().zip(cage.triangle_edges()) {
         let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
         // θ_i is the arc opposite corner i: edge (i+1, i+2) is edges[(i + 1) % 3].
@@ -238,22 +280,24 @@ pub(crate) fn mvc_points4(
         let w2 = (th2 - cc0 * th1 - cc1 * th0) * s2 * inv_det * inv_dist[idx[2]];
         let s_min = s0.min(s1).min(s2);
         // Regular where both tests hold; NaN fails them, so it flags the lane too.
-        let regular = s_min.simd_ge(coplanar) & (det.abs() * s_min * inv_p).simd_gt(coplanar);
-        special |= !mask_bits(regular) & ALL_LANES;
+        let regular = s_min.ge(coplanar) & (det.abs() * s_min * inv_p).gt(coplanar);
+        special |= !L::bitmask(regular) & ALL_LANES;
         weights[idx[0]] += w0;
         weights[idx[1]] += w1;
         weights[idx[2]] += w2;
         total += w0 + w1 + w2;
     }
     let total = total.to_array();
+    let scale: [f64; LANES] = std::array::from_fn(|l| 1.0 / total[l]);
+    for (i, acc) in weights.iter().enumerate() {
+        let acc = acc.to_array();
+        for l in 0..LANES {
+            rows[l * n + i] = acc[l] * scale[l];
+        }
+    }
     for (l, row) in rows.chunks_mut(n).enumerate().take(LANES) {
         if special & (1 << l) != 0 || total[l] == 0.0 || !total[l].is_finite() {
             mvc_point(cage, p[l], row, &mut scratch.scalar);
-        } else {
-            let inv = 1.0 / total[l];
-            for (w, acc) in row.iter_mut().zip(weights.iter()) {
-                *w = acc.as_array()[l] * inv;
-            }
         }
     }
 }
@@ -263,33 +307,50 @@ mod tests {
     use super::*;
     use crate::cage::shapes;
 
+    /// The lane kernel on `points`, with one backend.
+    #[derive(Clone)]
+    struct Rows<'a>(&'a Cage, &'a [DVec3]);
+
+    impl LaneKernel for Rows<'_> {
+        type Output = Vec<f64>;
+        fn run<L: Lane>(self) -> Vec<f64> {
+            let mut rows = vec![0.0; self.1.len() * self.0.vertex_count()];
+            MvcRows {
+                cage: self.0,
+                points: self.1,
+                rows: &mut rows,
+            }
+            .run::<L>();
+            rows
+        }
+    }
+
     #[test]
-    fn lane_kernel_matches_scalar_routine() {
+    fn lane_kernel_matches_scalar_routine_on_every_backend() {
         let cage = shapes::star_prism();
-        let groups = [
-            [
-                DVec3::new(0.1, 0.2, 0.0),
-                DVec3::new(-0.3, 0.1, 0.3),
-                DVec3::new(0.0, -0.2, -0.1),
-                DVec3::new(0.2, 0.0, 0.4),
-            ],
-            [
-                cage.positions()[3],
-                DVec3::new(0.0, 0.0, 0.5),
-                DVec3::new(3.0, 0.0, 0.5),
-                DVec3::new(0.05, 0.05, 0.05),
-            ],
+        // Regular points, a vertex, a face, a point outside, and a last partial group.
+        let points = [
+            DVec3::new(0.1, 0.2, 0.0),
+            DVec3::new(-0.3, 0.1, 0.3),
+            DVec3::new(0.0, -0.2, -0.1),
+            DVec3::new(0.2, 0.0, 0.4),
+            cage.positions()[3],
+            DVec3::new(0.0, 0.0, 0.5),
+            DVec3::new(3.0, 0.0, 0.5),
+            DVec3::new(0.05, 0.05, 0.05),
+            DVec3::new(-0.05, 0.15, -0.45),
         ];
         let n = cage.vertex_count();
-        let (mut lanes, mut scalar) = (MvcLanesScratch::default(), MvcScratch::default());
-        for points in groups {
-            let mut rows = vec![0.0; LANES * n];
-            mvc_points4(&cage, points, &mut rows, &mut lanes);
-            for (l, p) in points.iter().enumerate() {
+        let mut scalar = MvcScratch::default();
+        for (backend, rows) in crate::coords::lanes::run_every_backend(Rows(&cage, &points)) {
+            for (i, p) in points.iter().enumerate() {
                 let mut expected = vec![0.0; n];
                 mvc_point(&cage, *p, &mut expected, &mut scalar);
-                for (a, b) in rows[l * n..(l + 1) * n].iter().zip(&expected) {
-                    assert!((a - b).abs() < 1e-12, "lane {l} at {p}: {a} vs {b}");
+                for (a, b) in rows[i * n..(i + 1) * n].iter().zip(&expected) {
+                    assert!(
+                        (a - b).abs() < 1e-12,
+                        "{backend}, point {i} at {p}: {a} vs {b}"
+                    );
                 }
             }
         }
