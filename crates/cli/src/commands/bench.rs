@@ -69,6 +69,8 @@ struct Ratios {
 #[derive(Serialize)]
 struct Report {
     threads: usize,
+    /// The SIMD backend of the MVC and GC kernels (binding time depends on it).
+    simd: &'static str,
     array_read_gb_s: f64,
     rows: Vec<Row>,
     ratios: Vec<Ratios>,
@@ -256,6 +258,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     let report = Report {
         threads: rayon::current_num_threads(),
+        simd: starcages_core::coords::lane_backend(),
         array_read_gb_s: array_read_bandwidth(),
         rows,
         ratios,
@@ -267,8 +270,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     crate::output::line(format_args!(
-        "threads: {}; plain array read: {:.1} GB/s",
-        report.threads, report.array_read_gb_s
+        "threads: {}; SIMD: {}; plain array read: {:.1} GB/s",
+        report.threads, report.simd, report.array_read_gb_s
     ))?;
     crate::output::line(format_args!(
         "{:<16} {:<11} {:>8} {:>5} {:>9} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
