@@ -8,7 +8,7 @@ use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::{
     AutoInternalCage, AutoInternalCageError, CageEdit, Hierarchy, HierarchyError,
-    add_auto_internal_cage,
+    RemoveInternalCageError, add_auto_internal_cage, remove_internal_cage,
 };
 use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{FollowRecord, Scene, SceneProblem, load_scene, save_scene};
@@ -458,4 +458,77 @@ fn edits_of_unknown_cages_name_the_known_ones() {
     let edit: CageEdit = "nose: scale 2".parse().unwrap();
     let error = edit.moves(&scene.cages, &scene.pose).unwrap_err();
     assert!(error.to_string().contains("ears, head"), "{error}");
+}
+
+#[test]
+fn removing_an_internal_cage_undoes_adding_it_and_frees_what_it_owned() {
+    let mut scene = critter();
+    scene.pose[0] += DVec3::X * 0.05;
+    scene.poses.insert("nudged".into(), scene.pose.clone());
+    let original = scene.clone();
+    // Every leaf vertex has a parent in the critter; the top cage's own vertices have none.
+    let free: Vec<u32> = ["ears", "head"]
+        .into_iter()
+        .flat_map(|name| scene.cages.cage_vertices(name).unwrap())
+        .filter(|v| scene.cages.internals.iter().all(|c| !c.owns.contains(v)))
+        .collect();
+    assert!(
+        !free.is_empty(),
+        "the critter's top cage has unowned vertices"
+    );
+    let options = AutoInternalCage {
+        name: "extra".into(),
+        ..AutoInternalCage::default()
+    };
+    let index = add_auto_internal_cage(&mut scene, &options, &free).unwrap();
+    assert_ne!(scene, original);
+    remove_internal_cage(&mut scene, index).unwrap();
+    assert_eq!(scene, original, "add then remove is the identity");
+
+    // A cage driven by another is refused, naming the parent; its parent can go.
+    let ears = internal(&scene, "ears");
+    let head = internal(&scene, "head");
+    let driven = [ears, head].into_iter().find(|&c| {
+        let own: Vec<u32> = scene.cages.internals[c]
+            .faces
+            .iter()
+            .flatten()
+            .copied()
+            .collect();
+        scene
+            .cages
+            .internals
+            .iter()
+            .any(|p| p.owns.iter().any(|v| own.contains(v)))
+    });
+    if let Some(child) = driven {
+        let error = remove_internal_cage(&mut scene.clone(), child).unwrap_err();
+        assert!(error.to_string().contains("remove '"), "{error}");
+    }
+    let top = [ears, head]
+        .into_iter()
+        .find(|&c| Some(c) != driven)
+        .unwrap();
+    let top_name = scene.cages.internals[top].name.clone();
+    let owned = scene.cages.internals[top].owns.clone();
+    let positions: Vec<DVec3> = owned.iter().map(|&v| scene.pose[v as usize]).collect();
+    let own_vertices: std::collections::BTreeSet<u32> = scene.cages.internals[top]
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    remove_internal_cage(&mut scene, top).unwrap();
+    assert!(scene.cages.cage_vertices(&top_name).is_none());
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    // Freed vertices keep their posed positions, at indices shifted past the removed ones.
+    for (v, p) in owned.iter().zip(&positions) {
+        let shift = own_vertices.range(..*v).count() as u32;
+        assert_eq!(scene.pose[(*v - shift) as usize], *p);
+    }
+    assert!(Hierarchy::bind(&scene).is_ok());
+    assert!(matches!(
+        remove_internal_cage(&mut scene, 99),
+        Err(RemoveInternalCageError::NoSuchCage { index: 99, .. })
+    ));
 }

@@ -9,6 +9,7 @@
 mod auto;
 mod edit;
 mod follow;
+mod remove;
 mod restore;
 
 use std::collections::BTreeMap;
@@ -26,6 +27,7 @@ use crate::scene::{
 pub use auto::{AutoInternalCage, AutoInternalCageError, add_auto_internal_cage};
 pub use edit::{CageEdit, CageTransform, EditError};
 use follow::{Follow, RebindRequest, anchor_points, rebind};
+pub use remove::{RemoveInternalCageError, remove_internal_cage};
 
 /// Why the hierarchy could not be bound or an edit applied.
 #[derive(Debug, Clone, PartialEq, Error)]
