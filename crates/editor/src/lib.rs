@@ -2,26 +2,24 @@
 //! viewport (rendering through an egui-wgpu paint callback). A library so tests can drive the
 //! real app with egui_kittest; the binary `starcages` is a thin `main`.
 //!
-//! * [`app`]: state and operations (open, save, bind in the background, edits, undo).
-//! * `interaction`: viewport mouse and keys, the G / R / S tool.
-//! * `panels`: menu, outliner, inspector, view options, stats, poses, status bar, prompts.
-//! * `viewport`: the paint callback.
+//! Dependencies point one way: [`state`] (no egui types) ← [`commands`] (what a user can do,
+//! and the one [`commands::apply`]) ← [`ui`] (reads the state, sends commands) ← [`app`]
+//! (runs a frame: poll jobs, draw, apply).
 
 pub mod app;
-pub mod document;
-pub mod interaction;
-mod jobs;
-mod mirror;
-pub mod panels;
-pub mod recent;
-pub mod undo;
-mod viewport;
+pub mod commands;
+pub mod state;
+pub mod ui;
 
 pub use app::EditorApp;
-pub use document::Document;
+pub use commands::{Command, UiCommand};
+pub use state::{CageId, Document, EditorState};
 
 /// Builds the app inside eframe: installs the viewport's GPU resources when wgpu is there.
 pub fn create(cc: &eframe::CreationContext<'_>, doc: Document) -> EditorApp {
-    let gpu = cc.wgpu_render_state.as_ref().is_some_and(viewport::install);
+    let gpu = cc
+        .wgpu_render_state
+        .as_ref()
+        .is_some_and(ui::viewport_paint::install);
     EditorApp::new(doc, Some(cc.egui_ctx.clone()), gpu)
 }

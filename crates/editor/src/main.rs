@@ -2,7 +2,8 @@
 //! `starcages SCENE.json` or `starcages MESH.obj` opens a file.
 
 use anyhow::Context as _;
-use starcages_editor::{Document, recent};
+use starcages_editor::Document;
+use starcages_editor::state::recent;
 
 fn main() -> anyhow::Result<()> {
     let path = std::env::args_os().nth(1).map(std::path::PathBuf::from);
@@ -11,7 +12,7 @@ fn main() -> anyhow::Result<()> {
             Ok(doc) => (doc, None),
             Err(e) => (
                 Document::demo(),
-                Some(format!("could not open {e}; showing the demo scene")),
+                Some(format!("{e}; showing the demo scene")),
             ),
         },
         None => (Document::demo(), None),
@@ -29,12 +30,13 @@ fn main() -> anyhow::Result<()> {
         options,
         Box::new(move |cc| {
             let mut app = starcages_editor::create(cc, doc);
-            app.recent_file = recent::default_file();
-            if let Some(file) = &app.recent_file {
-                app.recent = recent::load(file);
+            let state = &mut app.state;
+            state.recent_file = recent::default_file();
+            if let Some(file) = &state.recent_file {
+                state.recent = recent::load(file);
             }
             if let Some(error) = error {
-                app.error(error);
+                state.error(error);
             }
             Ok(Box::new(app))
         }),

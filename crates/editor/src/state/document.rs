@@ -10,6 +10,8 @@ use starcages_core::scene::{
     validate_scene,
 };
 
+use super::EditorError;
+
 /// The demo scene `cargo run --release` opens.
 pub const DEMO: &str = "critter";
 
@@ -37,21 +39,21 @@ impl Document {
 
     /// Opens a scene (`.json`) or a mesh (`.obj`, `.gltf`, `.glb`; boxed in automatic grid
     /// cages). The error names the file, what is wrong and what to do.
-    pub fn open(path: &Path) -> Result<Self, String> {
+    pub fn open(path: &Path) -> Result<Self, EditorError> {
         let extension = path
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase)
             .unwrap_or_default();
         if extension == "json" {
-            let scene = load_scene(path).map_err(|e| e.to_string())?;
+            let scene = load_scene(path).map_err(EditorError::OpenScene)?;
             let report = validate_scene(&scene);
             if let Some(problem) = report.errors.first() {
-                return Err(format!(
-                    "{}: {problem} ({} problem(s); `starcages-cli validate` lists them all)",
-                    path.display(),
-                    report.errors.len()
-                ));
+                return Err(EditorError::InvalidScene {
+                    path: path.to_path_buf(),
+                    problem: problem.to_string(),
+                    count: report.errors.len(),
+                });
             }
             return Ok(Self {
                 scene,
@@ -73,8 +75,8 @@ impl Document {
     }
 
     /// Saves atomically to `path` and remembers it.
-    pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
-        save_scene(&self.scene, path).map_err(|e| e.to_string())?;
+    pub fn save_as(&mut self, path: &Path) -> Result<(), EditorError> {
+        save_scene(&self.scene, path).map_err(EditorError::Save)?;
         self.path = Some(path.to_path_buf());
         self.dirty = false;
         Ok(())
@@ -99,8 +101,8 @@ impl Document {
 }
 
 /// A new scene around the mesh at `path`, in a grid of box cages.
-pub fn scene_from_mesh(path: &Path, options: &AutocageOptions) -> Result<Scene, String> {
-    let mesh = read_mesh(path).map_err(|e| e.to_string())?;
+pub fn scene_from_mesh(path: &Path, options: &AutocageOptions) -> Result<Scene, EditorError> {
+    let mesh = read_mesh(path).map_err(EditorError::OpenMesh)?;
     let cages = autocage(&mesh, options);
     let source = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
     Ok(Scene::new(

@@ -1,6 +1,8 @@
-//! The 3D viewport inside egui: each frame the app hands a [`FrameData`] to an egui-wgpu paint
+//! The 3D viewport inside egui: each frame the UI hands a [`FrameData`] to an egui-wgpu paint
 //! callback, which renders the scene with the viewport crate into its own texture (depth,
-//! MSAA) in `prepare` and copies it into egui's pass in `paint`.
+//! MSAA) in `prepare` and copies it into egui's pass in `paint`. Uploads are keyed by the
+//! document's identity as well as its generations, so a newly opened scene always draws its
+//! own mesh.
 
 use std::sync::Arc;
 
@@ -8,8 +10,43 @@ use egui_wgpu::{CallbackResources, CallbackTrait, RenderState, ScreenDescriptor}
 use glam::Vec3;
 use starcages_core::star::StarBinding;
 use starcages_viewport::gpu::{Blit, GpuContext, Layers, SceneRenderer, ViewTarget};
-use starcages_viewport::layers::{Dot, LineVertex};
+use starcages_viewport::layers::{Dot, LineVertex, cage_dots, cage_lines};
 use starcages_viewport::{OrbitCamera, gpu::OFFSCREEN_FORMAT};
+
+use super::UiState;
+use crate::state::EditorState;
+
+/// Which mesh an upload is: the document's identity and its mesh generation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeshKey {
+    /// `EditorState::document_id`.
+    pub document: u64,
+    /// `Generations::mesh`.
+    pub generation: u64,
+}
+
+/// The last mesh upload, reused while its key holds.
+#[derive(Debug, Default)]
+pub struct MeshUploadCache(Option<(MeshKey, Arc<MeshUpload>)>);
+
+/// What the renderer holds: the mesh uploaded last, as the paint callback saw it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UploadedMesh {
+    /// Which document and binding it came from.
+    pub key: MeshKey,
+    /// Welded vertices.
+    pub vertices: usize,
+    /// Triangles.
+    pub triangles: usize,
+    /// Rest-position bounds (min, max).
+    pub bounds: (Vec3, Vec3),
+}
+
+/// The mesh the viewport's renderer holds now (tests read it back through egui-wgpu's
+/// callback resources).
+pub fn uploaded_mesh(resources: &CallbackResources) -> Option<UploadedMesh> {
+    resources.get::<Resources>()?.uploaded
+}
 
 /// A mesh to upload: welded rest positions, triangles, and the binding whose operator the GPU
 /// deforms with.
@@ -19,8 +56,9 @@ pub struct MeshUpload {
     pub positions: Vec<Vec3>,
     /// Welded triangles.
     pub triangles: Vec<[u32; 3]>,
-    /// The binding (operator) of this mesh.
-    pub binding: Arc<StarBinding>,
+    /// The binding (operator) of this mesh; `None` while the first bind runs (the rest shape
+    /// is drawn meanwhile).
+    pub binding: Option<Arc<StarBinding>>,
 }
 
 /// A deformation to show: its generation, the degrees of freedom (GPU path) and the deformed
@@ -38,8 +76,8 @@ pub struct FrameData {
     pub lines: Arc<Vec<LineVertex>>,
     /// Cage vertices.
     pub dots: Arc<Vec<Dot>>,
-    /// The mesh and its generation (uploaded when the generation changes).
-    pub mesh: Option<(u64, Arc<MeshUpload>)>,
+    /// The mesh and its key (uploaded when the key changes).
+    pub mesh: Option<(MeshKey, Arc<MeshUpload>)>,
     /// This frame's degrees of freedom (GPU deformation) and the deformed positions (CPU path),
     /// with their generation.
     pub deformation: Option<Deformation>,
@@ -54,7 +92,8 @@ struct Resources {
     target: Option<ViewTarget>,
     blit: Blit,
     samples: u32,
-    mesh_generation: u64,
+    mesh_key: Option<MeshKey>,
+    uploaded: Option<UploadedMesh>,
     deformation_generation: u64,
     color_generation: u64,
 }
@@ -72,7 +111,8 @@ pub fn install(render_state: &RenderState) -> bool {
         blit: Blit::new(&gpu, render_state.target_format),
         target: None,
         samples,
-        mesh_generation: u64::MAX,
+        mesh_key: None,
+        uploaded: None,
         deformation_generation: u64::MAX,
         color_generation: u64::MAX,
         gpu,
@@ -106,16 +146,26 @@ impl CallbackTrait for ViewportCallback {
             return Vec::new();
         };
         let data = &self.data;
-        if let Some((generation, mesh)) = &data.mesh
-            && *generation != r.mesh_generation
+        if let Some((key, mesh)) = &data.mesh
+            && Some(*key) != r.mesh_key
         {
             r.renderer.set_mesh(
                 &r.gpu,
                 &mesh.positions,
                 &mesh.triangles,
-                Some(&mesh.binding.operator),
+                mesh.binding.as_deref().map(|b| &b.operator),
             );
-            r.mesh_generation = *generation;
+            r.mesh_key = Some(*key);
+            let bounds = mesh.positions.iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            r.uploaded = Some(UploadedMesh {
+                key: *key,
+                vertices: mesh.positions.len(),
+                triangles: mesh.triangles.len(),
+                bounds,
+            });
             r.deformation_generation = u64::MAX;
             r.color_generation = u64::MAX;
         }
@@ -168,4 +218,63 @@ impl CallbackTrait for ViewportCallback {
             r.blit.draw(render_pass);
         }
     }
+}
+
+/// Hands this frame's scene to the paint callback (or draws a note without wgpu).
+pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rect: egui::Rect) {
+    if !ui_state.gpu {
+        ui.painter()
+            .rect_filled(rect, 0.0, egui::Color32::from_gray(40));
+        ui.painter().text(
+            rect.center(),
+            egui::Align2::CENTER_CENTER,
+            "3D view unavailable: no wgpu device",
+            egui::FontId::proportional(16.0),
+            egui::Color32::LIGHT_GRAY,
+        );
+        return;
+    }
+    let scene = &state.doc.scene;
+    let style = state.view.cage_style(&state.selection, &scene.cages);
+    let lines = Arc::new(cage_lines(&scene.cages, &scene.pose, &style));
+    let dots = Arc::new(cage_dots(&scene.cages, &scene.pose, &style));
+    let key = MeshKey {
+        document: state.document_id,
+        generation: state.generations.mesh,
+    };
+    let mesh = match &ui_state.mesh_upload.0 {
+        Some((k, m)) if *k == key => (key, Arc::clone(m)),
+        _ => {
+            let upload = Arc::new(MeshUpload {
+                positions: scene.mesh.welded_positions_f32(),
+                triangles: scene.mesh.welded_triangles().to_vec(),
+                binding: state.rig.as_ref().map(|rig| Arc::clone(&rig.binding)),
+            });
+            ui_state.mesh_upload.0 = Some((key, Arc::clone(&upload)));
+            (key, upload)
+        }
+    };
+    let deformation = state.rig.as_ref().map(|rig| {
+        (
+            state.generations.deformation,
+            Arc::clone(&rig.dofs),
+            Arc::clone(&rig.deformed),
+        )
+    });
+    let data = FrameData {
+        camera: state.view.camera,
+        layers: state.view.layers,
+        lines,
+        dots,
+        mesh: Some(mesh),
+        deformation,
+        colors: state.map.colors(),
+    };
+    ui.painter().add(egui_wgpu::Callback::new_paint_callback(
+        rect,
+        ViewportCallback {
+            data,
+            size_points: rect.size(),
+        },
+    ));
 }

@@ -1,0 +1,351 @@
+//! The one place that changes the editor's state: each command records its undo point (one per
+//! gesture), changes the document or the view, revalidates what depends on the document, and
+//! schedules binds in the background.
+
+use std::path::Path;
+
+use starcages_core::hierarchy::{AutoInternalCage, add_auto_internal_cage, remove_internal_cage};
+use starcages_core::io::{cage_set_obj_text, write_atomic, write_mesh};
+use starcages_core::scene::AutocageOptions;
+
+use super::{CameraChange, Command, UnsavedAnswer};
+use crate::state::document::scene_from_mesh;
+use crate::state::{CageId, Document, EditorError, EditorState, Pending, SelectMode};
+
+/// Carries out `commands` in order.
+pub fn apply_all(state: &mut EditorState, commands: Vec<Command>) {
+    for command in commands {
+        apply(state, command);
+    }
+}
+
+/// Carries out one command.
+pub fn apply(state: &mut EditorState, command: Command) {
+    match command {
+        Command::Open(path) => {
+            if state.doc.dirty {
+                state.pending = Some(Pending::Open(path));
+            } else {
+                state.start_load(path);
+            }
+        }
+        Command::NewFromMesh(path, options) => {
+            if state.doc.dirty {
+                state.pending = Some(Pending::NewFromMesh(path, options));
+            } else {
+                new_from_mesh(state, &path, &options);
+            }
+        }
+        Command::Save => match state.doc.path.clone() {
+            Some(path) => {
+                save_as(state, &path);
+            }
+            None => state.error("this scene has no file yet: use File ▸ Save as"),
+        },
+        Command::SaveAs(path) => {
+            save_as(state, &path);
+        }
+        Command::ExportMesh(path) => export_mesh(state, &path),
+        Command::ExportCages(path) => {
+            let scene = &state.doc.scene;
+            let text = cage_set_obj_text(&scene.cages, &scene.pose);
+            match write_atomic(&path, text.as_bytes()) {
+                Ok(()) => state.info(format!("exported {}", path.display())),
+                Err(e) => state.error(EditorError::Export(e)),
+            }
+        }
+        Command::AnswerUnsaved(answer) => answer_unsaved(state, answer),
+        Command::RequestClose => {
+            if state.doc.dirty {
+                state.pending = Some(Pending::Close);
+            } else {
+                state.close_confirmed = true;
+            }
+        }
+        Command::CancelLoad => {
+            if state.load_job.take().is_some() {
+                state.info("opening cancelled; the current scene is unchanged");
+            }
+        }
+        Command::CancelBind => {
+            if let Some(job) = &state.bind_job {
+                job.cancel();
+            }
+        }
+        Command::CancelBaseline => state.map.cancel_baseline(),
+        Command::Undo => {
+            if state.gesture.is_some() {
+                state.end_gesture(false);
+                state.info("cancelled the edit in progress");
+                return;
+            }
+            match state.undo.undo(&mut state.doc.scene) {
+                Some(label) => {
+                    state.info(format!("undid: {label}"));
+                    state.document_changed();
+                }
+                None => state.info("nothing to undo"),
+            }
+        }
+        Command::Redo => {
+            state.end_gesture(true);
+            match state.undo.redo(&mut state.doc.scene) {
+                Some(label) => {
+                    state.info(format!("redid: {label}"));
+                    state.document_changed();
+                }
+                None => state.info("nothing to redo"),
+            }
+        }
+        Command::BeginGesture { id, label } => state.begin_gesture(id, &label),
+        Command::EndGesture { keep } => state.end_gesture(keep),
+        Command::MoveVertices(moves) => move_vertices(state, &moves),
+        Command::SetCageKind(cage, kind) => {
+            if cage.kind(&state.doc.scene.cages).is_some_and(|k| k != kind) {
+                state.edit_scene("change coordinates", |scene| match cage {
+                    CageId::Leaf(i) => scene.cages.leaves[i].kind = kind,
+                    CageId::Internal(i) => scene.cages.internals[i].kind = kind,
+                });
+            }
+        }
+        Command::SetCageH { leaf, h } => {
+            if leaf < state.doc.scene.cages.leaves.len() {
+                let h = h.map(|h| h.clamp(0.01, 1.0));
+                state.edit_scene("change h", |scene| scene.cages.leaves[leaf].h = h);
+            }
+        }
+        Command::SetBorderH { leaf, neighbour, h } => {
+            if leaf < state.doc.scene.cages.leaves.len() {
+                state.edit_scene("change border h", |scene| {
+                    let borders = &mut scene.cages.leaves[leaf].border_h;
+                    match h {
+                        Some(h) => borders.insert(neighbour, h.clamp(0.01, 1.0)),
+                        None => borders.remove(&neighbour),
+                    };
+                });
+            }
+        }
+        Command::SetSettings { label, settings } => {
+            state.edit_scene(&label, |scene| scene.settings = settings);
+        }
+        Command::AddInternalCage(kind) => add_internal_cage(state, kind),
+        Command::RemoveInternalCage(index) => {
+            let name = CageId::Internal(index)
+                .name(&state.doc.scene.cages)
+                .unwrap_or_default()
+                .to_owned();
+            let result = state.edit_scene("remove internal cage", |scene| {
+                remove_internal_cage(scene, index)
+            });
+            match result {
+                Ok(()) => state.info(format!("removed internal cage '{name}'")),
+                Err(e) => state.error(EditorError::RemoveInternalCage(e)),
+            }
+        }
+        Command::StorePose(name) => store_pose(state, name.trim()),
+        Command::SwitchPose(name) => {
+            let known = name
+                .as_ref()
+                .is_none_or(|n| state.doc.scene.poses.contains_key(n));
+            if known {
+                state.edit_scene("switch pose", |scene| match &name {
+                    Some(n) => {
+                        if let Some(pose) = scene.poses.get(n) {
+                            scene.pose = pose.clone();
+                            scene.pose_state =
+                                scene.pose_states.get(n).cloned().unwrap_or_default();
+                        }
+                    }
+                    None => {
+                        scene.pose = scene.cages.vertices.clone();
+                        scene.pose_state = Default::default();
+                    }
+                });
+            }
+        }
+        Command::DeletePose(name) => {
+            state.edit_scene("delete pose", |scene| {
+                scene.poses.remove(&name);
+                scene.pose_states.remove(&name);
+            });
+        }
+        Command::Select { vertices, mode } => {
+            let count = state.doc.scene.cages.vertices.len();
+            let valid = vertices.into_iter().filter(|&v| (v as usize) < count);
+            state.selection.select(valid, mode);
+        }
+        Command::SelectAll => {
+            let pickable = state.view.pickable(&state.doc.scene.cages);
+            let all = (0..pickable.len() as u32).filter(|&v| pickable[v as usize]);
+            state.selection.select(all, SelectMode::Replace);
+        }
+        Command::SelectNone => state.selection.vertices.clear(),
+        Command::InspectCage(cage) => {
+            let set = &state.doc.scene.cages;
+            let cage = cage.filter(|c| c.exists(set));
+            state.selection.cage = cage;
+            if let Some(faces) = cage.and_then(|c| c.faces(set)) {
+                let vertices = faces.iter().flatten().copied();
+                state.selection.select(vertices, SelectMode::Replace);
+            }
+        }
+        Command::Hover(vertex) => {
+            let count = state.doc.scene.cages.vertices.len();
+            state.selection.hovered = vertex.filter(|&v| (v as usize) < count);
+        }
+        Command::SetCageHidden(cage, hidden) => {
+            if hidden && cage.exists(&state.doc.scene.cages) {
+                state.view.hidden.insert(cage);
+            } else {
+                state.view.hidden.remove(&cage);
+            }
+        }
+        Command::SetLayers(layers) => state.view.layers = layers,
+        Command::SetInfluence(choice) => state.view.influence = choice,
+        Command::SetMirrorX(on) => state.view.mirror_x = on,
+        Command::Camera(change) => camera(state, change),
+        Command::SetViewport(rect) => state.view.viewport = rect,
+        Command::Info(text) => state.info(text),
+    }
+}
+
+fn camera(state: &mut EditorState, change: CameraChange) {
+    let size = state.view.viewport.size;
+    let camera = &mut state.view.camera;
+    match change {
+        CameraChange::Orbit(delta) => camera.orbit(delta),
+        CameraChange::Pan(delta) => camera.pan(delta, size.y),
+        CameraChange::Zoom {
+            steps,
+            cursor_in_viewport,
+        } => camera.zoom(steps, cursor_in_viewport, size),
+        CameraChange::View(view) => camera.set_view(view),
+        CameraChange::FrameAll => state.frame(false),
+        CameraChange::FrameSelection => state.frame(true),
+    }
+}
+
+fn move_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)]) {
+    let before = state
+        .gesture
+        .is_none()
+        .then(|| crate::state::undo::Snapshot::of(&state.doc.scene));
+    match state.move_vertices(moves) {
+        Ok(()) => {
+            if let Some(before) = before
+                && before != crate::state::undo::Snapshot::of(&state.doc.scene)
+            {
+                state.undo.push("move vertices", before);
+            }
+        }
+        Err(e) => state.error(e),
+    }
+}
+
+fn add_internal_cage(state: &mut EditorState, kind: starcages_core::coords::CoordinateKind) {
+    let vertices: Vec<u32> = state.selection.vertices.iter().copied().collect();
+    let taken = state.doc.scene.cages.cage_names();
+    let name = (1..)
+        .map(|i| format!("internal_{i}"))
+        .find(|n| !taken.contains(&n.as_str()))
+        .unwrap_or_default();
+    let options = AutoInternalCage {
+        name: name.clone(),
+        kind,
+        ..AutoInternalCage::default()
+    };
+    let result = state.edit_scene("add internal cage", |scene| {
+        add_auto_internal_cage(scene, &options, &vertices)
+    });
+    match result {
+        Ok(index) => {
+            state.selection.cage = Some(CageId::Internal(index));
+            state.info(format!(
+                "added internal cage '{name}' owning {} vertices",
+                vertices.len()
+            ));
+        }
+        Err(e) => state.error(EditorError::AddInternalCage(e)),
+    }
+}
+
+fn store_pose(state: &mut EditorState, name: &str) {
+    if name.is_empty() {
+        state.error(EditorError::Pose(
+            "type a name for the pose first, then Store pose".into(),
+        ));
+        return;
+    }
+    state.edit_scene("store pose", |scene| {
+        scene.poses.insert(name.to_owned(), scene.pose.clone());
+        scene
+            .pose_states
+            .insert(name.to_owned(), scene.pose_state.clone());
+    });
+    state.info(format!("stored pose '{name}'"));
+}
+
+fn new_from_mesh(state: &mut EditorState, path: &Path, options: &AutocageOptions) {
+    match scene_from_mesh(path, options) {
+        Ok(scene) => {
+            state.install_document(Document {
+                scene,
+                path: None,
+                dirty: true,
+            });
+            state.info(format!("new scene around {}", path.display()));
+        }
+        Err(e) => state.error(e),
+    }
+}
+
+fn save_as(state: &mut EditorState, path: &Path) -> bool {
+    match state.doc.save_as(path) {
+        Ok(()) => {
+            state.remember(path);
+            state.info(format!("saved {}", path.display()));
+            true
+        }
+        Err(e) => {
+            state.error(e);
+            false
+        }
+    }
+}
+
+fn export_mesh(state: &mut EditorState, path: &Path) {
+    let Some(rig) = &state.rig else {
+        state.error(EditorError::NotBound);
+        return;
+    };
+    let welded: Vec<glam::DVec3> = rig.deformed.iter().map(|p| p.as_dvec3()).collect();
+    let mesh = &state.doc.scene.mesh;
+    match write_mesh(path, mesh, &mesh.unweld(&welded)) {
+        Ok(()) => state.info(format!("exported {}", path.display())),
+        Err(e) => state.error(EditorError::Export(e)),
+    }
+}
+
+fn answer_unsaved(state: &mut EditorState, answer: UnsavedAnswer) {
+    let Some(pending) = state.pending.take() else {
+        return;
+    };
+    match answer {
+        UnsavedAnswer::Cancel => return,
+        UnsavedAnswer::Discard => {}
+        UnsavedAnswer::Save(path) => {
+            let Some(path) = path.or_else(|| state.doc.path.clone()) else {
+                state.error("choose where to save first");
+                return;
+            };
+            if !save_as(state, &path) {
+                return; // not saved: keep the work
+            }
+        }
+    }
+    match pending {
+        Pending::Open(path) => state.start_load(path),
+        Pending::NewFromMesh(path, options) => new_from_mesh(state, &path, &options),
+        Pending::Close => state.close_confirmed = true,
+    }
+}

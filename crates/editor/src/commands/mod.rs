@@ -1,0 +1,184 @@
+//! Everything a user can do, as values: the UI sends [`Command`]s, and [`apply`] — the one
+//! place that changes the editor's state — carries them out once per frame. [`UiCommand`] is
+//! the table of menu and keyboard actions (label, tooltip, shortcut).
+
+mod apply;
+mod table;
+
+use std::path::PathBuf;
+
+use glam::{DVec3, Vec2};
+use starcages_core::coords::CoordinateKind;
+use starcages_core::scene::{AutocageOptions, SceneSettings};
+use starcages_viewport::{Layers, View};
+
+use crate::state::{CageId, GestureId, InfluenceChoice, ScreenRect, SelectMode};
+
+pub use apply::{apply, apply_all};
+pub use table::UiCommand;
+
+/// The answer to "unsaved changes: save first?".
+#[derive(Debug, Clone, PartialEq)]
+pub enum UnsavedAnswer {
+    /// Save (to this file, or to the document's own), then go on.
+    Save(Option<PathBuf>),
+    /// Go on without saving.
+    Discard,
+    /// Do nothing.
+    Cancel,
+}
+
+/// A change of the camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CameraChange {
+    /// Orbit by a pointer move (points).
+    Orbit(Vec2),
+    /// Pan by a pointer move (points).
+    Pan(Vec2),
+    /// Zoom by wheel steps towards the cursor (in viewport points), if any.
+    Zoom {
+        /// Wheel steps (positive: closer).
+        steps: f32,
+        /// The cursor in the viewport.
+        cursor_in_viewport: Option<Vec2>,
+    },
+    /// Front, side or top view.
+    View(View),
+    /// Frame everything.
+    FrameAll,
+    /// Frame the selected vertices.
+    FrameSelection,
+}
+
+/// One thing a user does.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Open a scene or a mesh (asks first when there are unsaved changes).
+    Open(PathBuf),
+    /// A new scene around a mesh in automatic grid cages (asks first over unsaved changes).
+    NewFromMesh(PathBuf, AutocageOptions),
+    /// Save to the document's file (the UI asks for one with [`Command::SaveAs`] when there is
+    /// none).
+    Save,
+    /// Save to this file.
+    SaveAs(PathBuf),
+    /// Write the deformed mesh (OBJ or GLB).
+    ExportMesh(PathBuf),
+    /// Write the posed cages (OBJ).
+    ExportCages(PathBuf),
+    /// The answer to the unsaved-changes prompt.
+    AnswerUnsaved(UnsavedAnswer),
+    /// The window wants to close (asks first over unsaved changes).
+    RequestClose,
+    /// Stop opening a file.
+    CancelLoad,
+    /// Stop the bind in progress (the binding in use stays).
+    CancelBind,
+    /// Stop binding the difference map's baseline.
+    CancelBaseline,
+    /// Undo the last edit (a gesture in progress is cancelled instead).
+    Undo,
+    /// Redo the last undone edit.
+    Redo,
+    /// Start a gesture: what follows until [`Command::EndGesture`] is one undo step.
+    BeginGesture {
+        /// Its id, chosen by the UI.
+        id: GestureId,
+        /// The undo label.
+        label: String,
+    },
+    /// End the gesture, keeping its changes or going back.
+    EndGesture {
+        /// Keep (one undo step) or revert.
+        keep: bool,
+    },
+    /// Move cage vertices to new positions (a hand edit, propagated down the hierarchy).
+    MoveVertices(Vec<(u32, DVec3)>),
+    /// Change a cage's coordinates.
+    SetCageKind(CageId, CoordinateKind),
+    /// Set a leaf cage's h (`None`: the scene's default).
+    SetCageH {
+        /// The leaf cage.
+        leaf: usize,
+        /// Its h.
+        h: Option<f64>,
+    },
+    /// Set (or remove, with `None`) a leaf cage's h on its border with a neighbour.
+    SetBorderH {
+        /// The leaf cage.
+        leaf: usize,
+        /// The neighbour's name.
+        neighbour: String,
+        /// The border's h.
+        h: Option<f64>,
+    },
+    /// Change the scene settings.
+    SetSettings {
+        /// The undo label.
+        label: String,
+        /// The new settings.
+        settings: SceneSettings,
+    },
+    /// Add a box internal cage around the selected vertices.
+    AddInternalCage(CoordinateKind),
+    /// Remove an internal cage (what it owned becomes free).
+    RemoveInternalCage(usize),
+    /// Store the current pose under a name.
+    StorePose(String),
+    /// Switch to a stored pose, or to rest with `None`.
+    SwitchPose(Option<String>),
+    /// Delete a stored pose.
+    DeletePose(String),
+    /// Select vertices.
+    Select {
+        /// The picked vertices.
+        vertices: Vec<u32>,
+        /// How they combine with the selection.
+        mode: SelectMode,
+    },
+    /// Select every vertex of a drawn cage.
+    SelectAll,
+    /// Clear the selection.
+    SelectNone,
+    /// Show a cage in the inspector and select its vertices (`None`: inspect nothing).
+    InspectCage(Option<CageId>),
+    /// The vertex under the cursor.
+    Hover(Option<u32>),
+    /// Hide or show a cage.
+    SetCageHidden(CageId, bool),
+    /// Layers and shading.
+    SetLayers(Layers),
+    /// The influence map.
+    SetInfluence(InfluenceChoice),
+    /// X mirror editing on or off.
+    SetMirrorX(bool),
+    /// Move the camera.
+    Camera(CameraChange),
+    /// Where the viewport is on screen.
+    SetViewport(ScreenRect),
+    /// Show a message in the status bar (why a key did nothing, say).
+    Info(String),
+}
+
+/// Collects the commands the UI sends during a frame.
+#[derive(Debug, Default)]
+pub struct CommandSender {
+    queue: Vec<Command>,
+}
+
+impl CommandSender {
+    /// Queues `command` for the end of the frame.
+    pub fn send(&mut self, command: Command) {
+        self.queue.push(command);
+    }
+
+    /// Takes the queued commands.
+    pub fn take(&mut self) -> Vec<Command> {
+        std::mem::take(&mut self.queue)
+    }
+
+    /// Whether nothing is queued.
+    pub fn is_empty(&self) -> bool {
+        self.queue.is_empty()
+    }
+}

@@ -1,0 +1,195 @@
+//! The menu and keyboard actions: one table gives each its label, tooltip and shortcut, and
+//! the menus, the key handling and the tooltips all read it, so no label or key is typed twice.
+
+use egui::{Key, KeyboardShortcut, Modifiers};
+
+/// An action from a menu or a key. The UI layer carries it out (some need a file dialog or
+/// the pointer) by sending [`super::Command`]s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum UiCommand {
+    /// File ▸ New from mesh…
+    NewFromMesh,
+    /// File ▸ Open…
+    Open,
+    /// File ▸ Save
+    Save,
+    /// File ▸ Save as…
+    SaveAs,
+    /// File ▸ Export deformed mesh…
+    ExportMesh,
+    /// File ▸ Export cages…
+    ExportCages,
+    /// Edit ▸ Undo
+    Undo,
+    /// Edit ▸ Redo
+    Redo,
+    /// Edit ▸ X mirror editing
+    ToggleMirrorX,
+    /// Select ▸ All
+    SelectAll,
+    /// Select ▸ None
+    SelectNone,
+    /// Transform ▸ Grab
+    Grab,
+    /// Transform ▸ Rotate
+    Rotate,
+    /// Transform ▸ Scale
+    Scale,
+    /// View ▸ Frame all
+    FrameAll,
+    /// View ▸ Frame selection
+    FrameSelection,
+    /// View ▸ Front
+    ViewFront,
+    /// View ▸ Side
+    ViewSide,
+    /// View ▸ Top
+    ViewTop,
+}
+
+const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
+    KeyboardShortcut::new(modifiers, key)
+}
+
+const NONE: Modifiers = Modifiers::NONE;
+const CMD: Modifiers = Modifiers::COMMAND;
+const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
+
+impl UiCommand {
+    /// Every action, in menu order.
+    pub const ALL: [Self; 19] = [
+        Self::NewFromMesh,
+        Self::Open,
+        Self::Save,
+        Self::SaveAs,
+        Self::ExportMesh,
+        Self::ExportCages,
+        Self::Undo,
+        Self::Redo,
+        Self::ToggleMirrorX,
+        Self::SelectAll,
+        Self::SelectNone,
+        Self::Grab,
+        Self::Rotate,
+        Self::Scale,
+        Self::FrameAll,
+        Self::FrameSelection,
+        Self::ViewFront,
+        Self::ViewSide,
+        Self::ViewTop,
+    ];
+
+    /// The label in menus ("…" where a dialog follows).
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::NewFromMesh => "New from mesh…",
+            Self::Open => "Open…",
+            Self::Save => "Save",
+            Self::SaveAs => "Save as…",
+            Self::ExportMesh => "Export deformed mesh…",
+            Self::ExportCages => "Export cages…",
+            Self::Undo => "Undo",
+            Self::Redo => "Redo",
+            Self::ToggleMirrorX => "X mirror editing",
+            Self::SelectAll => "Select all",
+            Self::SelectNone => "Select none",
+            Self::Grab => "Grab",
+            Self::Rotate => "Rotate",
+            Self::Scale => "Scale",
+            Self::FrameAll => "Frame all",
+            Self::FrameSelection => "Frame selection",
+            Self::ViewFront => "Front",
+            Self::ViewSide => "Side",
+            Self::ViewTop => "Top",
+        }
+    }
+
+    /// What it does, in plain words (menu tooltips).
+    pub fn tooltip(self) -> &'static str {
+        match self {
+            Self::NewFromMesh => "Box a mesh (OBJ, glTF, GLB) in a grid of automatic cages",
+            Self::Open => "Open a scene (.json) or a mesh, which gets automatic cages",
+            Self::Save => "Save the scene to its file (atomic: a failed save overwrites nothing)",
+            Self::SaveAs => "Save the scene to a new file",
+            Self::ExportMesh => "Write the deformed mesh as OBJ or GLB",
+            Self::ExportCages => "Write the cages in the current pose as OBJ",
+            Self::Undo => "Undo the last edit (a whole drag is one step)",
+            Self::Redo => "Redo the last undone edit",
+            Self::ToggleMirrorX => "Moving a vertex also moves its mirror image across x = 0",
+            Self::SelectAll => "Select every vertex of the drawn cages",
+            Self::SelectNone => "Clear the selection",
+            Self::Grab => {
+                "Move the selection with the mouse; X/Y/Z lock an axis, type a distance, Enter confirms, Esc cancels"
+            }
+            Self::Rotate => {
+                "Rotate the selection about its centre; X/Y/Z pick the axis, type degrees"
+            }
+            Self::Scale => "Scale the selection about its centre; X/Y/Z scale along one axis",
+            Self::FrameAll => "Fit the mesh and the cages in the view",
+            Self::FrameSelection => "Fit the selected vertices in the view",
+            Self::ViewFront => "Look along +Y",
+            Self::ViewSide => "Look along -X",
+            Self::ViewTop => "Look down -Z",
+        }
+    }
+
+    /// Its keyboard shortcuts (the first is shown in menus).
+    pub fn shortcuts(self) -> &'static [KeyboardShortcut] {
+        match self {
+            Self::NewFromMesh | Self::ExportMesh | Self::ExportCages | Self::ToggleMirrorX => &[],
+            Self::Open => &const { [key(CMD, Key::O)] },
+            Self::Save => &const { [key(CMD, Key::S)] },
+            Self::SaveAs => &const { [key(CMD_SHIFT, Key::S)] },
+            Self::Undo => &const { [key(CMD, Key::Z)] },
+            Self::Redo => &const { [key(CMD_SHIFT, Key::Z), key(CMD, Key::Y)] },
+            Self::SelectAll => &const { [key(NONE, Key::A)] },
+            Self::SelectNone => &const { [key(Modifiers::ALT, Key::A)] },
+            Self::Grab => &const { [key(NONE, Key::G)] },
+            Self::Rotate => &const { [key(NONE, Key::R)] },
+            Self::Scale => &const { [key(NONE, Key::S)] },
+            Self::FrameAll => &const { [key(NONE, Key::Home)] },
+            Self::FrameSelection => &const { [key(NONE, Key::F), key(NONE, Key::Period)] },
+            Self::ViewFront => &const { [key(NONE, Key::Num1)] },
+            Self::ViewSide => &const { [key(NONE, Key::Num3)] },
+            Self::ViewTop => &const { [key(NONE, Key::Num7)] },
+        }
+    }
+
+    /// The action whose shortcut is exactly `key` with `modifiers` (Ctrl and ⌘ count as one).
+    pub fn for_key(key: Key, modifiers: Modifiers) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| {
+            c.shortcuts().iter().any(|s| {
+                s.logical_key == key
+                    && s.modifiers.command == modifiers.command
+                    && s.modifiers.shift == modifiers.shift
+                    && s.modifiers.alt == modifiers.alt
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_two_actions_share_a_shortcut_or_a_label() {
+        let mut seen = std::collections::BTreeSet::new();
+        for command in UiCommand::ALL {
+            assert!(seen.insert(command.label()), "{}", command.label());
+            for s in command.shortcuts() {
+                assert_eq!(
+                    UiCommand::for_key(s.logical_key, s.modifiers),
+                    Some(command)
+                );
+            }
+        }
+        assert_eq!(UiCommand::for_key(Key::S, CMD), Some(UiCommand::Save));
+        assert_eq!(UiCommand::for_key(Key::S, NONE), Some(UiCommand::Scale));
+        assert_eq!(
+            UiCommand::for_key(Key::A, Modifiers::ALT),
+            Some(UiCommand::SelectNone)
+        );
+        assert_eq!(UiCommand::for_key(Key::Q, NONE), None);
+    }
+}

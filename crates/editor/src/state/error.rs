@@ -1,0 +1,71 @@
+//! [`EditorError`]: everything that can go wrong in the editor, each shown once in the status
+//! bar with what to do next.
+
+use std::path::PathBuf;
+
+use starcages_core::hierarchy::{AutoInternalCageError, HierarchyError, RemoveInternalCageError};
+use starcages_core::io::FileError;
+use starcages_core::scene::SceneFileError;
+use starcages_core::star::StarError;
+
+/// An error of an editor operation. The core's errors already name the file, line or element;
+/// these variants add what the editor did and what stays as it was.
+#[derive(Debug, thiserror::Error)]
+pub enum EditorError {
+    /// A scene file could not be read.
+    #[error("could not open {0}. The current scene is unchanged")]
+    OpenScene(#[source] SceneFileError),
+    /// A mesh file could not be read.
+    #[error("could not open {0}. The current scene is unchanged")]
+    OpenMesh(#[source] FileError),
+    /// The scene file was read but is not a valid scene.
+    #[error(
+        "could not open {}: {problem} ({count} problem(s); `starcages-cli validate` lists them all). The current scene is unchanged",
+        path.display()
+    )]
+    InvalidScene {
+        /// The file.
+        path: PathBuf,
+        /// The first problem.
+        problem: String,
+        /// How many problems.
+        count: usize,
+    },
+    /// Saving failed; the file on disk is untouched (saves are atomic).
+    #[error("could not save: {0}. Nothing was overwritten")]
+    Save(#[source] SceneFileError),
+    /// Writing an export failed.
+    #[error("could not export: {0}")]
+    Export(#[source] FileError),
+    /// The mesh binding failed.
+    #[error(
+        "binding failed: {0}. The previous binding stays in use; undo (Ctrl+Z) the last change or fix the scene"
+    )]
+    Bind(#[source] StarError),
+    /// The internal cages could not be bound.
+    #[error(
+        "the internal cages could not be bound: {0}. The previous binding stays in use; undo (Ctrl+Z) the last change"
+    )]
+    Hierarchy(#[source] HierarchyError),
+    /// The single-cage baseline of the difference map failed.
+    #[error("the single-cage baseline of the difference map could not be bound: {0}")]
+    Baseline(#[source] StarError),
+    /// Adding an internal cage failed.
+    #[error("{0}")]
+    AddInternalCage(#[source] AutoInternalCageError),
+    /// Removing an internal cage failed.
+    #[error("{0}")]
+    RemoveInternalCage(#[source] RemoveInternalCageError),
+    /// A hand edit could not be propagated through the hierarchy.
+    #[error("the move could not be applied: {0}")]
+    Move(#[source] HierarchyError),
+    /// A worker thread ended without an answer (it panicked).
+    #[error("the {0} worker stopped unexpectedly; try again")]
+    WorkerLost(&'static str),
+    /// The action needs a binding that is not there yet.
+    #[error("the scene is still being bound; try again in a moment")]
+    NotBound,
+    /// A pose name that cannot be used.
+    #[error("{0}")]
+    Pose(String),
+}

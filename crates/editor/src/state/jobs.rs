@@ -1,0 +1,186 @@
+//! Work off the UI thread: binding, the difference map's single-cage baseline, opening files.
+//! Each runs on a worker thread with progress and cancel; dropping a [`Job`] cancels it, so a
+//! job that became stale (a newer edit, a replaced document) stops using the cores.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::Instant;
+
+use starcages_core::BindControl;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::hierarchy::Hierarchy;
+use starcages_core::scene::{CageSet, Scene, SceneSettings};
+use starcages_core::star::{StarBinding, single_cage_scene};
+
+use super::{Document, EditorError};
+
+/// Called from a worker when it finishes (the app asks egui to repaint).
+pub type Waker = Arc<dyn Fn() + Send + Sync>;
+
+/// A piece of work on a worker thread. Dropping it cancels the work.
+pub struct Job<T> {
+    control: Arc<BindControl>,
+    receiver: Receiver<T>,
+    /// What it does, for the status bar.
+    pub label: String,
+    /// When it started.
+    pub started: Instant,
+    what: &'static str,
+}
+
+impl<T> std::fmt::Debug for Job<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Job")
+            .field("label", &self.label)
+            .field("progress", &self.progress())
+            .finish_non_exhaustive()
+    }
+}
+
+impl<T: Send + 'static> Job<T> {
+    /// Runs `work` on a new thread; it gets the job's progress-and-cancel control. `wake` is
+    /// called when it ends. `what` names the worker in errors.
+    pub fn spawn(
+        what: &'static str,
+        label: impl Into<String>,
+        wake: Option<Waker>,
+        work: impl FnOnce(&BindControl) -> T + Send + 'static,
+    ) -> Self {
+        let control = Arc::new(BindControl::default());
+        let (sender, receiver) = channel();
+        let worker_control = Arc::clone(&control);
+        std::thread::spawn(move || {
+            sender.send(work(&worker_control)).ok();
+            if let Some(wake) = wake {
+                wake();
+            }
+        });
+        Self {
+            control,
+            receiver,
+            label: label.into(),
+            started: Instant::now(),
+            what,
+        }
+    }
+}
+
+impl<T> Job<T> {
+    /// Asks the worker to stop (a bind then ends with a cancellation error).
+    pub fn cancel(&self) {
+        self.control.cancel();
+    }
+
+    /// The job's progress-and-cancel control (to watch it after the job is gone).
+    pub fn control(&self) -> Arc<BindControl> {
+        Arc::clone(&self.control)
+    }
+
+    /// Whether cancel was asked for.
+    pub fn is_cancelled(&self) -> bool {
+        self.control.is_cancelled()
+    }
+
+    /// Fraction of the work done, in [0, 1].
+    pub fn progress(&self) -> f64 {
+        self.control.progress()
+    }
+
+    /// The result once the worker is done, without blocking.
+    pub fn poll(&self) -> Option<Result<T, EditorError>> {
+        match self.receiver.try_recv() {
+            Ok(result) => Some(Ok(result)),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Err(EditorError::WorkerLost(self.what))),
+        }
+    }
+
+    /// Blocks until the worker is done (tests and headless use).
+    pub fn wait(&self) -> Result<T, EditorError> {
+        self.receiver
+            .recv()
+            .map_err(|_| EditorError::WorkerLost(self.what))
+    }
+}
+
+impl<T> Drop for Job<T> {
+    fn drop(&mut self) {
+        self.control.cancel();
+    }
+}
+
+/// How much to bind again.
+#[derive(Debug, Clone)]
+pub enum Scope {
+    /// Everything: the mesh and the hierarchy.
+    Full,
+    /// The mesh rows of these leaf cages (their kind or h changed), and the hierarchy.
+    Leaves(Arc<StarBinding>, Vec<usize>),
+    /// Only the hierarchy (internal cages changed); the mesh binding is kept.
+    Hierarchy(Arc<StarBinding>),
+}
+
+/// What a finished bind delivers.
+#[derive(Debug)]
+pub struct Bound {
+    /// The mesh binding.
+    pub binding: Arc<StarBinding>,
+    /// The internal-cage hierarchy.
+    pub hierarchy: Hierarchy,
+    /// Wall seconds of the whole bind.
+    pub seconds: f64,
+    /// The edit generation it was started for.
+    pub generation: u64,
+    /// The cages and settings it was bound for.
+    pub bound_for: (CageSet, SceneSettings),
+}
+
+/// Binds `scene` as far as `scope` says (runs on a worker).
+pub fn bind(
+    scene: &Scene,
+    scope: Scope,
+    generation: u64,
+    control: &BindControl,
+) -> Result<Bound, EditorError> {
+    let start = Instant::now();
+    let binding = match scope {
+        Scope::Full => StarBinding::bind_scene(scene, control).map(Arc::new),
+        Scope::Leaves(old, leaves) => old.rebind_leaves(scene, &leaves, control).map(Arc::new),
+        Scope::Hierarchy(old) => Ok(old),
+    }
+    .map_err(EditorError::Bind)?;
+    let hierarchy = Hierarchy::bind(scene).map_err(EditorError::Hierarchy)?;
+    Ok(Bound {
+        binding,
+        hierarchy,
+        seconds: start.elapsed().as_secs_f64(),
+        generation,
+        bound_for: (scene.cages.clone(), scene.settings),
+    })
+}
+
+/// The difference map's baseline: the scene's mesh bound to one cage of `kind` around all.
+pub fn bind_baseline(
+    scene: &Scene,
+    kind: CoordinateKind,
+    control: &BindControl,
+) -> Result<Arc<StarBinding>, EditorError> {
+    let single = single_cage_scene(scene, kind);
+    StarBinding::bind_scene(&single, control)
+        .map(Arc::new)
+        .map_err(EditorError::Baseline)
+}
+
+/// A bind job's result.
+pub type BindResult = Result<Bound, EditorError>;
+/// A load job's result.
+pub type LoadResult = Result<Document, EditorError>;
+/// A baseline job's result.
+pub type BaselineResult = Result<Arc<StarBinding>, EditorError>;
+
+/// Opening `path` on a worker.
+pub fn load(path: PathBuf, wake: Option<Waker>) -> Job<LoadResult> {
+    let label = format!("opening {}", path.display());
+    Job::spawn("loading", label, wake, move |_| Document::open(&path))
+}

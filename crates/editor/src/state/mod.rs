@@ -1,0 +1,506 @@
+//! The editor's state, with no egui types: the document, the selection, the view, undo, the
+//! binding in use and the background jobs. Only [`crate::commands::apply`] changes it; the UI
+//! reads it. After every change of the document the selection, the hidden cages and any
+//! gesture in progress are revalidated, so every index the UI reads resolves.
+
+mod cage_id;
+pub mod document;
+mod error;
+mod influence_map;
+pub mod jobs;
+pub mod mirror;
+pub mod recent;
+mod rig;
+mod selection;
+pub mod undo;
+mod view;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+use starcages_core::scene::AutocageOptions;
+
+pub use cage_id::CageId;
+pub use document::Document;
+pub use error::EditorError;
+pub use influence_map::InfluenceMap;
+pub use jobs::{Job, Waker};
+pub use rig::{Rig, rebind_scope};
+pub use selection::{SelectMode, Selection};
+pub use view::{InfluenceChoice, ScreenRect, ViewState};
+
+use jobs::{BindResult, LoadResult, Scope};
+use undo::{Snapshot, UndoStack};
+
+/// A message in the status bar.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Message {
+    /// The text.
+    pub text: String,
+    /// An error (red) or information.
+    pub error: bool,
+}
+
+/// Timings and sizes shown in the stats panel (the paper's Table II columns).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Stats {
+    /// Seconds of the last bind.
+    pub bind_seconds: f64,
+    /// Milliseconds of the last deformation update (CPU, incremental).
+    pub deform_ms: f64,
+}
+
+/// An action waiting for the user's answer about unsaved changes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Pending {
+    /// Open this file.
+    Open(PathBuf),
+    /// Close the window.
+    Close,
+    /// Create a new scene around a mesh.
+    NewFromMesh(PathBuf, AutocageOptions),
+}
+
+/// Change counters: what the viewport must upload again and which results are stale.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Generations {
+    /// The bound mesh (a new binding).
+    pub mesh: u64,
+    /// The deformation.
+    pub deformation: u64,
+    /// The edit state (cages and settings), for stale bind results.
+    pub edit: u64,
+}
+
+/// Identifies a gesture: a drag, a G / R / S tool or a slider drag, one undo step however
+/// many moves it makes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct GestureId(pub u64);
+
+/// A gesture in progress: the document before it, to record one undo step or to go back.
+#[derive(Debug)]
+pub struct Gesture {
+    /// Its id (the UI's transient tool holds the same one).
+    pub id: GestureId,
+    /// The undo label ("grab", "move vertices", "change h").
+    pub label: String,
+    /// The editable scene when it began.
+    pub before: Snapshot,
+}
+
+/// Every document installed gets a new id, never reused: GPU uploads and caches key on it.
+static NEXT_DOCUMENT_ID: AtomicU64 = AtomicU64::new(1);
+
+/// The whole editor state.
+pub struct EditorState {
+    /// The open document.
+    pub doc: Document,
+    /// The document's identity (see [`NEXT_DOCUMENT_ID`]).
+    pub document_id: u64,
+    /// Selected and hovered vertices, the inspected cage.
+    pub selection: Selection,
+    /// Camera, layers, hidden cages, influence map, mirroring.
+    pub view: ViewState,
+    /// Undo and redo.
+    pub undo: UndoStack,
+    /// A gesture in progress.
+    pub gesture: Option<Gesture>,
+    /// The binding in use, once bound.
+    pub rig: Option<Rig>,
+    /// A bind in progress (dropping it cancels it).
+    pub bind_job: Option<Job<BindResult>>,
+    /// A file being opened.
+    pub load_job: Option<Job<LoadResult>>,
+    /// The influence map.
+    pub map: InfluenceMap,
+    /// The status message.
+    pub message: Option<Message>,
+    /// Timings.
+    pub stats: Stats,
+    /// Change counters.
+    pub generations: Generations,
+    /// An action awaiting the unsaved-changes answer.
+    pub pending: Option<Pending>,
+    /// Recently opened or saved scenes, newest first.
+    pub recent: Vec<PathBuf>,
+    /// Where the recent list is kept (none in tests).
+    pub recent_file: Option<PathBuf>,
+    /// The user chose to close the window (after the unsaved-changes prompt).
+    pub close_confirmed: bool,
+    /// Settings changed inside a gesture: bind when it ends.
+    bind_after_gesture: bool,
+    waker: Option<Waker>,
+}
+
+impl std::fmt::Debug for EditorState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EditorState")
+            .field("document", &self.doc.name())
+            .field("document_id", &self.document_id)
+            .field("selection", &self.selection)
+            .field("gesture", &self.gesture)
+            .field("generations", &self.generations)
+            .finish_non_exhaustive()
+    }
+}
+
+impl EditorState {
+    /// A state on `doc`, binding it in the background; `waker` is called when a job finishes.
+    pub fn new(doc: Document, waker: Option<Waker>) -> Self {
+        let mut state = Self {
+            doc,
+            document_id: NEXT_DOCUMENT_ID.fetch_add(1, Ordering::Relaxed),
+            selection: Selection::default(),
+            view: ViewState::default(),
+            undo: UndoStack::default(),
+            gesture: None,
+            rig: None,
+            bind_job: None,
+            load_job: None,
+            map: InfluenceMap::default(),
+            message: None,
+            stats: Stats::default(),
+            generations: Generations::default(),
+            pending: None,
+            recent: Vec::new(),
+            recent_file: None,
+            close_confirmed: false,
+            bind_after_gesture: false,
+            waker,
+        };
+        state.frame(false);
+        state.start_bind("binding the scene");
+        state
+    }
+
+    /// Replaces the document (opened or new): a new identity, a fresh selection, undo and
+    /// binding; running jobs of the old document are cancelled. The view's layers and the
+    /// app-wide settings stay.
+    pub fn install_document(&mut self, doc: Document) {
+        let keep_view = (self.view.layers, self.view.viewport, self.view.mirror_x);
+        let recent = std::mem::take(&mut self.recent);
+        let recent_file = self.recent_file.take();
+        let waker = self.waker.take();
+        // Dropping the old state drops its jobs, which cancels them.
+        *self = Self::new(doc, waker);
+        (self.view.layers, self.view.viewport, self.view.mirror_x) = keep_view;
+        self.recent = recent;
+        self.recent_file = recent_file;
+    }
+
+    /// Drops whatever the current document no longer has from the selection and the view.
+    pub fn revalidate(&mut self) {
+        let set = &self.doc.scene.cages;
+        self.selection.revalidate(set);
+        self.view.revalidate(set);
+    }
+
+    /// Starts binding the current scene on a worker, as much as changed since the binding in
+    /// use (which stays in use meanwhile). A bind already running is stale: it is cancelled.
+    pub fn start_bind(&mut self, label: &str) {
+        self.bind_after_gesture = false;
+        let scope = self
+            .rig
+            .as_ref()
+            .map_or(Scope::Full, |rig| rebind_scope(rig, &self.doc.scene));
+        self.generations.edit += 1;
+        let generation = self.generations.edit;
+        let scene = self.doc.scene.clone();
+        // Replacing the old job drops it, which cancels it.
+        self.bind_job = Some(Job::spawn("binding", label, self.waker.clone(), move |c| {
+            jobs::bind(&scene, scope, generation, c)
+        }));
+    }
+
+    /// Takes finished jobs (bind, load, baseline) and refreshes the influence map; `wait`
+    /// blocks until every running job has ended (tests and headless use).
+    pub fn poll_jobs(&mut self, wait: bool) {
+        loop {
+            self.poll_load(wait);
+            self.poll_bind(wait);
+            self.poll_baseline(wait);
+            self.refresh_map();
+            let busy = self.load_job.is_some()
+                || self.bind_job.is_some()
+                || self.map.baseline_progress().is_some();
+            if !wait || !busy {
+                return;
+            }
+        }
+    }
+
+    fn poll_bind(&mut self, wait: bool) {
+        let Some(job) = &self.bind_job else {
+            return;
+        };
+        let result = if wait { Some(job.wait()) } else { job.poll() };
+        let Some(result) = result else {
+            return;
+        };
+        self.bind_job = None;
+        match result.and_then(|r| r) {
+            Ok(bound) if bound.generation == self.generations.edit => {
+                let mut hierarchy = bound.hierarchy;
+                // The pose may have changed while binding: follow the current state.
+                if let Err(e) = hierarchy.restore(&self.doc.scene.pose_state) {
+                    self.error(EditorError::Hierarchy(e));
+                    self.doc.scene.pose_state = hierarchy.state();
+                }
+                self.stats.bind_seconds = bound.seconds;
+                let same_mesh = self
+                    .rig
+                    .as_ref()
+                    .is_some_and(|rig| Arc::ptr_eq(&rig.binding, &bound.binding));
+                let mut rig = Rig {
+                    binding: bound.binding,
+                    hierarchy,
+                    deformed: Arc::new(Vec::new()),
+                    dofs: Arc::new(Vec::new()),
+                    bound_for: bound.bound_for,
+                };
+                rig.redeform_all(&self.doc.scene);
+                self.rig = Some(rig);
+                if !same_mesh {
+                    self.generations.mesh += 1;
+                }
+                self.generations.deformation += 1;
+            }
+            Ok(_) => {} // a newer edit superseded it
+            Err(e) => self.error(e),
+        }
+    }
+
+    fn poll_load(&mut self, wait: bool) {
+        let Some(job) = &self.load_job else {
+            return;
+        };
+        let result = if wait { Some(job.wait()) } else { job.poll() };
+        let Some(result) = result else {
+            return;
+        };
+        self.load_job = None;
+        match result.and_then(|r| r) {
+            Ok(doc) => {
+                let path = doc.path.clone();
+                self.install_document(doc);
+                if let Some(path) = path {
+                    self.remember(&path);
+                    self.info(format!("opened {}", path.display()));
+                }
+            }
+            Err(e) => self.error(e),
+        }
+    }
+
+    /// Starts opening `path` on a worker; the current document stays until it has loaded,
+    /// and for good if it fails.
+    pub fn start_load(&mut self, path: PathBuf) {
+        self.info(format!("opening {}…", path.display()));
+        self.load_job = Some(jobs::load(path, self.waker.clone()));
+    }
+
+    /// Hand moves (vertex, new position), mirrored when X mirroring is on, propagated down the
+    /// hierarchy; the mesh follows incrementally.
+    pub fn move_vertices(&mut self, moves: &[(u32, DVec3)]) -> Result<(), EditorError> {
+        let moves = if self.view.mirror_x {
+            let partners = mirror::partners(&self.doc.scene.cages.vertices);
+            rig::with_mirror(moves, &partners, &self.doc.scene.pose)
+        } else {
+            moves.to_vec()
+        };
+        let scene = &mut self.doc.scene;
+        let Some(rig) = self.rig.as_mut().filter(|rig| rig.can_pose(scene)) else {
+            return Err(EditorError::NotBound);
+        };
+        let changed = rig
+            .hierarchy
+            .apply(&mut scene.pose, &moves)
+            .map_err(EditorError::Move)?;
+        scene.pose_state = rig.hierarchy.state();
+        self.doc.dirty = true;
+        if changed.is_empty() {
+            return Ok(());
+        }
+        let start = Instant::now();
+        rig.redeform_rows(scene, &changed);
+        self.stats.deform_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.generations.deformation += 1;
+        Ok(())
+    }
+
+    /// After the document's editable state was replaced (an edit, undo, redo, a cancelled
+    /// gesture, a pose switch): revalidates, then binds again what the change affects, or
+    /// restores the hierarchy state and redeforms.
+    pub fn document_changed(&mut self) {
+        self.doc.dirty = true;
+        self.revalidate();
+        let stale = self
+            .rig
+            .as_ref()
+            .is_none_or(|rig| !rig.is_current_for(&self.doc.scene));
+        if stale || self.bind_job.is_some() {
+            if self.gesture.is_some() {
+                self.bind_after_gesture = true;
+            } else {
+                self.start_bind("binding after the change");
+            }
+            return;
+        }
+        if let Some(rig) = &mut self.rig {
+            if let Err(e) = rig.hierarchy.restore(&self.doc.scene.pose_state) {
+                self.message = Some(Message {
+                    text: EditorError::Hierarchy(e).to_string(),
+                    error: true,
+                });
+            }
+            let start = Instant::now();
+            rig.redeform_all(&self.doc.scene);
+            self.stats.deform_ms = start.elapsed().as_secs_f64() * 1e3;
+            self.generations.deformation += 1;
+        }
+    }
+
+    /// Starts a gesture: later changes are one undo step, recorded when it ends. A gesture
+    /// already running is kept (its changes) first.
+    pub fn begin_gesture(&mut self, id: GestureId, label: &str) {
+        self.end_gesture(true);
+        self.gesture = Some(Gesture {
+            id,
+            label: label.to_owned(),
+            before: Snapshot::of(&self.doc.scene),
+        });
+    }
+
+    /// Ends the gesture: `keep` records one undo step (if anything changed), otherwise the
+    /// document goes back to where it began.
+    pub fn end_gesture(&mut self, keep: bool) {
+        let Some(gesture) = self.gesture.take() else {
+            return;
+        };
+        if keep {
+            if gesture.before != Snapshot::of(&self.doc.scene) {
+                self.undo.push(&gesture.label, gesture.before);
+            }
+            if self.bind_after_gesture {
+                self.start_bind("binding after the change");
+            }
+        } else {
+            self.bind_after_gesture = false;
+            gesture.before.restore(&mut self.doc.scene);
+            self.document_changed();
+        }
+    }
+
+    /// Applies `change` to the scene as one undoable edit called `label` (part of the gesture
+    /// in progress, if any); nothing is recorded when nothing changed.
+    pub fn edit_scene<T>(
+        &mut self,
+        label: &str,
+        change: impl FnOnce(&mut starcages_core::scene::Scene) -> T,
+    ) -> T {
+        let before = Snapshot::of(&self.doc.scene);
+        let out = change(&mut self.doc.scene);
+        if Snapshot::of(&self.doc.scene) != before {
+            if self.gesture.is_none() {
+                self.undo.push(label, before);
+            }
+            self.document_changed();
+        }
+        out
+    }
+
+    /// Frames everything, or the selection.
+    pub fn frame(&mut self, selection_only: bool) {
+        let pose = &self.doc.scene.pose;
+        let points: Vec<DVec3> = if selection_only && !self.selection.vertices.is_empty() {
+            let selected = self.selection.vertices.iter();
+            selected
+                .filter_map(|&v| pose.get(v as usize).copied())
+                .collect()
+        } else {
+            let mut all = pose.clone();
+            let (lo, hi) = self.doc.scene.mesh.bounds();
+            all.extend([lo, hi]);
+            all.extend(self.deformed().iter().map(|p| p.as_dvec3()));
+            all
+        };
+        let (lo, hi) = starcages_core::cage::bounds_of(&points);
+        let pad = if selection_only { 0.2 } else { 0.0 };
+        self.view
+            .camera
+            .frame(lo.as_vec3() - pad, hi.as_vec3() + pad);
+    }
+
+    /// Adds `path` to the recent files (and stores the list).
+    pub fn remember(&mut self, path: &std::path::Path) {
+        let path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        self.recent.retain(|p| *p != path);
+        self.recent.insert(0, path);
+        self.recent.truncate(8);
+        if let Some(file) = &self.recent_file {
+            recent::store(file, &self.recent);
+        }
+    }
+
+    /// Shows an error in the status bar.
+    pub fn error(&mut self, error: impl std::fmt::Display) {
+        self.message = Some(Message {
+            text: error.to_string(),
+            error: true,
+        });
+    }
+
+    /// Shows information in the status bar.
+    pub fn info(&mut self, text: impl Into<String>) {
+        self.message = Some(Message {
+            text: text.into(),
+            error: false,
+        });
+    }
+
+    /// The deformed welded mesh (empty before the first bind).
+    pub fn deformed(&self) -> &[Vec3] {
+        self.rig.as_ref().map_or(&[], |r| r.deformed.as_slice())
+    }
+
+    /// The id of the gesture in progress.
+    pub fn gesture_id(&self) -> Option<GestureId> {
+        self.gesture.as_ref().map(|g| g.id)
+    }
+
+    /// Checks the invariants the UI relies on; the first broken one, described.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        let scene = &self.doc.scene;
+        let set = &scene.cages;
+        let count = set.vertices.len();
+        if !self.selection.is_valid_for(set) {
+            return Err(format!("stale selection {:?}", self.selection));
+        }
+        if let Some(c) = self.view.hidden.iter().find(|c| !c.exists(set)) {
+            return Err(format!("a hidden cage does not exist: {c:?}"));
+        }
+        if scene.pose.len() != count {
+            return Err(format!("pose has {} of {count} vertices", scene.pose.len()));
+        }
+        if let Some((name, _)) = scene.poses.iter().find(|(_, p)| p.len() != count) {
+            return Err(format!("stored pose '{name}' has the wrong length"));
+        }
+        if let Some(name) = scene
+            .pose_states
+            .keys()
+            .find(|n| !scene.poses.contains_key(*n))
+        {
+            return Err(format!("pose state '{name}' has no pose"));
+        }
+        for id in CageId::all(set) {
+            let faces = id.faces(set).unwrap_or_default();
+            if faces.iter().flatten().any(|&v| v as usize >= count) {
+                return Err(format!("cage {id:?} names a vertex past the end"));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,126 @@
+//! The bound scene: the mesh operator, the hierarchy and the deformed mesh, and how much of it
+//! a change of the document makes stale.
+
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+use starcages_core::hierarchy::Hierarchy;
+use starcages_core::scene::{CageSet, Scene, SceneSettings};
+use starcages_core::star::StarBinding;
+
+use super::jobs::Scope;
+
+/// The binding in use and the deformation it gives.
+#[derive(Debug)]
+pub struct Rig {
+    /// The mesh binding (weights, computed once per bind).
+    pub binding: Arc<StarBinding>,
+    /// Internal cages.
+    pub hierarchy: Hierarchy,
+    /// Deformed welded mesh positions, updated incrementally.
+    pub deformed: Arc<Vec<Vec3>>,
+    /// Degrees of freedom of the current pose (for GPU deformation).
+    pub dofs: Arc<Vec<Vec3>>,
+    /// The cages and settings this binding is for.
+    pub bound_for: (CageSet, SceneSettings),
+}
+
+impl Rig {
+    /// Whether the binding still fits `scene`'s cages and settings.
+    pub fn is_current_for(&self, scene: &Scene) -> bool {
+        self.bound_for.0 == scene.cages && self.bound_for.1 == scene.settings
+    }
+
+    /// Whether hand moves can be applied to `scene` with this rig: the hierarchy and the
+    /// operator were bound for the same vertices, leaf faces and internal cages (a kind or h
+    /// change being bound meanwhile does not matter).
+    pub fn can_pose(&self, scene: &Scene) -> bool {
+        let (bound, now) = (&self.bound_for.0, &scene.cages);
+        bound.vertices == now.vertices
+            && bound.internals == now.internals
+            && bound.leaves.len() == now.leaves.len()
+            && bound
+                .leaves
+                .iter()
+                .zip(&now.leaves)
+                .all(|(a, b)| a.faces == b.faces)
+    }
+
+    /// Recomputes the whole deformation of `scene`'s current pose.
+    pub fn redeform_all(&mut self, scene: &Scene) {
+        let operator = &self.binding.operator;
+        self.dofs = Arc::new(operator.dofs(&scene.cages.vertices, &scene.pose));
+        self.deformed = Arc::new(self.binding.deform(&scene.cages.vertices, &scene.pose));
+    }
+
+    /// Updates the deformation after the cage vertices `changed` moved: only the mesh rows
+    /// they touch are recomputed.
+    pub fn redeform_rows(&mut self, scene: &Scene, changed: &[u32]) {
+        let operator = &self.binding.operator;
+        let dofs = operator.dofs(&scene.cages.vertices, &scene.pose);
+        let rows = operator.rows_touched(&operator.columns_of_moved_vertices(changed));
+        let deformed = Arc::make_mut(&mut self.deformed);
+        if deformed.len() == operator.row_count() {
+            operator.apply_rows(&rows, &dofs, deformed);
+        } else {
+            *deformed = self.binding.deform(&scene.cages.vertices, &scene.pose);
+        }
+        self.dofs = Arc::new(dofs);
+    }
+}
+
+/// How much of `rig` must be bound again for `scene`: a full bind only when the geometry, the
+/// hierarchy's structure or the settings changed; a leaf cage's kind, h or border h changes
+/// only its own mesh rows; internal cages change only the hierarchy.
+pub fn rebind_scope(rig: &Rig, scene: &Scene) -> Scope {
+    let (bound, settings) = &rig.bound_for;
+    let now = &scene.cages;
+    if *settings != scene.settings
+        || bound.vertices != now.vertices
+        || bound.leaves.len() != now.leaves.len()
+        || bound.internals.len() != now.internals.len()
+    {
+        return Scope::Full;
+    }
+    let mut leaves = Vec::new();
+    for (i, (a, b)) in bound.leaves.iter().zip(&now.leaves).enumerate() {
+        if a.faces != b.faces || a.name != b.name {
+            return Scope::Full;
+        }
+        if a != b {
+            leaves.push(i);
+        }
+    }
+    if leaves.is_empty() {
+        Scope::Hierarchy(Arc::clone(&rig.binding))
+    } else {
+        Scope::Leaves(Arc::clone(&rig.binding), leaves)
+    }
+}
+
+/// `moves` plus their mirror partners' moves across x = 0 (`partners` from
+/// [`super::mirror::partners`]); a vertex on the plane stays on it.
+pub fn with_mirror(
+    moves: &[(u32, DVec3)],
+    partners: &[Option<u32>],
+    pose: &[DVec3],
+) -> Vec<(u32, DVec3)> {
+    let moving: std::collections::BTreeSet<u32> = moves.iter().map(|m| m.0).collect();
+    let mut out = moves.to_vec();
+    for &(v, p) in moves {
+        match partners.get(v as usize).copied().flatten() {
+            Some(partner) if partner == v => {
+                if let (Some(last), Some(at)) =
+                    (out.iter_mut().find(|m| m.0 == v), pose.get(v as usize))
+                {
+                    last.1.x = at.x;
+                }
+            }
+            Some(partner) if !moving.contains(&partner) => {
+                out.push((partner, DVec3::new(-p.x, p.y, p.z)));
+            }
+            _ => {}
+        }
+    }
+    out
+}

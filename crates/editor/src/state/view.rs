@@ -1,0 +1,114 @@
+//! What the user sees: camera, layers, hidden cages, the influence map, X mirroring, and where
+//! the viewport is on screen.
+
+use std::collections::BTreeSet;
+
+use glam::Vec2;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::scene::CageSet;
+use starcages_viewport::layers::{CageStyle, cage_levels};
+use starcages_viewport::{Layers, OrbitCamera};
+
+use super::{CageId, Selection};
+
+/// Which influence map is painted on the mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum InfluenceChoice {
+    /// None: the studio mesh.
+    #[default]
+    None,
+    /// b (eq. 11) of the inspected leaf cage.
+    SelectedCage,
+    /// b of every leaf cage.
+    AllCages,
+    /// W(v, p) (eq. 4) of the one selected cage vertex.
+    JoinWeight,
+    /// Distance to the deformation by one cage of this kind around everything.
+    Difference(CoordinateKind),
+}
+
+/// A rectangle on screen in points (egui's logical pixels), top-left origin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScreenRect {
+    /// Top-left corner.
+    pub min: Vec2,
+    /// Width and height.
+    pub size: Vec2,
+}
+
+impl ScreenRect {
+    /// `pos_in_screen` relative to the rectangle's top-left corner.
+    pub fn local(&self, pos_in_screen: Vec2) -> Vec2 {
+        pos_in_screen - self.min
+    }
+
+    /// The centre.
+    pub fn center(&self) -> Vec2 {
+        self.min + self.size * 0.5
+    }
+}
+
+impl Default for ScreenRect {
+    fn default() -> Self {
+        Self {
+            min: Vec2::ZERO,
+            size: Vec2::new(800.0, 600.0),
+        }
+    }
+}
+
+/// The view.
+#[derive(Debug, Clone, Default)]
+pub struct ViewState {
+    /// The camera.
+    pub camera: OrbitCamera,
+    /// Layers and shading.
+    pub layers: Layers,
+    /// Cages not drawn (and not pickable).
+    pub hidden: BTreeSet<CageId>,
+    /// The influence map.
+    pub influence: InfluenceChoice,
+    /// Moving a vertex moves its mirror partner across x = 0.
+    pub mirror_x: bool,
+    /// Where the 3D view was drawn last frame.
+    pub viewport: ScreenRect,
+}
+
+impl ViewState {
+    /// Drops hidden-cage entries of cages that no longer exist.
+    pub fn revalidate(&mut self, set: &CageSet) {
+        self.hidden.retain(|c| c.exists(set));
+    }
+
+    /// Per cage vertex: whether it belongs to a drawn cage (what picking may hit).
+    pub fn pickable(&self, set: &CageSet) -> Vec<bool> {
+        let mut pickable = vec![false; set.vertices.len()];
+        for id in CageId::all(set) {
+            let internal_hidden = matches!(id, CageId::Internal(_)) && !self.layers.cages;
+            if self.hidden.contains(&id) || internal_hidden {
+                continue;
+            }
+            for &v in id.faces(set).unwrap_or_default().iter().flatten() {
+                if let Some(p) = pickable.get_mut(v as usize) {
+                    *p = true;
+                }
+            }
+        }
+        pickable
+    }
+
+    /// The viewport crate's cage style for this view and `selection`: the one place where
+    /// [`CageId`]s become its flat per-cage indices.
+    pub fn cage_style(&self, selection: &Selection, set: &CageSet) -> CageStyle {
+        let focus_level = selection
+            .cage
+            .filter(|c| c.exists(set))
+            .and_then(|c| cage_levels(set).get(c.layer_index(set)).copied());
+        CageStyle {
+            hidden: self.hidden.iter().map(|c| c.layer_index(set)).collect(),
+            selected: selection.vertices.clone(),
+            hovered: selection.hovered,
+            focus_level,
+        }
+    }
+}

@@ -1,0 +1,87 @@
+//! Carrying out a [`UiCommand`] from a menu or a key: file dialogs and the G / R / S tool are
+//! the UI's; everything else becomes a [`Command`].
+
+use glam::Vec2;
+use starcages_core::scene::AutocageOptions;
+use starcages_viewport::View;
+
+use super::UiState;
+use super::dialogs;
+use super::transform_tool::{Mode, TransformTool};
+use crate::commands::{CameraChange, Command, CommandSender, UiCommand};
+use crate::state::EditorState;
+
+/// Carries out `action` with the pointer at `pointer` (screen points; for G / R / S).
+pub fn execute(
+    action: UiCommand,
+    state: &EditorState,
+    ui_state: &mut UiState,
+    pointer: Vec2,
+    sender: &mut CommandSender,
+) {
+    let camera = |change| Command::Camera(change);
+    let command = match action {
+        UiCommand::NewFromMesh => {
+            if let Some(path) = dialogs::mesh_file() {
+                ui_state.new_mesh_dialog = Some((path, AutocageOptions::default()));
+            }
+            return;
+        }
+        UiCommand::Open => match dialogs::open_file() {
+            Some(path) => Command::Open(path),
+            None => return,
+        },
+        UiCommand::Save if state.doc.path.is_some() => Command::Save,
+        UiCommand::Save | UiCommand::SaveAs => match dialogs::scene_destination() {
+            Some(path) => Command::SaveAs(path),
+            None => return,
+        },
+        UiCommand::ExportMesh => match dialogs::mesh_destination() {
+            Some(path) => Command::ExportMesh(path),
+            None => return,
+        },
+        UiCommand::ExportCages => match dialogs::cages_destination() {
+            Some(path) => Command::ExportCages(path),
+            None => return,
+        },
+        UiCommand::Undo => Command::Undo,
+        UiCommand::Redo => Command::Redo,
+        UiCommand::ToggleMirrorX => Command::SetMirrorX(!state.view.mirror_x),
+        UiCommand::SelectAll => Command::SelectAll,
+        UiCommand::SelectNone => Command::SelectNone,
+        UiCommand::Grab => return start_tool(Mode::Grab, state, ui_state, pointer, sender),
+        UiCommand::Rotate => return start_tool(Mode::Rotate, state, ui_state, pointer, sender),
+        UiCommand::Scale => return start_tool(Mode::Scale, state, ui_state, pointer, sender),
+        UiCommand::FrameAll => camera(CameraChange::FrameAll),
+        UiCommand::FrameSelection => camera(CameraChange::FrameSelection),
+        UiCommand::ViewFront => camera(CameraChange::View(View::Front)),
+        UiCommand::ViewSide => camera(CameraChange::View(View::Side)),
+        UiCommand::ViewTop => camera(CameraChange::View(View::Top)),
+    };
+    sender.send(command);
+}
+
+fn start_tool(
+    mode: Mode,
+    state: &EditorState,
+    ui_state: &mut UiState,
+    pointer: Vec2,
+    sender: &mut CommandSender,
+) {
+    if ui_state.tool.is_some() {
+        return;
+    }
+    let gesture = ui_state.new_gesture();
+    match TransformTool::begin(state, mode, pointer, gesture) {
+        Some(tool) => {
+            ui_state.tool = Some(tool);
+            sender.send(Command::BeginGesture {
+                id: gesture,
+                label: mode.label().into(),
+            });
+        }
+        None => sender.send(Command::Info(
+            "select cage vertices first (click, Shift+click, drag a rectangle, or A)".into(),
+        )),
+    }
+}

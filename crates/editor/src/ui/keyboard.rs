@@ -1,0 +1,100 @@
+//! Keys: while G / R / S runs, X / Y / Z, digits, Backspace, Enter and Esc drive the tool;
+//! otherwise each key press looks up its action in the [`UiCommand`] table. Nothing happens
+//! while a text field has the keyboard.
+
+use egui::{Event, Key};
+use glam::Vec2;
+
+use super::UiState;
+use super::actions::execute;
+use super::transform_tool::Axis;
+use crate::commands::{Command, CommandSender, UiCommand};
+use crate::state::EditorState;
+
+/// This frame's keys.
+pub fn shortcuts(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ctx: &egui::Context,
+    sender: &mut CommandSender,
+) {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    let (events, pointer) = ctx.input(|i| {
+        let pointer = i.pointer.latest_pos().map(|p| Vec2::new(p.x, p.y));
+        (i.events.clone(), pointer)
+    });
+    let pointer = pointer.unwrap_or(state.view.viewport.center());
+    if ui_state.tool.is_some() {
+        tool_keys(state, ui_state, &events, pointer, sender);
+        return;
+    }
+    for event in events {
+        if let Event::Key {
+            key,
+            pressed: true,
+            repeat: false,
+            modifiers,
+            ..
+        } = event
+            && let Some(action) = UiCommand::for_key(key, modifiers)
+        {
+            execute(action, state, ui_state, pointer, sender);
+        }
+    }
+}
+
+/// Keys of the G / R / S tool; the tool follows the pointer once per frame.
+fn tool_keys(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    events: &[Event],
+    pointer: Vec2,
+    sender: &mut CommandSender,
+) {
+    let Some(tool) = &mut ui_state.tool else {
+        return;
+    };
+    let mut end = None;
+    for event in events {
+        match event {
+            Event::Text(text) => {
+                for c in text.chars() {
+                    match c {
+                        'x' | 'X' => tool.axis = Axis::X.toggle(tool.axis),
+                        'y' | 'Y' => tool.axis = Axis::Y.toggle(tool.axis),
+                        'z' | 'Z' => tool.axis = Axis::Z.toggle(tool.axis),
+                        '0'..='9' | '.' | '-' => tool.typed.push(c),
+                        _ => {}
+                    }
+                }
+            }
+            Event::Key {
+                key,
+                pressed: true,
+                modifiers,
+                ..
+            } => match key {
+                Key::Backspace => {
+                    tool.typed.pop();
+                }
+                Key::Enter => end = Some(true),
+                Key::Escape => end = Some(false),
+                // Ctrl+Z cancels the tool (the Undo command does that while a gesture runs).
+                Key::Z if modifiers.command => end = Some(false),
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+    sender.send(Command::MoveVertices(tool.moves(
+        &state.view.camera,
+        state.view.viewport,
+        pointer,
+    )));
+    if let Some(keep) = end {
+        ui_state.tool = None;
+        sender.send(Command::EndGesture { keep });
+    }
+}

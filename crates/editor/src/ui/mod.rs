@@ -1,0 +1,145 @@
+//! The UI: panels, the viewport's input and drawing, keyboard shortcuts, prompts. It reads
+//! [`EditorState`] and sends [`Command`]s; it never changes the document. What is transient
+//! input — a drag in progress, the G / R / S tool, text being typed — lives here in
+//! [`UiState`].
+
+mod actions;
+mod dialogs;
+mod inspector;
+mod keyboard;
+mod menu;
+mod outliner;
+mod panels;
+mod prompts;
+mod status_bar;
+mod transform_tool;
+mod viewport_input;
+pub mod viewport_paint;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use egui::Panel;
+use starcages_core::scene::AutocageOptions;
+
+use crate::commands::{Command, CommandSender};
+use crate::state::{EditorState, GestureId};
+
+pub use transform_tool::{Axis, Mode, TransformTool};
+pub use viewport_input::{Drag, pick, vertex_on_screen};
+
+/// Transient UI state: input in progress and what is typed, never the document.
+#[derive(Debug)]
+pub struct UiState {
+    /// A mouse drag in the viewport.
+    pub drag: Option<Drag>,
+    /// A G / R / S transform in progress.
+    pub tool: Option<TransformTool>,
+    /// The name typed for a new pose.
+    pub new_pose_name: String,
+    /// The automatic-cages dialog of File ▸ New from mesh, while open.
+    pub new_mesh_dialog: Option<(PathBuf, AutocageOptions)>,
+    /// A slider drag in progress (one undo step).
+    pub slider_gesture: Option<GestureId>,
+    /// Show measured times in the stats panel (off for reproducible snapshots).
+    pub show_timings: bool,
+    /// Whether the 3D view can draw (wgpu available).
+    pub gpu: bool,
+    /// Milliseconds between the last two frames.
+    pub frame_ms: f64,
+    last_frame: Option<Instant>,
+    next_gesture: u64,
+    mesh_upload: viewport_paint::MeshUploadCache,
+}
+
+impl UiState {
+    /// A UI with nothing in progress; `gpu`: whether the 3D view can draw.
+    pub fn new(gpu: bool) -> Self {
+        Self {
+            drag: None,
+            tool: None,
+            new_pose_name: String::new(),
+            new_mesh_dialog: None,
+            slider_gesture: None,
+            show_timings: true,
+            gpu,
+            frame_ms: 0.0,
+            last_frame: None,
+            next_gesture: 1,
+            mesh_upload: viewport_paint::MeshUploadCache::default(),
+        }
+    }
+
+    /// A new gesture id.
+    pub fn new_gesture(&mut self) -> GestureId {
+        self.next_gesture += 1;
+        GestureId(self.next_gesture)
+    }
+
+    /// Drops input in progress whose gesture the state no longer has (it was cancelled by an
+    /// undo, or the document was replaced).
+    fn revalidate(&mut self, state: &EditorState) {
+        let live = state.gesture_id();
+        if self.tool.as_ref().is_some_and(|t| Some(t.gesture) != live) {
+            self.tool = None;
+        }
+        if let Some(Drag::Move { gesture, .. }) = &self.drag
+            && Some(*gesture) != live
+        {
+            self.drag = None;
+        }
+        if self.slider_gesture.is_some_and(|g| Some(g) != live) {
+            self.slider_gesture = None;
+        }
+    }
+}
+
+/// One frame of the whole window: reads `state`, sends commands to `sender`.
+pub fn frame_ui(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ui: &mut egui::Ui,
+    sender: &mut CommandSender,
+) {
+    let now = Instant::now();
+    if let Some(last) = ui_state.last_frame.replace(now) {
+        ui_state.frame_ms = (now - last).as_secs_f64() * 1e3;
+    }
+    ui_state.revalidate(state);
+    let ctx = ui.ctx().clone();
+    dropped_files(&ctx, sender);
+    keyboard::shortcuts(state, ui_state, &ctx, sender);
+    Panel::top("menu").show(ui, |ui| menu::menu_bar(state, ui_state, ui, sender));
+    Panel::bottom("status").show(ui, |ui| status_bar::status_bar(state, ui_state, ui, sender));
+    Panel::left("outliner").default_size(220.0).show(ui, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| outliner::outliner(state, ui, sender));
+    });
+    Panel::right("inspector")
+        .default_size(280.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                inspector::inspector(state, ui_state, ui, sender);
+                panels::view_options(state, ui, sender);
+                panels::stats(state, ui_state, ui);
+                panels::poses(state, ui_state, ui, sender);
+            });
+        });
+    egui::CentralPanel::default()
+        .frame(egui::Frame::NONE)
+        .show(ui, |ui| {
+            viewport_input::viewport(state, ui_state, ui, sender)
+        });
+    prompts::unsaved_prompt(state, &ctx, sender);
+    prompts::new_mesh_dialog(ui_state, &ctx, sender);
+}
+
+fn dropped_files(ctx: &egui::Context, sender: &mut CommandSender) {
+    let dropped = ctx.input(|i| i.raw.dropped_files.clone());
+    if let Some(path) = dropped
+        .iter()
+        .map(|f| f.path().to_path_buf())
+        .find(|p| !p.as_os_str().is_empty())
+    {
+        sender.send(Command::Open(path));
+    }
+}

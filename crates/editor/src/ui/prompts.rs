@@ -1,0 +1,87 @@
+//! Modal prompts: unsaved changes (Save / Don't save / Cancel) and File ▸ New from mesh's
+//! automatic-cages dialog.
+
+use super::UiState;
+use super::dialogs;
+use super::inspector::{KINDS, kind_name};
+use crate::commands::{Command, CommandSender, UnsavedAnswer};
+use crate::state::EditorState;
+
+/// "Unsaved changes" while an action waits for the answer.
+pub fn unsaved_prompt(state: &EditorState, ctx: &egui::Context, sender: &mut CommandSender) {
+    if state.pending.is_none() {
+        return;
+    }
+    let mut answer = None;
+    egui::Modal::new(egui::Id::unique("unsaved-changes")).show(ctx, |ui| {
+        ui.heading("Unsaved changes");
+        ui.label(format!(
+            "{} has changes that are not saved.",
+            state.doc.name()
+        ));
+        ui.horizontal(|ui| {
+            if ui.button("Save").clicked() {
+                answer = Some(if state.doc.path.is_some() {
+                    UnsavedAnswer::Save(None)
+                } else {
+                    match dialogs::scene_destination() {
+                        Some(path) => UnsavedAnswer::Save(Some(path)),
+                        None => UnsavedAnswer::Cancel,
+                    }
+                });
+            }
+            if ui.button("Don't save").clicked() {
+                answer = Some(UnsavedAnswer::Discard);
+            }
+            if ui.button("Cancel").clicked() {
+                answer = Some(UnsavedAnswer::Cancel);
+            }
+        });
+    });
+    if let Some(answer) = answer {
+        sender.send(Command::AnswerUnsaved(answer));
+    }
+}
+
+/// File ▸ New from mesh: grid size, padding and coordinates of the automatic cages.
+pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
+    let Some((path, options)) = &mut ui_state.new_mesh_dialog else {
+        return;
+    };
+    let mut answer = None;
+    egui::Modal::new(egui::Id::unique("new-from-mesh")).show(ctx, |ui| {
+        ui.heading("New from mesh");
+        ui.label(path.display().to_string());
+        ui.horizontal(|ui| {
+            ui.label("Grid cells");
+            for n in &mut options.grid {
+                ui.add(egui::DragValue::new(n).range(1..=16));
+            }
+        });
+        ui.add(egui::Slider::new(&mut options.padding, 0.0..=0.5).text("padding"));
+        egui::ComboBox::from_label("Coordinates")
+            .selected_text(kind_name(options.kind))
+            .show_ui(ui, |ui| {
+                for k in KINDS {
+                    ui.selectable_value(&mut options.kind, k, kind_name(k));
+                }
+            });
+        ui.horizontal(|ui| {
+            if ui.button("Create").clicked() {
+                answer = Some(true);
+            }
+            if ui.button("Cancel").clicked() {
+                answer = Some(false);
+            }
+        });
+    });
+    match answer {
+        Some(true) => {
+            if let Some((path, options)) = ui_state.new_mesh_dialog.take() {
+                sender.send(Command::NewFromMesh(path, options));
+            }
+        }
+        Some(false) => ui_state.new_mesh_dialog = None,
+        None => {}
+    }
+}

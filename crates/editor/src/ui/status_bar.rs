@@ -1,0 +1,55 @@
+//! The status bar: file loading and bind progress with Cancel, the tool's description, the
+//! last message.
+
+use egui::RichText;
+
+use super::UiState;
+use crate::commands::{Command, CommandSender};
+use crate::state::EditorState;
+
+/// The status bar.
+pub fn status_bar(
+    state: &EditorState,
+    ui_state: &UiState,
+    ui: &mut egui::Ui,
+    sender: &mut CommandSender,
+) {
+    ui.horizontal(|ui| {
+        if let Some(load) = &state.load_job {
+            ui.spinner();
+            ui.label(&load.label);
+            if ui.button("Cancel").clicked() {
+                sender.send(Command::CancelLoad);
+            }
+        }
+        if let Some(job) = &state.bind_job {
+            ui.label(&job.label);
+            let fraction = job.progress() as f32;
+            ui.add(egui::ProgressBar::new(fraction).desired_width(160.0).show_percentage());
+            if ui.button("Cancel").clicked() {
+                sender.send(Command::CancelBind);
+            }
+        }
+        if let Some((label, fraction)) = state.map.baseline_progress() {
+            ui.label(label);
+            ui.add(egui::ProgressBar::new(fraction as f32).desired_width(120.0));
+            if ui.button("Cancel baseline").clicked() {
+                sender.send(Command::CancelBaseline);
+            }
+        }
+        if let Some(tool) = &ui_state.tool {
+            ui.label(tool.describe());
+        } else if let Some(message) = &state.message {
+            let colour = if message.error {
+                egui::Color32::from_rgb(255, 110, 100)
+            } else {
+                ui.visuals().text_color()
+            };
+            ui.label(RichText::new(&message.text).color(colour));
+        } else {
+            ui.label(
+                "Click a cage vertex to select it, drag to move; G/R/S transform; middle mouse orbits.",
+            );
+        }
+    });
+}

@@ -1,0 +1,190 @@
+//! Blender's modal G / R / S: the selection follows the pointer (or a typed value) until Enter
+//! or a click confirms it, Esc or a right click cancels it. X / Y / Z lock an axis.
+
+use glam::{DQuat, DVec3, Vec2};
+use starcages_viewport::OrbitCamera;
+
+use crate::state::{EditorState, GestureId, ScreenRect};
+
+/// G, R or S.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Grab: move.
+    Grab,
+    /// Rotate about the selection's centre.
+    Rotate,
+    /// Scale about the selection's centre.
+    Scale,
+}
+
+impl Mode {
+    /// The undo label and status-bar name.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Grab => "grab",
+            Self::Rotate => "rotate",
+            Self::Scale => "scale",
+        }
+    }
+}
+
+/// An axis lock.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// X.
+    X,
+    /// Y.
+    Y,
+    /// Z.
+    Z,
+}
+
+impl Axis {
+    fn vector(self) -> DVec3 {
+        match self {
+            Self::X => DVec3::X,
+            Self::Y => DVec3::Y,
+            Self::Z => DVec3::Z,
+        }
+    }
+
+    /// `current` with `self` toggled: pressing the locked axis again unlocks it.
+    pub fn toggle(self, current: Option<Self>) -> Option<Self> {
+        (current != Some(self)).then_some(self)
+    }
+}
+
+/// A modal transform of the selection, in progress.
+#[derive(Debug)]
+pub struct TransformTool {
+    /// Grab, rotate or scale.
+    pub mode: Mode,
+    /// Axis lock.
+    pub axis: Option<Axis>,
+    /// A typed value (distance, degrees or factor) overriding the mouse.
+    pub typed: String,
+    /// The state's gesture this tool drives.
+    pub gesture: GestureId,
+    start_pointer: Vec2,
+    centre: DVec3,
+    start: Vec<(u32, DVec3)>,
+}
+
+/// World displacement for a pointer move of `delta` points, in the view plane through `at`.
+pub fn view_plane_delta(camera: &OrbitCamera, height: f32, at: DVec3, delta: Vec2) -> DVec3 {
+    let (right, up) = camera.right_up();
+    let depth = (at.as_vec3() - camera.eye())
+        .dot(-camera.backward())
+        .max(1e-4);
+    let per_point = 2.0 * depth * (camera.fov_y * 0.5).tan() / height.max(1.0);
+    ((right * delta.x - up * delta.y) * per_point).as_dvec3()
+}
+
+impl TransformTool {
+    /// Starts `mode` on the current selection with the pointer at `pointer` (screen points);
+    /// `None` without a selection.
+    pub fn begin(
+        state: &EditorState,
+        mode: Mode,
+        pointer: Vec2,
+        gesture: GestureId,
+    ) -> Option<Self> {
+        let pose = &state.doc.scene.pose;
+        let start: Vec<(u32, DVec3)> = state
+            .selection
+            .vertices
+            .iter()
+            .filter_map(|&v| pose.get(v as usize).map(|p| (v, *p)))
+            .collect();
+        if start.is_empty() {
+            return None;
+        }
+        let centre = start.iter().map(|s| s.1).sum::<DVec3>() / start.len() as f64;
+        Some(Self {
+            mode,
+            axis: None,
+            typed: String::new(),
+            gesture,
+            start_pointer: pointer,
+            centre,
+            start,
+        })
+    }
+
+    fn typed_value(&self) -> Option<f64> {
+        self.typed.parse::<f64>().ok().filter(|v| v.is_finite())
+    }
+
+    /// The moves for the pointer at `pointer` (screen points) in the viewport `rect`.
+    pub fn moves(
+        &self,
+        camera: &OrbitCamera,
+        rect: ScreenRect,
+        pointer: Vec2,
+    ) -> Vec<(u32, DVec3)> {
+        let size = rect.size;
+        let centre_in_viewport = camera
+            .project(self.centre.as_vec3(), size)
+            .map_or(size * 0.5, |(p, _)| p);
+        let start_in_viewport = rect.local(self.start_pointer) - centre_in_viewport;
+        let pointer_in_viewport = rect.local(pointer) - centre_in_viewport;
+        let centre = self.centre;
+        let map: Box<dyn Fn(DVec3) -> DVec3> = match self.mode {
+            Mode::Grab => {
+                let mut delta = match self.typed_value() {
+                    Some(v) => self.axis.unwrap_or(Axis::X).vector() * v,
+                    None => view_plane_delta(camera, size.y, centre, pointer - self.start_pointer),
+                };
+                if let Some(axis) = self.axis {
+                    delta = axis.vector() * delta.dot(axis.vector());
+                }
+                Box::new(move |p| p + delta)
+            }
+            Mode::Rotate => {
+                let angle = self.typed_value().map_or_else(
+                    || {
+                        let (a, b) = (start_in_viewport, pointer_in_viewport);
+                        // Screen y points down: counter-clockwise on screen is negative here.
+                        f64::from(-(a.x * b.y - a.y * b.x).atan2(a.dot(b)))
+                    },
+                    f64::to_radians,
+                );
+                let axis = self
+                    .axis
+                    .map_or_else(|| camera.backward().as_dvec3(), Axis::vector);
+                let turn = DQuat::from_axis_angle(axis, angle);
+                Box::new(move |p| centre + turn * (p - centre))
+            }
+            Mode::Scale => {
+                let factor = self.typed_value().unwrap_or_else(|| {
+                    let a = start_in_viewport.length().max(1.0);
+                    f64::from(pointer_in_viewport.length() / a)
+                });
+                let axis = self.axis.map(Axis::vector);
+                Box::new(move |p| match axis {
+                    Some(a) => p + a * (p - centre).dot(a) * (factor - 1.0),
+                    None => centre + (p - centre) * factor,
+                })
+            }
+        };
+        self.start.iter().map(|&(v, p)| (v, map(p))).collect()
+    }
+
+    /// A one-line description for the status bar.
+    pub fn describe(&self) -> String {
+        let name = match self.mode {
+            Mode::Grab => "Grab",
+            Mode::Rotate => "Rotate",
+            Mode::Scale => "Scale",
+        };
+        let axis = self.axis.map_or(String::new(), |a| format!(" along {a:?}"));
+        let typed = if self.typed.is_empty() {
+            String::new()
+        } else {
+            format!(": {}", self.typed)
+        };
+        format!(
+            "{name}{axis}{typed} — X/Y/Z lock, type a number, Enter or click to confirm, Esc or right click to cancel"
+        )
+    }
+}

@@ -1,0 +1,328 @@
+//! The viewport's mouse, as Blender users expect: orbit (middle or Alt+left), pan
+//! (Shift+middle), zoom to the cursor (wheel), click to pick a cage vertex (Shift toggles),
+//! drag a vertex to move the selection in the view plane, drag on empty space for a selection
+//! rectangle; a click or a right click ends the G / R / S tool.
+
+use egui::{Pos2, Sense};
+use glam::{DVec3, Vec2};
+use starcages_viewport::colors;
+use starcages_viewport::picking::{pick_nearest, select_in_rectangle};
+
+use super::UiState;
+use super::transform_tool::view_plane_delta;
+use super::viewport_paint;
+use crate::commands::{CameraChange, Command, CommandSender};
+use crate::state::{EditorState, GestureId, ScreenRect, SelectMode};
+
+/// Pick radius in points.
+const PICK_RADIUS: f32 = 10.0;
+
+/// A mouse drag in the viewport.
+#[derive(Debug)]
+pub enum Drag {
+    /// Moving the selected vertices in the view plane (one gesture, one undo step).
+    Move {
+        /// The state's gesture.
+        gesture: GestureId,
+        /// Where the drag started (screen points).
+        start_pointer: Vec2,
+        /// The selection's positions when it started.
+        start: Vec<(u32, DVec3)>,
+    },
+    /// A selection rectangle from this corner (screen points).
+    Rectangle {
+        /// The first corner.
+        start: Vec2,
+        /// Shift held: add to the selection.
+        extend: bool,
+    },
+    /// Orbiting or panning the camera.
+    Camera,
+}
+
+fn vec2(p: Pos2) -> Vec2 {
+    Vec2::new(p.x, p.y)
+}
+
+fn pose_f32(state: &EditorState) -> Vec<glam::Vec3> {
+    state.doc.scene.pose.iter().map(|p| p.as_vec3()).collect()
+}
+
+/// The cage vertex under `pointer` (screen points), if any.
+pub fn pick(state: &EditorState, pointer: Vec2) -> Option<u32> {
+    let rect = state.view.viewport;
+    pick_nearest(
+        &state.view.camera,
+        rect.size,
+        &pose_f32(state),
+        &state.view.pickable(&state.doc.scene.cages),
+        rect.local(pointer),
+        PICK_RADIUS,
+    )
+    .map(|i| i as u32)
+}
+
+/// The screen position (points) of cage vertex `v` in the current view.
+pub fn vertex_on_screen(state: &EditorState, v: u32) -> Option<egui::Pos2> {
+    let rect = state.view.viewport;
+    let p = state.doc.scene.pose.get(v as usize)?.as_vec3();
+    let (pixel, _) = state.view.camera.project(p, rect.size)?;
+    let at = rect.min + pixel;
+    Some(egui::pos2(at.x, at.y))
+}
+
+/// The viewport: input, the 3D view through the paint callback, overlays.
+pub fn viewport(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ui: &mut egui::Ui,
+    sender: &mut CommandSender,
+) {
+    let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    let screen_rect = ScreenRect {
+        min: vec2(rect.min),
+        size: vec2(rect.max) - vec2(rect.min),
+    };
+    if screen_rect != state.view.viewport {
+        sender.send(Command::SetViewport(screen_rect));
+    }
+    let (pointer, secondary) = ui.input(|i| {
+        (
+            i.pointer.latest_pos().map(vec2),
+            i.pointer.secondary_clicked(),
+        )
+    });
+    if ui_state.tool.is_some() {
+        // The tool follows the pointer in `keyboard`; here only its mouse confirm / cancel.
+        if response.clicked() {
+            ui_state.tool = None;
+            sender.send(Command::EndGesture { keep: true });
+        } else if secondary {
+            ui_state.tool = None;
+            sender.send(Command::EndGesture { keep: false });
+        }
+    } else {
+        mouse(state, ui_state, ui, &response, screen_rect, sender);
+    }
+    let hovered = if response.hovered() {
+        pointer.and_then(|p| pick(state, p))
+    } else {
+        None
+    };
+    if hovered != state.selection.hovered {
+        sender.send(Command::Hover(hovered));
+    }
+    viewport_paint::paint(state, ui_state, ui, rect);
+    overlays(state, ui_state, ui, rect, pointer);
+}
+
+fn mouse(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ui: &egui::Ui,
+    response: &egui::Response,
+    rect: ScreenRect,
+    sender: &mut CommandSender,
+) {
+    let (pointer, modifiers, scroll) = ui.input(|i| {
+        (
+            i.pointer.latest_pos().map(vec2),
+            i.modifiers,
+            i.smooth_scroll_delta.y,
+        )
+    });
+    if response.hovered() && scroll != 0.0 {
+        sender.send(Command::Camera(CameraChange::Zoom {
+            steps: scroll / 50.0,
+            cursor_in_viewport: pointer.map(|p| rect.local(p)),
+        }));
+    }
+    let camera_drag = response.dragged_by(egui::PointerButton::Middle)
+        || (response.dragged_by(egui::PointerButton::Primary) && modifiers.alt);
+    if camera_drag {
+        let delta = vec2(response.drag_delta().to_pos2());
+        let change = if modifiers.shift {
+            CameraChange::Pan(delta)
+        } else {
+            CameraChange::Orbit(delta)
+        };
+        sender.send(Command::Camera(change));
+        ui_state.drag = Some(Drag::Camera);
+    } else if response.drag_started_by(egui::PointerButton::Primary) {
+        let origin = ui
+            .input(|i| i.pointer.press_origin().map(vec2))
+            .or(pointer)
+            .unwrap_or(rect.center());
+        ui_state.drag = Some(start_drag(state, ui_state, origin, modifiers.shift, sender));
+    }
+    if response.dragged_by(egui::PointerButton::Primary)
+        && let (
+            Some(Drag::Move {
+                start_pointer,
+                start,
+                ..
+            }),
+            Some(p),
+        ) = (&ui_state.drag, pointer)
+    {
+        let centre = start.iter().map(|s| s.1).sum::<DVec3>() / start.len().max(1) as f64;
+        let delta = view_plane_delta(&state.view.camera, rect.size.y, centre, p - *start_pointer);
+        let moves: Vec<(u32, DVec3)> = start.iter().map(|&(v, q)| (v, q + delta)).collect();
+        sender.send(Command::MoveVertices(moves));
+    }
+    if response.drag_stopped() {
+        match ui_state.drag.take() {
+            Some(Drag::Move { .. }) => sender.send(Command::EndGesture { keep: true }),
+            Some(Drag::Rectangle { start, extend }) => {
+                if let Some(end) = pointer {
+                    let hits = select_in_rectangle(
+                        &state.view.camera,
+                        rect.size,
+                        &pose_f32(state),
+                        &state.view.pickable(&state.doc.scene.cages),
+                        rect.local(start),
+                        rect.local(end),
+                    );
+                    let mode = if extend {
+                        SelectMode::Add
+                    } else {
+                        SelectMode::Replace
+                    };
+                    let vertices = hits.iter().map(|&i| i as u32).collect();
+                    sender.send(Command::Select { vertices, mode });
+                }
+            }
+            _ => {}
+        }
+    }
+    if response.clicked() {
+        let mode = if modifiers.shift {
+            SelectMode::Toggle
+        } else {
+            SelectMode::Replace
+        };
+        match pointer.and_then(|p| pick(state, p)) {
+            Some(v) => sender.send(Command::Select {
+                vertices: vec![v],
+                mode,
+            }),
+            None if !modifiers.shift => sender.send(Command::SelectNone),
+            None => {}
+        }
+    }
+}
+
+/// A primary-button drag from `origin`: on a vertex it moves the selection (the vertex joins
+/// it first), on empty space it draws a selection rectangle.
+fn start_drag(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    origin: Vec2,
+    shift: bool,
+    sender: &mut CommandSender,
+) -> Drag {
+    let Some(v) = pick(state, origin) else {
+        return Drag::Rectangle {
+            start: origin,
+            extend: shift,
+        };
+    };
+    let mut selected = state.selection.vertices.clone();
+    if !selected.contains(&v) {
+        let mode = if shift {
+            SelectMode::Toggle
+        } else {
+            SelectMode::Replace
+        };
+        sender.send(Command::Select {
+            vertices: vec![v],
+            mode,
+        });
+        if !shift {
+            selected.clear();
+        }
+        selected.insert(v);
+    }
+    let pose = &state.doc.scene.pose;
+    let start = selected
+        .iter()
+        .filter_map(|&s| pose.get(s as usize).map(|p| (s, *p)))
+        .collect();
+    let gesture = ui_state.new_gesture();
+    sender.send(Command::BeginGesture {
+        id: gesture,
+        label: "move vertices".into(),
+    });
+    Drag::Move {
+        gesture,
+        start_pointer: origin,
+        start,
+    }
+}
+
+fn overlays(
+    state: &EditorState,
+    ui_state: &UiState,
+    ui: &egui::Ui,
+    rect: egui::Rect,
+    pointer: Option<Vec2>,
+) {
+    let painter = ui.painter_at(rect);
+    if let (Some(Drag::Rectangle { start, .. }), Some(end)) = (&ui_state.drag, pointer) {
+        let r = egui::Rect::from_two_pos(egui::pos2(start.x, start.y), egui::pos2(end.x, end.y));
+        painter.rect_stroke(
+            r,
+            0.0,
+            egui::Stroke::new(1.0, egui::Color32::WHITE),
+            egui::StrokeKind::Inside,
+        );
+    }
+    let font = egui::FontId::proportional(12.0);
+    let text = egui::Color32::from_gray(230);
+    let origin = rect.left_bottom() + egui::vec2(16.0, -40.0);
+    let Some(values) = state.map.values() else {
+        if let Some(note) = &state.map.note
+            && state.view.influence != crate::state::InfluenceChoice::None
+        {
+            painter.text(origin, egui::Align2::LEFT_BOTTOM, note, font, text);
+        }
+        return;
+    };
+    // The legend: the ramp with its ends and title, bottom left.
+    let width = 180.0;
+    let steps = 36;
+    for i in 0..steps {
+        let t = i as f32 / (steps - 1) as f32;
+        let [r, g, b, _] = colors::to_u8(colors::ramp(t));
+        let x = origin.x + width * i as f32 / steps as f32;
+        painter.rect_filled(
+            egui::Rect::from_min_size(
+                egui::pos2(x, origin.y),
+                egui::vec2(width / steps as f32 + 0.5, 12.0),
+            ),
+            0.0,
+            egui::Color32::from_rgb(r, g, b),
+        );
+    }
+    painter.text(
+        origin - egui::vec2(0.0, 4.0),
+        egui::Align2::LEFT_BOTTOM,
+        &values.title,
+        font.clone(),
+        text,
+    );
+    painter.text(
+        origin + egui::vec2(0.0, 14.0),
+        egui::Align2::LEFT_TOP,
+        &values.range.0,
+        font.clone(),
+        text,
+    );
+    painter.text(
+        origin + egui::vec2(width, 14.0),
+        egui::Align2::RIGHT_TOP,
+        &values.range.1,
+        font,
+        text,
+    );
+}

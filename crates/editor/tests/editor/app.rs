@@ -1,0 +1,469 @@
+//! The real editor through egui_kittest: picking and dragging a cage vertex, the coordinates
+//! combo, the h slider, G with an axis lock, undo and redo, save and reopen, a broken file,
+//! background binds with Cancel, internal cages, X mirroring, the unsaved-changes prompt, and a
+//! snapshot of the main window.
+
+use egui::accesskit::Role;
+use egui_kittest::SnapshotOptions;
+use egui_kittest::kittest::Queryable as _;
+use glam::{DVec3, Vec3};
+use starcages_core::coords::CoordinateKind;
+use starcages_editor::state::InfluenceChoice;
+use starcages_editor::ui::vertex_on_screen;
+use starcages_editor::{CageId, Command, Document};
+
+use crate::common::{cage, harness, leaf, scratch, settle};
+
+#[test]
+fn dragging_a_picked_vertex_moves_the_mesh_near_its_cage_only_and_undoes_in_one_step() {
+    let mut harness = harness();
+    let app = harness.state();
+    // A corner of the lower front-left head cage: belongs to that cage only.
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_0_0_0")].faces[0][0];
+    let before_pose = app.state.doc.scene.pose.clone();
+    let before_mesh: Vec<Vec3> = app.state.deformed().to_vec();
+    let start = vertex_on_screen(&app.state, v).unwrap();
+    harness.hover_at(start);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.selection.hovered,
+        Some(v),
+        "hover highlight"
+    );
+    harness.drag_at(start);
+    harness.run_steps(1);
+    for step in 1..=5 {
+        harness.hover_at(start + egui::vec2(6.0 * step as f32, -4.0 * step as f32));
+        harness.run_steps(1);
+    }
+    harness.drop_at(start + egui::vec2(30.0, -20.0));
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(state.selection.vertices.contains(&v));
+    assert!(state.gesture.is_none(), "the drag's gesture ended");
+    let moved = state.doc.scene.pose[v as usize].distance(before_pose[v as usize]);
+    assert!(moved > 0.05, "the vertex moved {moved}");
+    let others_still = (0..before_pose.len())
+        .filter(|&u| u != v as usize)
+        .all(|u| state.doc.scene.pose[u] == before_pose[u]);
+    assert!(
+        others_still,
+        "only the dragged vertex moved (it has no children)"
+    );
+    // The mesh moved near the cage, and not at all far from it (the ears).
+    let after_mesh = state.deformed();
+    let changed = |i: usize| after_mesh[i] != before_mesh[i];
+    assert!((0..after_mesh.len()).any(changed));
+    let ear = leaf(harness.state(), "ear_right") as u32;
+    let rig = state.rig.as_ref().unwrap();
+    let ear_vertices: Vec<usize> = (0..after_mesh.len())
+        .filter(|&i| rig.binding.cage_of[i] == ear)
+        .collect();
+    assert!(!ear_vertices.is_empty());
+    assert!(
+        ear_vertices.iter().all(|&i| !changed(i)),
+        "the far ear moved"
+    );
+    // One undo step for the whole drag, and redo brings it back.
+    assert_eq!(state.undo.undo_label(), Some("move vertices"));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.pose, before_pose);
+    assert_eq!(harness.state().state.undo.undo_label(), None);
+    let restored = harness.state().state.deformed().to_vec();
+    let worst = restored
+        .iter()
+        .zip(&before_mesh)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(worst < 1e-5, "{worst}");
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(state.doc.scene.pose[v as usize].distance(before_pose[v as usize]) > 0.05);
+    assert!(state.doc.dirty);
+    assert!(state.doc.title().starts_with('●'));
+}
+
+#[test]
+fn the_coordinates_combo_changes_a_cage_kind_and_undo_restores_it() {
+    let mut harness = harness();
+    harness.get_by_label("ear_left (mvc)").click();
+    harness.run_steps(2);
+    let ear = cage(harness.state(), "ear_left");
+    assert_eq!(harness.state().state.selection.cage, Some(ear));
+    harness.get_by_label("Coordinates").click();
+    harness.run_steps(2);
+    harness.get_by_label("Green (GC)").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let kind = |h: &egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        ear.kind(&h.state().state.doc.scene.cages).unwrap()
+    };
+    assert_eq!(kind(&harness), CoordinateKind::Green);
+    assert!(
+        harness
+            .state()
+            .state
+            .rig
+            .as_ref()
+            .unwrap()
+            .is_current_for(&harness.state().state.doc.scene)
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(kind(&harness), CoordinateKind::MeanValue);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
+    harness.run_steps(2);
+    assert_eq!(kind(&harness), CoordinateKind::Green);
+}
+
+#[test]
+fn the_h_slider_changes_the_influence_map() {
+    let mut harness = harness();
+    harness.get_by_label("head_0_0_0 (mvc)").click();
+    harness.run_steps(2);
+    harness
+        .state_mut()
+        .run(Command::SetInfluence(InfluenceChoice::SelectedCage));
+    harness.run_steps(2);
+    let before = harness.state().state.map.values().unwrap().values.clone();
+    harness
+        .get_by_role_and_label(Role::Slider, "h")
+        .set_value_accesskit(0.15);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let head = leaf(harness.state(), "head_0_0_0");
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves[head].h, Some(0.15));
+    let after = state.map.values().unwrap().values.clone();
+    let differing = before
+        .iter()
+        .zip(&after)
+        .filter(|(a, b)| (*a - *b).abs() > 1e-3)
+        .count();
+    assert!(
+        differing > 10,
+        "the b map did not change ({differing} vertices)"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves[head].h, None);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.doc.scene.cages.leaves[head].h,
+        Some(0.15)
+    );
+}
+
+#[test]
+fn grab_with_an_axis_lock_and_a_typed_distance_then_cancel_a_rotation() {
+    let mut harness = harness();
+    let app = harness.state_mut();
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    app.run(Command::Select {
+        vertices: vec![v],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    let start = app.state.doc.scene.pose[v as usize];
+    let centre = app.state.view.viewport.center();
+    let centre = egui::pos2(centre.x, centre.y);
+    harness.hover_at(centre);
+    harness.key_press(egui::Key::G);
+    harness.run_steps(1);
+    assert!(harness.state().ui.tool.is_some());
+    assert!(harness.state().state.gesture.is_some());
+    for text in ["z", "0", ".", "2", "5"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.get_by_label_contains("Grab along Z: 0.25");
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(harness.state().ui.tool.is_none() && state.gesture.is_none());
+    let moved = state.doc.scene.pose[v as usize] - start;
+    assert!(
+        (moved - DVec3::new(0.0, 0.0, 0.25)).length() < 1e-12,
+        "{moved}"
+    );
+    // R on everything, move the mouse, Esc: nothing changes and nothing is recorded.
+    let after_grab = state.doc.scene.pose.clone();
+    harness.key_press(egui::Key::A);
+    harness.run_steps(1);
+    harness.key_press(egui::Key::R);
+    harness.run_steps(1);
+    harness.hover_at(centre + egui::vec2(80.0, 40.0));
+    harness.run_steps(2);
+    assert_ne!(
+        harness.state().state.doc.scene.pose,
+        after_grab,
+        "R follows the mouse"
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.pose, after_grab);
+    assert_eq!(harness.state().state.undo.undo_label(), Some("grab"));
+}
+
+#[test]
+fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable() {
+    let mut harness = harness();
+    let dir = scratch("save");
+    let path = dir.join("critter.json");
+    {
+        let app = harness.state_mut();
+        let to = app.state.doc.scene.pose[0] + DVec3::new(0.1, 0.0, 0.0);
+        app.run(Command::MoveVertices(vec![(0, to)]));
+        assert!(app.state.doc.dirty);
+        app.run(Command::SaveAs(path.clone()));
+        assert!(!app.state.doc.dirty, "{:?}", app.state.message);
+    }
+    let reopened = Document::open(&path).unwrap();
+    assert_eq!(reopened.scene, harness.state().state.doc.scene);
+    // And through the app: open (on a worker), the same scene, clean, bound again.
+    let saved = harness.state().state.doc.scene.clone();
+    harness.state_mut().run(Command::Open(path.clone()));
+    assert!(
+        harness.state().state.load_job.is_some(),
+        "opening runs in the background"
+    );
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene, saved);
+    assert!(!state.doc.dirty);
+    assert!(state.rig.is_some());
+    assert_eq!(
+        state.recent.first(),
+        Some(&std::path::absolute(&path).unwrap())
+    );
+    // A broken file: an error in the status bar, the scene untouched.
+    let broken = dir.join("broken.json");
+    std::fs::write(
+        &broken,
+        "{ \"format\": \"starcages-scene\", \"version\": 1, ",
+    )
+    .unwrap();
+    let document_before = state.document_id;
+    harness.state_mut().run(Command::Open(broken));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let message = state.message.clone().unwrap();
+    assert!(
+        message.error && message.text.contains("broken.json"),
+        "{}",
+        message.text
+    );
+    assert!(message.text.contains("unchanged"), "{}", message.text);
+    assert_eq!(state.doc.scene, saved);
+    assert_eq!(state.document_id, document_before);
+    harness.get_by_label_contains("broken.json");
+    // Still usable: the selection works.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    assert!(!harness.state().state.selection.vertices.is_empty());
+}
+
+#[test]
+fn main_window_snapshot() {
+    let mut harness = harness();
+    harness
+        .state_mut()
+        .run(Command::SetInfluence(InfluenceChoice::AllCages));
+    harness.run_steps(3);
+    let image = harness.render().unwrap();
+    // The viewport shows both ends of the b map: red and blue pixels.
+    let red = image
+        .pixels()
+        .filter(|p| p.0[0] > 150 && p.0[2] < 90 && p.0[1] < 120)
+        .count();
+    let blue = image
+        .pixels()
+        .filter(|p| p.0[2] > 150 && p.0[0] < 90)
+        .count();
+    assert!(red > 200 && blue > 200, "red {red}, blue {blue}");
+    harness.snapshot_options(
+        "main_window",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+}
+
+#[test]
+fn a_bind_runs_in_the_background_the_ui_keeps_drawing_and_cancel_keeps_the_previous_binding() {
+    let mut harness = harness();
+    let old = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
+    // A fine HC grid makes the ears cage's bind slow enough to cancel.
+    let mut settings = harness.state().state.doc.scene.settings;
+    settings.harmonic.resolution = 128;
+    harness.state_mut().run(Command::SetSettings {
+        label: "HC grid".into(),
+        settings,
+    });
+    assert!(harness.state().state.bind_job.is_some());
+    // Frames keep coming while it binds, and show its progress.
+    for _ in 0..3 {
+        harness.step();
+    }
+    harness.get_by_label("binding after the change");
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert!(state.bind_job.is_none());
+    let message = state.message.clone().unwrap();
+    assert!(
+        message.error && message.text.contains("cancelled"),
+        "{}",
+        message.text
+    );
+    assert!(std::sync::Arc::ptr_eq(
+        &old,
+        &state.rig.as_ref().unwrap().binding
+    ));
+}
+
+#[test]
+fn adding_and_removing_internal_cages_are_undoable_hierarchy_edits() {
+    let mut harness = harness();
+    let app = harness.state_mut();
+    let ears = app.state.doc.scene.cages.cage_vertices("ear_left").unwrap();
+    // The ear's lower vertices belong to the head cage; its top ones to the ears cage.
+    app.run(Command::Select {
+        vertices: ears,
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    app.run(Command::AddInternalCage(CoordinateKind::MeanValue));
+    let message = app.state.message.clone().unwrap();
+    assert!(
+        message.error && message.text.contains("already owned"),
+        "{}",
+        message.text
+    );
+    assert_eq!(app.state.doc.scene.cages.internals.len(), 2);
+    // Unowned vertices: a new top-level cage over the head cage's own vertices.
+    let head = app.state.doc.scene.cages.cage_vertices("head").unwrap();
+    app.run(Command::Select {
+        vertices: head.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    app.run(Command::AddInternalCage(CoordinateKind::Harmonic));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.internals.len(), 3);
+    assert_eq!(state.selection.cage, Some(CageId::Internal(2)));
+    assert!(
+        state
+            .rig
+            .as_ref()
+            .unwrap()
+            .hierarchy
+            .parent_of(head[0])
+            .is_some()
+    );
+    // Remove it from the inspector, then undo the removal and the addition.
+    harness.get_by_label("Remove internal cage").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.internals.len(), 2);
+    assert_eq!(harness.state().state.selection.cage, None);
+    harness.state_mut().run(Command::Undo);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.internals.len(), 3);
+    harness.state_mut().run(Command::Undo);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.internals.len(), 2);
+}
+
+#[test]
+fn an_internal_cage_kind_change_rebinds_the_hierarchy_only() {
+    let mut harness = harness();
+    let old = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
+    let ears = cage(harness.state(), "ears");
+    harness
+        .state_mut()
+        .run(Command::SetCageKind(ears, CoordinateKind::MeanValue));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(
+        ears.kind(&state.doc.scene.cages),
+        Some(CoordinateKind::MeanValue)
+    );
+    assert!(
+        std::sync::Arc::ptr_eq(&old, &state.rig.as_ref().unwrap().binding),
+        "the mesh was rebound"
+    );
+}
+
+#[test]
+fn x_mirror_editing_moves_the_partner_vertex() {
+    let mut harness = harness();
+    let app = harness.state_mut();
+    app.run(Command::SetMirrorX(true));
+    let rest = app.state.doc.scene.cages.vertices.clone();
+    let v = (0..rest.len()).find(|&i| rest[i].x < -1.0).unwrap() as u32;
+    let image = |p: DVec3| DVec3::new(-p.x, p.y, p.z);
+    let partner = (0..rest.len())
+        .find(|&i| (rest[i] - image(rest[v as usize])).length() < 1e-9)
+        .unwrap();
+    let target = rest[v as usize] + DVec3::new(-0.2, 0.1, 0.3);
+    app.run(Command::MoveVertices(vec![(v, target)]));
+    let moved = app.state.doc.scene.pose[partner];
+    assert!((moved - image(target)).length() < 1e-12, "{moved}");
+}
+
+#[test]
+fn opening_over_unsaved_work_asks_first() {
+    let mut harness = harness();
+    let path = scratch("prompt").join("saved.json");
+    harness.state_mut().run(Command::SaveAs(path.clone()));
+    {
+        let app = harness.state_mut();
+        let to = app.state.doc.scene.pose[0] + DVec3::Z * 0.2;
+        app.run(Command::MoveVertices(vec![(0, to)]));
+        assert!(app.state.doc.dirty);
+        app.run(Command::Open(path.clone()));
+        assert!(
+            app.state.load_job.is_none(),
+            "nothing opens before the answer"
+        );
+    }
+    harness.run_steps(2);
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    assert!(harness.state().state.pending.is_none() && harness.state().state.doc.dirty);
+    harness.state_mut().run(Command::Open(path.clone()));
+    harness.run_steps(2);
+    harness.get_by_label("Don't save").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert!(!state.doc.dirty);
+    assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
+}
+
+#[test]
+fn menus_show_the_table_labels_and_shortcuts() {
+    let mut harness = harness();
+    harness.get_by_label("Edit").click();
+    harness.run_steps(2);
+    // "Undo" is disabled with nothing to undo but present, with its shortcut text.
+    harness.get_by_label_contains("Undo");
+    harness.get_by_label_contains("Ctrl+Z");
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(1);
+    harness.get_by_role_and_label(Role::Button, "View").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Frame all").click();
+    harness.run_steps(2);
+    assert!(
+        harness.state().state.message.is_none()
+            || !harness.state().state.message.as_ref().unwrap().error
+    );
+}

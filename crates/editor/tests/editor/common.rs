@@ -1,0 +1,69 @@
+//! Shared helpers: the harness on the critter demo, scratch folders, waiting for jobs.
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use egui_kittest::Harness;
+use starcages_core::scene::demo::demo_scene;
+use starcages_editor::{CageId, Document, EditorApp};
+
+/// The critter demo at a reduced detail.
+pub fn document() -> Document {
+    Document {
+        scene: demo_scene("critter", 0.6).unwrap(),
+        path: None,
+        dirty: false,
+    }
+}
+
+/// The real app on `doc` in a 1280×800 window rendered by wgpu, its first bind done; also
+/// hands back egui-wgpu's render state (the viewport's GPU resources live in it).
+pub fn harness_on(doc: Document) -> (Harness<'static, EditorApp>, egui_wgpu::RenderState) {
+    let render_state = Arc::new(Mutex::new(None));
+    let keep = Arc::clone(&render_state);
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .wgpu()
+        .build_eframe(move |cc| {
+            *keep.lock().unwrap() = cc.wgpu_render_state.clone();
+            let mut app = starcages_editor::create(cc, doc);
+            app.ui.show_timings = false;
+            app.wait_for_jobs();
+            assert!(app.state.rig.is_some(), "the scene binds");
+            app
+        });
+    harness.run_steps(3);
+    let render_state = render_state.lock().unwrap().take();
+    (
+        harness,
+        render_state.expect("kittest gives eframe a wgpu render state"),
+    )
+}
+
+/// The app on the critter demo.
+pub fn harness() -> Harness<'static, EditorApp> {
+    harness_on(document()).0
+}
+
+/// A fresh scratch folder for this test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("starcages-editor-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Waits for background jobs to finish and lets the UI take them.
+pub fn settle(harness: &mut Harness<'static, EditorApp>) {
+    harness.state_mut().wait_for_jobs();
+    harness.run_steps(2);
+}
+
+/// The leaf cage called `name`.
+pub fn leaf(app: &EditorApp, name: &str) -> usize {
+    app.state.doc.scene.cages.leaf_index(name).unwrap()
+}
+
+/// The cage called `name`.
+pub fn cage(app: &EditorApp, name: &str) -> CageId {
+    CageId::by_name(&app.state.doc.scene.cages, name).unwrap()
+}

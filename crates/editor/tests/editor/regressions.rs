@@ -1,0 +1,168 @@
+//! Regressions of defects found by trying the editor: a second scene drawing the first one's
+//! mesh, panics on stale selections after structural undo, the difference map binding on the
+//! UI thread, and binds abandoned instead of cancelled.
+
+use egui_kittest::kittest::Queryable as _;
+use starcages_core::coords::CoordinateKind;
+use starcages_core::scene::demo::demo_scene;
+use starcages_core::scene::save_scene;
+use starcages_editor::state::{InfluenceChoice, SelectMode};
+use starcages_editor::ui::viewport_paint::uploaded_mesh;
+use starcages_editor::{CageId, Command};
+
+use crate::common::{harness, harness_on, scratch, settle};
+
+#[test]
+fn opening_a_second_scene_draws_its_own_mesh() {
+    let dir = scratch("two-scenes");
+    let egg = dir.join("egg.json");
+    let critter = dir.join("critter.json");
+    save_scene(&demo_scene("egg", 0.5).unwrap(), &egg).unwrap();
+    save_scene(&demo_scene("critter", 0.5).unwrap(), &critter).unwrap();
+    let (mut harness, render_state) = harness_on(crate::common::document());
+    let drawn = || uploaded_mesh(&render_state.renderer.read().callback_resources);
+    for path in [&egg, &critter, &egg] {
+        harness.state_mut().run(Command::Open(path.clone()));
+        harness.state_mut().run(Command::AnswerUnsaved(
+            starcages_editor::commands::UnsavedAnswer::Discard,
+        ));
+        settle(&mut harness);
+        harness.run_steps(2);
+        // kittest paints (and so runs the paint callback) when asked for an image.
+        harness.render().unwrap();
+        let state = &harness.state().state;
+        assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
+        let mesh = &state.doc.scene.mesh;
+        let drawn = drawn().expect("the viewport holds a mesh");
+        assert_eq!(drawn.key.document, state.document_id, "{}", path.display());
+        assert_eq!(drawn.vertices, mesh.welded_positions().len());
+        assert_eq!(drawn.triangles, mesh.welded_triangles().len());
+        let (lo, hi) = mesh.bounds();
+        assert!((drawn.bounds.0 - lo.as_vec3()).length() < 1e-4);
+        assert!((drawn.bounds.1 - hi.as_vec3()).length() < 1e-4);
+        // Posing deforms this mesh (the operator uploaded is this document's).
+        let to = state.doc.scene.pose[0] + glam::DVec3::Z * 0.05;
+        harness
+            .state_mut()
+            .run(Command::MoveVertices(vec![(0, to)]));
+        harness.run_steps(2);
+    }
+}
+
+#[test]
+fn undoing_an_internal_cage_while_it_is_inspected_and_shift_dragging_after_do_not_panic() {
+    let mut harness = harness();
+    let head = harness
+        .state()
+        .state
+        .doc
+        .scene
+        .cages
+        .cage_vertices("head")
+        .unwrap();
+    let app = harness.state_mut();
+    app.run(Command::Select {
+        vertices: head,
+        mode: SelectMode::Replace,
+    });
+    app.run(Command::AddInternalCage(CoordinateKind::MeanValue));
+    settle(&mut harness);
+    let added = CageId::Internal(2);
+    harness.state_mut().run(Command::InspectCage(Some(added)));
+    harness.run_steps(2);
+    harness.get_by_label("internal_1 (mvc)");
+    // Select everything, the new cage's vertices too, then undo the addition.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    let count = harness.state().state.doc.scene.cages.vertices.len();
+    assert!(
+        harness
+            .state()
+            .state
+            .selection
+            .vertices
+            .contains(&(count as u32 - 1))
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(3);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.internals.len(), 2);
+    assert_eq!(state.selection.cage, None, "the inspected cage is gone");
+    state.check_invariants().unwrap();
+    // A Shift-drag over the (revalidated) selection, on a vertex and on empty space.
+    let v = *state.selection.vertices.iter().next().unwrap();
+    let on_vertex = starcages_editor::ui::vertex_on_screen(state, v).unwrap();
+    let viewport = state.view.viewport;
+    let empty = egui::pos2(viewport.min.x + 5.0, viewport.min.y + 5.0);
+    for start in [on_vertex, empty] {
+        harness.event(egui::Event::ModifiersChanged(egui::Modifiers::SHIFT));
+        harness.drag_at(start);
+        harness.run_steps(1);
+        harness.hover_at(start + egui::vec2(40.0, 30.0));
+        harness.run_steps(1);
+        harness.drop_at(start + egui::vec2(60.0, 40.0));
+        harness.event(egui::Event::ModifiersChanged(egui::Modifiers::NONE));
+        harness.run_steps(2);
+        harness.state().state.check_invariants().unwrap();
+    }
+    // Undo everything back to the demo: still consistent.
+    harness.state_mut().run(Command::Undo);
+    settle(&mut harness);
+    harness.state().state.check_invariants().unwrap();
+}
+
+#[test]
+fn the_difference_map_binds_its_baseline_in_the_background() {
+    let mut harness = harness();
+    harness
+        .state_mut()
+        .run(Command::SetInfluence(InfluenceChoice::Difference(
+            CoordinateKind::Green,
+        )));
+    // The frame after choosing it draws at once: the baseline is a background job, and the
+    // map says it is coming.
+    harness.step();
+    let state = &harness.state().state;
+    assert!(
+        state.map.baseline_progress().is_some(),
+        "the baseline binds off the UI thread"
+    );
+    assert!(state.map.values().is_none());
+    assert!(
+        state
+            .map
+            .note
+            .as_deref()
+            .unwrap_or_default()
+            .contains("baseline")
+    );
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let values = state.map.values().expect("the map arrives");
+    assert_eq!(values.values.len(), state.deformed().len());
+    // At rest both deformations are the identity: the largest difference is tiny.
+    let max: f64 = values.range.1.split(' ').next().unwrap().parse().unwrap();
+    assert!(max < 1e-4, "{:?}", values.range);
+}
+
+#[test]
+fn replacing_the_document_cancels_its_running_bind() {
+    let mut harness = harness();
+    let mut settings = harness.state().state.doc.scene.settings;
+    settings.harmonic.resolution = 128;
+    harness.state_mut().run(Command::SetSettings {
+        label: "HC grid".into(),
+        settings,
+    });
+    let control = harness.state().state.bind_job.as_ref().unwrap().control();
+    assert!(!control.is_cancelled());
+    let path = scratch("cancel-on-replace").join("bar.json");
+    save_scene(&demo_scene("bar", 0.3).unwrap(), &path).unwrap();
+    harness.state_mut().run(Command::Open(path));
+    harness.state_mut().run(Command::AnswerUnsaved(
+        starcages_editor::commands::UnsavedAnswer::Discard,
+    ));
+    settle(&mut harness);
+    assert!(control.is_cancelled(), "the old document's bind still runs");
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+}
