@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# The project's one test command (see README): runs every test of the workspace.
+# The project's one test command (see README): builds, then runs every test of the workspace.
 #
 # The viewport's and editor's image tests render offscreen on a software Vulkan driver
 # (Mesa's lavapipe). When none is installed, this installs it (Debian: mesa-vulkan-drivers),
-# as root or through sudo.
+# as root or through sudo. Tests run under cargo-nextest (settings in .config/nextest.toml:
+# every test in its own process, the long property tests started first); without it, under
+# `cargo test`. Extra arguments go to the runner (`--profile quick` skips the slow group).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,5 +17,11 @@ if ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
 fi
 # lavapipe complains without a runtime dir; give it one.
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+jobs="${CARGO_BUILD_JOBS:-$(nproc)}"
 
-cargo test --workspace --locked -j"${CARGO_BUILD_JOBS:-2}" "$@"
+if cargo nextest --version >/dev/null 2>&1; then
+    cargo nextest run --workspace --locked --build-jobs "$jobs" "$@"
+else
+    echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
+    cargo test --workspace --locked -j"$jobs" "$@"
+fi

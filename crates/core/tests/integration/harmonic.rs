@@ -5,7 +5,7 @@
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec3;

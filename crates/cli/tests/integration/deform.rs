@@ -3,7 +3,7 @@
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use common::{cli, dir, ok, s, stderr, stdout};
 

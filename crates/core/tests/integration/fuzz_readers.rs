@@ -1,6 +1,6 @@
 //! No panic on arbitrary input: the scene, mesh OBJ, cage OBJ and point readers on random bytes
 //! and on randomly damaged valid files (a proptest harness; run longer with
-//! `PROPTEST_CASES=20000 cargo test --release --test fuzz_readers`).
+//! `PROPTEST_CASES=20000 cargo test --release -p starcages-core --test integration fuzz_readers`).
 
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]

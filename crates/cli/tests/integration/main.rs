@@ -1,0 +1,9 @@
+//! End-to-end tests of `starcages-cli` in one binary: scenes, weights, deform and eval,
+//! render.
+#![allow(clippy::unwrap_used)]
+
+mod common;
+mod deform;
+mod render;
+mod scenes;
+mod weights;

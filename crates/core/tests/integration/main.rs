@@ -1,0 +1,13 @@
+//! The core's integration tests in one binary (linking one test binary per file took longer
+//! than running the tests): coordinates, *Cages, hierarchies, scenes and readers.
+#![allow(clippy::unwrap_used)]
+
+mod common;
+mod fuzz_readers;
+mod green;
+mod harmonic;
+mod hierarchy;
+mod lanes;
+mod mean_value;
+mod scenes;
+mod star;
