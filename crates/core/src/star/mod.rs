@@ -2,9 +2,10 @@
 //! compiled into one sparse linear operator.
 //!
 //! * [`topology`]: adjacency, borders, boundaries, join cages, interior vertices.
-//! * [`bind`](self::bind): the rows of S (eq. 3) for a set of points, coordinates in batches.
-//! * [`operator`]: the f32 CSR operator, its transpose, full and incremental application.
-//! * [`green_dofs`]: Green face degrees of freedom.
+//! * `bind`: the rows of S (eq. 3) for a set of points, coordinates in batches.
+//! * `operator`: the f32 CSR operator ([`StarOperator`]), its transpose, full and incremental
+//!   application.
+//! * `green_dofs`: Green face degrees of freedom.
 //! * `cache`: the binding cache beside a scene file.
 
 mod bind;

@@ -183,7 +183,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
         Command::InspectCage(cage) => {
             let set = &state.doc.scene.cages;
             let cage = cage.filter(|c| c.exists(set));
-            state.selection.cage = cage;
+            state.selection.inspect(cage, set);
             if let Some(faces) = cage.and_then(|c| c.faces(set)) {
                 let vertices = faces.iter().flatten().copied();
                 state.selection.select(vertices, SelectMode::Replace);
@@ -194,11 +194,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
             state.selection.hovered = vertex.filter(|&v| (v as usize) < count);
         }
         Command::SetCageHidden(cage, hidden) => {
-            if hidden && cage.exists(&state.doc.scene.cages) {
-                state.view.hidden.insert(cage);
-            } else {
-                state.view.hidden.remove(&cage);
-            }
+            state.view.set_hidden(cage, hidden, &state.doc.scene.cages);
         }
         Command::SetLayers(layers) => state.view.layers = layers,
         Command::SetInfluence(choice) => state.view.influence = choice,
@@ -259,7 +255,8 @@ fn add_internal_cage(state: &mut EditorState, kind: starcages_core::coords::Coor
     });
     match result {
         Ok(index) => {
-            state.selection.cage = Some(CageId::Internal(index));
+            let set = &state.doc.scene.cages;
+            state.selection.inspect(Some(CageId::Internal(index)), set);
             state.info(format!(
                 "added internal cage '{name}' owning {} vertices",
                 vertices.len()

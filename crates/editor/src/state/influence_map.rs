@@ -143,7 +143,7 @@ impl EditorState {
         });
         let key = MapKey {
             choice,
-            cage: self.selection.cage,
+            cage: self.selection.cage(),
             vertex: self.selection.single_vertex(),
             document,
             mesh,
@@ -169,7 +169,7 @@ impl EditorState {
         let values = match choice {
             InfluenceChoice::None => None,
             InfluenceChoice::AllCages => Some(influence::boundary(&rig.binding, None)),
-            InfluenceChoice::SelectedCage => match self.selection.cage {
+            InfluenceChoice::SelectedCage => match self.selection.cage() {
                 Some(CageId::Leaf(c)) => Some(influence::boundary(&rig.binding, Some(c))),
                 _ => {
                     self.map.note = Some("select a leaf cage in the outliner".into());

@@ -98,7 +98,7 @@ static NEXT_DOCUMENT_ID: AtomicU64 = AtomicU64::new(1);
 pub struct EditorState {
     /// The open document.
     pub doc: Document,
-    /// The document's identity (see [`NEXT_DOCUMENT_ID`]).
+    /// The document's identity: new for every document installed, never reused.
     pub document_id: u64,
     /// Selected and hovered vertices, the inspected cage.
     pub selection: Selection,
@@ -171,6 +171,7 @@ impl EditorState {
             bind_after_gesture: false,
             waker,
         };
+        state.revalidate();
         state.frame(false);
         state.start_bind("binding the scene");
         state
@@ -479,8 +480,8 @@ impl EditorState {
         if !self.selection.is_valid_for(set) {
             return Err(format!("stale selection {:?}", self.selection));
         }
-        if let Some(c) = self.view.hidden.iter().find(|c| !c.exists(set)) {
-            return Err(format!("a hidden cage does not exist: {c:?}"));
+        if !self.view.is_valid_for(set) {
+            return Err("a hidden cage does not resolve".into());
         }
         if scene.pose.len() != count {
             return Err(format!("pose has {} of {count} vertices", scene.pose.len()));

@@ -12,10 +12,13 @@ use super::CageId;
 pub struct Selection {
     /// Selected cage vertices (indices into `CageSet::vertices`).
     pub vertices: BTreeSet<u32>,
-    /// The cage shown in the inspector.
-    pub cage: Option<CageId>,
+    /// The cage shown in the inspector, with its name: the name follows the cage when an
+    /// edit renumbers the cages (an internal cage removed before it, say).
+    cage: Option<(CageId, String)>,
     /// The cage vertex under the cursor.
     pub hovered: Option<u32>,
+    /// The vertex count the vertex indices were picked in.
+    vertex_count: usize,
 }
 
 /// How a picked set of vertices combines with the selection.
@@ -44,12 +47,36 @@ impl Selection {
         }
     }
 
-    /// Drops whatever no longer exists in `set`.
+    /// The cage shown in the inspector.
+    pub fn cage(&self) -> Option<CageId> {
+        self.cage.as_ref().map(|(id, _)| *id)
+    }
+
+    /// Shows `cage` in the inspector (nothing for a cage `set` does not have).
+    pub fn inspect(&mut self, cage: Option<CageId>, set: &CageSet) {
+        self.cage = cage.and_then(|id| Some((id, id.name(set)?.to_owned())));
+    }
+
+    /// Brings the selection in line with `set` after a change of the document: the inspected
+    /// cage is found again by name (or dropped); vertex indices out of range go, and when
+    /// vertices were removed (indices shifted) the vertex selection is cleared rather than
+    /// left pointing at other vertices.
     pub fn revalidate(&mut self, set: &CageSet) {
         let count = set.vertices.len();
+        if count < self.vertex_count {
+            self.vertices.clear();
+            self.hovered = None;
+        }
+        self.vertex_count = count;
         self.vertices.retain(|&v| (v as usize) < count);
         self.hovered = self.hovered.filter(|&v| (v as usize) < count);
-        self.cage = self.cage.filter(|c| c.exists(set));
+        self.cage = self.cage.take().and_then(|(id, name)| {
+            let id = match id.name(set) {
+                Some(now) if now == name => id,
+                _ => CageId::by_name(set, &name)?,
+            };
+            Some((id, name))
+        });
     }
 
     /// Whether every index resolves in `set` (the invariant `revalidate` keeps).
@@ -57,7 +84,10 @@ impl Selection {
         let count = set.vertices.len();
         self.vertices.iter().all(|&v| (v as usize) < count)
             && self.hovered.is_none_or(|v| (v as usize) < count)
-            && self.cage.is_none_or(|c| c.exists(set))
+            && self
+                .cage
+                .as_ref()
+                .is_none_or(|(id, name)| id.name(set) == Some(name.as_str()))
     }
 
     /// The one selected vertex, if exactly one is selected.
@@ -83,5 +113,54 @@ mod tests {
         assert_eq!(s.vertices, BTreeSet::from([1, 3, 4]));
         s.select([5], SelectMode::Replace);
         assert_eq!(s.single_vertex(), Some(5));
+    }
+
+    #[test]
+    fn the_inspected_cage_follows_its_name_and_removed_vertices_clear_the_selection() {
+        use starcages_core::hierarchy::{
+            AutoInternalCage, add_auto_internal_cage, remove_internal_cage,
+        };
+        let Some(mut scene) = starcages_core::scene::demo::demo_scene("critter", 0.3) else {
+            panic!("the critter demo exists");
+        };
+        // Two more top-level cages over halves of the head cage's own (free) vertices.
+        let free = scene.cages.cage_vertices("head").unwrap_or_default();
+        let (a, b) = free.split_at(free.len() / 2);
+        for (name, vertices) in [("extra_a", a), ("extra_b", b)] {
+            let options = AutoInternalCage {
+                name: name.into(),
+                ..AutoInternalCage::default()
+            };
+            assert!(add_auto_internal_cage(&mut scene, &options, vertices).is_ok());
+        }
+        let set = &scene.cages;
+        let extra_b = CageId::by_name(set, "extra_b");
+        let mut s = Selection::default();
+        s.revalidate(set);
+        s.inspect(extra_b, set);
+        s.select([0, 1], SelectMode::Replace);
+        let Some(CageId::Internal(b_index)) = extra_b else {
+            panic!("extra_b is an internal cage");
+        };
+        assert!(
+            remove_internal_cage(&mut scene, b_index - 1).is_ok(),
+            "extra_a goes"
+        );
+        let set = &scene.cages;
+        s.revalidate(set);
+        assert_eq!(
+            s.cage(),
+            Some(CageId::Internal(b_index - 1)),
+            "it follows extra_b"
+        );
+        assert_eq!(s.cage().and_then(|c| c.name(set)), Some("extra_b"));
+        assert!(
+            s.vertices.is_empty(),
+            "indices shifted: the vertex selection is cleared"
+        );
+        assert!(s.is_valid_for(set));
+        // A cage that is gone is dropped.
+        s.inspect(Some(CageId::Internal(99)), set);
+        assert_eq!(s.cage(), None);
     }
 }

@@ -1,7 +1,7 @@
 //! What the user sees: camera, layers, hidden cages, the influence map, X mirroring, and where
 //! the viewport is on screen.
 
-use std::collections::BTreeSet;
+use std::collections::BTreeMap;
 
 use glam::Vec2;
 use starcages_core::coords::CoordinateKind;
@@ -64,8 +64,9 @@ pub struct ViewState {
     pub camera: OrbitCamera,
     /// Layers and shading.
     pub layers: Layers,
-    /// Cages not drawn (and not pickable).
-    pub hidden: BTreeSet<CageId>,
+    /// Cages not drawn (and not pickable), with their names: a name follows its cage when an
+    /// edit renumbers the cages.
+    hidden: BTreeMap<CageId, String>,
     /// The influence map.
     pub influence: InfluenceChoice,
     /// Moving a vertex moves its mirror partner across x = 0.
@@ -75,9 +76,37 @@ pub struct ViewState {
 }
 
 impl ViewState {
-    /// Drops hidden-cage entries of cages that no longer exist.
+    /// Whether `cage` is hidden.
+    pub fn is_hidden(&self, cage: CageId) -> bool {
+        self.hidden.contains_key(&cage)
+    }
+
+    /// Hides or shows `cage` (of `set`).
+    pub fn set_hidden(&mut self, cage: CageId, hidden: bool, set: &CageSet) {
+        match cage.name(set) {
+            Some(name) if hidden => {
+                self.hidden.insert(cage, name.to_owned());
+            }
+            _ => {
+                self.hidden.remove(&cage);
+            }
+        }
+    }
+
+    /// Finds the hidden cages again by name after a change of the document; the ones gone
+    /// are forgotten.
     pub fn revalidate(&mut self, set: &CageSet) {
-        self.hidden.retain(|c| c.exists(set));
+        let names = std::mem::take(&mut self.hidden).into_values();
+        self.hidden = names
+            .filter_map(|name| Some((CageId::by_name(set, &name)?, name)))
+            .collect();
+    }
+
+    /// Whether every hidden cage resolves in `set` under its name.
+    pub fn is_valid_for(&self, set: &CageSet) -> bool {
+        self.hidden
+            .iter()
+            .all(|(id, name)| id.name(set) == Some(name.as_str()))
     }
 
     /// Per cage vertex: whether it belongs to a drawn cage (what picking may hit).
@@ -85,7 +114,7 @@ impl ViewState {
         let mut pickable = vec![false; set.vertices.len()];
         for id in CageId::all(set) {
             let internal_hidden = matches!(id, CageId::Internal(_)) && !self.layers.cages;
-            if self.hidden.contains(&id) || internal_hidden {
+            if self.is_hidden(id) || internal_hidden {
                 continue;
             }
             for &v in id.faces(set).unwrap_or_default().iter().flatten() {
@@ -101,11 +130,11 @@ impl ViewState {
     /// [`CageId`]s become its flat per-cage indices.
     pub fn cage_style(&self, selection: &Selection, set: &CageSet) -> CageStyle {
         let focus_level = selection
-            .cage
+            .cage()
             .filter(|c| c.exists(set))
             .and_then(|c| cage_levels(set).get(c.layer_index(set)).copied());
         CageStyle {
-            hidden: self.hidden.iter().map(|c| c.layer_index(set)).collect(),
+            hidden: self.hidden.keys().map(|c| c.layer_index(set)).collect(),
             selected: selection.vertices.clone(),
             hovered: selection.hovered,
             focus_level,

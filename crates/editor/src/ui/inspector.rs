@@ -47,7 +47,7 @@ pub fn inspector(
     let set = &state.doc.scene.cages;
     let inspected = state
         .selection
-        .cage
+        .cage()
         .and_then(|id| Some((id, id.name(set)?, id.kind(set)?)));
     let Some((cage, name, kind)) = inspected else {
         ui.label("Select a cage in the outliner.");

@@ -50,7 +50,7 @@ fn cage_row(state: &EditorState, id: CageId, ui: &mut egui::Ui, sender: &mut Com
         return;
     };
     ui.horizontal(|ui| {
-        let mut visible = !state.view.hidden.contains(&id);
+        let mut visible = !state.view.is_hidden(id);
         if ui
             .checkbox(&mut visible, "")
             .on_hover_text("visible")
@@ -58,7 +58,7 @@ fn cage_row(state: &EditorState, id: CageId, ui: &mut egui::Ui, sender: &mut Com
         {
             sender.send(Command::SetCageHidden(id, !visible));
         }
-        let selected = state.selection.cage == Some(id);
+        let selected = state.selection.cage() == Some(id);
         let label = format!("{name} ({})", kind.short_name());
         if ui.selectable_label(selected, label).clicked() {
             sender.send(Command::InspectCage(Some(id)));

@@ -94,7 +94,7 @@ fn the_coordinates_combo_changes_a_cage_kind_and_undo_restores_it() {
     harness.get_by_label("ear_left (mvc)").click();
     harness.run_steps(2);
     let ear = cage(harness.state(), "ear_left");
-    assert_eq!(harness.state().state.selection.cage, Some(ear));
+    assert_eq!(harness.state().state.selection.cage(), Some(ear));
     harness.get_by_label("Coordinates").click();
     harness.run_steps(2);
     harness.get_by_label("Green (GC)").click();
@@ -357,7 +357,7 @@ fn adding_and_removing_internal_cages_are_undoable_hierarchy_edits() {
     settle(&mut harness);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.internals.len(), 3);
-    assert_eq!(state.selection.cage, Some(CageId::Internal(2)));
+    assert_eq!(state.selection.cage(), Some(CageId::Internal(2)));
     assert!(
         state
             .rig
@@ -372,7 +372,7 @@ fn adding_and_removing_internal_cages_are_undoable_hierarchy_edits() {
     harness.run_steps(2);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.internals.len(), 2);
-    assert_eq!(harness.state().state.selection.cage, None);
+    assert_eq!(harness.state().state.selection.cage(), None);
     harness.state_mut().run(Command::Undo);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.internals.len(), 3);

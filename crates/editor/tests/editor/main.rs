@@ -5,5 +5,6 @@
 
 mod app;
 mod common;
+mod layering;
 mod model;
 mod regressions;

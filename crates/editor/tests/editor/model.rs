@@ -270,6 +270,21 @@ fn run_sequence(steps: &[Step]) -> Result<(), TestCaseError> {
                 opened = Snapshot::of(&app.state.doc.scene);
                 prop_assert!(app.state.undo.undo_label().is_none());
             }
+            Step::Move { .. } => {
+                for command in commands(&app.state, step, &mut next_gesture) {
+                    app.run(command.clone());
+                    // Moves wait for a structural rebind, as a user would: then they land.
+                    if app
+                        .state
+                        .rig
+                        .as_ref()
+                        .is_none_or(|r| !r.can_pose(&app.state.doc.scene))
+                    {
+                        app.wait_for_jobs();
+                        app.run(command);
+                    }
+                }
+            }
             _ => {
                 for command in commands(&app.state, step, &mut next_gesture) {
                     app.run(command);

@@ -87,9 +87,16 @@ fn undoing_an_internal_cage_while_it_is_inspected_and_shift_dragging_after_do_no
     harness.run_steps(3);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.internals.len(), 2);
-    assert_eq!(state.selection.cage, None, "the inspected cage is gone");
+    assert_eq!(state.selection.cage(), None, "the inspected cage is gone");
     state.check_invariants().unwrap();
-    // A Shift-drag over the (revalidated) selection, on a vertex and on empty space.
+    assert!(
+        state.selection.vertices.is_empty(),
+        "vertices were removed, so their indices shifted: the vertex selection is cleared"
+    );
+    // Select everything again, then Shift-drag on a vertex and on empty space.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    let state = &harness.state().state;
     let v = *state.selection.vertices.iter().next().unwrap();
     let on_vertex = starcages_editor::ui::vertex_on_screen(state, v).unwrap();
     let viewport = state.view.viewport;
@@ -122,9 +129,19 @@ fn the_difference_map_binds_its_baseline_in_the_background() {
     // Choosing it returns at once: the baseline is a background job (a bind takes far longer
     // than spawning it), and the map says it is coming.
     let state = &harness.state().state;
-    assert!(state.map.baseline_progress().is_some(), "the baseline binds off the UI thread");
+    assert!(
+        state.map.baseline_progress().is_some(),
+        "the baseline binds off the UI thread"
+    );
     assert!(state.map.values().is_none());
-    assert!(state.map.note.as_deref().unwrap_or_default().contains("baseline"));
+    assert!(
+        state
+            .map
+            .note
+            .as_deref()
+            .unwrap_or_default()
+            .contains("baseline")
+    );
     harness.step();
     settle(&mut harness);
     let state = &harness.state().state;
