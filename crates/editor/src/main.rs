@@ -3,6 +3,7 @@
 
 use anyhow::Context as _;
 use starcages_editor::Document;
+use starcages_editor::state::EditorError;
 use starcages_editor::state::recent;
 
 fn main() -> anyhow::Result<()> {
@@ -10,10 +11,7 @@ fn main() -> anyhow::Result<()> {
     let (doc, error) = match &path {
         Some(path) => match Document::open(path) {
             Ok(doc) => (doc, None),
-            Err(e) => (
-                Document::demo(),
-                Some(format!("{e}; showing the demo scene")),
-            ),
+            Err(e) => (Document::demo(), Some(EditorError::Startup(Box::new(e)))),
         },
         None => (Document::demo(), None),
     };

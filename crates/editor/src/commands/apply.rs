@@ -40,7 +40,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
             Some(path) => {
                 save_as(state, &path);
             }
-            None => state.error("this scene has no file yet: use File ▸ Save as"),
+            None => state.error(EditorError::NoFile),
         },
         Command::SaveAs(path) => {
             save_as(state, &path);
@@ -332,7 +332,7 @@ fn answer_unsaved(state: &mut EditorState, answer: UnsavedAnswer) {
         UnsavedAnswer::Discard => {}
         UnsavedAnswer::Save(path) => {
             let Some(path) = path.or_else(|| state.doc.path.clone()) else {
-                state.error("choose where to save first");
+                state.error(EditorError::NoFile);
                 return;
             };
             if !save_as(state, &path) {

@@ -65,6 +65,12 @@ pub enum EditorError {
     /// The action needs a binding that is not there yet.
     #[error("the scene is still being bound; try again in a moment")]
     NotBound,
+    /// Saving to the document's own file, which it does not have yet.
+    #[error("this scene has no file yet: use File ▸ Save as… to choose one")]
+    NoFile,
+    /// The file named on the command line could not be opened.
+    #[error("{0}; the demo scene is shown instead")]
+    Startup(#[source] Box<EditorError>),
     /// A pose name that cannot be used.
     #[error("{0}")]
     Pose(String),

@@ -447,7 +447,7 @@ impl EditorState {
     }
 
     /// Shows an error in the status bar.
-    pub fn error(&mut self, error: impl std::fmt::Display) {
+    pub fn error(&mut self, error: EditorError) {
         self.message = Some(Message {
             text: error.to_string(),
             error: true,
