@@ -1,9 +1,10 @@
-//! Automatic grid cages: a grid of box cages around a mesh, empty cells dropped, neighbouring
-//! cells sharing their faces exactly (same vertices, opposite orientation).
+//! Automatic grid cages: a grid of box cages around a mesh, cells outside it dropped,
+//! neighbouring cells sharing their faces exactly (same vertices, opposite orientation).
 
 use std::collections::BTreeMap;
 
 use glam::{DVec3, UVec3};
+use rayon::prelude::*;
 
 use super::{CageSet, LeafCage};
 use crate::cage::shapes::box_faces;
@@ -31,7 +32,9 @@ impl Default for AutocageOptions {
     }
 }
 
-/// A grid of box cages around the mesh's vertices; cells holding no mesh vertex are dropped.
+/// A grid of box cages around the mesh: a cell is kept when it holds a mesh vertex or when its
+/// centre lies inside the mesh's volume (generalised winding number above ½), so the union of
+/// the cells has no cavities where the mesh is thick; the other cells are dropped.
 pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
     let grid = UVec3::from_array(options.grid).max(UVec3::ONE);
     let (lo, hi) = mesh.bounds();
@@ -48,6 +51,7 @@ pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
         let c = ((*p - lo) / cell).floor().as_uvec3().min(grid - UVec3::ONE);
         occupied[(c.x + grid.x * (c.y + grid.y * c.z)) as usize] = true;
     }
+    fill_inside(&mut occupied, grid, mesh, |c| lo + (c.as_dvec3() + 0.5) * cell);
     make_manifold(&mut occupied, grid);
     let mut index: BTreeMap<(u32, u32, u32), u32> = BTreeMap::new();
     let mut set = CageSet::default();
@@ -78,6 +82,43 @@ pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
         }
     }
     set
+}
+
+/// Marks the empty cells whose centre (`centre` of a cell index) lies inside the mesh.
+/// Without these, the cells inside a thick mesh hold no vertex and leave a cavity, and every
+/// join cage around it is concave (and so harmonic under the automatic policy).
+fn fill_inside(
+    occupied: &mut [bool],
+    grid: UVec3,
+    mesh: &Mesh,
+    centre: impl Fn(UVec3) -> DVec3 + Sync,
+) {
+    let positions = mesh.welded_positions();
+    let triangles = mesh.welded_triangles();
+    let inside: Vec<usize> = (0..occupied.len())
+        .into_par_iter()
+        .filter(|&index| !occupied[index])
+        .filter(|&index| {
+            let i = index as u32;
+            let c = UVec3::new(i % grid.x, (i / grid.x) % grid.y, i / (grid.x * grid.y));
+            winding_number(positions, triangles, centre(c)) > 0.5
+        })
+        .collect();
+    for index in inside {
+        occupied[index] = true;
+    }
+}
+
+/// The generalised winding number of a triangle mesh at `p` (Jacobson et al. 2013): the sum of
+/// the triangles' signed solid angles over 4π; 1 inside a closed outward mesh, 0 outside, and a
+/// graceful value in between near holes.
+fn winding_number(positions: &[DVec3], triangles: &[[u32; 3]], p: DVec3) -> f64 {
+    let at = |v: u32| positions.get(v as usize).map_or(DVec3::ZERO, |q| *q - p);
+    let total: f64 = triangles
+        .iter()
+        .map(|&[a, b, c]| crate::geometry::solid_angle(at(a), at(b), at(c)))
+        .sum();
+    total / (4.0 * std::f64::consts::PI)
 }
 
 /// Adds cells until the union of the occupied cells is a manifold: around every grid vertex,
@@ -148,6 +189,25 @@ mod tests {
     use super::*;
     use crate::scene::{JoinPolicy, MeshSource, Scene, SceneSettings, validate_scene};
     use crate::star::Topology;
+
+    #[test]
+    fn cells_inside_a_thick_mesh_are_kept() {
+        // A closed box mesh 3 cells wide on a 3x3x3 grid: vertices lie only on its surface
+        // (in the outer ring of cells), yet the centre cell is inside and must stay.
+        let mesh = crate::scene::demo::box_mesh(DVec3::splat(-1.5), DVec3::splat(1.5), [1, 1, 1]);
+        let options = AutocageOptions {
+            grid: [3, 3, 3],
+            padding: 0.0,
+            ..Default::default()
+        };
+        let set = autocage(&mesh, &options);
+        assert_eq!(set.leaves.len(), 27, "no cavity at the centre");
+        assert!(set.leaves.iter().any(|c| c.name == "cell_1_1_1"));
+        // The winding number itself: 1 inside, 0 outside.
+        let (p, t) = (mesh.welded_positions(), mesh.welded_triangles());
+        assert!((winding_number(p, t, DVec3::ZERO) - 1.0).abs() < 1e-9);
+        assert!(winding_number(p, t, DVec3::splat(3.0)).abs() < 1e-9);
+    }
 
     #[test]
     fn face_connectivity_of_blocks() {

@@ -79,8 +79,16 @@ fn mesh_files_are_referenced_relative_to_the_scene() {
 
 #[test]
 fn autocage_drops_empty_cells_and_shares_faces_exactly() {
-    // An L-shaped set of vertices: the grid's far corner cells stay empty.
-    let mesh = box_mesh(DVec3::ZERO, DVec3::new(3.0, 1.0, 1.0), [6, 2, 2]);
+    // An L-shaped mesh (a bar along x and a post along z): the cells beyond the L's corner are
+    // outside its volume and stay empty; the cells inside it are kept.
+    let bar = box_mesh(DVec3::ZERO, DVec3::new(3.0, 1.0, 1.0), [6, 2, 2]);
+    let post = box_mesh(DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.0, 1.0, 3.0), [2, 2, 4]);
+    let mut positions = bar.welded_positions().to_vec();
+    let mut triangles = bar.welded_triangles().to_vec();
+    let base = positions.len() as u32;
+    positions.extend_from_slice(post.welded_positions());
+    triangles.extend(post.welded_triangles().iter().map(|t| t.map(|v| v + base)));
+    let mesh = starcages_core::mesh::Mesh::new(positions, triangles, None, None).unwrap();
     let set = autocage(
         &mesh,
         &AutocageOptions {
@@ -88,11 +96,10 @@ fn autocage_drops_empty_cells_and_shares_faces_exactly() {
             ..Default::default()
         },
     );
-    assert!(
-        set.leaves.len() < 27,
-        "empty cells kept: {}",
-        set.leaves.len()
-    );
+    // The far corner (x > 2, z > 2) holds no vertex and lies outside the L: dropped.
+    let names: Vec<&str> = set.leaves.iter().map(|c| c.name.as_str()).collect();
+    assert!(set.leaves.len() < 27, "empty cells kept: {names:?}");
+    assert!(!names.contains(&"cell_2_1_2"), "{names:?}");
     let scene = Scene::new(MeshSource::Embedded, mesh, set, SceneSettings::default());
     let report = validate_scene(&scene);
     assert!(report.is_valid(), "{:?}", report.errors);
