@@ -51,7 +51,9 @@ pub fn autocage(mesh: &Mesh, options: &AutocageOptions) -> CageSet {
         let c = ((*p - lo) / cell).floor().as_uvec3().min(grid - UVec3::ONE);
         occupied[(c.x + grid.x * (c.y + grid.y * c.z)) as usize] = true;
     }
-    fill_inside(&mut occupied, grid, mesh, |c| lo + (c.as_dvec3() + 0.5) * cell);
+    fill_inside(&mut occupied, grid, mesh, |c| {
+        lo + (c.as_dvec3() + 0.5) * cell
+    });
     make_manifold(&mut occupied, grid);
     let mut index: BTreeMap<(u32, u32, u32), u32> = BTreeMap::new();
     let mut set = CageSet::default();

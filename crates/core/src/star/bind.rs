@@ -323,6 +323,25 @@ pub(crate) fn bind_rows(
     // Harmonic join cages that are translated copies of each other share one solve.
     let mut shared =
         shared_harmonic_tables(topology, &need_omega, points, &coord_settings, control)?;
+    // Every other join cage's coordinate tables, in parallel.
+    let mut tables: BTreeMap<u32, (Option<Table>, Option<Table>)> = topology
+        .joins
+        .par_iter()
+        .map(|(&v, join)| {
+            let shared_interp = shared.contains_key(&v);
+            join_tables(
+                v,
+                join,
+                shared_interp,
+                &need_omega,
+                &need_transform,
+                points,
+                &coord_settings,
+                control,
+            )
+            .map(|t| (v, t))
+        })
+        .collect::<Result<_, StarError>>()?;
     let mut joins: BTreeMap<u32, JoinData> = BTreeMap::new();
     for (&v, join) in &topology.joins {
         control.check().map_err(|_| StarError::Cancelled)?;
@@ -344,42 +363,8 @@ pub(crate) fn bind_rows(
         } else {
             Vec::new()
         };
-        let omega_points: Vec<usize> = need_omega
-            .get(&v)
-            .map(|s| s.iter().copied().collect())
-            .unwrap_or_default();
-        let transform_points: Vec<usize> = need_transform
-            .get(&v)
-            .map(|s| s.iter().copied().collect())
-            .unwrap_or_default();
-        let interp = if omega_points.is_empty() {
-            None
-        } else if let Some(table) = shared.remove(&v) {
-            Some(table)
-        } else {
-            Some(Table::compute(
-                interp_kind,
-                local,
-                points,
-                omega_points,
-                &coord_settings,
-                control,
-                &what,
-            )?)
-        };
-        let transform = if transform_points.is_empty() || interp_kind == join.kind {
-            None
-        } else {
-            Some(Table::compute(
-                join.kind,
-                local,
-                points,
-                transform_points,
-                &coord_settings,
-                control,
-                &what,
-            )?)
-        };
+        let (interp, transform) = tables.remove(&v).unwrap_or_default();
+        let interp = interp.or_else(|| shared.remove(&v));
         // Interior v: its own coordinates in jc(v) give the normalisers d(t, v) and T_{jc(v)}(v).
         let own = interp.as_ref().and_then(|t| t.get(offset + v as usize));
         let (normaliser, vertex_row) = match (join.interior, own) {
@@ -549,6 +534,58 @@ pub(crate) fn bind_rows(
     })
 }
 
+/// The coordinate tables of join cage `join` (of vertex `v`): interpolating weights of the
+/// points that need Ω(v, ·) (unless a shared solve provides them), and weights of its own kind
+/// for the points that need L_v when that kind does not interpolate.
+#[allow(clippy::too_many_arguments)]
+fn join_tables(
+    v: u32,
+    join: &JoinCage,
+    shared_interp: bool,
+    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
+    need_transform: &BTreeMap<u32, BTreeSet<usize>>,
+    points: &[DVec3],
+    settings: &BindSettings,
+    control: &BindControl,
+) -> Result<(Option<Table>, Option<Table>), StarError> {
+    let what = format!("join cage of vertex {v}");
+    let interp_kind = interpolating(join.kind);
+    let list = |need: &BTreeMap<u32, BTreeSet<usize>>| -> Vec<usize> {
+        need.get(&v)
+            .map(|s| s.iter().copied().collect())
+            .unwrap_or_default()
+    };
+    let (omega_points, transform_points) = (list(need_omega), list(need_transform));
+    let interp = if omega_points.is_empty() || shared_interp {
+        None
+    } else {
+        let local = &join.local;
+        Some(Table::compute(
+            interp_kind,
+            local,
+            points,
+            omega_points,
+            settings,
+            control,
+            &what,
+        )?)
+    };
+    let transform = if transform_points.is_empty() || interp_kind == join.kind {
+        None
+    } else {
+        Some(Table::compute(
+            join.kind,
+            &join.local,
+            points,
+            transform_points,
+            settings,
+            control,
+            &what,
+        )?)
+    };
+    Ok((interp, transform))
+}
+
 /// A join cage's shape up to translation: its vertices in a canonical order (by quantised
 /// position relative to its bounding box) and its polygons over that order, corners in their
 /// own order (the fan diagonal changes the hat functions). Also the canonical rank of each
@@ -608,56 +645,78 @@ fn shared_harmonic_tables(
         let (key, rank, lo) = shape_of(join);
         groups.entry(key).or_default().push((v, rank, lo));
     }
-    let mut tables = BTreeMap::new();
-    for members in groups.values().filter(|m| m.len() > 1) {
+    // Each group is one solve; groups run in parallel (a solve alone uses the cores poorly).
+    let groups: Vec<&Vec<(u32, Vec<usize>, DVec3)>> =
+        groups.values().filter(|m| m.len() > 1).collect();
+    let solved: Vec<Vec<(u32, Table)>> = groups
+        .into_par_iter()
+        .map(|members| shared_group(topology, need_omega, points, settings, control, members))
+        .collect::<Result<_, _>>()?;
+    let tables = solved.into_iter().flatten().collect();
+    Ok(tables)
+}
+
+/// One solve for a group of translated join cages: each member's table, or none when the
+/// shared bind failed (round-off put a point outside, say: each member then binds alone).
+fn shared_group(
+    topology: &Topology,
+    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
+    points: &[DVec3],
+    settings: &BindSettings,
+    control: &BindControl,
+    members: &[(u32, Vec<usize>, DVec3)],
+) -> Result<Vec<(u32, Table)>, StarError> {
+    control.check().map_err(|_| StarError::Cancelled)?;
+    let Some((first, first_rank, first_lo)) = members.first() else {
+        return Ok(Vec::new());
+    };
+    let mut by_rank = vec![0usize; first_rank.len()];
+    for (k, &r) in first_rank.iter().enumerate() {
+        by_rank[r] = k;
+    }
+    let canonical = &topology.joins[first].local;
+    let lists: Vec<Vec<usize>> = members
+        .iter()
+        .map(|(v, _, _)| need_omega[v].iter().copied().collect())
+        .collect();
+    let translated: Vec<DVec3> = members
+        .iter()
+        .zip(&lists)
+        .flat_map(|((_, _, lo), list)| list.iter().map(move |&i| points[i] - *lo + *first_lo))
+        .collect();
+    let Ok(CageWeights::Vertex { weights, .. }) = bind(
+        CoordinateKind::Harmonic,
+        &canonical.cage,
+        &translated,
+        settings,
+        control,
+    ) else {
         control.check().map_err(|_| StarError::Cancelled)?;
-        let (first, first_rank, first_lo) = &members[0];
-        let mut by_rank = vec![0usize; first_rank.len()];
-        for (k, &r) in first_rank.iter().enumerate() {
-            by_rank[r] = k;
+        return Ok(Vec::new());
+    };
+    let n = weights.vertex_count;
+    let mut row_index = 0;
+    let mut tables = Vec::with_capacity(members.len());
+    for ((v, rank, _), list) in members.iter().zip(lists) {
+        let mut rows = Vec::with_capacity(list.len() * n);
+        for _ in &list {
+            let row = weights.row(row_index);
+            row_index += 1;
+            rows.extend(rank.iter().map(|&r| row[by_rank[r]]));
         }
-        let canonical = &topology.joins[first].local;
-        let lists: Vec<Vec<usize>> = members
-            .iter()
-            .map(|(v, _, _)| need_omega[v].iter().copied().collect())
-            .collect();
-        let translated: Vec<DVec3> = members
-            .iter()
-            .zip(&lists)
-            .flat_map(|((_, _, lo), list)| list.iter().map(move |&i| points[i] - *lo + *first_lo))
-            .collect();
-        let Ok(CageWeights::Vertex { weights, .. }) = bind(
-            CoordinateKind::Harmonic,
-            &canonical.cage,
-            &translated,
-            settings,
-            control,
-        ) else {
-            continue; // e.g. round-off put a point outside: bind each member on its own
-        };
-        let n = weights.vertex_count;
-        let mut row_index = 0;
-        for ((v, rank, _), list) in members.iter().zip(lists) {
-            let mut rows = Vec::with_capacity(list.len() * n);
-            for _ in &list {
-                let row = weights.row(row_index);
-                row_index += 1;
-                rows.extend(rank.iter().map(|&r| row[by_rank[r]]));
-            }
-            tables.insert(
-                *v,
-                Table {
-                    points: list,
-                    weights: CageWeights::Vertex {
-                        kind: CoordinateKind::Harmonic,
-                        weights: crate::coords::VertexWeights {
-                            vertex_count: n,
-                            weights: rows,
-                        },
+        tables.push((
+            *v,
+            Table {
+                points: list,
+                weights: CageWeights::Vertex {
+                    kind: CoordinateKind::Harmonic,
+                    weights: crate::coords::VertexWeights {
+                        vertex_count: n,
+                        weights: rows,
                     },
                 },
-            );
-        }
+            },
+        ));
     }
     Ok(tables)
 }

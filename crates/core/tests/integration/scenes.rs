@@ -82,7 +82,11 @@ fn autocage_drops_empty_cells_and_shares_faces_exactly() {
     // An L-shaped mesh (a bar along x and a post along z): the cells beyond the L's corner are
     // outside its volume and stay empty; the cells inside it are kept.
     let bar = box_mesh(DVec3::ZERO, DVec3::new(3.0, 1.0, 1.0), [6, 2, 2]);
-    let post = box_mesh(DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.0, 1.0, 3.0), [2, 2, 4]);
+    let post = box_mesh(
+        DVec3::new(0.0, 0.0, 1.0),
+        DVec3::new(1.0, 1.0, 3.0),
+        [2, 2, 4],
+    );
     let mut positions = bar.welded_positions().to_vec();
     let mut triangles = bar.welded_triangles().to_vec();
     let base = positions.len() as u32;
