@@ -30,6 +30,7 @@ pub struct AutocageArgs {
 pub fn run(args: &AutocageArgs) -> anyhow::Result<()> {
     let grid = super::three_counts(&args.grid, "--grid", 64)?;
     super::check_padding(args.padding)?;
+    super::check_output("--out", &args.out, &[&args.mesh], &["json"])?;
     let mesh = read_mesh(&args.mesh)?;
     let cages = autocage(
         &mesh,

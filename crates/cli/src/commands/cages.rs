@@ -21,7 +21,10 @@ pub struct CagesArgs {
 
 /// Runs the command.
 pub fn run(args: &CagesArgs) -> anyhow::Result<()> {
+    super::check_output("--out", &args.out, &[&args.scene], &["obj"])?;
     let scene = super::load(&args.scene)?;
+    let inputs: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
+    super::check_output("--out", &args.out, &inputs, &["obj"])?;
     let positions = super::pose::named_pose(&scene, args.pose.as_deref(), &args.scene)?;
     write_atomic(
         &args.out,

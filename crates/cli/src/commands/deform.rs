@@ -33,7 +33,13 @@ pub struct DeformArgs {
 
 /// Runs the command.
 pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
+    let inputs: Vec<&std::path::Path> = std::iter::once(args.scene.as_path())
+        .chain(args.pose.pose_file())
+        .collect();
+    super::check_output("--out", &args.out, &inputs, &["obj", "glb"])?;
     let (scene, posed, label) = args.pose.load_posed(&args.scene)?;
+    let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
+    super::check_output("--out", &args.out, &mesh, &["obj", "glb"])?;
     let control = BindControl::default();
     let binding = with_progress("binding", &control, || {
         if !args.cache {

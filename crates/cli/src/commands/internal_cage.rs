@@ -39,7 +39,11 @@ pub struct InternalCageArgs {
 
 /// Runs the command.
 pub fn run(args: &InternalCageArgs) -> anyhow::Result<()> {
+    // Writing over the scene itself is an in-place edit (atomic); its mesh is off limits.
+    super::check_output("--out", &args.out, &[], &["json"])?;
     let mut scene = super::load(&args.scene)?;
+    let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
+    super::check_output("--out", &args.out, &mesh, &["json"])?;
     let label = args.scene.display();
     let cells = super::three_counts(&args.cells, "--cells", 16)?;
     super::check_padding(args.padding)?;

@@ -17,7 +17,7 @@ pub mod weights;
 
 use std::path::Path;
 
-use starcages_core::scene::{Scene, ValidationReport, load_scene, validate_scene};
+use starcages_core::scene::{MeshSource, Scene, ValidationReport, load_scene, validate_scene};
 
 /// Loads a scene file (errors are input errors: exit status 2).
 pub fn load(path: &Path) -> anyhow::Result<Scene> {
@@ -75,5 +75,63 @@ pub fn check_padding(padding: f64) -> anyhow::Result<()> {
             "--padding {padding} is out of range; use a value in [0, 10]"
         ))
         .into())
+    }
+}
+
+/// Refuses an output path before any long work: one that would overwrite one of the
+/// command's `inputs` (often in another format, losing it), one whose folder does not exist,
+/// and one whose extension the command does not write (`extensions`, lower case).
+pub fn check_output(
+    flag: &str,
+    out: &Path,
+    inputs: &[&Path],
+    extensions: &[&str],
+) -> anyhow::Result<()> {
+    let extension = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    if !extensions.contains(&extension.as_str()) {
+        let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+        return Err(crate::InputError(format!(
+            "{flag} {}: this command writes {}; choose a name ending in one of them",
+            out.display(),
+            list.join(" or ")
+        ))
+        .into());
+    }
+    let folder = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Err(crate::InputError(format!(
+            "{flag} {}: the folder {} does not exist; create it first",
+            out.display(),
+            folder.display()
+        ))
+        .into());
+    }
+    if let Some(input) = inputs
+        .iter()
+        .find(|input| starcages_core::io::is_same_file(out, input))
+    {
+        return Err(crate::InputError(format!(
+            "{flag} {} is the command's input {}; writing it would destroy that input, choose \
+             another output file",
+            out.display(),
+            input.display()
+        ))
+        .into());
+    }
+    Ok(())
+}
+
+/// The scene's mesh file, if it has one (an input that no output may overwrite).
+pub fn mesh_file(scene: &Scene) -> Option<&Path> {
+    match &scene.mesh_source {
+        MeshSource::File(path) => Some(path),
+        MeshSource::Embedded => None,
     }
 }

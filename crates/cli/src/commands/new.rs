@@ -37,6 +37,7 @@ pub struct NewArgs {
 
 /// Runs the command.
 pub fn run(args: &NewArgs) -> anyhow::Result<()> {
+    super::check_output("--out", &args.out, &[&args.mesh, &args.cages], &["json"])?;
     let mesh = read_mesh(&args.mesh)?;
     let cages = read_cage_set_obj(&args.cages, args.kind)?;
     let settings = SceneSettings {

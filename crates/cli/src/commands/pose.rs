@@ -33,6 +33,11 @@ pub struct PoseArgs {
 }
 
 impl PoseArgs {
+    /// The pose file given, if any (an input no output may overwrite).
+    pub fn pose_file(&self) -> Option<&std::path::Path> {
+        self.pose_file.as_deref()
+    }
+
     /// Loads and validates the scene at `path` (problems printed, an input error if invalid),
     /// and returns the scene to bind, the posed cage vertices and the file's label.
     pub fn load_posed(

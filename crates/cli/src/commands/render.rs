@@ -79,7 +79,13 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let inputs: Vec<&std::path::Path> = std::iter::once(args.scene.as_path())
+        .chain(args.pose.pose_file())
+        .collect();
+    super::check_output("--png", &args.png, &inputs, &["png"])?;
     let (scene, pose, label) = args.pose.load_posed(&args.scene)?;
+    let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
+    super::check_output("--png", &args.png, &mesh, &["png"])?;
     let control = BindControl::default();
     let bind = |scene| {
         with_progress("binding", &control, || {

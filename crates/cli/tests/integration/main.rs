@@ -4,6 +4,7 @@
 
 mod common;
 mod deform;
+mod outputs;
 mod render;
 mod scenes;
 mod weights;

@@ -5,10 +5,7 @@
 
 use crate::common;
 
-use common::{cli, dir, s, stderr, stdout};
-
-const BOX_OBJ: &str = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
-f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+use common::{BOX_OBJ, cli, dir, s, stderr, stdout};
 
 #[test]
 fn demos_are_listed_written_valid_and_described() {

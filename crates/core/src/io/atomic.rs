@@ -1,10 +1,23 @@
 //! Atomic saves: write a temporary file in the target's folder, flush it to disk, then rename
 //! it over the target. A failure at any step leaves the previous file untouched.
+//!
+//! The temporary file has an unpredictable name and is created exclusively (the `tempfile`
+//! crate: `O_CREAT | O_EXCL`, so a symlink planted at its name is never followed), and it is
+//! removed when the save fails. Temporary files of ours that an earlier save left behind (the
+//! process was killed mid-save) are swept on the next save to the same file.
 
 use std::io::Write as _;
 use std::path::Path;
+use std::time::{Duration, SystemTime};
 
 use super::FileError;
+
+/// Suffix of our temporary files: `.NAME.XXXXXX.starcages-tmp` beside `NAME`.
+const TEMP_SUFFIX: &str = ".starcages-tmp";
+
+/// A temporary file this old was left by a save that did not finish; a running save is much
+/// younger.
+const STALE_AFTER: Duration = Duration::from_secs(10 * 60);
 
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
@@ -22,37 +35,86 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
             "not a file path",
         ))
     })?;
-    let temp = folder.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut file = std::fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&temp, path)?;
-        // Make the rename itself durable where the platform allows opening folders.
-        if let Ok(dir) = std::fs::File::open(&folder) {
-            dir.sync_all().ok();
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        std::fs::remove_file(&temp).ok();
+    let prefix = format!(".{}.", name.to_string_lossy());
+    sweep_stale(&folder, &prefix);
+    let mut temp = tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(TEMP_SUFFIX)
+        .tempfile_in(&folder)
+        .map_err(fail)?;
+    temp.write_all(bytes).map_err(fail)?;
+    temp.as_file().sync_all().map_err(fail)?;
+    // On failure the temporary file is dropped, which removes it.
+    temp.persist(path).map_err(|e| fail(e.error))?;
+    // Make the rename itself durable where the platform allows opening folders.
+    if let Ok(dir) = std::fs::File::open(&folder) {
+        dir.sync_all().ok();
     }
-    result.map_err(fail)
+    Ok(())
+}
+
+/// Whether `a` and `b` name the same existing file, through symbolic and hard links (an
+/// output that is one of a command's inputs would destroy it).
+pub fn is_same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+    }
+}
+
+/// Removes our stale temporary files for one target (`prefix` = `.NAME.`) in `folder`. Only
+/// regular files of our own naming and older than [`STALE_AFTER`] go; failures are ignored
+/// (the sweep is housekeeping, never a reason to fail a save).
+fn sweep_stale(folder: &Path, prefix: &str) {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return;
+    };
+    let now = SystemTime::now();
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let name = file_name.to_string_lossy();
+        if !name.starts_with(prefix) || !name.ends_with(TEMP_SUFFIX) {
+            continue;
+        }
+        // symlink_metadata: a symlink of that name is not ours and is left alone.
+        let Ok(meta) = entry.path().symlink_metadata() else {
+            continue;
+        };
+        let stale = meta
+            .modified()
+            .ok()
+            .and_then(|m| now.duration_since(m).ok())
+            .is_some_and(|age| age >= STALE_AFTER);
+        if meta.is_file() && stale {
+            std::fs::remove_file(entry.path()).ok();
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("starcages-atomic-{name}-{}", std::process::id()));
+        std::fs::remove_dir_all(&dir).ok();
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[test]
     fn replaces_content_and_leaves_no_temp_file() {
-        let dir = std::env::temp_dir().join(format!("starcages-atomic-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("replace");
         let path = dir.join("scene.json");
         write_atomic(&path, b"first").unwrap();
         write_atomic(&path, b"second").unwrap();
@@ -66,13 +128,67 @@ mod tests {
 
     #[test]
     fn failure_keeps_the_old_file_and_says_why() {
-        let dir =
-            std::env::temp_dir().join(format!("starcages-atomic-missing-{}", std::process::id()));
+        let dir = scratch("missing");
         let path = dir.join("nested").join("scene.json");
         let error = write_atomic(&path, b"x").unwrap_err().to_string();
         assert!(
             error.contains("cannot save") && error.contains("unchanged"),
             "{error}"
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn planted_symlinks_at_temp_names_are_never_followed() {
+        let dir = scratch("symlink");
+        let victim = dir.join("victim.txt");
+        std::fs::write(&victim, b"precious").unwrap();
+        let path = dir.join("out.obj");
+        // The names earlier versions used, and names of our current pattern.
+        for planted in [
+            format!(".out.obj.{}.tmp", std::process::id()),
+            ".out.obj.AAAAAA.starcages-tmp".to_owned(),
+        ] {
+            std::os::unix::fs::symlink(&victim, dir.join(planted)).unwrap();
+        }
+        for _ in 0..20 {
+            write_atomic(&path, b"mesh").unwrap();
+        }
+        assert_eq!(std::fs::read(&victim).unwrap(), b"precious");
+        assert_eq!(std::fs::read(&path).unwrap(), b"mesh");
+        // The planted links are not ours: the sweep leaves them alone too.
+        assert!(
+            dir.join(".out.obj.AAAAAA.starcages-tmp")
+                .symlink_metadata()
+                .is_ok()
+        );
+    }
+
+    #[test]
+    fn stale_temp_files_of_ours_are_swept_and_fresh_ones_kept() {
+        let dir = scratch("sweep");
+        let path = dir.join("scene.json");
+        let stale = dir.join(".scene.json.OLD123.starcages-tmp");
+        let fresh = dir.join(".scene.json.NEW123.starcages-tmp");
+        let other = dir.join(".other.json.OLD123.starcages-tmp");
+        for p in [&stale, &fresh, &other] {
+            std::fs::write(p, b"partial").unwrap();
+        }
+        let old = SystemTime::now() - Duration::from_secs(3600);
+        for p in [&stale, &other] {
+            std::fs::File::options()
+                .write(true)
+                .open(p)
+                .unwrap()
+                .set_modified(old)
+                .unwrap();
+        }
+        write_atomic(&path, b"scene").unwrap();
+        assert!(!stale.exists(), "a stale temp of this file is swept");
+        assert!(fresh.exists(), "a save in progress elsewhere is left alone");
+        assert!(
+            other.exists(),
+            "another file's temps are its own save's business"
         );
     }
 }

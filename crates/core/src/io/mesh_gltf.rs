@@ -79,8 +79,7 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileErro
                                 )
                             })?
                     } else {
-                        let file = path.parent().unwrap_or(Path::new(".")).join(uri);
-                        std::fs::read(&file).map_err(|error| FileError::Io { path: file, error })?
+                        read_external_buffer(path, uri, buffer.length())?
                     }
                 }
             };
@@ -98,6 +97,86 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileErro
             Ok(data)
         })
         .collect()
+}
+
+/// Reads an external buffer named by `uri`, which must be a relative reference to a regular
+/// file inside the glTF file's folder: absolute paths, `..` escapes, URI schemes and symlinks
+/// leading outside are refused (a downloaded file must not read `/etc/passwd` or `/dev/zero`
+/// into vertex positions). At most `length` bytes (the declared length) are read.
+fn read_external_buffer(path: &Path, uri: &str, length: usize) -> Result<Vec<u8>, FileError> {
+    let refuse = |why: &str| {
+        FileError::format(
+            path,
+            format!(
+                "buffer URI '{uri}' {why}; external buffers must be files in the glTF file's \
+                 folder (or a subfolder), named by a relative path"
+            ),
+        )
+    };
+    let decoded = percent_decode(uri).ok_or_else(|| refuse("has a broken %-escape"))?;
+    let relative = Path::new(&decoded);
+    let has_scheme = decoded
+        .split_once(':')
+        .is_some_and(|(scheme, _)| !scheme.is_empty() && !scheme.contains(['/', '\\']));
+    if has_scheme {
+        return Err(refuse("names a URI scheme"));
+    }
+    if relative.is_absolute() || decoded.starts_with(['/', '\\']) {
+        return Err(refuse("is an absolute path"));
+    }
+    let escapes = relative.components().any(|c| {
+        !matches!(
+            c,
+            std::path::Component::Normal(_) | std::path::Component::CurDir
+        )
+    });
+    if escapes || decoded.contains('\\') {
+        return Err(refuse("leaves the folder ('..', a drive or a backslash)"));
+    }
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let file = folder.join(relative);
+    let io = |error| FileError::Io {
+        path: file.clone(),
+        error,
+    };
+    // Symlinks are resolved: the real file must still be inside the real folder.
+    let real_folder = folder.canonicalize().map_err(io)?;
+    let real_file = file.canonicalize().map_err(io)?;
+    if !real_file.starts_with(&real_folder) {
+        return Err(refuse("leads outside the folder through a symbolic link"));
+    }
+    if !real_file.metadata().map_err(io)?.is_file() {
+        return Err(refuse("is not a regular file"));
+    }
+    let mut data = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(std::fs::File::open(&real_file).map_err(io)?, length as u64),
+        &mut data,
+    )
+    .map_err(io)?;
+    Ok(data)
+}
+
+/// `text` with %XX escapes decoded (URIs in glTF are percent-encoded); `None` for a broken
+/// escape or bytes that are not UTF-8.
+fn percent_decode(text: &str) -> Option<String> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while let Some(&b) = bytes.get(i) {
+        if b == b'%' {
+            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(b);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
 }
 
 #[derive(Default)]

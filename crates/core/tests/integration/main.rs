@@ -4,6 +4,7 @@
 
 mod common;
 mod fuzz_readers;
+mod gltf_buffers;
 mod green;
 mod harmonic;
 mod hierarchy;

@@ -378,19 +378,18 @@ fn bad_scene_files_get_clear_errors() {
 #[test]
 fn failed_save_keeps_the_old_file_and_says_why() {
     let dir = scratch("failed-save");
-    let path = dir.join("scene.json");
-    save_scene(&two_box_scene(), &path).unwrap();
+    // The temporary file's name (".NAME.XXXXXX.starcages-tmp") is longer than the file's own:
+    // with a name near the file-system limit the temporary file cannot be made, for root too.
+    let path = dir.join(format!("{}.json", "s".repeat(236)));
+    std::fs::write(&path, b"the old scene").unwrap();
     let before = std::fs::read(&path).unwrap();
-    // Block the temporary file the save writes first (works for root too, unlike chmod).
-    let blocker = dir.join(format!(".scene.json.{}.tmp", std::process::id()));
-    std::fs::create_dir_all(&blocker).unwrap();
     let mut changed = two_box_scene();
     changed.cages.leaves[0].h = Some(0.3);
     let e = save_scene(&changed, &path).unwrap_err().to_string();
     assert!(e.contains("cannot save") && e.contains("unchanged"), "{e}");
     assert_eq!(std::fs::read(&path).unwrap(), before);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
     // A read-only folder, where permissions apply (not for root).
-    std::fs::remove_dir_all(&blocker).unwrap();
     let readonly = scratch("readonly");
     let target = readonly.join("scene.json");
     save_scene(&two_box_scene(), &target).unwrap();

@@ -48,6 +48,21 @@ pub fn apply(state: &mut EditorState, command: Command) {
         Command::ExportMesh(path) => export_mesh(state, &path),
         Command::ExportCages(path) => {
             let scene = &state.doc.scene;
+            let inputs = [
+                state.doc.path.clone(),
+                match &scene.mesh_source {
+                    starcages_core::scene::MeshSource::File(p) => Some(p.clone()),
+                    starcages_core::scene::MeshSource::Embedded => None,
+                },
+            ];
+            if inputs
+                .iter()
+                .flatten()
+                .any(|p| starcages_core::io::is_same_file(&path, p))
+            {
+                state.error(EditorError::OutputIsInput(path));
+                return;
+            }
             let text = cage_set_obj_text(&scene.cages, &scene.pose);
             match write_atomic(&path, text.as_bytes()) {
                 Ok(()) => state.info(format!("exported {}", path.display())),
@@ -315,6 +330,12 @@ fn export_mesh(state: &mut EditorState, path: &Path) {
         state.error(EditorError::NotBound);
         return;
     };
+    if let starcages_core::scene::MeshSource::File(source) = &state.doc.scene.mesh_source
+        && starcages_core::io::is_same_file(path, source)
+    {
+        state.error(EditorError::OutputIsInput(path.to_path_buf()));
+        return;
+    }
     let welded: Vec<glam::DVec3> = rig.deformed.iter().map(|p| p.as_dvec3()).collect();
     let mesh = &state.doc.scene.mesh;
     match write_mesh(path, mesh, &mesh.unweld(&welded)) {

@@ -65,6 +65,12 @@ pub enum EditorError {
     /// The action needs a binding that is not there yet.
     #[error("the scene is still being bound; try again in a moment")]
     NotBound,
+    /// An export over the scene's own mesh or scene file.
+    #[error(
+        "{} is the scene's own mesh or scene file; exporting over it would destroy it, choose another file",
+        .0.display()
+    )]
+    OutputIsInput(PathBuf),
     /// Saving to the document's own file, which it does not have yet.
     #[error("this scene has no file yet: use File ▸ Save as… to choose one")]
     NoFile,

@@ -467,3 +467,24 @@ fn menus_show_the_table_labels_and_shortcuts() {
             || !harness.state().state.message.as_ref().unwrap().error
     );
 }
+
+#[test]
+fn exporting_over_the_scene_s_own_mesh_is_refused() {
+    let mut harness = harness();
+    let dir = scratch("export-over-mesh");
+    let mesh = dir.join("box.obj");
+    let text = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+                f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    std::fs::write(&mesh, text).unwrap();
+    let options = starcages_core::scene::AutocageOptions::default();
+    harness.state_mut().run(Command::NewFromMesh(mesh.clone(), options));
+    settle(&mut harness);
+    harness.state_mut().run(Command::ExportMesh(mesh.clone()));
+    let message = harness.state().state.message.clone().unwrap();
+    assert!(message.error && message.text.contains("would destroy it"), "{}", message.text);
+    assert_eq!(std::fs::read_to_string(&mesh).unwrap(), text);
+    // Elsewhere it exports.
+    let out = dir.join("deformed.obj");
+    harness.state_mut().run(Command::ExportMesh(out.clone()));
+    assert!(out.exists(), "{:?}", harness.state().state.message);
+}

@@ -1,0 +1,143 @@
+//! Outputs never destroy inputs: an output that is one of the command's inputs (the mesh, the
+//! cage file, the scene, its mesh, a pose file) is refused with status 2 and the input is left
+//! byte for byte; a wrong extension or a missing folder is refused before any binding.
+
+use crate::common::{cli, dir, s, stderr};
+
+/// Runs `args`, expects status 2 with `message` on standard error.
+fn refused(args: &[&str], message: &str) {
+    let out = cli(args);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+    assert!(stderr(&out).contains(message), "{args:?}: {}", stderr(&out));
+}
+
+#[test]
+fn outputs_that_are_inputs_are_refused_and_the_inputs_stay() {
+    let d = dir("outputs");
+    let mesh = d.join("box.obj");
+    std::fs::write(&mesh, crate::common::BOX_OBJ).unwrap();
+    let mesh_before = std::fs::read(&mesh).unwrap();
+    // autocage MESH --out MESH (and the mesh renamed to .json, as a hard link to it).
+    refused(
+        &[
+            "autocage",
+            s(&mesh),
+            "--grid",
+            "2",
+            "1",
+            "1",
+            "--out",
+            s(&mesh),
+        ],
+        "--out",
+    );
+    let alias = d.join("alias.json");
+    std::fs::hard_link(&mesh, &alias).unwrap();
+    refused(
+        &[
+            "autocage",
+            s(&mesh),
+            "--grid",
+            "2",
+            "1",
+            "1",
+            "--out",
+            s(&alias),
+        ],
+        "would destroy that input",
+    );
+    assert_eq!(std::fs::read(&mesh).unwrap(), mesh_before);
+
+    let scene = d.join("scene.json");
+    let made = cli(&[
+        "autocage",
+        s(&mesh),
+        "--grid",
+        "2",
+        "1",
+        "1",
+        "--out",
+        s(&scene),
+    ]);
+    assert!(made.status.success(), "{}", stderr(&made));
+    let scene_before = std::fs::read(&scene).unwrap();
+    // cages SCENE --out SCENE: wrong format and its own input.
+    refused(&["cages", s(&scene), "--out", s(&scene)], "writes .obj");
+    // cages over the scene's mesh file.
+    refused(
+        &["cages", s(&scene), "--out", s(&mesh)],
+        "would destroy that input",
+    );
+    // new … --cages C --out C.
+    let cages = d.join("cages.obj");
+    assert!(
+        cli(&["cages", s(&scene), "--out", s(&cages)])
+            .status
+            .success()
+    );
+    let cages_before = std::fs::read(&cages).unwrap();
+    let cages_json = d.join("cages.json");
+    std::fs::hard_link(&cages, &cages_json).unwrap();
+    refused(
+        &[
+            "new",
+            s(&mesh),
+            "--cages",
+            s(&cages),
+            "--out",
+            s(&cages_json),
+        ],
+        "would destroy that input",
+    );
+    // deform over its own mesh or its pose file.
+    refused(
+        &["deform", s(&scene), "--out", s(&mesh)],
+        "would destroy that input",
+    );
+    refused(
+        &[
+            "deform",
+            s(&scene),
+            "--pose-file",
+            s(&cages),
+            "--out",
+            s(&cages),
+        ],
+        "would destroy that input",
+    );
+    assert_eq!(std::fs::read(&mesh).unwrap(), mesh_before);
+    assert_eq!(std::fs::read(&scene).unwrap(), scene_before);
+    assert_eq!(std::fs::read(&cages).unwrap(), cages_before);
+}
+
+#[test]
+fn bad_output_names_are_refused_before_the_work() {
+    let d = dir("output-names");
+    let scene = d.join("prism.json");
+    let demo = cli(&["demo", "prism", "--out", s(&d)]);
+    assert!(demo.status.success(), "{}", stderr(&demo));
+    // The prism takes seconds to bind: a refusal must come before that.
+    let start = std::time::Instant::now();
+    refused(
+        &["deform", s(&scene), "--out", s(&d.join("x.stl"))],
+        "writes .obj or .glb",
+    );
+    refused(
+        &[
+            "deform",
+            s(&scene),
+            "--out",
+            s(&d.join("missing").join("x.obj")),
+        ],
+        "does not exist",
+    );
+    refused(
+        &["render", s(&scene), "--png", s(&d.join("x.jpg"))],
+        "writes .png",
+    );
+    assert!(
+        start.elapsed().as_secs_f64() < 2.0,
+        "refused after {:?}: binding ran first",
+        start.elapsed()
+    );
+}
