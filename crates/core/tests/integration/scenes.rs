@@ -388,7 +388,11 @@ fn failed_save_keeps_the_old_file_and_says_why() {
     let e = save_scene(&changed, &path).unwrap_err().to_string();
     assert!(e.contains("cannot save") && e.contains("unchanged"), "{e}");
     assert_eq!(std::fs::read(&path).unwrap(), before);
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left");
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "no temporary file left"
+    );
     // A read-only folder, where permissions apply (not for root).
     let readonly = scratch("readonly");
     let target = readonly.join("scene.json");

@@ -477,11 +477,17 @@ fn exporting_over_the_scene_s_own_mesh_is_refused() {
                 f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
     std::fs::write(&mesh, text).unwrap();
     let options = starcages_core::scene::AutocageOptions::default();
-    harness.state_mut().run(Command::NewFromMesh(mesh.clone(), options));
+    harness
+        .state_mut()
+        .run(Command::NewFromMesh(mesh.clone(), options));
     settle(&mut harness);
     harness.state_mut().run(Command::ExportMesh(mesh.clone()));
     let message = harness.state().state.message.clone().unwrap();
-    assert!(message.error && message.text.contains("would destroy it"), "{}", message.text);
+    assert!(
+        message.error && message.text.contains("would destroy it"),
+        "{}",
+        message.text
+    );
     assert_eq!(std::fs::read_to_string(&mesh).unwrap(), text);
     // Elsewhere it exports.
     let out = dir.join("deformed.obj");
