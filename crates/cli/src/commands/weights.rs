@@ -61,21 +61,16 @@ struct GreenRow<'a> {
 
 /// Runs the command.
 pub fn run(args: &WeightsArgs) -> anyhow::Result<()> {
-    if args.resolution < 4 {
-        return Err(InputError(format!(
-            "--resolution {} is too coarse; use at least 4",
-            args.resolution
-        ))
-        .into());
-    }
+    let harmonic = HarmonicSettings {
+        resolution: args.resolution,
+        ..Default::default()
+    };
+    harmonic
+        .check()
+        .map_err(|why| InputError(format!("--resolution: {why}")))?;
     let cage = read_cage_obj(&args.cage)?;
     let points = read_points(&args.points)?;
-    let settings = BindSettings {
-        harmonic: HarmonicSettings {
-            resolution: args.resolution,
-            ..Default::default()
-        },
-    };
+    let settings = BindSettings { harmonic };
     let control = BindControl::default();
     let weights = with_progress("binding", &control, || {
         bind(args.coords, &cage, &points, &settings, &control)

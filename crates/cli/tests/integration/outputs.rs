@@ -141,3 +141,21 @@ fn bad_output_names_are_refused_before_the_work() {
         start.elapsed()
     );
 }
+
+#[test]
+fn an_edit_that_blows_the_mesh_up_writes_nothing() {
+    let d = dir("blow-up");
+    assert!(cli(&["demo", "bar", "--out", s(&d)]).status.success());
+    let out = d.join("huge.obj");
+    let scene = d.join("bar.json");
+    let args = [
+        "deform",
+        s(&scene),
+        "--apply",
+        "cage_0_0_0: scale 1e300",
+        "--out",
+        s(&out),
+    ];
+    refused(&args, "non-finite coordinate");
+    assert!(!out.exists());
+}

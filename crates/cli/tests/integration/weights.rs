@@ -143,3 +143,26 @@ fn bad_input_gets_a_one_line_error_and_status_2() {
     let missing = dir.join("missing.obj");
     assert_input_error(&weights(&missing, &good, "mvc"), "missing.obj: cannot read");
 }
+
+#[test]
+fn resolutions_outside_the_limits_exit_with_status_2_not_a_panic() {
+    let dir = scratch_dir("resolution");
+    let cage = write(&dir, "cube.obj", CUBE);
+    let points = write(&dir, "points.txt", "0.5 0.5 0.5\n");
+    for resolution in ["0", "3", "129", "4294967295"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
+            .args(["weights", "--cage"])
+            .arg(&cage)
+            .arg("--points")
+            .arg(&points)
+            .args(["--coords", "hc", "--resolution", resolution])
+            .output()
+            .expect("run starcages-cli");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{resolution}: {stderr}");
+        assert!(
+            stderr.contains("out of range") && stderr.contains("4 to 128"),
+            "{stderr}"
+        );
+    }
+}

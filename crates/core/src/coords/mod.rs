@@ -129,6 +129,9 @@ pub enum CoordError {
     /// The bind was cancelled through its [`BindControl`].
     #[error("binding was cancelled")]
     Cancelled,
+    /// Settings outside their limits (the message names the value and the range).
+    #[error("{0}")]
+    Settings(String),
 }
 
 impl CoordError {

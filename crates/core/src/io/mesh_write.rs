@@ -11,6 +11,12 @@ use crate::mesh::Mesh;
 /// Writes `mesh` with vertex `positions` (original layout) to an OBJ or GLB file, with normals
 /// recomputed from those positions, atomically.
 pub fn write_mesh(path: &Path, mesh: &Mesh, positions: &[DVec3]) -> Result<(), FileError> {
+    if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(FileError::NonFinite {
+            path: path.to_path_buf(),
+            vertex,
+        });
+    }
     let normals = mesh.recompute_normals(positions);
     let bytes = match extension(path).as_str() {
         "obj" => obj_text(positions, mesh.triangles(), Some(&normals), mesh.uvs()).into_bytes(),

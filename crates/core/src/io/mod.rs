@@ -98,6 +98,19 @@ pub enum FileError {
         /// What went wrong.
         reason: String,
     },
+    /// Refused to write a non-finite coordinate (an edit or pose blew up): nothing was written.
+    #[error(
+        "{path}: not written: vertex {vertex} has a non-finite coordinate; undo the edit or pose \
+         that moved it so far (coordinates must stay within ±{}), the previous file, if any, is \
+         unchanged",
+        crate::scene::MAX_COORDINATE
+    )]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// The first offending vertex (0-based).
+        vertex: usize,
+    },
     /// The file parsed but its content is not a valid mesh.
     #[error("{path}: invalid mesh: {problem}")]
     InvalidMesh {

@@ -31,7 +31,7 @@ pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub(crate) use validate::check_hierarchy;
-pub use validate::{SceneProblem, ValidationReport, validate_scene};
+pub use validate::{MAX_COORDINATE, SceneProblem, ValidationReport, validate_scene};
 
 /// Where the scene's mesh comes from.
 #[derive(Debug, Clone, PartialEq)]

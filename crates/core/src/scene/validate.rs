@@ -11,10 +11,31 @@ use super::containment::{ON_CAGE, leaf_containment};
 use super::{OutsidePolicy, Scene};
 use crate::cage::CageError;
 
+/// Largest absolute cage coordinate accepted in a scene: the operator and the renderer work in
+/// 32-bit floats, and a coordinate this large already loses every digit below 100.
+pub const MAX_COORDINATE: f64 = 1e9;
+
 /// One problem of a scene. Vertex indices are 0-based: cage vertices in the scene's shared
 /// array, mesh vertices in the welded mesh.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SceneProblem {
+    /// A cage vertex coordinate is not finite or beyond [`MAX_COORDINATE`].
+    #[error(
+        "cage vertex {vertex} in {pose} has a coordinate that is not finite or beyond \
+         ±{MAX_COORDINATE:e}; move it back (the deformation is computed in 32-bit floats)"
+    )]
+    CoordinateOutOfRange {
+        /// "rest position", "the current pose" or "pose 'NAME'".
+        pose: String,
+        /// The first such vertex.
+        vertex: u32,
+    },
+    /// A scene setting is outside its limits.
+    #[error("settings: {why}")]
+    Settings {
+        /// Which value, and its range.
+        why: String,
+    },
     /// The scene has no leaf cage.
     #[error("the scene has no leaf cage; add cages (e.g. with `starcages-cli autocage`)")]
     NoLeafCages,
@@ -205,6 +226,28 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
         if !names.insert(name) {
             errors.push(SceneProblem::DuplicateName { name: name.clone() });
         }
+    }
+    let named = scene.poses.iter().map(|(n, p)| (format!("pose '{n}'"), p));
+    for (what, positions) in [("rest position".to_owned(), &set.vertices)]
+        .into_iter()
+        .chain(std::iter::once((
+            "the current pose".to_owned(),
+            &scene.pose,
+        )))
+        .chain(named)
+    {
+        let far = positions
+            .iter()
+            .position(|p| !(p.is_finite() && p.abs().max_element() <= MAX_COORDINATE));
+        if let Some(vertex) = far {
+            errors.push(SceneProblem::CoordinateOutOfRange {
+                pose: what,
+                vertex: vertex as u32,
+            });
+        }
+    }
+    if let Err(why) = scene.settings.harmonic.check() {
+        errors.push(SceneProblem::Settings { why });
     }
     let h = scene.settings.default_h;
     if !(h > 0.0 && h <= 1.0) {

@@ -446,3 +446,99 @@ fn leaf_cage_settings_survive_a_round_trip() {
         validate_scene(&s).errors
     );
 }
+
+#[test]
+fn harmonic_settings_outside_their_limits_are_refused_before_any_work() {
+    use starcages_core::coords::{BindControl, BindSettings, bind};
+    for (resolution, tolerance, max_iterations, what) in [
+        (0, 1e-8, 200, "resolution 0"),
+        (3, 1e-8, 200, "resolution 3"),
+        (100_000, 1e-8, 200, "resolution 100000"),
+        (u32::MAX, 1e-8, 200, "resolution 4294967295"),
+        (48, 0.0, 200, "tolerance 0"),
+        (48, -1.0, 200, "tolerance -1"),
+        (48, f64::NAN, 200, "tolerance NaN"),
+        (48, 1e-8, 0, "max_iterations 0"),
+        (48, 1e-8, u32::MAX, "max_iterations 4294967295"),
+    ] {
+        let mut scene = two_box_scene();
+        scene.settings.harmonic.resolution = resolution;
+        scene.settings.harmonic.tolerance = tolerance;
+        scene.settings.harmonic.max_iterations = max_iterations;
+        let report = validate_scene(&scene);
+        let found = report
+            .errors
+            .iter()
+            .find(|e| matches!(e, SceneProblem::Settings { .. }))
+            .unwrap_or_else(|| panic!("{what}: not reported ({:?})", report.errors));
+        let text = found.to_string();
+        assert!(
+            text.contains("out of range") && text.contains(" to "),
+            "{what}: {text}"
+        );
+        // The coordinates refuse them too, at once (no grid is allocated).
+        let cage = starcages_core::cage::shapes::cuboid(DVec3::ZERO, DVec3::ONE);
+        let settings = BindSettings {
+            harmonic: scene.settings.harmonic,
+        };
+        let start = std::time::Instant::now();
+        let error = bind(
+            CoordinateKind::Harmonic,
+            &cage,
+            &[DVec3::splat(0.5)],
+            &settings,
+            &BindControl::default(),
+        )
+        .unwrap_err();
+        assert!(
+            error.to_string().contains("out of range"),
+            "{what}: {error}"
+        );
+        assert!(start.elapsed().as_secs_f64() < 1.0, "{what}");
+    }
+    assert!(
+        validate_scene(&two_box_scene()).is_valid(),
+        "the defaults are in range"
+    );
+}
+
+#[test]
+fn huge_or_non_finite_coordinates_are_refused_and_never_written() {
+    for value in [1e100, f64::INFINITY, f64::NAN, -2e9] {
+        let mut scene = two_box_scene();
+        scene.pose[3].y = value;
+        let report = validate_scene(&scene);
+        assert!(
+            report.errors.iter().any(|e| matches!(
+                e,
+                SceneProblem::CoordinateOutOfRange { vertex: 3, pose } if pose == "the current pose"
+            )),
+            "{value}: {:?}",
+            report.errors
+        );
+        let mut scene = two_box_scene();
+        scene.poses.insert("far".into(), scene.pose.clone());
+        scene.poses.get_mut("far").unwrap()[0].x = value;
+        let text = validate_scene(&scene).errors[0].to_string();
+        assert!(
+            text.contains("pose 'far'") && text.contains("vertex 0"),
+            "{text}"
+        );
+    }
+    // A mesh with an infinite vertex is not written at all.
+    let dir = scratch("non-finite");
+    let scene = two_box_scene();
+    let mut positions = scene.mesh.positions().to_vec();
+    positions[1].z = f64::INFINITY;
+    for name in ["out.obj", "out.glb"] {
+        let path = dir.join(name);
+        let error = starcages_core::io::write_mesh(&path, &scene.mesh, &positions)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("non-finite") && error.contains("vertex 1"),
+            "{error}"
+        );
+        assert!(!path.exists());
+    }
+}

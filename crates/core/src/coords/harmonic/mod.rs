@@ -47,6 +47,50 @@ pub struct HarmonicSettings {
     pub max_iterations: u32,
 }
 
+/// Limits of [`HarmonicSettings`]: memory and time grow with the cube of the resolution (an
+/// 8-vertex box at resolution 256 needed 7 GB), and a solver that cannot reach its tolerance
+/// must stop.
+pub mod limits {
+    /// Fewest grid cells along a cage's longest side (coarser grids miss the cage's shape).
+    pub const MIN_RESOLUTION: u32 = 4;
+    /// Most grid cells along a cage's longest side (about 2 million grid nodes).
+    pub const MAX_RESOLUTION: u32 = 128;
+    /// Smallest relative residual asked of the solver (round-off stops progress below it).
+    pub const MIN_TOLERANCE: f64 = 1e-14;
+    /// Largest relative residual accepted (coarser answers are not coordinates).
+    pub const MAX_TOLERANCE: f64 = 1e-2;
+    /// Most solver iterations per batch of right-hand sides.
+    pub const MAX_ITERATIONS: u32 = 10_000;
+}
+
+impl HarmonicSettings {
+    /// Checks the settings against [`limits`]; the error says which value and the range.
+    pub fn check(&self) -> Result<(), String> {
+        use limits::*;
+        if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&self.resolution) {
+            return Err(format!(
+                "harmonic resolution {} is out of range; use {MIN_RESOLUTION} to {MAX_RESOLUTION} \
+                 grid cells along a cage's longest side",
+                self.resolution
+            ));
+        }
+        if !(MIN_TOLERANCE..=MAX_TOLERANCE).contains(&self.tolerance) {
+            return Err(format!(
+                "harmonic tolerance {} is out of range; use a relative residual from \
+                 {MIN_TOLERANCE:e} to {MAX_TOLERANCE:e} (1e-8 is the default)",
+                self.tolerance
+            ));
+        }
+        if !(1..=MAX_ITERATIONS).contains(&self.max_iterations) {
+            return Err(format!(
+                "harmonic max_iterations {} is out of range; use 1 to {MAX_ITERATIONS}",
+                self.max_iterations
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for HarmonicSettings {
     fn default() -> Self {
         Self {
@@ -72,6 +116,7 @@ pub(crate) fn harmonic_bind(
     settings: &HarmonicSettings,
     control: &BindControl,
 ) -> Result<Vec<f64>, CoordError> {
+    settings.check().map_err(CoordError::Settings)?;
     let n = cage.vertex_count();
     let on_cage = ON_CAGE * cage.diagonal();
     let sites: Vec<Option<Site>> = points
