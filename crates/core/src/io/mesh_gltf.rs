@@ -33,9 +33,7 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         None => gltf.scenes().collect(),
     };
     for scene in scenes {
-        for node in scene.nodes() {
-            visit(path, &node, DMat4::IDENTITY, &buffers, &mut out)?;
-        }
+        walk(path, scene.nodes(), &buffers, &mut out)?;
     }
     let Accumulator {
         positions,
@@ -97,6 +95,76 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileErro
             Ok(data)
         })
         .collect()
+}
+
+/// Checks an accessor before the `gltf` crate reads it (it panics on some malformed ones): a
+/// component type and element type among `kinds`, no sparse storage, a buffer view, a stride at
+/// least the element size, and every element inside the view and the view inside its buffer.
+/// Returns the element count.
+fn check_accessor(
+    path: &Path,
+    accessor: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+    kinds: &[(gltf::accessor::DataType, gltf::accessor::Dimensions)],
+    what: &str,
+) -> Result<usize, FileError> {
+    let fail = |why: String| {
+        FileError::format(
+            path,
+            format!(
+                "{what} (accessor {}): {why}; re-export the file",
+                accessor.index()
+            ),
+        )
+    };
+    let kind = (accessor.data_type(), accessor.dimensions());
+    if !kinds.contains(&kind) {
+        let expected: Vec<String> = kinds
+            .iter()
+            .map(|(t, d)| format!("{d:?} of {t:?}"))
+            .collect();
+        return Err(fail(format!(
+            "holds {:?} of {:?}, expected {}",
+            kind.1,
+            kind.0,
+            expected.join(" or ")
+        )));
+    }
+    if accessor.sparse().is_some() {
+        return Err(fail("uses sparse storage, which is not supported".into()));
+    }
+    let view = accessor
+        .view()
+        .ok_or_else(|| fail("has no buffer view".into()))?;
+    let element = accessor.size();
+    let stride = view.stride().unwrap_or(element);
+    if stride < element {
+        return Err(fail(format!(
+            "byteStride {stride} is smaller than its {element}-byte elements"
+        )));
+    }
+    let count = accessor.count();
+    let last = count
+        .checked_sub(1)
+        .and_then(|c| c.checked_mul(stride))
+        .and_then(|x| x.checked_add(accessor.offset()))
+        .and_then(|x| x.checked_add(element))
+        .unwrap_or(accessor.offset());
+    if last > view.length() {
+        return Err(fail(format!(
+            "{count} elements need {last} bytes of its buffer view, which has {}",
+            view.length()
+        )));
+    }
+    let buffer_length = buffers.get(view.buffer().index()).map_or(0, Vec::len);
+    let view_end = view.offset().checked_add(view.length());
+    if view_end.is_none_or(|end| end > buffer_length) {
+        return Err(fail(format!(
+            "buffer view {} ends past its buffer's {buffer_length} bytes",
+            view.index()
+        )));
+    }
+    Ok(count)
 }
 
 /// Reads an external buffer named by `uri`, which must be a relative reference to a regular
@@ -189,15 +257,75 @@ struct Accumulator {
     all_uvs: bool,
 }
 
-fn visit(
+/// Most node instances a file may expand to (a node graph that shares subtrees can describe
+/// astronomically many paths in a few bytes).
+const MAX_NODE_INSTANCES: usize = 1_000_000;
+
+/// Visits the node trees under `roots` depth first without recursion (a deep chain cannot
+/// overflow the stack), refusing cycles and graphs that expand past [`MAX_NODE_INSTANCES`].
+fn walk<'a>(
     path: &Path,
-    node: &gltf::Node,
-    parent: DMat4,
+    roots: impl Iterator<Item = gltf::Node<'a>>,
     buffers: &[Vec<u8>],
     out: &mut Accumulator,
 ) -> Result<(), FileError> {
-    let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
-    let world = parent * local;
+    // (node, its parent's world transform, depth); `on_path[i]`: node i is an ancestor of the
+    // node being visited, `path_nodes[d]`: the ancestor at depth d.
+    let mut stack: Vec<(gltf::Node<'a>, DMat4, usize)> =
+        roots.map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    stack.reverse();
+    let mut path_nodes: Vec<usize> = Vec::new();
+    let mut on_path: Vec<bool> = Vec::new();
+    let mut instances = 0usize;
+    while let Some((node, parent, depth)) = stack.pop() {
+        for gone in path_nodes.drain(depth.min(path_nodes.len())..) {
+            if let Some(flag) = on_path.get_mut(gone) {
+                *flag = false;
+            }
+        }
+        let index = node.index();
+        if on_path.len() <= index {
+            on_path.resize(index + 1, false);
+        }
+        if on_path[index] {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "node {index} is its own ancestor (the node graph has a cycle); a glTF node \
+                     hierarchy must be a tree, re-export the file"
+                ),
+            ));
+        }
+        instances += 1;
+        if instances > MAX_NODE_INSTANCES {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "the node graph expands to more than {MAX_NODE_INSTANCES} node instances \
+                     (subtrees shared many times over); re-export it as a plain tree"
+                ),
+            ));
+        }
+        on_path[index] = true;
+        path_nodes.push(index);
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+        let world = parent * local;
+        add_node_mesh(path, &node, world, buffers, out)?;
+        let first_child = stack.len();
+        stack.extend(node.children().map(|child| (child, world, depth + 1)));
+        stack[first_child..].reverse();
+    }
+    Ok(())
+}
+
+/// Appends the triangles of `node`'s mesh (if any) placed by `world`.
+fn add_node_mesh(
+    path: &Path,
+    node: &gltf::Node,
+    world: DMat4,
+    buffers: &[Vec<u8>],
+    out: &mut Accumulator,
+) -> Result<(), FileError> {
     if let Some(mesh) = node.mesh() {
         let affine = DAffine3::from_mat4(world);
         let normal_matrix = affine.matrix3.inverse().transpose();
@@ -212,9 +340,67 @@ fn visit(
                     ),
                 ));
             }
+            let mesh_name = mesh.name().unwrap_or("unnamed");
+            let what = |attribute: &str| format!("mesh '{mesh_name}', {attribute}");
+            use gltf::accessor::{DataType as T, Dimensions as D};
+            use gltf::mesh::Semantic;
+            let position = primitive.get(&Semantic::Positions).ok_or_else(|| {
+                FileError::format(
+                    path,
+                    format!(
+                        "{} is missing; every primitive needs vertex positions",
+                        what("POSITION")
+                    ),
+                )
+            })?;
+            let count = check_accessor(
+                path,
+                &position,
+                buffers,
+                &[(T::F32, D::Vec3)],
+                &what("POSITION"),
+            )?;
+            if let Some(normal) = primitive.get(&Semantic::Normals) {
+                let n = check_accessor(
+                    path,
+                    &normal,
+                    buffers,
+                    &[(T::F32, D::Vec3)],
+                    &what("NORMAL"),
+                )?;
+                if n != count {
+                    return Err(FileError::format(
+                        path,
+                        format!(
+                            "{} has {n} entries for {count} positions; re-export the file",
+                            what("NORMAL")
+                        ),
+                    ));
+                }
+            }
+            if let Some(uv) = primitive.get(&Semantic::TexCoords(0)) {
+                let kinds = [(T::F32, D::Vec2), (T::U8, D::Vec2), (T::U16, D::Vec2)];
+                let n = check_accessor(path, &uv, buffers, &kinds, &what("TEXCOORD_0"))?;
+                if n != count {
+                    return Err(FileError::format(
+                        path,
+                        format!(
+                            "{} has {n} entries for {count} positions; re-export the file",
+                            what("TEXCOORD_0")
+                        ),
+                    ));
+                }
+            }
+            if let Some(indices) = primitive.indices() {
+                let kinds = [(T::U8, D::Scalar), (T::U16, D::Scalar), (T::U32, D::Scalar)];
+                check_accessor(path, &indices, buffers, &kinds, &what("indices"))?;
+            }
             let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
             let Some(positions) = reader.read_positions() else {
-                continue;
+                return Err(FileError::format(
+                    path,
+                    format!("{} cannot be read", what("POSITION")),
+                ));
             };
             let first = out.positions.len();
             if first == 0 && out.triangles.is_empty() {
@@ -261,9 +447,6 @@ fn visit(
                 None => (0..count as u32 / 3).for_each(|t| push([3 * t, 3 * t + 1, 3 * t + 2])),
             }
         }
-    }
-    for child in node.children() {
-        visit(path, &child, world, buffers, out)?;
     }
     Ok(())
 }

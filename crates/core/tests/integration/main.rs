@@ -5,6 +5,7 @@
 mod common;
 mod fuzz_readers;
 mod gltf_buffers;
+mod gltf_files;
 mod green;
 mod harmonic;
 mod hierarchy;

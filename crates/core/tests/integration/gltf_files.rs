@@ -1,0 +1,208 @@
+//! Malformed glTF files get a clear error, never a panic, an abort or a silently wrong mesh:
+//! accessors of the wrong type, short strides, sparse storage, missing positions, node graphs
+//! with cycles or astronomically many paths; a very deep (valid) node chain reads fine.
+
+use std::path::PathBuf;
+
+use base64::Engine as _;
+use starcages_core::io::read_mesh;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "starcages-gltf-files-{name}-{}",
+        std::process::id()
+    ));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// 48 bytes: three float positions (36) then three u32 indices (12).
+fn buffer_uri() -> String {
+    let mut bytes: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
+    format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    )
+}
+
+/// A glTF document from its parts (JSON fragments), one 48-byte buffer.
+fn document(nodes: &str, primitive: &str, accessors: &str, views: &str) -> String {
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":{nodes},
+"meshes":[{{"name":"tri","primitives":[{primitive}]}}],"accessors":{accessors},"bufferViews":{views},
+"buffers":[{{"uri":"{}","byteLength":48}}]}}"#,
+        buffer_uri()
+    )
+}
+
+const VIEWS: &str =
+    r#"[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":12}]"#;
+const POSITION: &str =
+    r#"{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}"#;
+const INDICES: &str = r#"{"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}"#;
+const PRIMITIVE: &str = r#"{"attributes":{"POSITION":0},"indices":1}"#;
+const ONE_NODE: &str = r#"[{"mesh":0}]"#;
+
+fn read(dir: &std::path::Path, name: &str, json: &str) -> Result<usize, String> {
+    let path = dir.join(name);
+    std::fs::write(&path, json).unwrap();
+    read_mesh(&path)
+        .map(|m| m.welded_triangles().len())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_well_formed_triangle_reads() {
+    let dir = scratch("good");
+    let json = document(
+        ONE_NODE,
+        PRIMITIVE,
+        &format!("[{POSITION},{INDICES}]"),
+        VIEWS,
+    );
+    assert_eq!(read(&dir, "good.gltf", &json), Ok(1));
+}
+
+#[test]
+fn malformed_accessors_are_refused_with_the_reason() {
+    let dir = scratch("accessors");
+    let float_indices = INDICES.replace("5125", "5126");
+    let byte_positions = POSITION.replace("5126", "5121");
+    let scalar_positions = POSITION.replace("VEC3", "SCALAR");
+    let too_many = POSITION.replace("\"count\":3", "\"count\":4");
+    let short_stride_views = VIEWS.replacen(
+        "\"byteLength\":36}",
+        "\"byteLength\":36,\"byteStride\":4}",
+        1,
+    );
+    let sparse = POSITION.replace(
+        "\"type\":\"VEC3\"",
+        "\"type\":\"VEC3\",\"sparse\":{\"count\":1,\"indices\":{\"bufferView\":1,\"componentType\":5125},\"values\":{\"bufferView\":0}}",
+    );
+    let cases = [
+        (
+            "float-indices",
+            PRIMITIVE,
+            format!("[{POSITION},{float_indices}]"),
+            VIEWS.to_owned(),
+            "expected Scalar of U8",
+        ),
+        (
+            "byte-positions",
+            PRIMITIVE,
+            format!("[{byte_positions},{INDICES}]"),
+            VIEWS.to_owned(),
+            "expected Vec3 of F32",
+        ),
+        (
+            "scalar-positions",
+            PRIMITIVE,
+            format!("[{scalar_positions},{INDICES}]"),
+            VIEWS.to_owned(),
+            "holds Scalar",
+        ),
+        (
+            "past-the-view",
+            PRIMITIVE,
+            format!("[{too_many},{INDICES}]"),
+            VIEWS.to_owned(),
+            "need 48 bytes",
+        ),
+        (
+            "short-stride",
+            PRIMITIVE,
+            format!("[{POSITION},{INDICES}]"),
+            short_stride_views,
+            "byteStride 4",
+        ),
+        (
+            "sparse",
+            PRIMITIVE,
+            format!("[{sparse},{INDICES}]"),
+            VIEWS.to_owned(),
+            "sparse",
+        ),
+        (
+            "no-position",
+            r#"{"attributes":{"NORMAL":0},"indices":1}"#,
+            format!("[{POSITION},{INDICES}]"),
+            VIEWS.to_owned(),
+            "POSITION",
+        ),
+    ];
+    for (name, primitive, accessors, views, why) in cases {
+        let json = document(ONE_NODE, primitive, &accessors, &views);
+        let error = read(&dir, &format!("{name}.gltf"), &json).unwrap_err();
+        assert!(
+            error.contains(&format!("{name}.gltf")) && error.contains(why),
+            "{name}: {error}"
+        );
+    }
+}
+
+#[test]
+fn node_graphs_with_cycles_or_too_many_paths_are_refused_and_deep_chains_read() {
+    let dir = scratch("nodes");
+    let accessors = format!("[{POSITION},{INDICES}]");
+    let cycle = r#"[{"children":[1]},{"children":[0],"mesh":0}]"#;
+    let error = read(
+        &dir,
+        "cycle.gltf",
+        &document(cycle, PRIMITIVE, &accessors, VIEWS),
+    )
+    .unwrap_err();
+    assert!(error.contains("cycle"), "{error}");
+    let self_child = r#"[{"children":[0],"mesh":0}]"#;
+    let error = read(
+        &dir,
+        "self.gltf",
+        &document(self_child, PRIMITIVE, &accessors, VIEWS),
+    )
+    .unwrap_err();
+    assert!(error.contains("cycle"), "{error}");
+    // 41 nodes, each with both children the next one: 2^40 paths to the last.
+    let dag: Vec<String> = (0..41)
+        .map(|i| {
+            if i == 40 {
+                r#"{"mesh":0}"#.to_owned()
+            } else {
+                format!(r#"{{"children":[{0},{0}]}}"#, i + 1)
+            }
+        })
+        .collect();
+    let dag = format!("[{}]", dag.join(","));
+    let start = std::time::Instant::now();
+    let error = read(
+        &dir,
+        "dag.gltf",
+        &document(&dag, PRIMITIVE, &accessors, VIEWS),
+    )
+    .unwrap_err();
+    assert!(error.contains("node instances"), "{error}");
+    assert!(start.elapsed().as_secs_f64() < 10.0);
+    // A valid 200,000-deep chain: read, not a stack overflow.
+    let depth = 200_000;
+    let chain: Vec<String> = (0..depth)
+        .map(|i| {
+            if i == depth - 1 {
+                r#"{"mesh":0}"#.to_owned()
+            } else {
+                format!(r#"{{"children":[{}]}}"#, i + 1)
+            }
+        })
+        .collect();
+    let chain = format!("[{}]", chain.join(","));
+    assert_eq!(
+        read(
+            &dir,
+            "chain.gltf",
+            &document(&chain, PRIMITIVE, &accessors, VIEWS)
+        ),
+        Ok(1)
+    );
+}
