@@ -10,17 +10,17 @@ use crate::mesh::Mesh;
 
 /// Reads all objects of an OBJ file as one mesh.
 pub(super) fn read_obj_mesh(path: &Path) -> Result<Mesh, FileError> {
-    let file = std::fs::File::open(path).map_err(|error| FileError::Io {
-        path: path.to_path_buf(),
-        error,
-    })?;
+    let text = super::read_text(path)?;
+    // A UTF-8 byte-order mark would hide the first line from tobj.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    super::obj_lint::check_obj_text(path, text)?;
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let mut reader = std::io::BufReader::new(file);
+    let mut reader = std::io::Cursor::new(text.as_bytes());
     // Materials are not needed for deformation: ignore the .mtl files.
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::GenericFailure)

@@ -9,6 +9,7 @@ mod mesh_gltf;
 mod mesh_obj;
 mod mesh_write;
 mod obj_cage;
+mod obj_lint;
 mod points;
 
 use std::path::{Path, PathBuf};

@@ -542,3 +542,39 @@ fn huge_or_non_finite_coordinates_are_refused_and_never_written() {
         assert!(!path.exists());
     }
 }
+
+#[test]
+fn obj_meshes_with_a_bom_read_whole_and_cut_files_name_their_line() {
+    let dir = scratch("obj-lines");
+    let bom = write(
+        &dir,
+        "bom.obj",
+        "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let mesh = read_mesh(&bom).unwrap();
+    assert_eq!(
+        mesh.positions().len(),
+        3,
+        "the first vertex is not lost to the BOM"
+    );
+    let cut = write(
+        &dir,
+        "cut.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1/1 2",
+    );
+    let error = read_mesh(&cut).unwrap_err().to_string();
+    assert!(
+        error.contains("cut.obj:6:") && error.contains("2 corner(s)"),
+        "{error}"
+    );
+    let nan_uv = write(
+        &dir,
+        "uv.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0\nf 1/1 2/1 3/1\n",
+    );
+    let error = read_mesh(&nan_uv).unwrap_err().to_string();
+    assert!(
+        error.contains("uv.obj:4:") && error.contains("not finite"),
+        "{error}"
+    );
+}
