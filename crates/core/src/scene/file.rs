@@ -139,6 +139,12 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
             path: path.to_path_buf(),
             reason: "\"version\" is missing or not a non-negative integer".to_owned(),
         })?;
+    if version == 0 {
+        return Err(SceneFileError::Syntax {
+            path: path.to_path_buf(),
+            reason: "\"version\" is 0, which never existed; scene versions start at 1".to_owned(),
+        });
+    }
     if version > u64::from(SCENE_VERSION) {
         return Err(SceneFileError::NewerVersion {
             path: path.to_path_buf(),

@@ -19,6 +19,17 @@ pub const MAX_COORDINATE: f64 = 1e9;
 /// array, mesh vertices in the welded mesh.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SceneProblem {
+    /// A stored hierarchy state cannot be restored (or the hierarchy cannot be bound).
+    #[error(
+        "the internal-cage state of {pose} cannot be restored: {why}; delete its \"pose_states\" \
+         entry (or \"pose_state\") to start that pose from the rest state"
+    )]
+    PoseState {
+        /// "the current pose" or "pose 'NAME'".
+        pose: String,
+        /// Why.
+        why: String,
+    },
     /// A cage vertex coordinate is not finite or beyond [`MAX_COORDINATE`].
     #[error(
         "cage vertex {vertex} in {pose} has a coordinate that is not finite or beyond \
@@ -298,7 +309,52 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
             report.errors.push(SceneProblem::Topology(e.to_string()));
         }
     }
+    if report.errors.is_empty() && !set.internals.is_empty() {
+        check_pose_states(scene, &mut report.errors);
+    }
     report
+}
+
+/// Binds the hierarchy and restores every stored hierarchy state, as `deform` and the editor
+/// will: a record naming a vertex that has no parent, a parent shape of the wrong size or a
+/// state that cannot be rebuilt is reported here rather than refused later.
+fn check_pose_states(scene: &Scene, errors: &mut Vec<SceneProblem>) {
+    use crate::hierarchy::Hierarchy;
+    // Binding restores the current pose's state: when that fails, bind at rest to tell a bad
+    // state from a bad hierarchy.
+    let mut hierarchy = match Hierarchy::bind(scene) {
+        Ok(h) => h,
+        Err(e) => {
+            let mut at_rest = scene.clone();
+            at_rest.pose_state = Default::default();
+            let (pose, rest) = match Hierarchy::bind(&at_rest) {
+                Ok(h) => ("the current pose", Some(h)),
+                Err(_) => ("every pose", None),
+            };
+            errors.push(SceneProblem::PoseState {
+                pose: pose.into(),
+                why: e.to_string(),
+            });
+            match rest {
+                Some(h) => h,
+                None => return,
+            }
+        }
+    };
+    let named = scene
+        .pose_states
+        .iter()
+        .map(|(n, s)| (format!("pose '{n}'"), s));
+    for (pose, state) in
+        std::iter::once(("the current pose".to_owned(), &scene.pose_state)).chain(named)
+    {
+        if let Err(e) = hierarchy.restore(state) {
+            errors.push(SceneProblem::PoseState {
+                pose,
+                why: e.to_string(),
+            });
+        }
+    }
 }
 
 fn check_shared_faces(scene: &Scene, errors: &mut Vec<SceneProblem>) {

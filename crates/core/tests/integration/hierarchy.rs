@@ -532,3 +532,36 @@ fn removing_an_internal_cage_undoes_adding_it_and_frees_what_it_owned() {
         Err(RemoveInternalCageError::NoSuchCage { index: 99, .. })
     ));
 }
+
+#[test]
+fn validate_reports_pose_states_that_deform_would_refuse() {
+    let scene = critter();
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    // A record naming a vertex that does not exist.
+    let mut bad = scene.clone();
+    bad.pose_state.hand_moved.push(99_999);
+    let errors = starcages_core::scene::validate_scene(&bad).errors;
+    assert!(
+        errors.iter().any(
+            |e| matches!(e, SceneProblem::PoseState { pose, .. } if pose == "the current pose")
+        ),
+        "{errors:?}"
+    );
+    // A re-bound vertex whose recorded parent shape has one vertex.
+    let mut bad = scene.clone();
+    let state = bad.pose_states.get_mut("fig13").unwrap();
+    let FollowRecord::Coordinates(anchor) = &mut state.rebound[0].follow else {
+        panic!("the fig13 pose has a re-bound vertex with coordinates");
+    };
+    anchor.parent_shape.truncate(1);
+    let errors = starcages_core::scene::validate_scene(&bad).errors;
+    let text = errors
+        .iter()
+        .find(|e| matches!(e, SceneProblem::PoseState { .. }))
+        .map(ToString::to_string)
+        .unwrap_or_else(|| panic!("not reported: {errors:?}"));
+    assert!(
+        text.contains("pose 'fig13'") && text.contains("pose_states"),
+        "{text}"
+    );
+}

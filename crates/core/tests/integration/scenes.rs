@@ -578,3 +578,18 @@ fn obj_meshes_with_a_bom_read_whole_and_cut_files_name_their_line() {
         "{error}"
     );
 }
+
+#[test]
+fn scene_version_zero_is_refused() {
+    let dir = scratch("version-zero");
+    let path = dir.join("scene.json");
+    save_scene(&two_box_scene(), &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"version\": 1"));
+    std::fs::write(&path, text.replace("\"version\": 1", "\"version\": 0")).unwrap();
+    let error = load_scene(&path).unwrap_err().to_string();
+    assert!(
+        error.contains("scene.json") && error.contains("start at 1"),
+        "{error}"
+    );
+}
