@@ -173,6 +173,18 @@ fn wave(scene: &Scene) -> Vec<DVec3> {
 
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if !(0.1..=6.0).contains(&args.prism_detail) {
+        return Err(crate::InputError(format!(
+            "--prism-detail {} is out of range; use 0.1 to 6 (6: about 2 million triangles)",
+            args.prism_detail
+        ))
+        .into());
+    }
+    let grid = if args.grid.is_empty() {
+        [4, 4, 4]
+    } else {
+        super::three_counts(&args.grid, "--grid", 32)?
+    };
     let mut scenes: Vec<(String, Scene)> = Vec::new();
     for (name, detail) in [
         ("bar", 1.0),
@@ -192,7 +204,6 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             .filter(|p| p.extension().is_some_and(|e| e == "obj"))
             .collect();
         files.sort();
-        let grid: [u32; 3] = std::array::from_fn(|k| args.grid.get(k).copied().unwrap_or(4));
         for file in files {
             let mesh = read_mesh(&file)?;
             let cages = autocage(

@@ -66,6 +66,13 @@ fn median_ms(frames: usize, mut run: impl FnMut()) -> f64 {
 
 /// Runs the command.
 pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
+    if !(1..=10_000).contains(&args.frames) {
+        return Err(InputError(format!(
+            "--frames {} is out of range; use 1 to 10000",
+            args.frames
+        ))
+        .into());
+    }
     if !(0.1..=12.0).contains(&args.detail) {
         return Err(InputError(format!(
             "--detail {} is out of range; use 0.1 to 12",

@@ -159,3 +159,13 @@ fn an_edit_that_blows_the_mesh_up_writes_nothing() {
     refused(&args, "non-finite coordinate");
     assert!(!out.exists());
 }
+
+#[test]
+fn absurd_benchmark_sizes_are_refused_at_once() {
+    refused(
+        &["bench", "--grid", "1000", "1000", "1000"],
+        "between 1 and 32",
+    );
+    refused(&["bench", "--prism-detail", "1000"], "out of range");
+    refused(&["bench-gpu", "--frames", "1000000000"], "out of range");
+}

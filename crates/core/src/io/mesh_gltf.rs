@@ -14,10 +14,7 @@ use crate::mesh::Mesh;
 
 /// Reads a glTF or GLB file as one mesh.
 pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
-    let bytes = std::fs::read(path).map_err(|error| FileError::Io {
-        path: path.to_path_buf(),
-        error,
-    })?;
+    let bytes = super::read_file_bytes(path)?;
     let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| {
         let kind = if extension(path) == "glb" {
             "GLB"

@@ -155,11 +155,52 @@ impl FileError {
     }
 }
 
-pub(crate) fn read_text(path: &Path) -> Result<String, FileError> {
-    let bytes = std::fs::read(path).map_err(|error| FileError::Io {
+/// The largest file StarCages reads (2 GiB): a mesh several times the size of any scan we
+/// know. Checked against the file's size before reading, so a device such as `/dev/zero` or a
+/// file growing while read cannot exhaust memory.
+pub const MAX_FILE_BYTES: u64 = 2 << 30;
+
+/// The bytes of the regular file at `path` (symbolic links followed), refusing devices, pipes
+/// and folders, and files larger than [`MAX_FILE_BYTES`].
+pub fn read_file_bytes(path: &Path) -> Result<Vec<u8>, FileError> {
+    let io = |error| FileError::Io {
         path: path.to_path_buf(),
         error,
-    })?;
+    };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() {
+        return Err(FileError::format(
+            path,
+            "not a regular file (a folder, device or pipe); give the path of a file",
+        ));
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(FileError::format(
+            path,
+            format!(
+                "the file has {} bytes, more than the {MAX_FILE_BYTES}-byte limit for inputs",
+                meta.len()
+            ),
+        ));
+    }
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(file, MAX_FILE_BYTES + 1),
+        &mut bytes,
+    )
+    .map_err(io)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(FileError::format(
+            path,
+            "the file grew past the input size limit while it was read",
+        ));
+    }
+    Ok(bytes)
+}
+
+pub(crate) fn read_text(path: &Path) -> Result<String, FileError> {
+    let bytes = read_file_bytes(path)?;
     String::from_utf8(bytes).map_err(|e| {
         let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
             .iter()

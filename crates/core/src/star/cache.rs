@@ -110,7 +110,7 @@ fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
     out
 }
 
-fn decode(bytes: &[u8], key: u64) -> Result<StarBinding, String> {
+fn decode(bytes: &[u8], key: u64, cage_vertices: usize) -> Result<StarBinding, String> {
     if bytes.len() < 24 || &bytes[..8] != MAGIC {
         return Err("not a StarCages binding cache (or an older format)".into());
     }
@@ -131,6 +131,11 @@ fn decode(bytes: &[u8], key: u64) -> Result<StarBinding, String> {
         return Err("truncated".into());
     }
     let [vertex_count, n_rows1, nnz, n_tris, n_joins] = [0, 1, 2, 3, 4].map(|i| words[i] as usize);
+    if vertex_count != cage_vertices {
+        return Err(format!(
+            "it claims {vertex_count} cage vertices, the scene has {cage_vertices}"
+        ));
+    }
     let rows = n_rows1.checked_sub(1).ok_or("no rows")?;
     let expected = 5 + n_rows1 + 2 * nnz + 3 * n_tris + 2 * rows + n_rows1 + 2 * n_joins;
     if words.len() != expected {
@@ -201,8 +206,8 @@ impl StarBinding {
     ) -> Result<(Self, CacheOutcome), StarError> {
         let key = binding_key(scene);
         let path = cache_path(scene_path);
-        let stale = match std::fs::read(&path) {
-            Ok(bytes) => match decode(&bytes, key) {
+        let stale = match crate::io::read_file_bytes(&path) {
+            Ok(bytes) => match decode(&bytes, key, scene.cages.vertices.len()) {
                 Ok(binding)
                     if binding.operator.row_count() == scene.mesh.welded_positions().len() =>
                 {
@@ -284,5 +289,19 @@ mod tests {
                 .1,
             CacheOutcome::Replaced(_)
         ));
+    }
+
+    #[test]
+    fn a_cache_claiming_another_vertex_count_is_refused_before_use() {
+        let scene = demo_scene("bar", 0.2).unwrap();
+        let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+        let key = binding_key(&scene);
+        let bytes = encode(key, &binding);
+        let count = scene.cages.vertices.len();
+        assert!(decode(&bytes, key, count).is_ok());
+        // A well-formed cache (key and checksum right) for another vertex count than the scene's
+        // (a crafted header claiming 0xFFFFFFF0 vertices, say) is not used.
+        let error = decode(&bytes, key, 0xFFFF_FFF0).err().unwrap_or_default();
+        assert!(error.contains("claims"), "{error}");
     }
 }

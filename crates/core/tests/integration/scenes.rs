@@ -593,3 +593,23 @@ fn scene_version_zero_is_refused() {
         "{error}"
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn devices_and_folders_are_refused_as_inputs_without_reading_them() {
+    let dir = scratch("devices");
+    let link = dir.join("zero.obj");
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let gltf_link = dir.join("zero.gltf");
+    std::os::unix::fs::symlink("/dev/zero", &gltf_link).unwrap();
+    let start = std::time::Instant::now();
+    let error = read_mesh(&gltf_link).unwrap_err().to_string();
+    assert!(error.contains("not a regular file"), "{error}");
+    let error = read_mesh(&link).unwrap_err().to_string();
+    assert!(error.contains("not a regular file"), "{error}");
+    let folder = dir.join("folder.obj");
+    std::fs::create_dir_all(&folder).unwrap();
+    let error = read_mesh(&folder).unwrap_err().to_string();
+    assert!(error.contains("not a regular file"), "{error}");
+    assert!(start.elapsed().as_secs_f64() < 2.0, "a device was read");
+}
