@@ -15,14 +15,22 @@ use crate::mesh::Mesh;
 /// Reads a glTF or GLB file as one mesh.
 pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
     let bytes = super::read_file_bytes(path)?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| {
-        let kind = if extension(path) == "glb" {
-            "GLB"
-        } else {
-            "glTF"
-        };
-        FileError::format(path, format!("not a readable {kind} file ({e})"))
+    let kind = if extension(path) == "glb" {
+        "GLB"
+    } else {
+        "glTF"
+    };
+    check_primitive_references(path, &bytes)?;
+    // The gltf crate's own validation indexes some arrays unchecked: a file that still trips it
+    // is an error like any other, not a crash.
+    let parsed = std::panic::catch_unwind(|| gltf::Gltf::from_slice(&bytes)).map_err(|_| {
+        FileError::format(
+            path,
+            format!("not a readable {kind} file (its structure is inconsistent); re-export it"),
+        )
     })?;
+    let gltf =
+        parsed.map_err(|e| FileError::format(path, format!("not a readable {kind} file ({e})")))?;
     let buffers = load_buffers(path, &gltf)?;
     let mut out = Accumulator::default();
     let scenes: Vec<gltf::Scene> = match gltf.default_scene() {
@@ -47,6 +55,66 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         all_normals.then_some(normals),
         all_uvs.then_some(uvs),
     )
+}
+
+/// Checks that every mesh primitive names accessors that exist (the gltf crate's validation
+/// indexes them unchecked and would panic). Files whose JSON does not parse are left to the
+/// gltf crate, which reports the syntax error.
+fn check_primitive_references(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
+    let json: &[u8] = if bytes.starts_with(b"glTF") {
+        // GLB: 12-byte header, then the JSON chunk (length, type, data).
+        let length = bytes
+            .get(12..16)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+        match length.and_then(|n| bytes.get(20..20usize.saturating_add(n))) {
+            Some(chunk) => chunk,
+            None => return Ok(()),
+        }
+    } else {
+        bytes
+    };
+    let Ok(root) = serde_json::from_slice::<serde_json::Value>(json) else {
+        return Ok(());
+    };
+    let accessors = root
+        .get("accessors")
+        .and_then(serde_json::Value::as_array)
+        .map_or(0, Vec::len);
+    let meshes = root.get("meshes").and_then(serde_json::Value::as_array);
+    for (m, mesh) in meshes.into_iter().flatten().enumerate() {
+        let primitives = mesh.get("primitives").and_then(serde_json::Value::as_array);
+        for (p, primitive) in primitives.into_iter().flatten().enumerate() {
+            let attributes = primitive
+                .get("attributes")
+                .and_then(serde_json::Value::as_object);
+            let targets = primitive
+                .get("targets")
+                .and_then(serde_json::Value::as_array)
+                .into_iter()
+                .flatten()
+                .filter_map(serde_json::Value::as_object)
+                .flatten();
+            let named = attributes
+                .into_iter()
+                .flatten()
+                .chain(targets)
+                .map(|(name, index)| (name.as_str(), index))
+                .chain(primitive.get("indices").map(|i| ("indices", i)));
+            for (name, index) in named {
+                let valid = index.as_u64().is_some_and(|i| i < accessors as u64);
+                if !valid {
+                    return Err(FileError::format(
+                        path,
+                        format!(
+                            "mesh {m}, primitive {p}: {name} names accessor {index}, but the \
+                             file has {accessors} accessors; re-export the file"
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileError> {

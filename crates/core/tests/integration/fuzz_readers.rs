@@ -1,6 +1,8 @@
-//! No panic on arbitrary input: the scene, mesh OBJ, cage OBJ and point readers on random bytes
-//! and on randomly damaged valid files (a proptest harness; run longer with
-//! `PROPTEST_CASES=20000 cargo test --release -p starcages-core --test integration fuzz_readers`).
+//! No panic, hang or runaway allocation on arbitrary input: the scene, mesh OBJ, glTF/GLB, cage
+//! OBJ and point readers on random bytes, on randomly damaged valid files, and (glTF) on
+//! structure-aware mutations of a valid document: numbers swapped for extreme values, type
+//! names swapped, array entries dropped, node cycles. A proptest harness; `scripts/fuzz.sh`
+//! runs it for as long as asked and counts the inputs tried.
 
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]
@@ -8,9 +10,19 @@
 use std::path::PathBuf;
 
 use proptest::prelude::*;
-use starcages_core::io::{parse_obj_cages, parse_points, read_cage_obj, read_mesh};
+use serde_json::Value;
+use starcages_core::io::{glb_bytes, parse_obj_cages, parse_points, read_cage_obj, read_mesh};
 use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{load_scene, save_scene};
+
+/// Cases per property: 64 in the test suite, more from `scripts/fuzz.sh`
+/// (`STARCAGES_FUZZ_CASES`).
+fn fuzz_cases() -> u32 {
+    std::env::var("STARCAGES_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(64)
+}
 
 fn scratch() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("starcages-fuzz-{}", std::process::id()));
@@ -46,7 +58,7 @@ fn damage(text: &str, cuts: &[(usize, u8)]) -> Vec<u8> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(fuzz_cases()))]
 
     #[test]
     fn scene_reader_never_panics(cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..6), raw in prop::collection::vec(any::<u8>(), 0..200)) {
@@ -71,5 +83,128 @@ proptest! {
             let _ = parse_obj_cages(&text, &path);
             let _ = parse_points(&text, &path);
         }
+    }
+}
+
+/// A valid glTF document: one triangle, positions and indices in a base64 buffer.
+fn valid_gltf() -> Value {
+    use base64::Engine as _;
+    let mut bytes: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bytes)
+    );
+    serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "children": [1]}, {"mesh": 0, "translation": [1, 0, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 36, "byteStride": 12},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 12}
+        ],
+        "buffers": [{"uri": uri, "byteLength": 48}]
+    })
+}
+
+/// Extreme and awkward replacements for a number.
+const NUMBERS: [f64; 10] = [
+    0.0,
+    -1.0,
+    1.0,
+    2.0,
+    3.0,
+    4.0,
+    4294967295.0,
+    1e300,
+    5126.0,
+    5121.0,
+];
+/// Replacements for a string (glTF type and semantic names, URIs).
+const STRINGS: [&str; 7] = [
+    "SCALAR",
+    "VEC2",
+    "MAT4",
+    "../x.bin",
+    "/dev/zero",
+    "data:,",
+    "",
+];
+
+/// Applies mutation `what` (a choice and a position) to the `n`-th node of `value` in document
+/// order: numbers and strings replaced, array entries dropped or duplicated as cycles.
+fn mutate(value: &mut Value, n: &mut usize, what: (u8, u8)) -> bool {
+    let hit = *n == 0;
+    *n = n.wrapping_sub(1);
+    match value {
+        Value::Number(_) if hit => {
+            let x = NUMBERS[what.1 as usize % NUMBERS.len()];
+            *value = serde_json::json!(x);
+            true
+        }
+        Value::String(_) if hit => {
+            *value = Value::String(STRINGS[what.1 as usize % STRINGS.len()].to_owned());
+            true
+        }
+        Value::Array(items) if hit && !items.is_empty() => {
+            let i = what.1 as usize % items.len();
+            if what.0 % 2 == 0 {
+                items.remove(i);
+            } else {
+                // A child list pointing back up the node graph (cycles) or a duplicate entry.
+                let copy = items[i].clone();
+                items.push(copy);
+                items.push(serde_json::json!(0));
+            }
+            true
+        }
+        Value::Array(items) => items.iter_mut().any(|v| mutate(v, n, what)),
+        Value::Object(map) => map.values_mut().any(|v| mutate(v, n, what)),
+        _ => false,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(fuzz_cases()))]
+
+    #[test]
+    fn gltf_and_glb_readers_never_panic(
+        mutations in prop::collection::vec((0usize..200, any::<u8>(), any::<u8>()), 1..5),
+        cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..4),
+    ) {
+        let dir = scratch();
+        let mut document = valid_gltf();
+        for (at, a, b) in mutations {
+            let mut n = at;
+            mutate(&mut document, &mut n, (a, b));
+        }
+        let path = dir.join(format!("{}-mutated.gltf", std::process::id()));
+        std::fs::write(&path, document.to_string()).unwrap();
+        if let Ok(mesh) = read_mesh(&path) {
+            prop_assert!(mesh.positions().iter().all(|p| p.is_finite()));
+        }
+        // A valid GLB, damaged byte-wise.
+        let positions = [glam::DVec3::ZERO, glam::DVec3::X, glam::DVec3::Y];
+        let normals = [glam::Vec3::Z; 3];
+        let glb = glb_bytes(&positions, &[[0, 1, 2]], &normals, None);
+        let mut damaged = glb;
+        for &(at, byte) in &cuts {
+            if damaged.is_empty() {
+                break;
+            }
+            let i = at % damaged.len();
+            damaged[i] = byte;
+        }
+        let path = dir.join(format!("{}-damaged.glb", std::process::id()));
+        std::fs::write(&path, &damaged).unwrap();
+        let _ = read_mesh(&path);
     }
 }

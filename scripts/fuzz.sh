@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Fuzzes every reader (scene JSON, mesh OBJ, glTF/GLB, cage OBJ, points) for a while: the
+# proptest harness of crates/core/tests/integration/fuzz_readers.rs, run again and again with
+# fresh random seeds, until the time is up or something panics, hangs or fails.
+#
+#   bash scripts/fuzz.sh [SECONDS]      (default 600: ten minutes)
+#
+# Prints the number of inputs tried. Each run has a time limit, so a hang fails the script.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-600}"
+cases=2000
+# Inputs per case: scene (damaged + raw), OBJ (2 files × 4 readers), glTF (mutated + GLB).
+per_case=$((2 + 8 + 2))
+cargo test -p starcages-core --test integration --no-run --quiet 2>/dev/null
+start=$(date +%s)
+runs=0
+while [ $(( $(date +%s) - start )) -lt "$seconds" ]; do
+    if ! STARCAGES_FUZZ_CASES=$cases timeout 600 \
+        cargo test -p starcages-core --test integration --quiet fuzz_readers >/tmp/starcages-fuzz.log 2>&1; then
+        cat /tmp/starcages-fuzz.log
+        echo "fuzz: FAILED after $runs runs ($((runs * cases * per_case)) inputs); see above" >&2
+        exit 1
+    fi
+    runs=$((runs + 1))
+done
+echo "fuzz: $((runs * cases * per_case)) inputs in $runs runs over $(( $(date +%s) - start )) s: no panic, hang or failure"
