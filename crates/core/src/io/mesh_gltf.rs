@@ -37,9 +37,19 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         Some(scene) => vec![scene],
         None => gltf.scenes().collect(),
     };
-    for scene in scenes {
-        walk(path, scene.nodes(), &buffers, &mut out)?;
-    }
+    // Accessors are checked before the gltf crate reads them; should one still trip it, the
+    // panic is an error about this file, not a crash.
+    let walked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        scenes
+            .into_iter()
+            .try_for_each(|scene| walk(path, scene.nodes(), &buffers, &mut out))
+    }));
+    walked.map_err(|_| {
+        FileError::format(
+            path,
+            format!("not a readable {kind} file (its data is inconsistent); re-export it"),
+        )
+    })??;
     let Accumulator {
         positions,
         triangles,
@@ -209,6 +219,9 @@ fn check_accessor(
         )));
     }
     let count = accessor.count();
+    if count == 0 {
+        return Err(fail("has no elements".into()));
+    }
     let last = count
         .checked_sub(1)
         .and_then(|c| c.checked_mul(stride))

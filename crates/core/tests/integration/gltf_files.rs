@@ -206,3 +206,16 @@ fn node_graphs_with_cycles_or_too_many_paths_are_refused_and_deep_chains_read() 
         Ok(1)
     );
 }
+
+#[test]
+fn empty_accessors_are_refused() {
+    // Found by scripts/fuzz.sh: a count of 0 made the gltf crate subtract below zero.
+    let dir = scratch("empty");
+    let empty = INDICES.replace("\"count\":3", "\"count\":0");
+    let json = document(ONE_NODE, PRIMITIVE, &format!("[{POSITION},{empty}]"), VIEWS);
+    let error = read(&dir, "empty.gltf", &json).unwrap_err();
+    assert!(
+        error.contains("indices") && error.contains("no elements"),
+        "{error}"
+    );
+}
