@@ -156,7 +156,7 @@ fn mutate(value: &mut Value, n: &mut usize, what: (u8, u8)) -> bool {
         }
         Value::Array(items) if hit && !items.is_empty() => {
             let i = what.1 as usize % items.len();
-            if what.0 % 2 == 0 {
+            if what.0.is_multiple_of(2) {
                 items.remove(i);
             } else {
                 // A child list pointing back up the node graph (cycles) or a duplicate entry.
