@@ -64,7 +64,7 @@ pub mod limits {
 }
 
 impl HarmonicSettings {
-    /// Checks the settings against [`limits`]; the error says which value and the range.
+    /// Checks the settings against the `limits` below; the error says which value and the range.
     pub fn check(&self) -> Result<(), String> {
         use limits::*;
         if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&self.resolution) {
