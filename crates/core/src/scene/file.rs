@@ -33,6 +33,20 @@ pub enum SceneFileError {
         /// serde_json's reason, with line and column.
         reason: String,
     },
+    /// JSON of the wrong shape: a field missing, of the wrong type or unknown.
+    #[error("{path}:{line}:{column}: field '{field}': {reason}")]
+    Shape {
+        /// The scene file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The field's path in the document (`cages[0].faces`; `.` for the top level).
+        field: String,
+        /// What is wrong and what to write instead.
+        reason: String,
+    },
     /// JSON, but not a StarCages scene.
     #[error(
         "{path}: not a StarCages scene (its \"format\" is {found}, expected \"{SCENE_FORMAT}\")"
@@ -109,6 +123,27 @@ struct SceneFileV1 {
     mesh: MeshRef,
 }
 
+/// serde_json's reason without its own "at line L column C" (the error names them), with the
+/// fix spelled out for the common cases.
+fn shape_reason(error: &serde_json::Error) -> String {
+    let text = error.to_string();
+    let text = match text.rfind(" at line ") {
+        Some(at) => text[..at].to_owned(),
+        None => text,
+    };
+    if let Some(field) = text.strip_prefix("missing field ") {
+        format!(
+            "the field {field} is missing here; add it (docs/scene-format.md lists every field)"
+        )
+    } else if text.starts_with("invalid type") || text.starts_with("invalid value") {
+        format!("{text}; write a value of the expected kind")
+    } else if text.starts_with("unknown field") || text.starts_with("unknown variant") {
+        format!("{text}; check the spelling")
+    } else {
+        text
+    }
+}
+
 /// Migrations from each older version to the next, applied in order on the raw JSON. Version 1
 /// is the first released format, so there is nothing to migrate yet: when version 2 comes,
 /// `migrate_v1_to_v2` goes here and the test below gains a version-1 file.
@@ -152,10 +187,24 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
         });
     }
     let value = migrate(value, version);
-    // Re-parse from text so that shape errors carry line and column.
-    let file: SceneFileV1 = serde_json::from_str(&text)
-        .or_else(|_| serde_json::from_value(value))
-        .map_err(syntax)?;
+    // Parse the text itself so that shape errors carry the line, the column and the field's
+    // path (`cages[0].faces`); a migrated older file is parsed from its migrated value.
+    let file: SceneFileV1 = if version == u64::from(SCENE_VERSION) {
+        let mut deserializer = serde_json::Deserializer::from_str(&text);
+        serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
+            let field = e.path().to_string();
+            let inner = e.into_inner();
+            SceneFileError::Shape {
+                path: path.to_path_buf(),
+                line: inner.line(),
+                column: inner.column(),
+                field,
+                reason: shape_reason(&inner),
+            }
+        })?
+    } else {
+        serde_json::from_value(value).map_err(syntax)?
+    };
     let folder = path.parent().unwrap_or(Path::new("."));
     let (mesh_source, mesh) = match file.mesh {
         MeshRef::Path(relative) => {

@@ -613,3 +613,41 @@ fn devices_and_folders_are_refused_as_inputs_without_reading_them() {
     assert!(error.contains("not a regular file"), "{error}");
     assert!(start.elapsed().as_secs_f64() < 2.0, "a device was read");
 }
+
+#[test]
+fn scene_shape_errors_name_the_line_and_the_field() {
+    let dir = scratch("shape-errors");
+    let path = dir.join("scene.json");
+    save_scene(&two_box_scene(), &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cases = [
+        (
+            text.replacen("\"default_h\": 0.5", "\"default_h\": \"x\"", 1),
+            "field 'settings.default_h'",
+            "invalid type",
+        ),
+        (
+            text.replacen("\"faces\"", "\"facez\"", 1),
+            "field 'cages[0]",
+            "",
+        ),
+    ];
+    for (broken, field, reason) in cases {
+        assert_ne!(broken, text, "the test edits the file");
+        std::fs::write(&path, &broken).unwrap();
+        let error = load_scene(&path).unwrap_err().to_string();
+        assert!(
+            error.contains("scene.json:") && error.contains(field),
+            "{error}"
+        );
+        assert!(error.contains(reason), "{error}");
+        // The line named holds the offending text or follows it.
+        let line: usize = error
+            .split("scene.json:")
+            .nth(1)
+            .and_then(|rest| rest.split(':').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap();
+        assert!(line >= 1 && line <= broken.lines().count(), "{error}");
+    }
+}
