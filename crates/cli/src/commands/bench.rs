@@ -2,6 +2,7 @@
 //! and HC on the demo scenes (and optionally real meshes in an automatic grid, 4×4×4 unless
 //! `--grid` says otherwise): memory, bind time (cage coordinates / total), time per full frame
 //! and per single cage-vertex move, plus a plain array read for the machine's memory bandwidth.
+//! `--h 1.0,0.6,0.2` benches *Cages at each h (the paper's Table I); ratios include the bind.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -37,6 +38,11 @@ pub struct BenchArgs {
     /// Skip the single-cage HC baseline (its bind is the slowest).
     #[arg(long)]
     no_hc: bool,
+    /// *Cages at each of these blending parameters h (the paper's Table I), e.g. 1.0,0.6,0.2:
+    /// every cage's h is set to it (per-cage and per-border overrides cleared). Default: the
+    /// scenes' own h.
+    #[arg(long, value_delimiter = ',', value_name = "H,H,...")]
+    h: Vec<f64>,
 }
 
 #[derive(Serialize)]
@@ -58,6 +64,9 @@ struct Row {
 #[derive(Serialize)]
 struct Ratios {
     scene: String,
+    /// The *Cages method row these ratios are for ("stars", or "stars h=0.6").
+    method: String,
+    bind_vs_mvc: f64,
     frame_vs_mvc: f64,
     frame_vs_gc: f64,
     move_vs_mvc: f64,
@@ -230,9 +239,24 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     scenes.retain(|(n, _)| args.only.is_empty() || args.only.contains(n));
     let mut rows = Vec::new();
     let mut ratios = Vec::new();
+    if let Some(h) = args.h.iter().find(|h| !(**h > 0.0 && **h <= 1.0)) {
+        return Err(crate::InputError(format!("--h {h}: each h must be in (0, 1]")).into());
+    }
     for (name, scene) in &scenes {
         let pose = wave(scene);
-        let star = bench_method(name, "stars", scene, &pose)?;
+        let mut stars = Vec::new();
+        if args.h.is_empty() {
+            stars.push(bench_method(name, "stars", scene, &pose)?);
+        }
+        for &h in &args.h {
+            let mut at_h = scene.clone();
+            at_h.settings.default_h = h;
+            for cage in &mut at_h.cages.leaves {
+                cage.h = None;
+                cage.border_h.clear();
+            }
+            stars.push(bench_method(name, &format!("stars h={h}"), &at_h, &pose)?);
+        }
         let mvc = bench_method(
             name,
             "single-mvc",
@@ -245,16 +269,21 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             &single_cage_scene(scene, CoordinateKind::Green),
             &pose,
         )?;
-        ratios.push(Ratios {
-            scene: name.clone(),
-            frame_vs_mvc: mvc.frame_s / star.frame_s,
-            frame_vs_gc: gc.frame_s / star.frame_s,
-            move_vs_mvc: mvc.move_s / star.move_s,
-            move_vs_gc: gc.move_s / star.move_s,
-            memory_vs_mvc: mvc.memory_mb / star.memory_mb,
-            memory_vs_gc: gc.memory_mb / star.memory_mb,
-        });
-        rows.extend([star, mvc, gc]);
+        for star in &stars {
+            ratios.push(Ratios {
+                scene: name.clone(),
+                method: star.method.clone(),
+                bind_vs_mvc: mvc.bind_total_s / star.bind_total_s,
+                frame_vs_mvc: mvc.frame_s / star.frame_s,
+                frame_vs_gc: gc.frame_s / star.frame_s,
+                move_vs_mvc: mvc.move_s / star.move_s,
+                move_vs_gc: gc.move_s / star.move_s,
+                memory_vs_mvc: mvc.memory_mb / star.memory_mb,
+                memory_vs_gc: gc.memory_mb / star.memory_mb,
+            });
+        }
+        rows.extend(stars);
+        rows.extend([mvc, gc]);
         if !args.no_hc {
             rows.push(bench_method(
                 name,
@@ -285,7 +314,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         report.threads, report.simd, report.array_read_gb_s
     ))?;
     crate::output::line(format_args!(
-        "{:<16} {:<11} {:>8} {:>5} {:>9} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
+        "{:<16} {:<13} {:>8} {:>5} {:>9} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
         "scene",
         "method",
         "vertices",
@@ -300,7 +329,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     ))?;
     for r in &report.rows {
         crate::output::line(format_args!(
-            "{:<16} {:<11} {:>8} {:>5} {:>9.2} {:>7.1} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
+            "{:<16} {:<13} {:>8} {:>5} {:>9.2} {:>7.1} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
             r.scene,
             r.method,
             r.mesh_vertices,
@@ -316,8 +345,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     for q in &report.ratios {
         crate::output::line(format_args!(
-            "{:<16} *Cages vs single MVC: frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x",
+            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x",
             q.scene,
+            q.method,
+            q.bind_vs_mvc,
             q.frame_vs_mvc,
             q.move_vs_mvc,
             q.memory_vs_mvc,

@@ -2,6 +2,7 @@
 //! render.
 #![allow(clippy::unwrap_used)]
 
+mod bench;
 mod common;
 mod deform;
 mod outputs;
