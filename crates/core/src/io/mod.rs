@@ -210,6 +210,19 @@ pub(crate) fn read_text(path: &Path) -> Result<String, FileError> {
     })
 }
 
+/// The statements of OBJ text: (1-based line number, keyword, the remaining tokens) for every
+/// line that is not blank or only a `#` comment.
+pub(crate) fn obj_statements(
+    text: &str,
+) -> impl Iterator<Item = (usize, &str, std::str::SplitWhitespace<'_>)> {
+    text.lines().enumerate().filter_map(|(index, raw)| {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        let mut tokens = line.split_whitespace();
+        let keyword = tokens.next()?;
+        Some((index + 1, keyword, tokens))
+    })
+}
+
 /// Parses one finite float token, with a reason naming the token on failure.
 pub(crate) fn parse_finite(token: &str, what: &str) -> Result<f64, String> {
     let value: f64 = token

@@ -61,13 +61,7 @@ pub fn parse_obj_cages(text: &str, path: &Path) -> Result<ObjCages, FileError> {
         faces: Vec::new(),
         face_lines: Vec::new(),
     };
-    for (index, raw) in text.lines().enumerate() {
-        let line_no = index + 1;
-        let line = raw.split('#').next().unwrap_or("").trim();
-        let mut tokens = line.split_whitespace();
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
+    for (line_no, keyword, tokens) in super::obj_statements(text) {
         let err = |reason: String| FileError::parse(path, line_no, reason);
         match keyword {
             "v" => {

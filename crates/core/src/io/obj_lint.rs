@@ -10,13 +10,7 @@ use super::{FileError, parse_finite};
 /// Checks every `v`, `vt`, `vn` and `f` line of `text` (read from `path`).
 pub(super) fn check_obj_text(path: &Path, text: &str) -> Result<(), FileError> {
     let mut counts = [0usize; 3]; // v, vt, vn defined so far
-    for (index, raw) in text.lines().enumerate() {
-        let line_no = index + 1;
-        let line = raw.split('#').next().unwrap_or("").trim();
-        let mut tokens = line.split_whitespace();
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
+    for (line_no, keyword, tokens) in super::obj_statements(text) {
         let values: Vec<&str> = tokens.collect();
         let err = |reason: String| FileError::parse(path, line_no, reason);
         let numbers = |names: &[&str], least: usize, most: usize, what: &str| {
