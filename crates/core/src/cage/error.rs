@@ -118,4 +118,17 @@ pub enum CageError {
         /// Signed volume (negative).
         volume: f64,
     },
+    /// An edge passes through a face of the same cage.
+    #[error(
+        "cage passes through itself: edge ({a}, {b}) crosses face {face}; move the vertices \
+         that were pushed through so that the surface no longer folds over itself"
+    )]
+    SelfIntersecting {
+        /// First vertex of the edge.
+        a: usize,
+        /// Second vertex of the edge.
+        b: usize,
+        /// The face it crosses.
+        face: usize,
+    },
 }

@@ -4,8 +4,11 @@
 //! are triangulated as fans from their first corner, and each triangle remembers the polygon it
 //! came from: the *Cages distance function (paper eq. 7) works on polygon faces.
 
+mod crossing;
 mod error;
 mod validate;
+
+pub(crate) use crossing::cages_crossing;
 
 pub use error::CageError;
 

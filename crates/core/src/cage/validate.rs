@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::{CageError, bounds_of, signed_volume};
+use super::{CageError, bounds_of, crossing, signed_volume};
 use crate::geometry::triangle_area_vector;
 
 /// Relative tolerance (to the bounding-box diagonal) under which two vertices coincide.
@@ -60,16 +60,40 @@ pub(super) fn check(positions: &[DVec3], faces: &[Vec<u32>]) -> Vec<CageError> {
     if !problems.is_empty() {
         return problems;
     }
+    // Coincident vertices first: they also open edges, and "weld" is the fix for both.
+    check_duplicates(positions, &mut problems);
     check_topology(positions.len(), faces, &mut problems);
-    check_geometry(positions, faces, &mut problems);
+    check_degenerate_faces(positions, faces, &mut problems);
     if problems.is_empty() {
         let triangles = fan(faces);
+        // A cage through itself has a meaningless signed volume: report the crossing, not
+        // an orientation to flip.
+        if let Some(crossing) = crossing::self_crossing(positions, &triangles) {
+            problems.push(CageError::SelfIntersecting {
+                a: crossing.edge[0] as usize,
+                b: crossing.edge[1] as usize,
+                face: fan_polygon(faces, crossing.triangle),
+            });
+            return problems;
+        }
         let volume = signed_volume(positions, &triangles);
         if volume <= 0.0 {
             problems.push(CageError::InwardOrientation { volume });
         }
     }
     problems
+}
+
+/// The polygon whose fan holds triangle `triangle` of [`fan`]`(faces)`.
+fn fan_polygon(faces: &[Vec<u32>], triangle: usize) -> usize {
+    let mut first = 0;
+    for (f, face) in faces.iter().enumerate() {
+        first += face.len() - 2;
+        if triangle < first {
+            return f;
+        }
+    }
+    faces.len().saturating_sub(1)
 }
 
 fn fan(faces: &[Vec<u32>]) -> Vec<[u32; 3]> {
@@ -123,7 +147,7 @@ fn check_topology(vertex_count: usize, faces: &[Vec<u32>], problems: &mut Vec<Ca
     }
 }
 
-fn check_geometry(positions: &[DVec3], faces: &[Vec<u32>], problems: &mut Vec<CageError>) {
+fn check_degenerate_faces(positions: &[DVec3], faces: &[Vec<u32>], problems: &mut Vec<CageError>) {
     let (lo, hi) = bounds_of(positions);
     let diagonal = (hi - lo).length();
     let area_tolerance = DEGENERATE_AREA_TOLERANCE * diagonal * diagonal;
@@ -139,7 +163,12 @@ fn check_geometry(positions: &[DVec3], faces: &[Vec<u32>], problems: &mut Vec<Ca
             });
         }
     }
-    // Duplicates: sort by x, compare within the tolerance window.
+}
+
+fn check_duplicates(positions: &[DVec3], problems: &mut Vec<CageError>) {
+    let (lo, hi) = bounds_of(positions);
+    let diagonal = (hi - lo).length();
+    // Sort by x, compare within the tolerance window.
     let tolerance = DUPLICATE_TOLERANCE * diagonal.max(f64::MIN_POSITIVE);
     let mut order: Vec<usize> = (0..positions.len()).collect();
     order.sort_by(|&i, &j| positions[i].x.total_cmp(&positions[j].x));

@@ -129,6 +129,39 @@ pub enum SceneProblem {
         /// The cage containing it.
         cage: String,
     },
+    /// Two leaf cages pass through each other (no vertex of either need be inside the other).
+    #[error(
+        "cages '{first}' and '{second}' pass through each other: edge ({a}, {b}) of '{first}' \
+         crosses face {face} of '{second}'; neighbouring cages may only meet at shared faces, so \
+         move the cages apart or make them share the face between them"
+    )]
+    CagesCross {
+        /// The cage whose edge crosses.
+        first: String,
+        /// The cage whose face is crossed.
+        second: String,
+        /// First vertex of the edge (shared array).
+        a: usize,
+        /// Second vertex of the edge.
+        b: usize,
+        /// The face, in the second cage's list.
+        face: usize,
+    },
+    /// A leaf cage vertex lies on another leaf cage's surface without being its vertex.
+    #[error(
+        "cage vertex {vertex} lies on face {face} of cage '{cage}' but is not one of its vertices \
+         (a T-junction, or a copy of a shared vertex): neighbouring cages must share whole faces; \
+         split that face of '{cage}' at the vertex, or weld the vertex to the one of '{cage}' \
+         at the same place"
+    )]
+    VertexOnCageSurface {
+        /// The cage vertex.
+        vertex: usize,
+        /// The cage whose surface it touches.
+        cage: String,
+        /// The face it lies on, in that cage's list.
+        face: usize,
+    },
     /// Mesh vertices outside every leaf cage.
     #[error(
         "{count} mesh vertices lie outside every leaf cage (first: {listed}; within {min:?} .. {max:?}); \
@@ -524,40 +557,94 @@ fn check_overlaps_and_coverage(scene: &Scene, leaves: &[LocalCage], report: &mut
                 .push(format!("{problem} (they follow the nearest cage)")),
         }
     }
-    // Cage vertices strictly inside another leaf cage.
-    let inside_cage: Vec<(usize, usize)> = leaves
+    check_cage_vertices_against_cages(set, leaves, &mut report.errors);
+    check_cages_crossing(set, leaves, &mut report.errors);
+}
+
+/// Leaf-cage vertices strictly inside another leaf cage (overlap), or on its surface without
+/// being its vertex (a T-junction).
+fn check_cage_vertices_against_cages(
+    set: &super::CageSet,
+    leaves: &[LocalCage],
+    errors: &mut Vec<SceneProblem>,
+) {
+    let mut is_leaf_vertex = vec![false; set.vertices.len()];
+    for &v in set.leaves.iter().flat_map(|l| l.faces.iter().flatten()) {
+        if let Some(slot) = is_leaf_vertex.get_mut(v as usize) {
+            *slot = true;
+        }
+    }
+    // Internal cages' vertices may lie anywhere: only leaf vertices matter here.
+    let found: Vec<SceneProblem> = leaves
         .par_iter()
         .enumerate()
         .flat_map_iter(|(c, local)| {
-            let (lo, hi) = local.cage.bounds();
             let tol = ON_CAGE * local.cage.diagonal();
+            let (lo, hi) = local.cage.bounds();
+            let (lo, hi) = (lo - tol, hi + tol);
+            let is_leaf_vertex = &is_leaf_vertex;
             set.vertices
                 .iter()
                 .enumerate()
                 .filter(move |(v, p)| {
-                    local.global.binary_search(&(*v as u32)).is_err()
-                        && p.cmpgt(lo).all()
-                        && p.cmplt(hi).all()
-                        && local.cage.winding_number(**p) > 0.5
-                        && local.cage.closest_point(**p).2 > tol
+                    is_leaf_vertex[*v]
+                        && local.global.binary_search(&(*v as u32)).is_err()
+                        && p.cmpge(lo).all()
+                        && p.cmple(hi).all()
                 })
-                .map(move |(v, _)| (v, c))
+                .filter_map(move |(vertex, p)| {
+                    let (triangle, _, distance) = local.cage.closest_point(*p);
+                    if distance <= tol {
+                        Some(SceneProblem::VertexOnCageSurface {
+                            vertex,
+                            cage: set.leaves[c].name.clone(),
+                            face: local.cage.triangle_polygon()[triangle] as usize,
+                        })
+                    } else if local.cage.winding_number(*p) > 0.5 {
+                        Some(SceneProblem::CageVertexInsideCage {
+                            vertex,
+                            cage: set.leaves[c].name.clone(),
+                        })
+                    } else {
+                        None
+                    }
+                })
                 .collect::<Vec<_>>()
         })
         .collect();
-    for (vertex, c) in inside_cage {
-        // Internal cages' vertices may lie anywhere: only leaf vertices matter here.
-        if set
-            .leaves
-            .iter()
-            .any(|l| l.faces.iter().flatten().any(|&u| u as usize == vertex))
-        {
-            report.errors.push(SceneProblem::CageVertexInsideCage {
-                vertex,
-                cage: name(c),
-            });
-        }
-    }
+    errors.extend(found);
+}
+
+/// Pairs of leaf cages whose surfaces cross: they overlap even where no vertex of either lies
+/// inside the other (two boxes in a plus sign).
+fn check_cages_crossing(
+    set: &super::CageSet,
+    leaves: &[LocalCage],
+    errors: &mut Vec<SceneProblem>,
+) {
+    let pairs: Vec<(usize, usize)> = (0..leaves.len())
+        .flat_map(|i| (i + 1..leaves.len()).map(move |j| (i, j)))
+        .collect();
+    let found: Vec<SceneProblem> = pairs
+        .par_iter()
+        .filter_map(|&(i, j)| {
+            let (a, b) = (&leaves[i], &leaves[j]);
+            let (forward, crossing) = crate::cage::cages_crossing(
+                (a.cage.positions(), a.cage.triangles()),
+                (b.cage.positions(), b.cage.triangles()),
+            )?;
+            let (edge_cage, face_cage) = if forward { (i, j) } else { (j, i) };
+            let global = |v: u32| leaves[edge_cage].global[v as usize] as usize;
+            Some(SceneProblem::CagesCross {
+                first: set.leaves[edge_cage].name.clone(),
+                second: set.leaves[face_cage].name.clone(),
+                a: global(crossing.edge[0]),
+                b: global(crossing.edge[1]),
+                face: leaves[face_cage].cage.triangle_polygon()[crossing.triangle] as usize,
+            })
+        })
+        .collect();
+    errors.extend(found);
 }
 
 fn dedup_overlaps(errors: &mut Vec<SceneProblem>) {

@@ -651,3 +651,112 @@ fn scene_shape_errors_name_the_line_and_the_field() {
         assert!(line >= 1 && line <= broken.lines().count(), "{error}");
     }
 }
+
+/// A scene of axis-aligned box leaf cages (each with its own eight vertices) around a small
+/// box mesh at the origin.
+fn boxes_scene(boxes: &[(DVec3, DVec3)]) -> Scene {
+    let mut vertices = Vec::new();
+    let mut leaves = Vec::new();
+    for (i, &(lo, hi)) in boxes.iter().enumerate() {
+        let base = vertices.len() as u32;
+        let cage = starcages_core::cage::shapes::cuboid(lo, hi);
+        vertices.extend_from_slice(cage.positions());
+        let faces = cage
+            .polygons()
+            .iter()
+            .map(|p| p.vertices.iter().map(|v| v + base).collect())
+            .collect();
+        leaves.push(LeafCage {
+            name: format!("box_{i}"),
+            kind: CoordinateKind::MeanValue,
+            h: None,
+            border_h: Default::default(),
+            faces,
+        });
+    }
+    let set = CageSet {
+        vertices,
+        leaves,
+        internals: Vec::new(),
+    };
+    let mesh = box_mesh(DVec3::splat(-0.05), DVec3::splat(0.05), [1, 1, 1]);
+    let settings = SceneSettings {
+        outside: OutsidePolicy::Nearest,
+        ..Default::default()
+    };
+    Scene::new(MeshSource::Embedded, mesh, set, settings)
+}
+
+#[test]
+fn cages_through_each_other_t_junctions_and_self_intersections_are_refused() {
+    // A plus sign: no vertex of either box lies inside the other, no mesh vertex in the overlap.
+    let plus = boxes_scene(&[
+        (DVec3::new(-1.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.2)),
+        (DVec3::new(-0.2, -1.0, -0.3), DVec3::new(0.2, 1.0, 0.3)),
+    ]);
+    let p = problems(&plus);
+    let crossing = p
+        .iter()
+        .find(|e| matches!(e, SceneProblem::CagesCross { .. }))
+        .unwrap_or_else(|| panic!("the plus sign passes validation: {p:?}"));
+    assert!(crossing.to_string().contains("pass through each other"));
+    // Negative control: the same boxes side by side are fine.
+    let apart = boxes_scene(&[
+        (DVec3::new(-1.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.2)),
+        (DVec3::new(-0.2, 0.5, -0.3), DVec3::new(0.2, 1.0, 0.3)),
+    ]);
+    assert!(validate_scene(&apart).is_valid(), "{:?}", problems(&apart));
+
+    // A T-junction: a small box whose face lies inside a big box's face, corners on it.
+    let t_junction = boxes_scene(&[
+        (DVec3::splat(-1.0), DVec3::ONE),
+        (DVec3::new(1.0, -0.5, -0.5), DVec3::new(2.0, 0.5, 0.5)),
+    ]);
+    let p = problems(&t_junction);
+    assert!(
+        p.iter().any(|e| matches!(e,
+            SceneProblem::VertexOnCageSurface { cage, .. } if cage == "box_0")),
+        "{p:?}"
+    );
+    assert!(p.iter().any(|e| e.to_string().contains("T-junction")));
+    // Two neighbours with their own copies of the shared corners (not welded): the same.
+    let unwelded = boxes_scene(&[
+        (DVec3::splat(-1.0), DVec3::ONE),
+        (DVec3::new(1.0, -1.0, -1.0), DVec3::new(3.0, 1.0, 1.0)),
+    ]);
+    let p = problems(&unwelded);
+    assert!(
+        p.iter().any(|e| e.to_string().contains("weld the vertex")),
+        "{p:?}"
+    );
+
+    // A cage pushed through itself is told so, not told to flip all its faces.
+    let mut folded = boxes_scene(&[(DVec3::splat(-1.0), DVec3::ONE)]);
+    let corner = folded
+        .cages
+        .vertices
+        .iter()
+        .position(|p| *p == DVec3::ONE)
+        .unwrap();
+    folded.cages.vertices[corner] = DVec3::new(-0.2, -0.1, -3.0);
+    folded.pose = folded.cages.vertices.clone();
+    let p = problems(&folded);
+    let message = p
+        .iter()
+        .find_map(|e| match e {
+            SceneProblem::Cage { problem, .. } => Some(problem.to_string()),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("a folded cage passes: {p:?}"));
+    assert!(message.contains("passes through itself"), "{message}");
+    assert!(!message.contains("flip all faces"), "{message}");
+
+    // A cage saved without welding its vertices is told to weld them, not to close holes.
+    let cube = starcages_core::cage::shapes::cuboid(DVec3::ZERO, DVec3::ONE);
+    let mut positions = cube.positions().to_vec();
+    let mut faces: Vec<Vec<u32>> = cube.polygons().iter().map(|p| p.vertices.clone()).collect();
+    positions.push(positions[faces[0][0] as usize]);
+    faces[0][0] = positions.len() as u32 - 1;
+    let first = starcages_core::cage::Cage::from_polygons(positions, faces).unwrap_err();
+    assert!(first.to_string().contains("weld"), "{first}");
+}
