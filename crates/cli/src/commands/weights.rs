@@ -76,7 +76,9 @@ pub fn run(args: &WeightsArgs) -> anyhow::Result<()> {
         bind(args.coords, &cage, &points, &settings, &control)
     })
     .map_err(|e| match e {
-        CoordError::OutsideCage { .. } | CoordError::NonFinitePoint { .. } => {
+        CoordError::OutsideCage { .. }
+        | CoordError::TooFarForMeanValue { .. }
+        | CoordError::NonFinitePoint { .. } => {
             anyhow::Error::new(InputError(format!("{}: {e}", args.points.display())))
         }
         other => anyhow::Error::new(other),

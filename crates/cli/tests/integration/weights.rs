@@ -114,6 +114,19 @@ fn bad_input_gets_a_one_line_error_and_status_2() {
 
     let outside = write(&dir, "outside.txt", "0.5 0.5 0.5\n3 3 3\n");
     assert_input_error(&weights(&cage, &outside, "hc"), "outside the cage");
+    // 1e5 cube diagonals away: MVC would not reproduce it, so it is refused; GC is accurate.
+    let far = write(
+        &dir,
+        "far.txt",
+        "0.5 0.5 0.5
+1e5 3e4 -2e4
+",
+    );
+    assert_input_error(
+        &weights(&cage, &far, "mvc"),
+        "far.txt: 1 point(s) lie more than 1000 cage diagonals",
+    );
+    assert_eq!(weights(&cage, &far, "gc").status.code(), Some(0));
 
     let open = write(&dir, "open.obj", &CUBE[..CUBE.rfind("f ").expect("a face")]);
     assert_input_error(

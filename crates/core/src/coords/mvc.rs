@@ -5,11 +5,16 @@
 //! (that vertex's weight is 1), on a face or an edge (barycentric coordinates of that triangle,
 //! which on an edge reduce to linear interpolation), and coplanar triangles (no contribution).
 //!
-//! Speed and accuracy: every angle θ of the spherical triangles belongs to a cage *edge*, so
-//! it is computed once per edge and shared by the two triangles on that edge. The paper's
-//! c_i (cosine of the spherical angle A_i) comes from the cosine rule and s_i = sign(det) sin A_i
-//! from the sine rule, so no `sin` is called per face and, unlike sqrt(1 − c_i²), s_i keeps
-//! full relative precision next to the cage's faces.
+//! Speed and accuracy: the mean vector form of the same formula (Ju et al. §3: the mean vector
+//! m = ½ Σ θ_j n_j of a spherical triangle split as w_i = n_i·m / (n_i·p_i)), with every quantity
+//! computed from differences of cage positions rather than from unit vectors seen from the point.
+//! n_j, the normal of the plane through the point and a cage *edge*, is (x_a − p) × (x_b − x_a);
+//! θ_j is the atan2 of its length and (x_a − p)·(x_b − p); n_i·p_i is the triple product
+//! (x_0 − p)·N with the face's area vector N. Nothing then cancels except what the geometry
+//! cancels, so the weights stay accurate far from the cage: 3e-11 of the distance at 100 cage
+//! diagonals, where the textbook form (unit vectors, cosine rule) is off by 1e-5 to 1e-1
+//! (`docs/math.md`). Each edge's θ and n are computed once per point and shared by the two
+//! triangles on that edge.
 
 use glam::DVec3;
 
@@ -18,18 +23,56 @@ use crate::cage::Cage;
 
 /// Relative distance (to the cage diagonal) under which a point is on a vertex.
 const ON_VERTEX: f64 = 1e-12;
-/// Threshold on |s_i| and sin θ_i (both scale-free) under which the point is in the plane of
-/// a triangle: on it (barycentric coordinates) or outside it (no contribution), Ju et al. Fig. 4.
+/// Threshold on sin θ and on the sine of the spherical angles (both scale-free) under which the
+/// point is on the line of an edge or in the plane of a triangle: on it (barycentric
+/// coordinates) or outside it (no contribution), Ju et al. Fig. 4.
 const COPLANAR: f64 = 1e-12;
+
+/// Per cage triangle, what does not depend on the point: its area vector (x_1 − x_0) × (x_2 − x_0)
+/// and, per corner i, the sign that turns the stored normal of the opposite edge (computed for
+/// the edge's lower-numbered end first) into the normal for the triangle's own direction
+/// i+1 → i+2.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct MvcCageTables {
+    area: Vec<DVec3>,
+    sign: Vec<[f64; 3]>,
+}
+
+impl MvcCageTables {
+    pub(crate) fn new(cage: &Cage) -> Self {
+        let x = cage.positions();
+        let area = cage
+            .triangles()
+            .iter()
+            .map(|t| {
+                (x[t[1] as usize] - x[t[0] as usize]).cross(x[t[2] as usize] - x[t[0] as usize])
+            })
+            .collect();
+        let sign = cage
+            .triangles()
+            .iter()
+            .map(|t| {
+                std::array::from_fn(|i| {
+                    if t[(i + 1) % 3] < t[(i + 2) % 3] {
+                        1.0
+                    } else {
+                        -1.0
+                    }
+                })
+            })
+            .collect();
+        Self { area, sign }
+    }
+}
 
 /// Reusable per-thread buffers of one MVC evaluation.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct MvcScratch {
-    unit: Vec<DVec3>,
+    /// x_i − p.
+    offset: Vec<DVec3>,
     dist: Vec<f64>,
-    inv_dist: Vec<f64>,
-    /// Per edge: θ, sin(θ/2), cos(θ/2).
-    theta: Vec<[f64; 3]>,
+    /// Per edge (a, b), a < b: θ, |(x_a − p) × (x_b − p)| and its unit vector.
+    edge: Vec<(f64, f64, DVec3)>,
 }
 
 /// Writes the mean value coordinates of `p` with respect to `cage` into `out`
@@ -38,9 +81,8 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
     let positions = cage.positions();
     let n = positions.len();
     out.fill(0.0);
-    scratch.unit.resize(n, DVec3::ZERO);
+    scratch.offset.resize(n, DVec3::ZERO);
     scratch.dist.resize(n, 0.0);
-    scratch.inv_dist.resize(n, 0.0);
     let on_vertex = ON_VERTEX * cage.diagonal();
     for (i, &x) in positions.iter().enumerate() {
         let v = x - p;
@@ -49,84 +91,72 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
             out[i] = 1.0;
             return;
         }
-        let inv = 1.0 / d;
+        scratch.offset[i] = v;
         scratch.dist[i] = d;
-        scratch.inv_dist[i] = inv;
-        scratch.unit[i] = v * inv;
     }
-    let unit = &scratch.unit;
-    let dist = &scratch.dist;
-    let inv_dist = &scratch.inv_dist;
-    scratch.theta.clear();
-    scratch.theta.extend(cage.edges().iter().map(|&[a, b]| {
-        // The arc θ between u_a and u_b from sin(θ/2) = |u_a − u_b| / 2 and
-        // cos(θ/2) = |u_a + u_b| / 2, both direct: sqrt(1 − sin²) would lose every digit
-        // next to θ = π (a point on an edge), and asin near 1 likewise.
-        let (ua, ub) = (unit[a as usize], unit[b as usize]);
-        let (half_sin, half_cos) = (0.5 * (ua - ub).length(), 0.5 * (ua + ub).length());
-        // θ/2 from both: atan2 is well conditioned everywhere, asin of either alone is not.
-        [2.0 * half_sin.atan2(half_cos), half_sin, half_cos]
+    let (offset, dist) = (&scratch.offset, &scratch.dist);
+    scratch.edge.clear();
+    scratch.edge.extend(cage.edges().iter().map(|&[a, b]| {
+        let (a, b) = (a as usize, b as usize);
+        let normal = offset[a].cross(positions[b] - positions[a]);
+        let length = normal.length();
+        let theta = length.atan2(offset[a].dot(offset[b]));
+        (theta, length, normal / length)
     }));
-    let theta = &scratch.theta;
+    let edge = &scratch.edge;
     let mut total = 0.0;
-    for (tri, edges) in cage.triangles().iter().zip(cage.triangle_edges()) {
+    let tables = MvcCageTables::new(cage);
+    for (t, (tri, edges)) in cage
+        .triangles()
+        .iter()
+        .zip(cage.triangle_edges())
+        .enumerate()
+    {
         let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-        // θ_i is the arc opposite corner i: edge (i+1, i+2), stored as edges[(i + 1) % 3].
+        // Corner i's opposite edge (i+1, i+2) is edges[(i + 1) % 3].
         let e = [
-            theta[edges[1] as usize],
-            theta[edges[2] as usize],
-            theta[edges[0] as usize],
+            edge[edges[1] as usize],
+            edge[edges[2] as usize],
+            edge[edges[0] as usize],
         ];
-        let th = [e[0][0], e[1][0], e[2][0]];
-        let sin_th = [
-            2.0 * e[0][1] * e[0][2],
-            2.0 * e[1][1] * e[1][2],
-            2.0 * e[2][1] * e[2][2],
-        ];
-        // cos θ = 1 − 2 sin²(θ/2), exact near 0 and π.
-        let cos_th = [
-            1.0 - 2.0 * e[0][1] * e[0][1],
-            1.0 - 2.0 * e[1][1] * e[1][1],
-            1.0 - 2.0 * e[2][1] * e[2][1],
-        ];
-        if sin_th.iter().any(|&s| s < COPLANAR) {
-            if cos_th.iter().any(|&c| c < 0.0) {
+        let sin_th: [f64; 3] =
+            std::array::from_fn(|i| e[i].1 / (dist[idx[(i + 1) % 3]] * dist[idx[(i + 2) % 3]]));
+        let (area, sign) = (tables.area[t], tables.sign[t]);
+        let normal: [DVec3; 3] = std::array::from_fn(|i| e[i].2 * sign[i]);
+        // cos of the spherical angle at u_i: the planes through p and the edges at x_i meet
+        // there at A_i, and their inward normals at π − A_i.
+        let cos_a: [f64; 3] =
+            std::array::from_fn(|i| -normal[(i + 1) % 3].dot(normal[(i + 2) % 3]));
+        if let Some(k) = (0..3).find(|&k| sin_th[k] < COPLANAR) {
+            if e[k].0 > std::f64::consts::FRAC_PI_2 {
                 // Two corners on opposite sides of p: p lies on an edge of this triangle.
-                barycentric(idx, sin_th, dist, out);
+                barycentric(idx, [e[0].1, e[1].1, e[2].1], out);
                 return;
             }
             continue; // p on the line of an edge, outside it: degenerate, contributes 0
         }
-        // c_i = cos A_i, A_i the spherical angle at u_i (Ju et al.'s c_i, by the cosine rule):
-        // c_i = (cos θ_i − cos θ_{i+1} cos θ_{i−1}) / (sin θ_{i+1} sin θ_{i−1}).
-        // s_i = sign(det[u]) sin A_i. Ju et al. take sqrt(1 − c_i²), which loses every digit
-        // next to a face; the sine rule gives it directly: s_i = det[u] / (sin θ_{i+1} sin θ_{i−1}).
-        // With P = sin θ_0 sin θ_1 sin θ_2, 1 / (sin θ_{i+1} sin θ_{i−1}) = sin θ_i / P.
-        let inv_p = 1.0 / (sin_th[0] * sin_th[1] * sin_th[2]);
-        let cc = [
-            (cos_th[0] - cos_th[1] * cos_th[2]) * sin_th[0] * inv_p,
-            (cos_th[1] - cos_th[2] * cos_th[0]) * sin_th[1] * inv_p,
-            (cos_th[2] - cos_th[0] * cos_th[1]) * sin_th[2] * inv_p,
-        ];
-        let det = unit[idx[0]].dot(unit[idx[1]].cross(unit[idx[2]]));
-        let s_min = det.abs() * sin_th[0].min(sin_th[1]).min(sin_th[2]) * inv_p;
+        // n_i·p_i = (x_i − p)·((x_{i+1} − p) × (x_{i+2} − p)) / |…| = (x_0 − p)·N / |…|.
+        let triple = offset[idx[0]].dot(area);
+        let det = triple / (dist[idx[0]] * dist[idx[1]] * dist[idx[2]]);
+        // sin A_i = det / (sin θ_{i+1} sin θ_{i+2}) (sine rule); the smallest flags a plane.
+        let s_min = det.abs() * sin_th[0].min(sin_th[1]).min(sin_th[2])
+            / (sin_th[0] * sin_th[1] * sin_th[2]);
         if s_min <= COPLANAR {
-            if cc.iter().all(|&c| c < 0.0) {
+            if cos_a.iter().all(|&c| c < 0.0) {
                 // Every spherical angle near π: p lies on this triangle (Ju et al.'s π − h < ε).
-                barycentric(idx, sin_th, dist, out);
+                barycentric(idx, [e[0].1, e[1].1, e[2].1], out);
                 return;
             }
             continue; // p in the plane of the triangle, outside it: no contribution
         }
-        // w_i = (θ_i − c_{i+1} θ_{i−1} − c_{i−1} θ_{i+1}) / (d_i sin θ_{i+1} s_{i−1}); since
-        // sin θ_{i+1} s_{i−1} = det / sin θ_i, w_i = (…) sin θ_i / (d_i det).
-        let inv_det = 1.0 / det;
+        // w_i = n_i·m / (n_i·p_i), m = ½ Σ_j θ_j n_j (Ju et al. §3; the MVC of *Cages eq. 1).
+        // m as a vector, not through the cosines n_i·n_j: the λ_i then decompose the computed m
+        // exactly (Σ λ_i p_i = m), so a face seen edge-on, whose n_i·p_i is tiny, does not
+        // magnify rounding into the reproduced point.
+        let m = 0.5 * (e[0].0 * normal[0] + e[1].0 * normal[1] + e[2].0 * normal[2]);
+        let inv_triple = 1.0 / triple;
         for i in 0..3 {
-            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            let w = (th[i] - cc[i1] * th[i2] - cc[i2] * th[i1])
-                * sin_th[i]
-                * inv_det
-                * inv_dist[idx[i]];
+            let w = normal[i].dot(m) * e[i].1 * inv_triple;
             out[idx[i]] += w;
             total += w;
         }
@@ -137,28 +167,24 @@ pub(crate) fn mvc_point(cage: &Cage, p: DVec3, out: &mut [f64], scratch: &mut Mv
     }
 }
 
-/// p on triangle `idx`: 2D barycentric coordinates, w_i ∝ sin θ_i d_{i−1} d_{i+1}
-/// (Ju et al. Fig. 4).
-fn barycentric(idx: [usize; 3], sin_th: [f64; 3], dist: &[f64], out: &mut [f64]) {
-    let w = [
-        sin_th[0] * dist[idx[1]] * dist[idx[2]],
-        sin_th[1] * dist[idx[2]] * dist[idx[0]],
-        sin_th[2] * dist[idx[0]] * dist[idx[1]],
-    ];
-    let sum = w[0] + w[1] + w[2];
+/// p on triangle `idx`: 2D barycentric coordinates, w_i ∝ sin θ_i d_{i+1} d_{i+2} =
+/// |(x_{i+1} − p) × (x_{i+2} − p)| (Ju et al. Fig. 4), from those lengths.
+fn barycentric(idx: [usize; 3], opposite_cross: [f64; 3], out: &mut [f64]) {
+    let sum = opposite_cross[0] + opposite_cross[1] + opposite_cross[2];
     out.fill(0.0);
     for k in 0..3 {
-        out[idx[k]] = w[k] / sum;
+        out[idx[k]] = opposite_cross[k] / sum;
     }
 }
 
 /// Reusable buffers of a multi-point MVC evaluation.
 #[derive(Debug, Clone)]
 pub(crate) struct MvcLanesScratch<L> {
-    unit: Vec<Vec3Lanes<L>>,
+    /// x_i − p.
+    offset: Vec<Vec3Lanes<L>>,
     inv_dist: Vec<L>,
-    /// Per edge: θ, sin θ, cos θ.
-    theta: Vec<[L; 3]>,
+    /// Per edge (a, b), a < b: θ / |n| and |n| for n = (x_a − p) × (x_b − p), and n.
+    edge: Vec<([L; 2], Vec3Lanes<L>)>,
     weights: Vec<L>,
     scalar: MvcScratch,
 }
@@ -166,9 +192,9 @@ pub(crate) struct MvcLanesScratch<L> {
 impl<L> Default for MvcLanesScratch<L> {
     fn default() -> Self {
         Self {
-            unit: Vec::new(),
+            offset: Vec::new(),
             inv_dist: Vec::new(),
-            theta: Vec::new(),
+            edge: Vec::new(),
             weights: Vec::new(),
             scalar: MvcScratch::default(),
         }
@@ -192,6 +218,7 @@ impl LaneKernel for MvcRows<'_> {
     #[inline(always)]
     fn run<L: Lane>(self) {
         let n = self.cage.vertex_count();
+        let tables = MvcCageTables::new(self.cage);
         let mut scratch = MvcLanesScratch::<L>::default();
         let mut padded = Vec::new();
         let groups = self
@@ -201,10 +228,10 @@ impl LaneKernel for MvcRows<'_> {
         for (rows, group) in groups {
             let lane_points = std::array::from_fn(|l| group[l.min(group.len() - 1)]);
             if group.len() == LANES {
-                mvc_points4(self.cage, lane_points, rows, &mut scratch);
+                mvc_points4(self.cage, &tables, lane_points, rows, &mut scratch);
             } else {
                 padded.resize(LANES * n, 0.0);
-                mvc_points4(self.cage, lane_points, &mut padded, &mut scratch);
+                mvc_points4(self.cage, &tables, lane_points, &mut padded, &mut scratch);
                 rows.copy_from_slice(&padded[..rows.len()]);
             }
         }
@@ -217,6 +244,7 @@ impl LaneKernel for MvcRows<'_> {
 #[inline(always)]
 pub(crate) fn mvc_points4<L: Lane>(
     cage: &Cage,
+    tables: &MvcCageTables,
     p: [DVec3; LANES],
     rows: &mut [f64],
     scratch: &mut MvcLanesScratch<L>,
@@ -225,62 +253,77 @@ pub(crate) fn mvc_points4<L: Lane>(
     let n = positions.len();
     let on_vertex = L::splat(ON_VERTEX * cage.diagonal());
     let coplanar = L::splat(COPLANAR);
-    let (one, half, two) = (L::splat(1.0), L::splat(0.5), L::splat(2.0));
+    let one = L::splat(1.0);
     let mut special = 0u32;
-    scratch.unit.clear();
+    scratch.offset.clear();
     scratch.inv_dist.clear();
     for &x in positions {
         let v = Vec3Lanes::<L>::from_minus(x, &p);
         let d = v.dot(&v).sqrt();
         special |= L::bitmask(d.lt(on_vertex));
-        let inv = one / d;
-        scratch.unit.push(v.scale(inv));
-        scratch.inv_dist.push(inv);
+        scratch.offset.push(v);
+        scratch.inv_dist.push(one / d);
     }
-    let unit = &scratch.unit;
-    scratch.theta.clear();
+    let offset = &scratch.offset;
+    scratch.edge.clear();
     // A loop, not a closure: the kernel must be one function for `#[target_feature]`.
     for &[a, b] in cage.edges() {
-        let (ua, ub) = (&unit[a as usize], &unit[b as usize]);
-        // sin(θ/2) = |u_a − u_b| / 2 and cos(θ/2) = |u_a + u_b| / 2, both direct (see
-        // mvc_point); θ/2 = atan2 of the two; sin θ = 2 sin(θ/2) cos(θ/2),
-        // cos θ = 1 − 2 sin²(θ/2).
-        let (dx, dy, dz) = (ua.x - ub.x, ua.y - ub.y, ua.z - ub.z);
-        let (sx, sy, sz) = (ua.x + ub.x, ua.y + ub.y, ua.z + ub.z);
-        let half_sin = half * dx.mul_add(dx, dy.mul_add(dy, dz * dz)).sqrt();
-        let half_cos = half * sx.mul_add(sx, sy.mul_add(sy, sz * sz)).sqrt();
-        let half_angle = math::atan2_nonnegative(half_sin, half_cos);
-        scratch.theta.push([
-            two * half_angle,
-            two * half_sin * half_cos,
-            (-two * half_sin).mul_add(half_sin, one),
-        ]);
+        let (a, b) = (a as usize, b as usize);
+        // (x_a − p) × (x_b − x_a): the edge vector is exact, so the normal keeps its digits
+        // however far p is (see mvc_point).
+        let va = &offset[a];
+        let e = positions[b] - positions[a];
+        let normal = Vec3Lanes {
+            x: va.y.mul_sub(L::splat(e.z), va.z * L::splat(e.y)),
+            y: va.z.mul_sub(L::splat(e.x), va.x * L::splat(e.z)),
+            z: va.x.mul_sub(L::splat(e.y), va.y * L::splat(e.x)),
+        };
+        let length = normal.dot(&normal).sqrt();
+        let theta = math::atan2(length, va.dot(&offset[b]));
+        // θ / |n| with n unnormalised: m = ½ Σ θ_j n_j / |n_j| and w_i = n_i·m / triple.
+        scratch.edge.push(([theta / length, length], normal));
     }
-    let theta = &scratch.theta;
+    let edge = &scratch.edge;
     let inv_dist = &scratch.inv_dist;
     scratch.weights.clear();
     scratch.weights.resize(n, L::zero());
     let weights = &mut scratch.weights;
     let mut total = L::zero();
-    for (tri, edges) in cage.triangles().iter().zip(cage.triangle_edges()) {
+    let triangles = cage.triangles().iter().zip(cage.triangle_edges());
+    for (t, (tri, edges)) in triangles.enumerate() {
         let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-        // θ_i is the arc opposite corner i: edge (i+1, i+2) is edges[(i + 1) % 3].
-        let [th0, s0, c0] = theta[edges[1] as usize];
-        let [th1, s1, c1] = theta[edges[2] as usize];
-        let [th2, s2, c2] = theta[edges[0] as usize];
-        let det = unit[idx[0]].dot(&unit[idx[1]].cross(&unit[idx[2]]));
-        // The formulas of mvc_point, lane by lane.
-        let inv_p = one / (s0 * s1 * s2);
-        let cc0 = (c0 - c1 * c2) * s0 * inv_p;
-        let cc1 = (c1 - c2 * c0) * s1 * inv_p;
-        let cc2 = (c2 - c0 * c1) * s2 * inv_p;
-        let inv_det = one / det;
-        let w0 = (th0 - cc1 * th2 - cc2 * th1) * s0 * inv_det * inv_dist[idx[0]];
-        let w1 = (th1 - cc2 * th0 - cc0 * th2) * s1 * inv_det * inv_dist[idx[1]];
-        let w2 = (th2 - cc0 * th1 - cc1 * th0) * s2 * inv_det * inv_dist[idx[2]];
+        let sign = tables.sign[t];
+        // Corner i's opposite edge (i+1, i+2) is edges[(i + 1) % 3].
+        let ([th0, len0], n0) = edge[edges[1] as usize];
+        let ([th1, len1], n1) = edge[edges[2] as usize];
+        let ([th2, len2], n2) = edge[edges[0] as usize];
+        // The triangle's own edge directions: n_i = sign_i × the stored normal.
+        let (g0, g1, g2) = (
+            L::splat(0.5 * sign[0]) * th0,
+            L::splat(0.5 * sign[1]) * th1,
+            L::splat(0.5 * sign[2]) * th2,
+        );
+        // m = ½ Σ θ_j n̂_j as a vector (see mvc_point).
+        let m = Vec3Lanes {
+            x: g0.mul_add(n0.x, g1.mul_add(n1.x, g2 * n2.x)),
+            y: g0.mul_add(n0.y, g1.mul_add(n1.y, g2 * n2.y)),
+            z: g0.mul_add(n0.z, g1.mul_add(n1.z, g2 * n2.z)),
+        };
+        let triple = offset[idx[0]].dot_splat(tables.area[t]);
+        let inv_triple = one / triple;
+        // w_i = n̂_i·m / (n̂_i·p_i) = n_i·m / triple, n_i = (x_{i+1} − p) × (x_{i+2} − p).
+        let w0 = n0.dot(&m) * L::splat(sign[0]) * inv_triple;
+        let w1 = n1.dot(&m) * L::splat(sign[1]) * inv_triple;
+        let w2 = n2.dot(&m) * L::splat(sign[2]) * inv_triple;
+        // The scale-free tests of mvc_point: sin θ_i and the smallest sin A_i.
+        let (d0, d1, d2) = (inv_dist[idx[0]], inv_dist[idx[1]], inv_dist[idx[2]]);
+        let s0 = len0 * d1 * d2;
+        let s1 = len1 * d2 * d0;
+        let s2 = len2 * d0 * d1;
         let s_min = s0.min(s1).min(s2);
+        let det = triple * d0 * d1 * d2;
         // Regular where both tests hold; NaN fails them, so it flags the lane too.
-        let regular = s_min.ge(coplanar) & (det.abs() * s_min * inv_p).gt(coplanar);
+        let regular = s_min.ge(coplanar) & (det.abs() * s_min / (s0 * s1 * s2)).gt(coplanar);
         special |= !L::bitmask(regular) & ALL_LANES;
         weights[idx[0]] += w0;
         weights[idx[1]] += w1;

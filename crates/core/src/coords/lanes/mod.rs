@@ -207,16 +207,6 @@ impl<L: Lane> Vec3Lanes<L> {
         }
     }
 
-    /// Every component times `s`.
-    #[inline(always)]
-    pub fn scale(&self, s: L) -> Self {
-        Self {
-            x: self.x * s,
-            y: self.y * s,
-            z: self.z * s,
-        }
-    }
-
     /// The opposite vector.
     #[inline(always)]
     pub fn neg(&self) -> Self {
