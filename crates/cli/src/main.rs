@@ -54,7 +54,33 @@ enum Command {
 #[error("{0}")]
 pub struct InputError(pub String);
 
+/// Exit status after Ctrl-C or SIGTERM: 128 + SIGINT, as shells report an interrupted program.
+const INTERRUPTED: i32 = 130;
+
+/// On Ctrl-C, SIGTERM or SIGHUP: remove the temporary file of a save in progress (the target
+/// keeps its old content) and exit. Without this the default action would kill the process
+/// before the temporary file's destructor ran.
+fn remove_unfinished_saves_on_signals() {
+    let installed = ctrlc::set_handler(|| {
+        let removed = starcages_core::io::remove_unfinished_saves();
+        if removed > 0 {
+            eprintln!(
+                "interrupted: the unfinished save was removed; the file keeps its old content"
+            );
+        } else {
+            eprintln!("interrupted");
+        }
+        std::process::exit(INTERRUPTED);
+    });
+    if let Err(e) = installed {
+        eprintln!(
+            "warning: no Ctrl-C handler ({e}); an interrupted save may leave a temporary file"
+        );
+    }
+}
+
 fn main() -> ExitCode {
+    remove_unfinished_saves_on_signals();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Weights(args) => commands::weights::run(&args),

@@ -7,6 +7,13 @@ use starcages_editor::state::EditorError;
 use starcages_editor::state::recent;
 
 fn main() -> anyhow::Result<()> {
+    // Ctrl-C or SIGTERM in the terminal: remove a save's temporary file before exiting (the
+    // file saved to keeps its old content).
+    ctrlc::set_handler(|| {
+        starcages_core::io::remove_unfinished_saves();
+        std::process::exit(130);
+    })
+    .ok();
     let path = std::env::args_os().nth(1).map(std::path::PathBuf::from);
     let (doc, error) = match &path {
         Some(path) => match Document::open(path) {

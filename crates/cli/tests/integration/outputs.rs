@@ -169,3 +169,47 @@ fn absurd_benchmark_sizes_are_refused_at_once() {
     refused(&["bench", "--prism-detail", "1000"], "out of range");
     refused(&["bench-gpu", "--frames", "1000000000"], "out of range");
 }
+
+/// SIGTERM (and Ctrl-C, the same handler) in the middle of a save: the temporary file is
+/// removed, the target keeps its old content, and the status says the program was interrupted.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_save_leaves_no_temporary_file_and_the_old_content() {
+    use std::time::{Duration, Instant};
+    let d = dir("interrupted");
+    let target = d.join("bar.json");
+    std::fs::write(&target, b"old content").unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
+        .args(["demo", "bar", "--out", s(&d)])
+        // Debug builds only: hold the save with its temporary file created.
+        .env("STARCAGES_TEST_SAVE_PAUSE_MS", "20000")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let temporary = || {
+        std::fs::read_dir(&d)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(".bar.json.") && n.ends_with(".starcages-tmp"))
+            .collect::<Vec<_>>()
+    };
+    let start = Instant::now();
+    while temporary().is_empty() {
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "no temporary file appeared"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let killed = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    assert!(stderr(&out).contains("interrupted"), "{}", stderr(&out));
+    assert_eq!(temporary(), Vec::<String>::new(), "temporary file left");
+    assert_eq!(std::fs::read(&target).unwrap(), b"old content");
+}

@@ -3,11 +3,14 @@
 //!
 //! The temporary file has an unpredictable name and is created exclusively (the `tempfile`
 //! crate: `O_CREAT | O_EXCL`, so a symlink planted at its name is never followed), and it is
-//! removed when the save fails. Temporary files of ours that an earlier save left behind (the
-//! process was killed mid-save) are swept on the next save to the same file.
+//! removed when the save fails. While a save runs its temporary file is listed, so that a
+//! program stopped by Ctrl-C or SIGTERM can remove it ([`remove_unfinished_saves`], which the
+//! binaries call from their signal handlers). Temporary files of ours that an earlier save left
+//! behind (the process was killed outright, SIGKILL) are swept on the next save to the same file.
 
 use std::io::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::time::{Duration, SystemTime};
 
 use super::FileError;
@@ -18,6 +21,43 @@ const TEMP_SUFFIX: &str = ".starcages-tmp";
 /// A temporary file this old was left by a save that did not finish; a running save is much
 /// younger.
 const STALE_AFTER: Duration = Duration::from_secs(10 * 60);
+
+/// Temporary files of the saves running now.
+static UNFINISHED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Lists a temporary file for the time of one save.
+struct Unfinished(PathBuf);
+
+impl Unfinished {
+    fn new(path: &Path) -> Self {
+        if let Ok(mut list) = UNFINISHED.lock() {
+            list.push(path.to_path_buf());
+        }
+        Self(path.to_path_buf())
+    }
+}
+
+impl Drop for Unfinished {
+    fn drop(&mut self) {
+        if let Ok(mut list) = UNFINISHED.lock()
+            && let Some(i) = list.iter().position(|p| *p == self.0)
+        {
+            list.swap_remove(i);
+        }
+    }
+}
+
+/// Removes the temporary files of the saves running now, and returns how many it removed. For
+/// a program that is about to exit on Ctrl-C or SIGTERM: the targets keep their old content.
+/// A save that finishes meanwhile has renamed its file, which then is no longer there to remove.
+pub fn remove_unfinished_saves() -> usize {
+    let Ok(list) = UNFINISHED.lock() else {
+        return 0;
+    };
+    list.iter()
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
 
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
@@ -42,6 +82,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
         .suffix(TEMP_SUFFIX)
         .tempfile_in(&folder)
         .map_err(fail)?;
+    let _listed = Unfinished::new(temp.path());
+    pause_for_interrupt_tests();
     temp.write_all(bytes).map_err(fail)?;
     temp.as_file().sync_all().map_err(fail)?;
     // On failure the temporary file is dropped, which removes it.
@@ -51,6 +93,19 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
         dir.sync_all().ok();
     }
     Ok(())
+}
+
+/// Debug builds only: waits `STARCAGES_TEST_SAVE_PAUSE_MS` milliseconds with the temporary
+/// file created, so that a test can interrupt a save at a known point (a real large save is
+/// too quick to hit reliably). Release builds do not read the variable.
+fn pause_for_interrupt_tests() {
+    #[cfg(debug_assertions)]
+    if let Some(ms) = std::env::var("STARCAGES_TEST_SAVE_PAUSE_MS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+    {
+        std::thread::sleep(Duration::from_millis(ms.min(60_000)));
+    }
 }
 
 /// Whether `a` and `b` name the same existing file, through symbolic and hard links (an
