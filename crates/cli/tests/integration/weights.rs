@@ -153,6 +153,22 @@ fn bad_input_gets_a_one_line_error_and_status_2() {
     let inward = write(&dir, "inward.obj", &inward);
     assert_input_error(&weights(&inward, &good, "mvc"), "oriented inwards");
 
+    // A 1e308 coordinate is named as such (not as duplicate vertices or degenerate faces,
+    // which is what its huge diagonal made every other check say).
+    let huge = write(
+        &dir,
+        "huge.obj",
+        &CUBE.replacen("v 1 1 1", "v 1 1 1e308", 1),
+    );
+    assert!(
+        CUBE.contains("v 1 1 1"),
+        "the cube has the corner to replace"
+    );
+    assert_input_error(
+        &weights(&huge, &good, "mvc"),
+        "coordinate of magnitude 1e308, beyond ±1e9",
+    );
+
     let missing = dir.join("missing.obj");
     assert_input_error(&weights(&missing, &good, "mvc"), "missing.obj: cannot read");
 }

@@ -26,6 +26,18 @@ pub enum CageError {
         /// z coordinate.
         z: f64,
     },
+    /// A vertex coordinate beyond [`super::MAX_COORDINATE`].
+    #[error(
+        "vertex {vertex} has a coordinate of magnitude {value:e}, beyond ±{max:e} (the \
+         deformation is computed in 32-bit floats); fix that vertex or scale the cage down",
+        max = super::MAX_COORDINATE
+    )]
+    CoordinateTooLarge {
+        /// Offending vertex.
+        vertex: usize,
+        /// Its largest absolute coordinate.
+        value: f64,
+    },
     /// A face has fewer than three corners.
     #[error("face {face} has {corners} corners; a face needs at least 3")]
     TooFewCorners {

@@ -10,6 +10,11 @@ mod validate;
 
 pub(crate) use crossing::cages_crossing;
 
+/// Largest absolute cage coordinate accepted (in a cage file and in a scene): the operator and
+/// the renderer work in 32-bit floats, and a coordinate this large already loses every digit
+/// below 100.
+pub const MAX_COORDINATE: f64 = 1e9;
+
 pub use error::CageError;
 
 use glam::DVec3;

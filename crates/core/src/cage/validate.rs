@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::{CageError, bounds_of, crossing, signed_volume};
+use super::{CageError, MAX_COORDINATE, bounds_of, crossing, signed_volume};
 use crate::geometry::triangle_area_vector;
 
 /// Relative tolerance (to the bounding-box diagonal) under which two vertices coincide.
@@ -29,6 +29,13 @@ pub(super) fn check(positions: &[DVec3], faces: &[Vec<u32>]) -> Vec<CageError> {
                 x: p.x,
                 y: p.y,
                 z: p.z,
+            });
+        } else if p.abs().max_element() > MAX_COORDINATE {
+            // Checked before any size-relative tolerance: such a coordinate makes the
+            // diagonal huge and every other test meaningless.
+            problems.push(CageError::CoordinateTooLarge {
+                vertex: i,
+                value: p.abs().max_element(),
             });
         }
     }

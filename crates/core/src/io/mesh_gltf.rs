@@ -50,6 +50,9 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
             format!("not a readable {kind} file (its data is inconsistent); re-export it"),
         )
     })??;
+    if out.triangles.is_empty() {
+        return Err(FileError::format(path, no_triangles_reason(&gltf)));
+    }
     let Accumulator {
         positions,
         triangles,
@@ -65,6 +68,34 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         all_normals.then_some(normals),
         all_uvs.then_some(uvs),
     )
+}
+
+/// Why a file that read without error gave no triangle: what it lacks, as precisely as the
+/// document says (instead of "the mesh has no triangles" for every case).
+fn no_triangles_reason(gltf: &gltf::Gltf) -> String {
+    let meshes = gltf.meshes().len();
+    let scenes = gltf.scenes().len();
+    let placed = gltf.nodes().filter(|n| n.mesh().is_some()).count();
+    if meshes == 0 {
+        "the file has no mesh (only other content, such as cameras, lights or empty nodes); \
+         export the model's geometry"
+            .into()
+    } else if scenes == 0 {
+        format!(
+            "the file has {meshes} mesh(es) but no scene to place them; export with a scene \
+             (Blender: include the scene's objects)"
+        )
+    } else if placed == 0 {
+        format!(
+            "the file has {meshes} mesh(es) but no node uses one, so no scene shows them; \
+             export the mesh objects, not only their data"
+        )
+    } else {
+        "no node in the file's scene reaches a mesh with triangles (the meshes are in nodes \
+         that no scene lists, or their primitives have no vertices); export the visible \
+         objects of one scene"
+            .into()
+    }
 }
 
 /// Checks that every mesh primitive names accessors that exist (the gltf crate's validation

@@ -11,9 +11,7 @@ use super::containment::{ON_CAGE, leaf_containment};
 use super::{OutsidePolicy, Scene};
 use crate::cage::CageError;
 
-/// Largest absolute cage coordinate accepted in a scene: the operator and the renderer work in
-/// 32-bit floats, and a coordinate this large already loses every digit below 100.
-pub const MAX_COORDINATE: f64 = 1e9;
+pub use crate::cage::MAX_COORDINATE;
 
 /// One problem of a scene. Vertex indices are 0-based: cage vertices in the scene's shared
 /// array, mesh vertices in the welded mesh.

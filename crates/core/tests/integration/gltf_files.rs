@@ -219,3 +219,45 @@ fn empty_accessors_are_refused() {
         "{error}"
     );
 }
+
+/// A file that reads but gives no triangle says what it lacks: no mesh, no scene, no node
+/// using a mesh, or a scene that does not reach one.
+#[test]
+fn files_without_triangles_say_what_they_lack() {
+    let dir = scratch("no-triangles");
+    let accessors = format!("[{POSITION},{INDICES}]");
+    let good = document(ONE_NODE, PRIMITIVE, &accessors, VIEWS);
+    let cases = [
+        (
+            "no-mesh.gltf",
+            r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"camera holder"}]}"#.to_owned(),
+            "has no mesh",
+        ),
+        (
+            "no-scene.gltf",
+            good.replace(r#""scene":0,"scenes":[{"nodes":[0]}],"#, ""),
+            "no scene to place them",
+        ),
+        (
+            "no-node-uses-it.gltf",
+            good.replace(r#""nodes":[{"mesh":0}]"#, r#""nodes":[{"name":"empty"}]"#),
+            "no node uses one",
+        ),
+        (
+            "unlisted-node.gltf",
+            good.replace(
+                r#""nodes":[{"mesh":0}]"#,
+                r#""nodes":[{"name":"empty"},{"mesh":0}]"#,
+            ),
+            "no node in the file's scene reaches a mesh",
+        ),
+    ];
+    for (name, json, expected) in cases {
+        let error = read(&dir, name, &json).expect_err(name);
+        assert!(error.contains(expected), "{name}: {error}");
+        assert!(
+            !error.contains("the mesh has no triangles"),
+            "{name}: {error}"
+        );
+    }
+}
