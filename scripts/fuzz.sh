@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes every reader (scene JSON, mesh OBJ, glTF/GLB, cage OBJ, points) for a while: the
+# Fuzzes every reader (scene JSON, mesh OBJ, glTF/GLB, cage OBJ, points, binding cache) for a while: the
 # proptest harness of crates/core/tests/integration/fuzz_readers.rs, run again and again with
 # fresh random seeds, until the time is up or something panics, hangs or fails.
 #
@@ -10,8 +10,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-600}"
 cases=2000
-# Inputs per case: scene (damaged + raw), OBJ (2 files × 4 readers), glTF (mutated + GLB).
-per_case=$((2 + 8 + 2))
+# Inputs per case: scene (damaged + raw), OBJ (2 files × 4 readers), glTF (mutated + GLB),
+# binding cache (damaged + crafted).
+per_case=$((2 + 8 + 2 + 2))
 cargo test -p starcages-core --test integration --no-run --quiet 2>/dev/null
 start=$(date +%s)
 runs=0

@@ -12,6 +12,10 @@ use crate::scene::Scene;
 
 const MAGIC: &[u8; 8] = b"SCBIND02";
 
+/// How far from 1 the stored (f32) weights of a row may sum: rounding of a few hundred f32
+/// weights stays orders of magnitude below it.
+const PARTITION_OF_UNITY_TOLERANCE: f64 = 1e-3;
+
 /// What happened with the cache.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CacheOutcome {
@@ -73,6 +77,31 @@ pub fn binding_key(scene: &Scene) -> u64 {
     h.bytes(cages.as_bytes()).bytes(settings.as_bytes()).0
 }
 
+/// The cache file's bytes for `binding` of `scene`: the magic `SCBIND02`, the scene's
+/// [`binding_key`], an FNV-1a checksum of the payload, then the payload in little-endian 32-bit
+/// words (counts, row starts, columns, f32 values, Green triangles, boundary weights, cage of
+/// each row, join rows, join vertices, join weights).
+pub fn encode_binding_cache(scene: &Scene, binding: &StarBinding) -> Vec<u8> {
+    encode(binding_key(scene), binding)
+}
+
+/// Reads a cache file's bytes as the binding of `scene`, or says why it cannot be used: another
+/// scene's key, a checksum mismatch, or (for a file whose checksum was forged) any count, index
+/// or weight that does not fit the scene. Never panics and allocates no more than the bytes'
+/// own size suggests.
+pub fn decode_binding_cache(bytes: &[u8], scene: &Scene) -> Result<StarBinding, String> {
+    let binding = decode(
+        bytes,
+        binding_key(scene),
+        scene.cages.vertices.len(),
+        scene.cages.leaves.len(),
+    )?;
+    if binding.operator.row_count() != scene.mesh.welded_positions().len() {
+        return Err("it was written for another mesh".to_owned());
+    }
+    Ok(binding)
+}
+
 fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
     let (vertex_count, row_start, columns, values) = binding.operator.parts();
     let triangles = binding.operator.green_dofs().triangles();
@@ -110,7 +139,12 @@ fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
     out
 }
 
-fn decode(bytes: &[u8], key: u64, cage_vertices: usize) -> Result<StarBinding, String> {
+fn decode(
+    bytes: &[u8],
+    key: u64,
+    cage_vertices: usize,
+    leaf_count: usize,
+) -> Result<StarBinding, String> {
     if bytes.len() < 24 || &bytes[..8] != MAGIC {
         return Err("not a StarCages binding cache (or an older format)".into());
     }
@@ -171,8 +205,34 @@ fn decode(bytes: &[u8], key: u64, cage_vertices: usize) -> Result<StarBinding, S
             .vertex
             .iter()
             .all(|&v| (v as usize) < vertex_count);
-    if !join_rows_ok {
+    if !join_rows_ok || join_weights.weight.iter().any(|w| !w.is_finite()) {
         return Err("inconsistent join weights".into());
+    }
+    if boundary_weight.iter().any(|b| !(0.0..=1.0).contains(b)) {
+        return Err("a boundary weight b is outside [0, 1]".into());
+    }
+    if cage_of.iter().any(|&c| c as usize >= leaf_count) {
+        return Err(format!(
+            "a mesh vertex names a leaf cage beyond the scene's {leaf_count}"
+        ));
+    }
+    // Every row of *Cages reproduces translations: its cage-vertex weights sum to 1 (eqs. 1
+    // and 2 for each coordinate type, kept by the blend of eq. 5). A forged file whose weights
+    // would throw vertices anywhere (or to infinity) fails this.
+    let unity = row_start.windows(2).all(|w| {
+        let (a, b) = (w[0] as usize, w[1] as usize);
+        let sum: f64 = columns
+            .get(a..b)
+            .into_iter()
+            .flatten()
+            .zip(values.get(a..b).into_iter().flatten())
+            .filter(|(c, _)| (**c as usize) < vertex_count)
+            .map(|(_, &v)| f64::from(v))
+            .sum();
+        (sum - 1.0).abs() <= PARTITION_OF_UNITY_TOLERANCE
+    });
+    if !unity {
+        return Err("a row's weights do not sum to 1".into());
     }
     let operator = StarOperator::from_parts(
         vertex_count,
@@ -207,13 +267,8 @@ impl StarBinding {
         let key = binding_key(scene);
         let path = cache_path(scene_path);
         let stale = match crate::io::read_file_bytes(&path) {
-            Ok(bytes) => match decode(&bytes, key, scene.cages.vertices.len()) {
-                Ok(binding)
-                    if binding.operator.row_count() == scene.mesh.welded_positions().len() =>
-                {
-                    return Ok((binding, CacheOutcome::Hit));
-                }
-                Ok(_) => Some("it was written for another mesh".to_owned()),
+            Ok(bytes) => match decode_binding_cache(&bytes, scene) {
+                Ok(binding) => return Ok((binding, CacheOutcome::Hit)),
                 Err(reason) => Some(reason),
             },
             Err(_) => None,
@@ -298,10 +353,23 @@ mod tests {
         let key = binding_key(&scene);
         let bytes = encode(key, &binding);
         let count = scene.cages.vertices.len();
-        assert!(decode(&bytes, key, count).is_ok());
+        assert!(decode(&bytes, key, count, scene.cages.leaves.len()).is_ok());
         // A well-formed cache (key and checksum right) for another vertex count than the scene's
         // (a crafted header claiming 0xFFFFFFF0 vertices, say) is not used.
-        let error = decode(&bytes, key, 0xFFFF_FFF0).err().unwrap_or_default();
+        let error = decode(&bytes, key, 0xFFFF_FFF0, scene.cages.leaves.len())
+            .err()
+            .unwrap_or_default();
         assert!(error.contains("claims"), "{error}");
+    }
+
+    #[test]
+    fn every_demo_reads_back_from_its_cache_bytes() {
+        for (name, _) in crate::scene::demo::DEMOS {
+            let scene = demo_scene(name, 0.2).unwrap();
+            let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+            let read = decode_binding_cache(&encode_binding_cache(&scene, &binding), &scene);
+            let read = read.unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(read.operator, binding.operator, "{name}");
+        }
     }
 }

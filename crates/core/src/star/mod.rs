@@ -21,7 +21,9 @@ use glam::{DVec3, Vec3};
 use thiserror::Error;
 
 pub use bind::Placement;
-pub use cache::{CacheOutcome, binding_key, cache_path};
+pub use cache::{
+    CacheOutcome, binding_key, cache_path, decode_binding_cache, encode_binding_cache,
+};
 pub use green_dofs::GreenDofs;
 pub use operator::StarOperator;
 pub use topology::{Border, JoinCage, Topology, TopologyError};

@@ -1,7 +1,8 @@
 //! No panic, hang or runaway allocation on arbitrary input: the scene, mesh OBJ, glTF/GLB, cage
 //! OBJ and point readers on random bytes, on randomly damaged valid files, and (glTF) on
 //! structure-aware mutations of a valid document: numbers swapped for extreme values, type
-//! names swapped, array entries dropped, node cycles. A proptest harness; `scripts/fuzz.sh`
+//! names swapped, array entries dropped, node cycles; and the binding cache, damaged and crafted
+//! (words replaced, checksum recomputed). A proptest harness; `scripts/fuzz.sh`
 //! runs it for as long as asked and counts the inputs tried.
 
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
@@ -14,6 +15,7 @@ use serde_json::Value;
 use starcages_core::io::{glb_bytes, parse_obj_cages, parse_points, read_cage_obj, read_mesh};
 use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{load_scene, save_scene};
+use starcages_core::star::{StarBinding, decode_binding_cache, encode_binding_cache};
 
 /// Cases per property: 64 in the test suite, more from `scripts/fuzz.sh`
 /// (`STARCAGES_FUZZ_CASES`).
@@ -206,5 +208,72 @@ proptest! {
         let path = dir.join(format!("{}-damaged.glb", std::process::id()));
         std::fs::write(&path, &damaged).unwrap();
         let _ = read_mesh(&path);
+    }
+}
+
+/// The bar demo, its binding and the binding's cache bytes, computed once.
+fn cache_fixture() -> &'static (starcages_core::scene::Scene, Vec<u8>) {
+    static FIXTURE: std::sync::OnceLock<(starcages_core::scene::Scene, Vec<u8>)> =
+        std::sync::OnceLock::new();
+    FIXTURE.get_or_init(|| {
+        let scene = demo_scene("bar", 0.2).unwrap();
+        let binding =
+            StarBinding::bind_scene(&scene, &starcages_core::BindControl::default()).unwrap();
+        let bytes = encode_binding_cache(&scene, &binding);
+        (scene, bytes)
+    })
+}
+
+/// FNV-1a over `bytes`: the cache's checksum, recomputed so that mutated content passes it (a
+/// crafted file, not a damaged one).
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// Extreme and awkward replacements for a 32-bit word of the cache: counts, indices, f32 bits.
+const WORDS: [u32; 9] = [
+    0,
+    1,
+    u32::MAX,
+    0xFFFF_FFF0,
+    0x7FC0_0000, // NaN
+    0x7F80_0000, // +inf
+    0x7F7F_FFFF, // f32::MAX
+    0xBF80_0000, // -1.0
+    0x3F80_0000, // 1.0
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(fuzz_cases()))]
+
+    /// Damaged caches fail their checksum; crafted ones (content changed, checksum recomputed)
+    /// are refused or, when accepted, deform without a panic and within the scene's cages.
+    #[test]
+    fn binding_cache_reader_never_panics(
+        words in prop::collection::vec((any::<usize>(), any::<u8>(), any::<u32>()), 1..5),
+        cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..4),
+    ) {
+        let (scene, valid) = cache_fixture();
+        let damaged = damage(&String::from_utf8_lossy(valid), &cuts);
+        let _ = decode_binding_cache(&damaged, scene);
+        let mut crafted = valid.clone();
+        let payload_words = (crafted.len() - 24) / 4;
+        for &(at, choice, random) in &words {
+            let word = if choice % 4 == 0 { random } else { WORDS[choice as usize % WORDS.len()] };
+            let offset = 24 + 4 * (at % payload_words);
+            crafted[offset..offset + 4].copy_from_slice(&word.to_le_bytes());
+        }
+        if words.iter().any(|w| w.1 % 7 == 0) {
+            crafted.truncate(24 + 4 * (words[0].0 % payload_words));
+        }
+        let checksum = fnv(&crafted[24..]);
+        crafted[16..24].copy_from_slice(&checksum.to_le_bytes());
+        if let Ok(binding) = decode_binding_cache(&crafted, scene) {
+            prop_assert!(binding.cage_of.iter().all(|&c| (c as usize) < scene.cages.leaves.len()));
+            prop_assert!(binding.boundary_weight.iter().all(|b| (0.0..=1.0).contains(b)));
+            let _ = binding.deform(&scene.cages.vertices, &scene.pose);
+        }
     }
 }
