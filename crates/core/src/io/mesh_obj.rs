@@ -10,9 +10,9 @@ use crate::mesh::Mesh;
 
 /// Reads all objects of an OBJ file as one mesh.
 pub(super) fn read_obj_mesh(path: &Path) -> Result<Mesh, FileError> {
+    // Without a byte-order mark, which would hide the first line from tobj.
     let text = super::read_text(path)?;
-    // A UTF-8 byte-order mark would hide the first line from tobj.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let text = text.as_str();
     super::obj_lint::check_obj_text(path, text)?;
     let options = tobj::LoadOptions {
         single_index: true,

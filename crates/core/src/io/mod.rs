@@ -199,8 +199,13 @@ pub fn read_file_bytes(path: &Path) -> Result<Vec<u8>, FileError> {
     Ok(bytes)
 }
 
+/// A text file as UTF-8, without a leading byte-order mark (which some editors write and which
+/// would otherwise hide inside the first number or keyword: "x '\u{feff}0.5' is not a number").
 pub(crate) fn read_text(path: &Path) -> Result<String, FileError> {
-    let bytes = read_file_bytes(path)?;
+    let mut bytes = read_file_bytes(path)?;
+    if bytes.starts_with(b"\xEF\xBB\xBF") {
+        bytes.drain(..3);
+    }
     String::from_utf8(bytes).map_err(|e| {
         let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
             .iter()

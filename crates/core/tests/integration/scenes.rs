@@ -544,7 +544,7 @@ fn huge_or_non_finite_coordinates_are_refused_and_never_written() {
 }
 
 #[test]
-fn obj_meshes_with_a_bom_read_whole_and_cut_files_name_their_line() {
+fn text_files_with_a_bom_read_whole_and_cut_obj_files_name_their_line() {
     let dir = scratch("obj-lines");
     let bom = write(
         &dir,
@@ -577,6 +577,24 @@ fn obj_meshes_with_a_bom_read_whole_and_cut_files_name_their_line() {
         error.contains("uv.obj:4:") && error.contains("not finite"),
         "{error}"
     );
+    // Every text reader drops a byte-order mark: cage OBJ, points, scene JSON.
+    let cage = write(
+        &dir,
+        "bom-cage.obj",
+        "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    );
+    let cage = starcages_core::io::read_cage_obj(&cage).unwrap();
+    assert_eq!(cage.vertex_count(), 4);
+    let points = write(&dir, "bom-points.txt", "\u{feff}0.5 0.25 0\n");
+    assert_eq!(
+        starcages_core::io::read_points(&points).unwrap(),
+        vec![DVec3::new(0.5, 0.25, 0.0)]
+    );
+    let scene_path = dir.join("bom-scene.json");
+    save_scene(&demo_scene("bar", 0.3).unwrap(), &scene_path).unwrap();
+    let text = std::fs::read_to_string(&scene_path).unwrap();
+    std::fs::write(&scene_path, format!("\u{feff}{text}")).unwrap();
+    load_scene(&scene_path).unwrap();
 }
 
 #[test]
