@@ -179,7 +179,7 @@ fn an_interrupted_save_leaves_no_temporary_file_and_the_old_content() {
     let d = dir("interrupted");
     let target = d.join("bar.json");
     std::fs::write(&target, b"old content").unwrap();
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
         .args(["demo", "bar", "--out", s(&d)])
         // Debug builds only: hold the save with its temporary file created.
         .env("STARCAGES_TEST_SAVE_PAUSE_MS", "20000")
