@@ -23,6 +23,7 @@ pub use autocage::{AutocageOptions, autocage};
 pub use cage_set::{
     Adjacency, CageSet, InternalCage, LeafCage, LocalCage, is_reversed, is_same_cycle,
 };
+pub(crate) use containment::ON_CAGE;
 pub use containment::{Containment, leaf_containment};
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,

@@ -302,21 +302,27 @@ pub(crate) fn bind_rows(
     // Cage vertices as extra points (index `offset + v`), bound in the same batches: an
     // interior vertex's own coordinates in its join cage (d(t, v), T_{jc(v)}(v)), and each
     // boundary vertex v inside jc(u) of an interior neighbour u (Ω(u, v) in eq. 8).
+    // Only for the join cages the points use: a partial bind (a few rows re-bound after an
+    // edit) then solves only the join cages near those rows.
     let offset = points.len();
     let mut all_points = points.to_vec();
     all_points.extend_from_slice(&set.vertices);
-    for (&v, join) in &topology.joins {
-        if join.interior {
-            need_omega.entry(v).or_default().insert(offset + v as usize);
-        }
-    }
+    let used_boundary: BTreeSet<u32> = need_transform.keys().copied().collect();
     for (&v, near) in &topology.interior_neighbours {
+        if !used_boundary.contains(&v) {
+            continue; // Ω(u, v) is read only for boundary vertices of the points' cages
+        }
         for &u in near {
             let cage = &topology.joins[&u].local.cage;
             let x = set.vertices[v as usize];
             if cage.winding_number(x) > 0.5 || cage.closest_point(x).2 <= 1e-9 * cage.diagonal() {
                 need_omega.entry(u).or_default().insert(offset + v as usize);
             }
+        }
+    }
+    for (&v, join) in &topology.joins {
+        if join.interior && need_omega.contains_key(&v) {
+            need_omega.entry(v).or_default().insert(offset + v as usize);
         }
     }
     let points = &all_points[..];

@@ -59,6 +59,16 @@ pub enum StarError {
     /// Cancelled through the [`BindControl`].
     #[error("binding was cancelled")]
     Cancelled,
+    /// A partial re-bind was asked of a binding made for another mesh.
+    #[error(
+        "the binding has {rows} rows but the mesh has {vertices} vertices; bind the scene again"
+    )]
+    StaleBinding {
+        /// Rows of the binding.
+        rows: usize,
+        /// Welded mesh vertices.
+        vertices: usize,
+    },
 }
 
 /// Timings and sizes of a bind (the paper's Table I/II columns).

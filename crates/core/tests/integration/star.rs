@@ -486,3 +486,81 @@ fn rebinding_changed_leaves_matches_a_full_bind() {
         old.operator.row(untouched).collect::<Vec<_>>()
     );
 }
+
+/// Largest difference between two bindings' rows (as sparse maps over the same columns).
+fn worst_row_difference(a: &StarBinding, b: &StarBinding) -> f32 {
+    assert_eq!(a.operator.row_count(), b.operator.row_count());
+    (0..a.operator.row_count())
+        .map(|i| {
+            let green = |op: &starcages_core::star::StarOperator, c: u32| {
+                // Green columns are numbered per binding: compare them by their triangle.
+                let n = op.parts().0 as u32;
+                if c < n {
+                    (c, [u32::MAX; 3])
+                } else {
+                    (u32::MAX, op.green_dofs().triangles()[(c - n) as usize])
+                }
+            };
+            let mut keyed: std::collections::BTreeMap<(u32, [u32; 3]), f32> = Default::default();
+            for (c, w) in a.operator.row(i) {
+                *keyed.entry(green(&a.operator, c)).or_default() += w;
+            }
+            for (c, w) in b.operator.row(i) {
+                *keyed.entry(green(&b.operator, c)).or_default() -= w;
+            }
+            keyed.values().map(|d| d.abs()).fold(0.0, f32::max)
+        })
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn a_rest_edit_rebinds_only_nearby_rows_and_equals_a_full_bind() {
+    let mut grid = grid_scene(
+        [3, 3, 1],
+        &[CoordinateKind::MeanValue, CoordinateKind::Green],
+        JoinPolicy::Auto,
+    );
+    grid.settings.outside = starcages_core::scene::OutsidePolicy::Nearest;
+    let egg = demo_scene("egg", 0.3).unwrap();
+    // (scene, moved vertex, its new rest position): an inner grid vertex pushed sideways (the
+    // join cages around it become concave: HC under the automatic policy), and an outer vertex
+    // of the egg pulled out.
+    let inner = grid
+        .cages
+        .vertices
+        .iter()
+        .position(|p| *p == DVec3::new(1.0, 1.0, 0.0))
+        .unwrap() as u32;
+    // (…, whether some rows are far enough to be kept: the egg's few cages all read vertex 0.)
+    let cases = [
+        (grid, inner, DVec3::new(1.2, 0.9, 0.0), true),
+        (egg.clone(), 0, egg.cages.vertices[0] * 1.1, false),
+    ];
+    for (before, vertex, to, local) in cases {
+        let old = StarBinding::bind_scene(&before, &control()).unwrap();
+        let mut after = before.clone();
+        after.cages.vertices[vertex as usize] = to;
+        after.pose = after.cages.vertices.clone();
+        after.poses.clear();
+        let rows = old.rows_affected_by_rest_edit(&after, &[vertex]).unwrap();
+        let incremental = old.rebind_rest_edit(&after, &[vertex], &control()).unwrap();
+        let full = StarBinding::bind_scene(&after, &control()).unwrap();
+        assert!(
+            !local || rows.len() < old.operator.row_count(),
+            "vertex {vertex}: every row re-bound"
+        );
+        assert_eq!(incremental.cage_of, full.cage_of);
+        assert_eq!(incremental.boundary_weight, full.boundary_weight);
+        let worst = worst_row_difference(&incremental, &full);
+        assert!(worst <= 1e-6, "vertex {vertex}: rows differ by {worst}");
+        // Rows outside the re-bound set kept their weights bit for bit.
+        for kept in (0..old.operator.row_count()).filter(|i| rows.binary_search(i).is_err()) {
+            assert_eq!(
+                incremental.operator.row(kept).collect::<Vec<_>>(),
+                old.operator.row(kept).collect::<Vec<_>>()
+            );
+        }
+        // Negative control: without re-binding, the old rows differ from the full bind.
+        assert!(worst_row_difference(&old, &full) > 1e-4);
+    }
+}
