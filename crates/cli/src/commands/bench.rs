@@ -59,6 +59,15 @@ struct Row {
     frame_s: f64,
     move_s: f64,
     stream_gb_s: f64,
+    /// *Cages only: seconds to re-bind after a rest-pose edit of one central cage vertex
+    /// (`StarBinding::rebind_rest_edit`), and the share of rows it bound again.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rest_edit_s: Option<f64>,
+    /// The same edit bound in full, for comparison (the edit can change join kinds).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rest_edit_full_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rest_edit_rows: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -73,6 +82,10 @@ struct Ratios {
     move_vs_gc: f64,
     memory_vs_mvc: f64,
     memory_vs_gc: f64,
+    /// Re-bind after a one-vertex rest edit as a share of a full bind of the edited scene.
+    rest_edit_vs_bind: f64,
+    /// Share of the rows that edit bound again.
+    rest_edit_rows: f64,
 }
 
 #[derive(Serialize)]
@@ -149,6 +162,13 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
         }
     }) / samples.len() as f64;
     let streamed = operator.byte_size() + operator.row_count() * 12 + x.len() * 12;
+    let (rest_edit_s, rest_edit_full_s, rest_edit_rows) = if method.starts_with("stars") {
+        let (seconds, full, share) = bench_rest_edit(scene, &binding)
+            .map_err(|e| anyhow::anyhow!("{name} ({method}), rest edit: {e}"))?;
+        (Some(seconds), Some(full), Some(share))
+    } else {
+        (None, None, None)
+    };
     Ok(Row {
         scene: name.to_owned(),
         method: method.to_owned(),
@@ -161,7 +181,58 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
         frame_s,
         move_s,
         stream_gb_s: streamed as f64 / apply_s / 1e9,
+        rest_edit_s,
+        rest_edit_full_s,
+        rest_edit_rows,
     })
+}
+
+/// Re-binds after moving the cage vertex nearest the centre of all cage vertices by 1 % of the
+/// shortest cage edge at it (small enough to keep the rig valid): (seconds incremental, seconds
+/// of a full bind of the edited scene, share of rows re-bound).
+fn bench_rest_edit(
+    scene: &Scene,
+    binding: &StarBinding,
+) -> Result<(f64, f64, f64), starcages_core::star::StarError> {
+    let rest = &scene.cages.vertices;
+    let centre = rest.iter().sum::<DVec3>() / rest.len().max(1) as f64;
+    let used: Vec<u32> = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|c| c.faces.iter().flatten().copied())
+        .collect();
+    let Some(&vertex) = used.iter().min_by(|&&a, &&b| {
+        rest[a as usize]
+            .distance(centre)
+            .total_cmp(&rest[b as usize].distance(centre))
+    }) else {
+        return Ok((0.0, 0.0, 0.0));
+    };
+    let shortest = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|c| &c.faces)
+        .flat_map(|f| (0..f.len()).map(move |k| (f[k], f[(k + 1) % f.len()])))
+        .filter(|&(a, b)| a == vertex || b == vertex)
+        .map(|(a, b)| rest[a as usize].distance(rest[b as usize]))
+        .fold(f64::INFINITY, f64::min);
+    let mut edited = scene.clone();
+    edited.cages.vertices[vertex as usize] += DVec3::new(0.6, 0.48, 0.64) * 0.01 * shortest;
+    let control = BindControl::default();
+    let rows = binding.rows_affected_by_rest_edit(&edited, &[vertex])?;
+    let start = Instant::now();
+    binding.rebind_rest_edit(&edited, &[vertex], &control)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    StarBinding::bind_scene(&edited, &control)?;
+    let full = start.elapsed().as_secs_f64();
+    Ok((
+        seconds,
+        full,
+        rows.len() as f64 / binding.operator.row_count().max(1) as f64,
+    ))
 }
 
 /// A smooth test pose: every cage vertex moved by a wave.
@@ -280,6 +351,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 move_vs_gc: gc.move_s / star.move_s,
                 memory_vs_mvc: mvc.memory_mb / star.memory_mb,
                 memory_vs_gc: gc.memory_mb / star.memory_mb,
+                rest_edit_vs_bind: star.rest_edit_s.unwrap_or(f64::NAN)
+                    / star.rest_edit_full_s.unwrap_or(f64::NAN),
+                rest_edit_rows: star.rest_edit_rows.unwrap_or(f64::NAN),
             });
         }
         rows.extend(stars);
@@ -345,7 +419,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     for q in &report.ratios {
         crate::output::line(format_args!(
-            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x",
+            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x; a one-vertex rest edit re-binds {:.0} % of the rows in {:.0} % of a full bind's time",
             q.scene,
             q.method,
             q.bind_vs_mvc,
@@ -354,7 +428,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             q.memory_vs_mvc,
             q.frame_vs_gc,
             q.move_vs_gc,
-            q.memory_vs_gc
+            q.memory_vs_gc,
+            100.0 * q.rest_edit_rows,
+            100.0 * q.rest_edit_vs_bind
         ))?;
     }
     Ok(())
