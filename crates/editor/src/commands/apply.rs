@@ -330,6 +330,13 @@ fn export_mesh(state: &mut EditorState, path: &Path) {
         state.error(EditorError::NotBound);
         return;
     };
+    if rig.preview {
+        // A preview (mean value join cages) is for interaction, not for files. Its refinement
+        // may have been cancelled: start it again.
+        state.refine_preview();
+        state.error(EditorError::PreviewOnly);
+        return;
+    }
     if let starcages_core::scene::MeshSource::File(source) = &state.doc.scene.mesh_source
         && starcages_core::io::is_same_file(path, source)
     {

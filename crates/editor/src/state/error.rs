@@ -65,6 +65,12 @@ pub enum EditorError {
     /// The action needs a binding that is not there yet.
     #[error("the scene is still being bound; try again in a moment")]
     NotBound,
+    /// The action needs the full binding, and only the quick preview is in use.
+    #[error(
+        "the binding in use is a quick preview (mean value join cages); the full bind with \
+         harmonic join cages is running: export again when it has finished"
+    )]
+    PreviewOnly,
     /// An export over the scene's own mesh or scene file.
     #[error(
         "{} is the scene's own mesh or scene file; exporting over it would destroy it, choose another file",

@@ -10,8 +10,8 @@ use std::time::Instant;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::Hierarchy;
-use starcages_core::scene::{CageSet, Scene, SceneSettings};
-use starcages_core::star::{StarBinding, single_cage_scene};
+use starcages_core::scene::{CageSet, JoinPolicy, Scene, SceneSettings};
+use starcages_core::star::{StarBinding, Topology, single_cage_scene};
 
 use super::{Document, EditorError};
 
@@ -115,6 +115,10 @@ impl<T> Drop for Job<T> {
 pub enum Scope {
     /// Everything: the mesh and the hierarchy.
     Full,
+    /// Everything, quickly first: when some join cages would use harmonic coordinates (the
+    /// slow part of a bind), bind with mean value join cages and deliver that as a preview,
+    /// to be refined by a [`Scope::Full`] bind; otherwise the same as [`Scope::Full`].
+    Preview,
     /// The mesh rows of these leaf cages (their kind or h changed), and the hierarchy.
     Leaves(Arc<StarBinding>, Vec<usize>),
     /// Only the hierarchy (internal cages changed); the mesh binding is kept.
@@ -134,6 +138,9 @@ pub struct Bound {
     pub generation: u64,
     /// The cages and settings it was bound for.
     pub bound_for: (CageSet, SceneSettings),
+    /// A quick bind with mean value join cages where the scene's settings ask for harmonic
+    /// ones: usable at once, refined by a full bind that follows.
+    pub preview: bool,
 }
 
 /// Binds `scene` as far as `scope` says (runs on a worker).
@@ -144,8 +151,14 @@ pub fn bind(
     control: &BindControl,
 ) -> Result<Bound, EditorError> {
     let start = Instant::now();
+    let preview = matches!(scope, Scope::Preview) && has_harmonic_join_cages(scene);
     let binding = match scope {
-        Scope::Full => StarBinding::bind_scene(scene, control).map(Arc::new),
+        Scope::Preview if preview => {
+            let mut quick = scene.clone();
+            quick.settings.join_coordinates = JoinPolicy::Mvc;
+            StarBinding::bind_scene(&quick, control).map(Arc::new)
+        }
+        Scope::Full | Scope::Preview => StarBinding::bind_scene(scene, control).map(Arc::new),
         Scope::Leaves(old, leaves) => old.rebind_leaves(scene, &leaves, control).map(Arc::new),
         Scope::Hierarchy(old) => Ok(old),
     }
@@ -157,7 +170,23 @@ pub fn bind(
         seconds: start.elapsed().as_secs_f64(),
         generation,
         bound_for: (scene.cages.clone(), scene.settings),
+        preview,
     })
+}
+
+/// Whether binding `scene` solves harmonic coordinates in some join cage (its policy is
+/// harmonic, or automatic with a concave join cage). A topology that cannot be built gives
+/// `false`: the bind itself then reports why.
+fn has_harmonic_join_cages(scene: &Scene) -> bool {
+    match scene.settings.join_coordinates {
+        JoinPolicy::Mvc => false,
+        policy => Topology::new(&scene.cages, policy).is_ok_and(|topology| {
+            topology
+                .joins
+                .values()
+                .any(|join| join.kind == CoordinateKind::Harmonic)
+        }),
+    }
 }
 
 /// The difference map's baseline: the scene's mesh bound to one cage of `kind` around all.

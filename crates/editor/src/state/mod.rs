@@ -206,11 +206,23 @@ impl EditorState {
         let scope = self
             .rig
             .as_ref()
-            .map_or(Scope::Full, |rig| rebind_scope(rig, &self.doc.scene));
+            .map_or(Scope::Preview, |rig| rebind_scope(rig, &self.doc.scene));
         self.generations.edit += 1;
+        self.spawn_bind(label, scope);
+    }
+
+    /// Starts the full bind that replaces a preview binding, unless a bind is running already.
+    pub fn refine_preview(&mut self) {
+        if self.bind_job.is_none() && self.rig.as_ref().is_some_and(|rig| rig.preview) {
+            self.spawn_bind("refining: harmonic join cages", Scope::Full);
+        }
+    }
+
+    /// Starts a bind of `scope` for the current edit generation, replacing (cancelling) the
+    /// one running.
+    fn spawn_bind(&mut self, label: &str, scope: Scope) {
         let generation = self.generations.edit;
         let scene = self.doc.scene.clone();
-        // Replacing the old job drops it, which cancels it.
         self.bind_job = Some(Job::spawn("binding", label, self.waker.clone(), move |c| {
             jobs::bind(&scene, scope, generation, c)
         }));
@@ -255,12 +267,14 @@ impl EditorState {
                     .rig
                     .as_ref()
                     .is_some_and(|rig| Arc::ptr_eq(&rig.binding, &bound.binding));
+                let preview = bound.preview;
                 let mut rig = Rig {
                     binding: bound.binding,
                     hierarchy,
                     deformed: Arc::new(Vec::new()),
                     dofs: Arc::new(Vec::new()),
                     bound_for: bound.bound_for,
+                    preview,
                 };
                 rig.redeform_all(&self.doc.scene);
                 self.rig = Some(rig);
@@ -268,6 +282,10 @@ impl EditorState {
                     self.generations.mesh += 1;
                 }
                 self.generations.deformation += 1;
+                if preview {
+                    // Deformable now; the harmonic join cages follow in the background.
+                    self.spawn_bind("refining: harmonic join cages", Scope::Full);
+                }
             }
             Ok(_) => {} // a newer edit superseded it
             Err(e) => self.error(e),

@@ -23,6 +23,9 @@ pub struct Rig {
     pub dofs: Arc<Vec<Vec3>>,
     /// The cages and settings this binding is for.
     pub bound_for: (CageSet, SceneSettings),
+    /// A preview binding (mean value join cages in place of harmonic ones) while the full
+    /// bind runs.
+    pub preview: bool,
 }
 
 impl Rig {
@@ -69,23 +72,27 @@ impl Rig {
     }
 }
 
-/// How much of `rig` must be bound again for `scene`: a full bind only when the geometry, the
-/// hierarchy's structure or the settings changed; a leaf cage's kind, h or border h changes
+/// How much of `rig` must be bound again for `scene`: a full bind (preview first) only when the
+/// geometry, the hierarchy's structure or the settings changed, or the rig is a preview; a leaf cage's kind, h or border h changes
 /// only its own mesh rows; internal cages change only the hierarchy.
 pub fn rebind_scope(rig: &Rig, scene: &Scene) -> Scope {
     let (bound, settings) = &rig.bound_for;
     let now = &scene.cages;
+    if rig.preview {
+        // Re-binding part of a preview would keep its join cages: bind it all again.
+        return Scope::Preview;
+    }
     if *settings != scene.settings
         || bound.vertices != now.vertices
         || bound.leaves.len() != now.leaves.len()
         || bound.internals.len() != now.internals.len()
     {
-        return Scope::Full;
+        return Scope::Preview;
     }
     let mut leaves = Vec::new();
     for (i, (a, b)) in bound.leaves.iter().zip(&now.leaves).enumerate() {
         if a.faces != b.faces || a.name != b.name {
-            return Scope::Full;
+            return Scope::Preview;
         }
         if a != b {
             leaves.push(i);

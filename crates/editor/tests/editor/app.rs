@@ -299,7 +299,8 @@ fn main_window_snapshot() {
 fn a_bind_runs_in_the_background_the_ui_keeps_drawing_and_cancel_keeps_the_previous_binding() {
     let mut harness = harness();
     let old = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
-    // A fine HC grid makes the ears cage's bind slow enough to cancel.
+    // A fine HC grid makes the harmonic join cages slow enough to cancel. A quick preview with
+    // mean value join cages comes first and is installed; the refinement is what runs long.
     let mut settings = harness.state().state.doc.scene.settings;
     settings.harmonic.resolution = 128;
     harness.state_mut().run(Command::SetSettings {
@@ -308,10 +309,23 @@ fn a_bind_runs_in_the_background_the_ui_keeps_drawing_and_cancel_keeps_the_previ
     });
     assert!(harness.state().state.bind_job.is_some());
     // Frames keep coming while it binds, and show its progress.
+    let mut frames = 0;
+    while !harness
+        .state()
+        .state
+        .rig
+        .as_ref()
+        .is_some_and(|rig| rig.preview)
+    {
+        harness.step();
+        frames += 1;
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        assert!(frames < 2000, "the preview never arrived");
+    }
     for _ in 0..3 {
         harness.step();
     }
-    harness.get_by_label("binding after the change");
+    harness.get_by_label("refining: harmonic join cages");
     harness.get_by_label("Cancel").click();
     harness.run_steps(2);
     settle(&mut harness);
@@ -323,10 +337,30 @@ fn a_bind_runs_in_the_background_the_ui_keeps_drawing_and_cancel_keeps_the_previ
         "{}",
         message.text
     );
-    assert!(std::sync::Arc::ptr_eq(
-        &old,
-        &state.rig.as_ref().unwrap().binding
-    ));
+    // The binding in use when Cancel was pressed stays: the preview, still marked as one (so
+    // export waits for a full bind), not the binding before the change.
+    let rig = state.rig.as_ref().unwrap();
+    assert!(rig.preview);
+    assert!(!std::sync::Arc::ptr_eq(&old, &rig.binding));
+    // Export says why it cannot write the preview and starts the refinement again.
+    let path = scratch("cancelled-refinement").join("deformed.obj");
+    harness.state_mut().run(Command::ExportMesh(path.clone()));
+    let state = &harness.state().state;
+    assert!(!path.exists());
+    assert!(
+        state.bind_job.is_some(),
+        "the refinement did not start again"
+    );
+    assert!(
+        state
+            .message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("quick preview"),
+        "{:?}",
+        state.message
+    );
 }
 
 #[test]
@@ -493,4 +527,50 @@ fn exporting_over_the_scene_s_own_mesh_is_refused() {
     let out = dir.join("deformed.obj");
     harness.state_mut().run(Command::ExportMesh(out.clone()));
     assert!(out.exists(), "{:?}", harness.state().state.message);
+}
+
+/// A scene whose join cages use harmonic coordinates is deformable from a quick preview bind
+/// (mean value join cages), which a full bind then replaces; export waits for the full one.
+#[test]
+fn harmonic_join_cages_arrive_after_a_deformable_preview() {
+    use starcages_core::star::StarBinding;
+    let doc = Document {
+        scene: starcages_core::scene::demo::demo_scene("critter", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let scene = doc.scene.clone();
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    // The first binding installed is the preview (the full bind starts only then).
+    while app.state.rig.is_none() {
+        app.state.poll_jobs(false);
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let first = app.state.rig.as_ref().unwrap();
+    assert!(
+        first.preview,
+        "critter has harmonic join cages: a preview comes first"
+    );
+    assert!(!first.deformed.is_empty(), "the preview deforms the mesh");
+    let mut quick = scene.clone();
+    quick.settings.join_coordinates = starcages_core::scene::JoinPolicy::Mvc;
+    let expected =
+        StarBinding::bind_scene(&quick, &starcages_core::BindControl::default()).unwrap();
+    assert_eq!(first.binding.operator, expected.operator);
+    // Export waits for the full binding.
+    let path = scratch("preview-export").join("deformed.obj");
+    app.run(Command::ExportMesh(path.clone()));
+    if app.state.rig.as_ref().unwrap().preview {
+        assert!(!path.exists(), "a preview binding was exported");
+    }
+    // Installed, it starts the full bind; waiting for every job ends with the full binding.
+    app.wait_for_jobs();
+    let rig = app.state.rig.as_ref().unwrap();
+    assert!(!rig.preview);
+    let full = StarBinding::bind_scene(&scene, &starcages_core::BindControl::default()).unwrap();
+    assert_eq!(rig.binding.operator, full.operator);
+    assert_ne!(
+        full.operator, expected.operator,
+        "negative control: the join cages differ"
+    );
 }
