@@ -8,6 +8,7 @@
 
 pub mod app;
 pub mod commands;
+pub mod launch;
 pub mod state;
 pub mod ui;
 

@@ -1,8 +1,10 @@
 //! `starcages`: the StarCages desktop cage editor. `starcages` opens the built-in demo scene,
-//! `starcages SCENE.json` or `starcages MESH.obj` opens a file.
+//! `starcages SCENE.json` or `starcages MESH.obj` opens a file, `--help` and `--version` answer
+//! on the terminal.
 
 use anyhow::Context as _;
 use starcages_editor::Document;
+use starcages_editor::launch::{self, Launch};
 use starcages_editor::state::EditorError;
 use starcages_editor::state::recent;
 
@@ -14,7 +16,21 @@ fn main() -> anyhow::Result<()> {
         std::process::exit(130);
     })
     .ok();
-    let path = std::env::args_os().nth(1).map(std::path::PathBuf::from);
+    let path = match launch::parse(std::env::args_os().skip(1)) {
+        Launch::Open(path) => path,
+        Launch::Help => {
+            println!("{}", launch::usage());
+            return Ok(());
+        }
+        Launch::Version => {
+            println!("starcages {}", env!("CARGO_PKG_VERSION"));
+            return Ok(());
+        }
+        Launch::Invalid(message) => {
+            eprintln!("error: {message}");
+            std::process::exit(2);
+        }
+    };
     let (doc, error) = match &path {
         Some(path) => match Document::open(path) {
             Ok(doc) => (doc, None),
@@ -22,6 +38,8 @@ fn main() -> anyhow::Result<()> {
         },
         None => (Document::demo(), None),
     };
+    // A file opened from the command line joins Open recent, as one opened from the menu.
+    let opened = path.filter(|_| error.is_none());
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(doc.title())
@@ -42,6 +60,9 @@ fn main() -> anyhow::Result<()> {
             }
             if let Some(error) = error {
                 state.error(error);
+            }
+            if let Some(path) = &opened {
+                state.remember(path);
             }
             Ok(Box::new(app))
         }),
