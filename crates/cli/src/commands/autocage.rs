@@ -4,8 +4,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::io::read_mesh;
-use starcages_core::scene::{AutocageOptions, MeshSource, Scene, SceneSettings, autocage};
+use starcages_core::scene::{
+    AutocageOptions, DEFAULT_GRID, Scene, SceneSettings, UpAxis, autocage,
+};
 
 /// Arguments of `autocage`.
 #[derive(Debug, Args)]
@@ -13,8 +14,12 @@ pub struct AutocageArgs {
     /// Mesh file (OBJ, glTF or GLB).
     mesh: PathBuf,
     /// Cells along x, y and z.
-    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"])]
+    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID)]
     grid: Vec<u32>,
+    /// Up axis of an OBJ mesh file: y (the OBJ convention, turned to StarCages' Z-up) or z (read
+    /// as is). glTF files are always Y-up.
+    #[arg(long, value_parser = |s: &str| s.parse::<UpAxis>())]
+    up: Option<UpAxis>,
     /// Margin around the mesh, as a fraction of its largest side.
     #[arg(long, default_value_t = 0.05)]
     padding: f64,
@@ -31,7 +36,7 @@ pub fn run(args: &AutocageArgs) -> anyhow::Result<()> {
     let grid = super::three_counts(&args.grid, "--grid", 64)?;
     super::check_padding(args.padding)?;
     super::check_output("--out", &args.out, &[&args.mesh], &["json"])?;
-    let mesh = read_mesh(&args.mesh)?;
+    let (mesh, up) = super::read_new_scene_mesh(&args.mesh, args.up)?;
     let cages = autocage(
         &mesh,
         &AutocageOptions {
@@ -41,12 +46,7 @@ pub fn run(args: &AutocageArgs) -> anyhow::Result<()> {
         },
     );
     let source = std::path::absolute(&args.mesh).unwrap_or_else(|_| args.mesh.clone());
-    let scene = Scene::new(
-        MeshSource::File(source),
-        mesh,
-        cages,
-        SceneSettings::default(),
-    );
+    let scene = Scene::from_mesh_file(source, up, mesh, cages, SceneSettings::default());
     let summary = format!(
         "{} cages over {} cells",
         scene.cages.leaves.len(),

@@ -26,6 +26,9 @@ pub fn run(args: &CagesArgs) -> anyhow::Result<()> {
     let inputs: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--out", &args.out, &inputs, &["obj"])?;
     let positions = super::pose::named_pose(&scene, args.pose.as_deref(), &args.scene)?;
+    // In the mesh file's axes, so the cages line up with the mesh in other programs.
+    let up = scene.export_up();
+    let positions: Vec<_> = positions.iter().map(|&p| up.from_scene(p)).collect();
     write_atomic(
         &args.out,
         cage_set_obj_text(&scene.cages, &positions).as_bytes(),

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 use starcages_core::BindControl;
-use starcages_core::io::write_mesh;
+use starcages_core::scene::write_deformed_mesh;
 use starcages_core::star::{CacheOutcome, StarBinding};
 
 use super::pose::PoseArgs;
@@ -60,7 +60,9 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     let welded = binding.deform(&scene.cages.vertices, &posed);
     let seconds_frame = start.elapsed().as_secs_f64();
     let welded: Vec<glam::DVec3> = welded.iter().map(|p| p.as_dvec3()).collect();
-    write_mesh(&args.out, &scene.mesh, &scene.mesh.unweld(&welded))?;
+    // In the mesh file's axes, an OBJ as a copy of its source: a rest-pose export is the
+    // source file.
+    write_deformed_mesh(&args.out, &scene, &welded)?;
     if args.stats {
         let s = binding.stats;
         eprintln!(

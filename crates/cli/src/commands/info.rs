@@ -22,6 +22,8 @@ pub struct InfoArgs {
 #[derive(Serialize)]
 struct MeshInfo {
     source: String,
+    /// Up axis of the mesh file ("y": turned to the scene's Z-up; "z": read as is).
+    up_axis: &'static str,
     vertices: usize,
     welded_vertices: usize,
     triangles: usize,
@@ -111,6 +113,7 @@ fn info(scene: &Scene) -> Info {
                 MeshSource::File(path) => path.display().to_string(),
                 MeshSource::Embedded => "embedded".into(),
             },
+            up_axis: scene.mesh_up.name(),
             vertices: scene.mesh.positions().len(),
             welded_vertices: scene.mesh.welded_positions().len(),
             triangles: scene.mesh.triangles().len(),
@@ -135,8 +138,12 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     }
     let m = &info.mesh;
     crate::output::line(format_args!(
-        "mesh: {} ({} vertices, {} welded, {} triangles)",
-        m.source, m.vertices, m.welded_vertices, m.triangles
+        "mesh: {} ({} vertices, {} welded, {} triangles; file {}-up)",
+        m.source,
+        m.vertices,
+        m.welded_vertices,
+        m.triangles,
+        m.up_axis.to_uppercase()
     ))?;
     crate::output::line(format_args!(
         "bounds: {:?} .. {:?}",

@@ -66,6 +66,31 @@ pub fn three_counts(values: &[u32], flag: &str, max: u32) -> anyhow::Result<[u32
     Ok(counts)
 }
 
+/// Reads a mesh file for a new scene, turned to the scene's Z-up: glTF is Y-up by
+/// specification; OBJ by `--up` (Y-up, the convention, unless told otherwise). Returns the mesh
+/// and the up axis the scene records.
+pub fn read_new_scene_mesh(
+    path: &std::path::Path,
+    up: Option<starcages_core::scene::UpAxis>,
+) -> anyhow::Result<(starcages_core::mesh::Mesh, starcages_core::scene::UpAxis)> {
+    use starcages_core::scene::UpAxis;
+    let gltf = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
+    let up = match (gltf, up) {
+        (true, Some(UpAxis::Z)) => {
+            return Err(crate::InputError(format!(
+                "--up z: {} is glTF, which is Y-up by specification; --up applies to OBJ files",
+                path.display()
+            ))
+            .into());
+        }
+        (_, Some(up)) => up,
+        (_, None) => UpAxis::Y,
+    };
+    Ok((starcages_core::io::read_mesh_as(path, up)?, up))
+}
+
 /// A padding fraction in [0, 10].
 pub fn check_padding(padding: f64) -> anyhow::Result<()> {
     if (0.0..=10.0).contains(&padding) {

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use starcages_core::coords::CoordinateKind;
-use starcages_core::io::{read_cage_set_obj, read_mesh};
-use starcages_core::scene::{MeshSource, OutsidePolicy, Scene, SceneSettings};
+use starcages_core::io::read_cage_set_obj;
+use starcages_core::scene::{OutsidePolicy, Scene, SceneSettings, UpAxis};
 
 /// `--outside` values.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -30,6 +30,10 @@ pub struct NewArgs {
     /// What to do with mesh vertices outside every cage.
     #[arg(long, value_enum, default_value = "error")]
     outside: Outside,
+    /// Up axis of OBJ mesh and cage files: y (the OBJ convention, turned to StarCages' Z-up) or
+    /// z (read as is). glTF meshes are always Y-up; the cage file follows the same axis.
+    #[arg(long, value_parser = |s: &str| s.parse::<UpAxis>())]
+    up: Option<UpAxis>,
     /// Scene file to write.
     #[arg(long)]
     out: PathBuf,
@@ -38,8 +42,11 @@ pub struct NewArgs {
 /// Runs the command.
 pub fn run(args: &NewArgs) -> anyhow::Result<()> {
     super::check_output("--out", &args.out, &[&args.mesh, &args.cages], &["json"])?;
-    let mesh = read_mesh(&args.mesh)?;
-    let cages = read_cage_set_obj(&args.cages, args.kind)?;
+    let (mesh, up) = super::read_new_scene_mesh(&args.mesh, args.up)?;
+    let mut cages = read_cage_set_obj(&args.cages, args.kind)?;
+    for v in &mut cages.vertices {
+        *v = up.to_scene(*v);
+    }
     let settings = SceneSettings {
         outside: match args.outside {
             Outside::Error => OutsidePolicy::Error,
@@ -48,7 +55,7 @@ pub fn run(args: &NewArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     let source = std::path::absolute(&args.mesh).unwrap_or_else(|_| args.mesh.clone());
-    let scene = Scene::new(MeshSource::File(source), mesh, cages, settings);
+    let scene = Scene::from_mesh_file(source, up, mesh, cages, settings);
     let summary = format!("{} cages", scene.cages.leaves.len());
     super::save_new_scene(&scene, &args.out, &summary)
 }

@@ -73,7 +73,11 @@ impl PoseArgs {
     ) -> anyhow::Result<Vec<DVec3>> {
         let (mut pose, state) = match &self.pose_file {
             Some(file) => (
-                read_pose_obj(file, scene.cages.vertices.len())?,
+                // Written by `cages` in the mesh file's axes: turned back to the scene's.
+                read_pose_obj(file, scene.cages.vertices.len())?
+                    .into_iter()
+                    .map(|p| scene.export_up().to_scene(p))
+                    .collect(),
                 HierarchyState::default(),
             ),
             None => (

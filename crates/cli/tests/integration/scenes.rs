@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use common::{BOX_OBJ, cli, dir, s, stderr, stdout};
+use common::{BOX_OBJ, cli, dir, ok, s, stderr, stdout};
 
 #[test]
 fn demos_are_listed_written_valid_and_described() {
@@ -136,7 +136,7 @@ fn invalid_scenes_and_files_exit_with_status_2() {
     let text =
         std::fs::read_to_string(&nearest)
             .unwrap()
-            .replacen("\"version\": 1", "\"version\": 99", 1);
+            .replacen("\"version\": 2", "\"version\": 99", 1);
     std::fs::write(&newer, text).unwrap();
     let refused = cli(&["info", s(&newer)]);
     assert_eq!(refused.status.code(), Some(2));
@@ -159,4 +159,106 @@ fn invalid_scenes_and_files_exit_with_status_2() {
         "{}",
         stderr(&bad)
     );
+}
+
+/// `v` lines of an OBJ file as numbers, in file order.
+fn obj_positions(path: &std::path::Path) -> Vec<[f64; 3]> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|rest| {
+            let n: Vec<f64> = rest
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            [n[0], n[1], n[2]]
+        })
+        .collect()
+}
+
+/// An OBJ file is Y-up: a tower tall along Y stands up along the scene's Z, the scene records
+/// the axis, and every file written back (deformed mesh at rest, cages) is in the file's axes:
+/// a round trip is the identity.
+#[test]
+fn y_up_obj_files_stand_up_and_round_trip_unchanged() {
+    let d = dir("up-axis");
+    let tower = d.join("tower.obj");
+    // A box 1 wide, 4 tall along Y, 1 deep.
+    let text = "v 0 0 0\nv 1 0 0\nv 0 4 0\nv 1 4 0\nv 0 0 1\nv 1 0 1\nv 0 4 1\nv 1 4 1\n\
+                f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    std::fs::write(&tower, text).unwrap();
+    let scene = d.join("tower.json");
+    // No --grid: the one default grid.
+    ok(&cli(&["autocage", s(&tower), "--out", s(&scene)]));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    assert_eq!(json["mesh_up_axis"], "y");
+    assert_eq!(json["version"], 2);
+    let info = cli(&["info", s(&scene), "--json"]);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let (lo, hi) = (&info["mesh"]["bounds_min"], &info["mesh"]["bounds_max"]);
+    let height = hi[2].as_f64().unwrap() - lo[2].as_f64().unwrap();
+    let depth = hi[1].as_f64().unwrap() - lo[1].as_f64().unwrap();
+    assert!(
+        (height - 4.0).abs() < 1e-9 && (depth - 1.0).abs() < 1e-9,
+        "the tower lies down: {info}"
+    );
+    // The rest pose written back is the source file, vertex for vertex.
+    let rest = d.join("rest.obj");
+    ok(&cli(&["deform", s(&scene), "--out", s(&rest)]));
+    let (source, written) = (obj_positions(&tower), obj_positions(&rest));
+    assert_eq!(source.len(), written.len());
+    for (a, b) in source.iter().zip(&written) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() < 1e-6, "{a:?} vs {b:?}");
+        }
+    }
+    // Cages come out in the file's axes too (tall along Y), and go back in as a pose.
+    let cages = d.join("cages.obj");
+    ok(&cli(&["cages", s(&scene), "--out", s(&cages)]));
+    let cage_positions = obj_positions(&cages);
+    let span = |k: usize| {
+        let values = cage_positions.iter().map(|p| p[k]);
+        values.clone().fold(f64::MIN, f64::max) - values.fold(f64::MAX, f64::min)
+    };
+    assert!(
+        span(1) > 4.0 && span(2) < 2.0,
+        "cages not in the file's axes"
+    );
+    let posed = d.join("posed.obj");
+    ok(&cli(&[
+        "deform",
+        s(&scene),
+        "--pose-file",
+        s(&cages),
+        "--out",
+        s(&posed),
+    ]));
+    for (a, b) in source.iter().zip(&obj_positions(&posed)) {
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() < 1e-6,
+                "pose file not turned back: {a:?} vs {b:?}"
+            );
+        }
+    }
+    // --up z reads the file as it is; glTF cannot be told to be Z-up.
+    let as_is = d.join("as-is.json");
+    ok(&cli(&[
+        "autocage",
+        s(&tower),
+        "--up",
+        "z",
+        "--out",
+        s(&as_is),
+    ]));
+    let info = cli(&["info", s(&as_is), "--json"]);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert!((info["mesh"]["bounds_max"][1].as_f64().unwrap() - 4.0).abs() < 1e-9);
+    let glb = d.join("tower.glb");
+    std::fs::write(&glb, b"glTF").unwrap();
+    let refused = cli(&["autocage", s(&glb), "--up", "z", "--out", s(&as_is)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(stderr(&refused).contains("Y-up by specification"));
 }

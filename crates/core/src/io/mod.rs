@@ -9,6 +9,7 @@ mod mesh_gltf;
 mod mesh_obj;
 mod mesh_write;
 mod obj_cage;
+mod obj_like_source;
 mod obj_lint;
 mod points;
 
@@ -23,6 +24,7 @@ pub use atomic::{is_same_file, remove_unfinished_saves, write_atomic};
 pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
 pub use mesh_write::{glb_bytes, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
+pub use obj_like_source::{ObjCopyReport, write_obj_like_source};
 pub use points::{parse_points, read_points};
 
 /// Reads a mesh from an OBJ, glTF or GLB file (by extension).
@@ -36,6 +38,11 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
             supported: "obj, gltf, glb",
         }),
     }
+}
+
+/// Reads a mesh file written with `up` as its up axis, in scene coordinates (Z up).
+pub fn read_mesh_as(path: &Path, up: crate::scene::UpAxis) -> Result<Mesh, FileError> {
+    read_mesh(path).map(|mesh| up.mesh_to_scene(mesh))
 }
 
 /// A mesh read from `path`: validated and welded, problems reported against the file.

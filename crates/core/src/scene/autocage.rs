@@ -25,12 +25,16 @@ pub struct AutocageOptions {
 impl Default for AutocageOptions {
     fn default() -> Self {
         Self {
-            grid: [2, 2, 2],
+            grid: DEFAULT_GRID,
             padding: 0.05,
             kind: CoordinateKind::MeanValue,
         }
     }
 }
+
+/// The automatic grid's cells along x, y and z wherever none is given (the command line, New
+/// from mesh, `autocage`, `bench`).
+pub const DEFAULT_GRID: [u32; 3] = [3, 3, 3];
 
 /// A grid of box cages around the mesh: a cell is kept when it holds a mesh vertex or when its
 /// centre lies inside the mesh's volume (generalised winding number above ½), so the union of

@@ -10,14 +10,15 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use thiserror::Error;
 
+use super::UpAxis;
 use super::{CageSet, HierarchyState, InternalCage, LeafCage, MeshSource, Scene, SceneSettings};
-use crate::io::{FileError, read_mesh, write_atomic};
+use crate::io::{FileError, read_mesh_as, write_atomic};
 use crate::mesh::{Mesh, MeshError};
 
 /// The `format` name of scene files.
 pub const SCENE_FORMAT: &str = "starcages-scene";
 /// The scene file version this build writes (and the newest it reads).
-pub const SCENE_VERSION: u32 = 1;
+pub const SCENE_VERSION: u32 = 2;
 
 /// Why a scene file could not be read or written.
 #[derive(Debug, Error)]
@@ -96,10 +97,10 @@ enum MeshRef {
     Embedded(EmbeddedMesh),
 }
 
-/// Version 1 of the scene file.
+/// The scene file (version [`SCENE_VERSION`]; older versions are migrated to it first).
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct SceneFileV1 {
+struct SceneFile {
     format: String,
     version: u32,
     #[serde(default)]
@@ -119,6 +120,9 @@ struct SceneFileV1 {
     /// Hierarchy state of the current pose (absent: rest state).
     #[serde(default, skip_serializing_if = "HierarchyState::is_rest")]
     current_hierarchy: HierarchyState,
+    /// The mesh file's up axis (version 2; version 1 files read meshes as they are: "z").
+    #[serde(default)]
+    mesh_up_axis: UpAxis,
     /// Last, since an embedded mesh can be long.
     mesh: MeshRef,
 }
@@ -144,11 +148,17 @@ fn shape_reason(error: &serde_json::Error) -> String {
     }
 }
 
-/// Migrations from each older version to the next, applied in order on the raw JSON. Version 1
-/// is the first released format, so there is nothing to migrate yet: when version 2 comes,
-/// `migrate_v1_to_v2` goes here and the test below gains a version-1 file.
-fn migrate(value: Value, version: u64) -> Value {
+/// Migrations from each older version to the next, applied in order on the raw JSON.
+fn migrate(mut value: Value, version: u64) -> Value {
     debug_assert!(version <= u64::from(SCENE_VERSION));
+    if version < 2 {
+        // Version 1 read mesh files as they are (Z up); version 2 turns Y-up files, so a
+        // version-1 scene says "z" to keep its mesh where its cages are.
+        if let Value::Object(map) = &mut value {
+            map.insert("mesh_up_axis".into(), Value::String("z".into()));
+            map.insert("version".into(), Value::from(2));
+        }
+    }
     value
 }
 
@@ -189,7 +199,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
     let value = migrate(value, version);
     // Parse the text itself so that shape errors carry the line, the column and the field's
     // path (`cages[0].faces`); a migrated older file is parsed from its migrated value.
-    let file: SceneFileV1 = if version == u64::from(SCENE_VERSION) {
+    let file: SceneFile = if version == u64::from(SCENE_VERSION) {
         let mut deserializer = serde_json::Deserializer::from_str(&text);
         serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
             let field = e.path().to_string();
@@ -209,7 +219,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
     let (mesh_source, mesh) = match file.mesh {
         MeshRef::Path(relative) => {
             let full = folder.join(&relative);
-            let mesh = read_mesh(&full)?;
+            let mesh = read_mesh_as(&full, file.mesh_up_axis)?;
             (MeshSource::File(full), mesh)
         }
         MeshRef::Embedded(m) => {
@@ -231,6 +241,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
     let pose = file.current_pose.unwrap_or_else(|| cages.vertices.clone());
     Ok(Scene {
         mesh_source,
+        mesh_up: file.mesh_up_axis,
         mesh,
         cages,
         settings: file.settings,
@@ -255,7 +266,7 @@ pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
             uvs: scene.mesh.uvs().map(<[Vec2]>::to_vec),
         }),
     };
-    let file = SceneFileV1 {
+    let file = SceneFile {
         format: SCENE_FORMAT.to_owned(),
         version: SCENE_VERSION,
         settings: scene.settings,
@@ -271,6 +282,7 @@ pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
             .collect(),
         current_pose: (scene.pose != scene.cages.vertices).then(|| scene.pose.clone()),
         current_hierarchy: scene.pose_state.clone(),
+        mesh_up_axis: scene.mesh_up,
         mesh,
     };
     // Serialising plain data to a Value cannot fail (no maps with non-string keys).

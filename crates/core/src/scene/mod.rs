@@ -6,10 +6,12 @@ mod autocage;
 mod cage_set;
 mod containment;
 pub mod demo;
+mod export;
 mod file;
 mod pose_state;
 mod pretty_json;
 mod settings;
+mod up_axis;
 mod validate;
 
 use std::collections::BTreeMap;
@@ -19,18 +21,20 @@ use glam::DVec3;
 
 use crate::mesh::Mesh;
 
-pub use autocage::{AutocageOptions, autocage};
+pub use autocage::{AutocageOptions, DEFAULT_GRID, autocage};
 pub use cage_set::{
     Adjacency, CageSet, InternalCage, LeafCage, LocalCage, is_reversed, is_same_cycle,
 };
 pub(crate) use containment::ON_CAGE;
 pub use containment::{Containment, leaf_containment};
+pub use export::write_deformed_mesh;
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
 };
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
+pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;
 pub use validate::{MAX_COORDINATE, SceneProblem, ValidationReport, validate_scene};
 
@@ -48,7 +52,10 @@ pub enum MeshSource {
 pub struct Scene {
     /// Where the mesh comes from.
     pub mesh_source: MeshSource,
-    /// The mesh.
+    /// The up axis of the mesh file (and of cage and pose files that go with it): the mesh is
+    /// held turned to the scene's Z-up and turned back on export.
+    pub mesh_up: UpAxis,
+    /// The mesh, in scene coordinates (Z up).
     pub mesh: Mesh,
     /// Cages with their rest positions.
     pub cages: CageSet,
@@ -65,7 +72,8 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// A scene in its rest pose.
+    /// A scene in its rest pose, its mesh already in scene coordinates (`mesh_up` is Z: files
+    /// are written as they are; set it for a mesh read from a Y-up file).
     pub fn new(
         mesh_source: MeshSource,
         mesh: Mesh,
@@ -75,6 +83,7 @@ impl Scene {
         let pose = cages.vertices.clone();
         Self {
             mesh_source,
+            mesh_up: UpAxis::Z,
             mesh,
             cages,
             settings,
@@ -83,6 +92,20 @@ impl Scene {
             pose_state: HierarchyState::default(),
             pose_states: BTreeMap::new(),
         }
+    }
+
+    /// A scene in its rest pose around a mesh read from the file `source` with up axis `up`
+    /// (the mesh already turned to scene coordinates, as [`crate::io::read_mesh_as`] gives it).
+    pub fn from_mesh_file(
+        source: PathBuf,
+        up: UpAxis,
+        mesh: Mesh,
+        cages: CageSet,
+        settings: SceneSettings,
+    ) -> Self {
+        let mut scene = Self::new(MeshSource::File(source), mesh, cages, settings);
+        scene.mesh_up = up;
+        scene
     }
 
     /// The positions of a named pose, or the current pose for `None`.
@@ -98,6 +121,16 @@ impl Scene {
         match name {
             None => self.pose_state.clone(),
             Some(n) => self.pose_states.get(n).cloned().unwrap_or_default(),
+        }
+    }
+
+    /// The up axis files written from this scene use: the mesh file's for a scene made from a
+    /// file (a round trip is the identity), Y-up (the OBJ and glTF convention) for a generated
+    /// one.
+    pub fn export_up(&self) -> UpAxis {
+        match self.mesh_source {
+            MeshSource::File(_) => self.mesh_up,
+            MeshSource::Embedded => UpAxis::Y,
         }
     }
 

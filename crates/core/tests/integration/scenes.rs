@@ -12,7 +12,8 @@ use starcages_core::io::read_mesh;
 use starcages_core::scene::demo::{DEMOS, box_mesh, demo_scene};
 use starcages_core::scene::{
     AutocageOptions, CageSet, InternalCage, LeafCage, MeshSource, OutsidePolicy, Scene,
-    SceneFileError, SceneProblem, SceneSettings, autocage, load_scene, save_scene, validate_scene,
+    SceneFileError, SceneProblem, SceneSettings, UpAxis, autocage, load_scene, save_scene,
+    validate_scene,
 };
 
 fn scratch(name: &str) -> PathBuf {
@@ -342,7 +343,7 @@ fn bad_scene_files_get_clear_errors() {
     let newer = write(
         &dir,
         "newer.json",
-        &text.replacen("\"version\": 1", "\"version\": 7", 1),
+        &text.replacen("\"version\": 2", "\"version\": 7", 1),
     );
     let e = load_scene(&newer).unwrap_err().to_string();
     assert!(
@@ -603,8 +604,8 @@ fn scene_version_zero_is_refused() {
     let path = dir.join("scene.json");
     save_scene(&two_box_scene(), &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("\"version\": 1"));
-    std::fs::write(&path, text.replace("\"version\": 1", "\"version\": 0")).unwrap();
+    assert!(text.contains("\"version\": 2"));
+    std::fs::write(&path, text.replace("\"version\": 2", "\"version\": 0")).unwrap();
     let error = load_scene(&path).unwrap_err().to_string();
     assert!(
         error.contains("scene.json") && error.contains("start at 1"),
@@ -777,4 +778,153 @@ fn cages_through_each_other_t_junctions_and_self_intersections_are_refused() {
     faces[0][0] = positions.len() as u32 - 1;
     let first = starcages_core::cage::Cage::from_polygons(positions, faces).unwrap_err();
     assert!(first.to_string().contains("weld"), "{first}");
+}
+
+/// A deformed OBJ export is a copy of the source OBJ: the same `v` list (count and order, so
+/// it works as a shape key), texture coordinates with their seams, normals' layout, groups,
+/// material references and comments; at rest its positions are the source's.
+#[test]
+fn obj_exports_keep_the_source_layout_and_rest_is_the_source() {
+    let dir = scratch("faithful-obj");
+    // A Y-up box with a UV seam (corner 1 has two texture coordinates), per-face normals,
+    // two groups, a material library and a comment.
+    let source = "# made by hand\nmtllib box.mtl\no box\n\
+        v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n\
+        vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n\
+        g bottom\nusemtl red\nf 1/1/1 3/2/1 4/3/1 2/4/1\nf 5/5/2 6/2/2 8/3/2 7/4/2\n\
+        g sides\nusemtl blue\nf 1/1/3 2/2/3 6/3/3 5/4/3\nf 3/1/4 7/2/4 8/3/4 4/4/4\n\
+        f 1/5/5 5/2/5 7/3/5 3/4/5\nf 2/1/6 4/2/6 8/3/6 6/4/6\n";
+    let mesh_path = write(&dir, "box.obj", source);
+    let mesh = starcages_core::io::read_mesh_as(&mesh_path, UpAxis::Y).unwrap();
+    let cages = autocage(&mesh, &AutocageOptions::default());
+    let mut scene = Scene::new(
+        MeshSource::File(mesh_path.clone()),
+        mesh,
+        cages,
+        SceneSettings::default(),
+    );
+    scene.mesh_up = UpAxis::Y;
+    let binding = starcages_core::star::StarBinding::bind_scene(
+        &scene,
+        &starcages_core::BindControl::default(),
+    )
+    .unwrap();
+    let deform = |pose: &[DVec3]| -> Vec<DVec3> {
+        binding
+            .deform(&scene.cages.vertices, pose)
+            .iter()
+            .map(|p| p.as_dvec3())
+            .collect()
+    };
+    let is_data = |l: &&str| l.starts_with("v ") || l.starts_with("vn ");
+    // At rest: the source, numbers to float precision.
+    let rest = dir.join("rest.obj");
+    starcages_core::scene::write_deformed_mesh(&rest, &scene, &deform(&scene.pose)).unwrap();
+    let written = std::fs::read_to_string(&rest).unwrap();
+    let (src_lines, out_lines): (Vec<&str>, Vec<&str>) =
+        (source.lines().collect(), written.lines().collect());
+    assert_eq!(src_lines.len(), out_lines.len());
+    for (a, b) in src_lines.iter().zip(&out_lines) {
+        if is_data(a) {
+            let numbers = |l: &str| -> Vec<f64> {
+                l.split_whitespace()
+                    .skip(1)
+                    .map(|x| x.parse().unwrap())
+                    .collect()
+            };
+            for (x, y) in numbers(a).iter().zip(numbers(b)) {
+                assert!((x - y).abs() < 1e-5, "{a} vs {b}");
+            }
+        } else {
+            assert_eq!(a, b, "a line that is not data changed");
+        }
+    }
+    // Posed: positions move, everything else stays; the file reads back with the same counts.
+    let mut pose = scene.pose.clone();
+    for p in &mut pose {
+        p.z *= 1.5;
+    }
+    let posed = dir.join("posed.obj");
+    starcages_core::scene::write_deformed_mesh(&posed, &scene, &deform(&pose)).unwrap();
+    let written = std::fs::read_to_string(&posed).unwrap();
+    let kept: Vec<&str> = written.lines().filter(|l| !is_data(l)).collect();
+    let original: Vec<&str> = source.lines().filter(|l| !is_data(l)).collect();
+    assert_eq!(kept, original);
+    let tall = written
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|rest| {
+            rest.split_whitespace()
+                .nth(1)
+                .unwrap()
+                .parse::<f64>()
+                .unwrap()
+        })
+        .fold(f64::MIN, f64::max);
+    // Scene z is the file's y: the box is stretched along the file's up axis.
+    assert!(tall > 1.2, "the pose did not reach the file: {tall}");
+    let back = read_mesh(&posed).unwrap();
+    assert_eq!(
+        back.positions().len(),
+        read_mesh(&mesh_path).unwrap().positions().len()
+    );
+    // The source changed on disk: refused with the reason, nothing written.
+    std::fs::write(&mesh_path, source.replace("v 1 1 1\n", "v 1 1 2\n")).unwrap();
+    let stale = dir.join("stale.obj");
+    let error = starcages_core::scene::write_deformed_mesh(&stale, &scene, &deform(&pose))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("changed since the scene was opened"),
+        "{error}"
+    );
+    assert!(!stale.exists());
+}
+
+/// Version-1 scenes read their mesh files as they are (they were made that way): migrated with
+/// "z", their mesh stays where their cages are; new scenes record the file's axis.
+#[test]
+fn version_1_scenes_keep_their_mesh_as_is_and_new_ones_record_the_up_axis() {
+    let dir = scratch("up-axis-migration");
+    let mesh_path = write(
+        &dir,
+        "tall.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 4 0\nv 1 4 0\nv 0 0 1\nv 1 0 1\nv 0 4 1\nv 1 4 1\n\
+         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    );
+    let mesh = starcages_core::io::read_mesh_as(&mesh_path, UpAxis::Y).unwrap();
+    assert!(
+        (mesh.bounds().1.z - 4.0).abs() < 1e-12,
+        "Y-up turned to Z-up"
+    );
+    let cages = autocage(&mesh, &AutocageOptions::default());
+    let mut scene = Scene::new(
+        MeshSource::File(mesh_path.clone()),
+        mesh,
+        cages,
+        SceneSettings::default(),
+    );
+    scene.mesh_up = UpAxis::Y;
+    let path = dir.join("tall.json");
+    save_scene(&scene, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"mesh_up_axis\": \"y\""), "{text}");
+    let back = load_scene(&path).unwrap();
+    assert_eq!(back.mesh_up, UpAxis::Y);
+    assert_eq!(back.mesh.bounds(), scene.mesh.bounds());
+    // The same file as version 1 wrote it: no axis, version 1.
+    let v1: String = text
+        .lines()
+        .filter(|l| !l.contains("mesh_up_axis"))
+        .collect::<Vec<_>>()
+        .join("\n")
+        .replace("\"version\": 2", "\"version\": 1");
+    std::fs::write(&path, v1).unwrap();
+    let old = load_scene(&path).unwrap();
+    assert_eq!(old.mesh_up, UpAxis::Z);
+    assert!(
+        (old.mesh.bounds().1.y - 4.0).abs() < 1e-12,
+        "a version-1 mesh was turned"
+    );
 }

@@ -5,10 +5,10 @@
 use std::path::Path;
 
 use starcages_core::hierarchy::{AutoInternalCage, add_auto_internal_cage, remove_internal_cage};
-use starcages_core::io::{cage_set_obj_text, write_atomic, write_mesh};
-use starcages_core::scene::AutocageOptions;
+use starcages_core::io::{cage_set_obj_text, write_atomic};
 
 use super::{CameraChange, Command, UnsavedAnswer};
+use crate::state::NewMeshOptions;
 use crate::state::document::scene_from_mesh;
 use crate::state::{CageId, Document, EditorError, EditorState, Pending, SelectMode};
 
@@ -63,7 +63,10 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 state.error(EditorError::OutputIsInput(path));
                 return;
             }
-            let text = cage_set_obj_text(&scene.cages, &scene.pose);
+            // In the mesh file's axes, to line up with the mesh in other programs.
+            let up = scene.export_up();
+            let posed: Vec<glam::DVec3> = scene.pose.iter().map(|&p| up.from_scene(p)).collect();
+            let text = cage_set_obj_text(&scene.cages, &posed);
             match write_atomic(&path, text.as_bytes()) {
                 Ok(()) => state.info(format!("exported {}", path.display())),
                 Err(e) => state.error(EditorError::Export(e)),
@@ -297,7 +300,7 @@ fn store_pose(state: &mut EditorState, name: &str) {
     state.info(format!("stored pose '{name}'"));
 }
 
-fn new_from_mesh(state: &mut EditorState, path: &Path, options: &AutocageOptions) {
+fn new_from_mesh(state: &mut EditorState, path: &Path, options: &NewMeshOptions) {
     match scene_from_mesh(path, options) {
         Ok(scene) => {
             state.install_document(Document {
@@ -344,8 +347,8 @@ fn export_mesh(state: &mut EditorState, path: &Path) {
         return;
     }
     let welded: Vec<glam::DVec3> = rig.deformed.iter().map(|p| p.as_dvec3()).collect();
-    let mesh = &state.doc.scene.mesh;
-    match write_mesh(path, mesh, &mesh.unweld(&welded)) {
+    // In the mesh file's axes, an OBJ as a copy of its source (same vertex list and order).
+    match starcages_core::scene::write_deformed_mesh(path, &state.doc.scene, &welded) {
         Ok(()) => state.info(format!("exported {}", path.display())),
         Err(e) => state.error(EditorError::Export(e)),
     }

@@ -9,10 +9,10 @@ use std::path::PathBuf;
 
 use glam::{DVec3, Vec2};
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::{AutocageOptions, SceneSettings};
+use starcages_core::scene::SceneSettings;
 use starcages_viewport::{Layers, View};
 
-use crate::state::{CageId, GestureId, InfluenceChoice, ScreenRect, SelectMode};
+use crate::state::{CageId, GestureId, InfluenceChoice, NewMeshOptions, ScreenRect, SelectMode};
 
 pub use apply::{apply, apply_all};
 pub use table::UiCommand;
@@ -56,7 +56,7 @@ pub enum Command {
     /// Open a scene or a mesh (asks first when there are unsaved changes).
     Open(PathBuf),
     /// A new scene around a mesh in automatic grid cages (asks first over unsaved changes).
-    NewFromMesh(PathBuf, AutocageOptions),
+    NewFromMesh(PathBuf, NewMeshOptions),
     /// Save to the document's file (the UI asks for one with [`Command::SaveAs`] when there is
     /// none).
     Save,

@@ -3,11 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use starcages_core::io::read_mesh;
+use starcages_core::io::read_mesh_as;
 use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{
-    AutocageOptions, MeshSource, Scene, SceneSettings, autocage, load_scene, save_scene,
-    validate_scene,
+    AutocageOptions, Scene, SceneSettings, UpAxis, autocage, load_scene, save_scene, validate_scene,
 };
 
 use super::EditorError;
@@ -62,13 +61,7 @@ impl Document {
             });
         }
         Ok(Self {
-            scene: scene_from_mesh(
-                path,
-                &AutocageOptions {
-                    grid: [3, 3, 3],
-                    ..AutocageOptions::default()
-                },
-            )?,
+            scene: scene_from_mesh(path, &NewMeshOptions::default())?,
             path: None,
             dirty: true,
         })
@@ -100,13 +93,39 @@ impl Document {
     }
 }
 
-/// A new scene around the mesh at `path`, in a grid of box cages.
-pub fn scene_from_mesh(path: &Path, options: &AutocageOptions) -> Result<Scene, EditorError> {
-    let mesh = read_mesh(path).map_err(EditorError::OpenMesh)?;
-    let cages = autocage(&mesh, options);
+/// How File ▸ New from mesh builds a scene: the automatic grid and the mesh file's up axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewMeshOptions {
+    /// The automatic grid of box cages.
+    pub cages: AutocageOptions,
+    /// Up axis of an OBJ file (glTF is always Y-up).
+    pub up: UpAxis,
+}
+
+impl Default for NewMeshOptions {
+    fn default() -> Self {
+        Self {
+            cages: AutocageOptions::default(),
+            up: UpAxis::Y,
+        }
+    }
+}
+
+/// Whether `path` names a glTF file (Y-up by specification, whatever the up option says).
+pub fn is_gltf(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
+/// A new scene around the mesh at `path`, turned to Z-up, in a grid of box cages.
+pub fn scene_from_mesh(path: &Path, options: &NewMeshOptions) -> Result<Scene, EditorError> {
+    let up = if is_gltf(path) { UpAxis::Y } else { options.up };
+    let mesh = read_mesh_as(path, up).map_err(EditorError::OpenMesh)?;
+    let cages = autocage(&mesh, &options.cages);
     let source = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    Ok(Scene::new(
-        MeshSource::File(source),
+    Ok(Scene::from_mesh_file(
+        source,
+        up,
         mesh,
         cages,
         SceneSettings::default(),

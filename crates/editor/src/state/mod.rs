@@ -21,10 +21,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use glam::{DVec3, Vec3};
-use starcages_core::scene::AutocageOptions;
 
 pub use cage_id::CageId;
-pub use document::Document;
+pub use document::{Document, NewMeshOptions};
 pub use error::EditorError;
 pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
@@ -61,7 +60,7 @@ pub enum Pending {
     /// Close the window.
     Close,
     /// Create a new scene around a mesh.
-    NewFromMesh(PathBuf, AutocageOptions),
+    NewFromMesh(PathBuf, NewMeshOptions),
 }
 
 /// Change counters: what the viewport must upload again and which results are stale.

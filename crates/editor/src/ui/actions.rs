@@ -2,14 +2,13 @@
 //! the UI's; everything else becomes a [`Command`].
 
 use glam::Vec2;
-use starcages_core::scene::AutocageOptions;
 use starcages_viewport::View;
 
 use super::UiState;
 use super::dialogs;
 use super::transform_tool::{Mode, TransformTool};
 use crate::commands::{CameraChange, Command, CommandSender, UiCommand};
-use crate::state::EditorState;
+use crate::state::{EditorState, NewMeshOptions};
 
 /// Carries out `action` with the pointer at `pointer` (screen points; for G / R / S).
 pub fn execute(
@@ -23,7 +22,7 @@ pub fn execute(
     let command = match action {
         UiCommand::NewFromMesh => {
             if let Some(path) = dialogs::mesh_file() {
-                ui_state.new_mesh_dialog = Some((path, AutocageOptions::default()));
+                ui_state.new_mesh_dialog = Some((path, NewMeshOptions::default()));
             }
             return;
         }

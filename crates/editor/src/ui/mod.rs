@@ -20,10 +20,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use egui::Panel;
-use starcages_core::scene::AutocageOptions;
 
 use crate::commands::{Command, CommandSender};
-use crate::state::{EditorState, GestureId};
+use crate::state::{EditorState, GestureId, NewMeshOptions};
 
 pub use transform_tool::{Axis, Mode, TransformTool};
 pub use viewport_input::{Drag, pick, vertex_on_screen};
@@ -38,7 +37,7 @@ pub struct UiState {
     /// The name typed for a new pose.
     pub new_pose_name: String,
     /// The automatic-cages dialog of File ▸ New from mesh, while open.
-    pub new_mesh_dialog: Option<(PathBuf, AutocageOptions)>,
+    pub new_mesh_dialog: Option<(PathBuf, NewMeshOptions)>,
     /// A slider drag in progress (one undo step).
     pub slider_gesture: Option<GestureId>,
     /// Show measured times in the stats panel (off for reproducible snapshots).

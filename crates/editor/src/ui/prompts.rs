@@ -6,6 +6,8 @@ use super::dialogs;
 use super::inspector::{KINDS, kind_name};
 use crate::commands::{Command, CommandSender, UnsavedAnswer};
 use crate::state::EditorState;
+use crate::state::document::is_gltf;
+use starcages_core::scene::UpAxis;
 
 /// "Unsaved changes" while an action waits for the answer.
 pub fn unsaved_prompt(state: &EditorState, ctx: &egui::Context, sender: &mut CommandSender) {
@@ -43,7 +45,16 @@ pub fn unsaved_prompt(state: &EditorState, ctx: &egui::Context, sender: &mut Com
     }
 }
 
-/// File ▸ New from mesh: grid size, padding and coordinates of the automatic cages.
+/// How an up axis is offered in the New from mesh dialog.
+fn up_name(up: UpAxis) -> &'static str {
+    match up {
+        UpAxis::Y => "Y up (OBJ convention)",
+        UpAxis::Z => "Z up (read as is)",
+    }
+}
+
+/// File ▸ New from mesh: grid size, padding and coordinates of the automatic cages, and the
+/// file's up axis.
 pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
     let Some((path, options)) = &mut ui_state.new_mesh_dialog else {
         return;
@@ -54,18 +65,34 @@ pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut
         ui.label(path.display().to_string());
         ui.horizontal(|ui| {
             ui.label("Grid cells");
-            for n in &mut options.grid {
+            for n in &mut options.cages.grid {
                 ui.add(egui::DragValue::new(n).range(1..=16));
             }
         });
-        ui.add(egui::Slider::new(&mut options.padding, 0.0..=0.5).text("padding"));
+        ui.add(egui::Slider::new(&mut options.cages.padding, 0.0..=0.5).text("padding"));
         egui::ComboBox::from_label("Coordinates")
-            .selected_text(kind_name(options.kind))
+            .selected_text(kind_name(options.cages.kind))
             .show_ui(ui, |ui| {
                 for k in KINDS {
-                    ui.selectable_value(&mut options.kind, k, kind_name(k));
+                    ui.selectable_value(&mut options.cages.kind, k, kind_name(k));
                 }
             });
+        if is_gltf(path) {
+            ui.label("Up axis: Y (glTF is Y-up by specification), turned to Z-up");
+        } else {
+            egui::ComboBox::from_label("Up axis of the file")
+                .selected_text(up_name(options.up))
+                .show_ui(ui, |ui| {
+                    for up in [UpAxis::Y, UpAxis::Z] {
+                        ui.selectable_value(&mut options.up, up, up_name(up));
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "OBJ files are Y-up by convention (Blender's OBJ export); they are turned \
+                     to StarCages' Z-up and turned back on export",
+                );
+        }
         ui.horizontal(|ui| {
             if ui.button("Create").clicked() {
                 answer = Some(true);

@@ -510,7 +510,7 @@ fn exporting_over_the_scene_s_own_mesh_is_refused() {
     let text = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
                 f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
     std::fs::write(&mesh, text).unwrap();
-    let options = starcages_core::scene::AutocageOptions::default();
+    let options = starcages_editor::state::NewMeshOptions::default();
     harness
         .state_mut()
         .run(Command::NewFromMesh(mesh.clone(), options));
@@ -573,4 +573,48 @@ fn harmonic_join_cages_arrive_after_a_deformable_preview() {
         full.operator, expected.operator,
         "negative control: the join cages differ"
     );
+}
+
+/// New from mesh reads an OBJ Y-up (the convention) and stands it up along Z; the dialog's
+/// "Z up" reads it as it is.
+#[test]
+fn new_from_mesh_stands_a_y_up_obj_up() {
+    use starcages_core::scene::UpAxis;
+    use starcages_editor::state::NewMeshOptions;
+    let dir = scratch("new-from-y-up");
+    let mesh = dir.join("tall.obj");
+    std::fs::write(
+        &mesh,
+        "v 0 0 0\nv 1 0 0\nv 0 4 0\nv 1 4 0\nv 0 0 1\nv 1 0 1\nv 0 4 1\nv 1 4 1\n\
+         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    let doc = Document {
+        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    app.wait_for_jobs();
+    for (up, tall_axis) in [(UpAxis::Y, 2), (UpAxis::Z, 1)] {
+        let options = NewMeshOptions {
+            up,
+            ..NewMeshOptions::default()
+        };
+        app.run(Command::NewFromMesh(mesh.clone(), options));
+        app.run(Command::AnswerUnsaved(
+            starcages_editor::commands::UnsavedAnswer::Discard,
+        ));
+        app.wait_for_jobs();
+        let scene = &app.state.doc.scene;
+        assert_eq!(scene.mesh_up, up);
+        let (lo, hi) = scene.mesh.bounds();
+        assert!(
+            ((hi - lo)[tall_axis] - 4.0).abs() < 1e-9,
+            "{up:?}: {:?}",
+            hi - lo
+        );
+        // The default grid everywhere.
+        assert!(scene.cages.leaves.len() <= 27 && scene.cages.leaves.len() > 8);
+    }
 }
