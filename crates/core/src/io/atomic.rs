@@ -77,11 +77,20 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
     })?;
     let prefix = format!(".{}.", name.to_string_lossy());
     sweep_stale(&folder, &prefix);
-    let mut temp = tempfile::Builder::new()
-        .prefix(&prefix)
-        .suffix(TEMP_SUFFIX)
-        .tempfile_in(&folder)
-        .map_err(fail)?;
+    let existing = std::fs::metadata(path).ok().map(|m| m.permissions());
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(TEMP_SUFFIX);
+    // tempfile creates owner-only files; a saved file gets the permissions a plain new file
+    // would (0o666 less the umask), or keeps those of the file it replaces.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut temp = builder.tempfile_in(&folder).map_err(fail)?;
+    if let Some(permissions) = existing {
+        temp.as_file().set_permissions(permissions).map_err(fail)?;
+    }
     let _listed = Unfinished::new(temp.path());
     pause_for_interrupt_tests();
     temp.write_all(bytes).map_err(fail)?;
@@ -245,5 +254,22 @@ mod tests {
             other.exists(),
             "another file's temps are its own save's business"
         );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn saved_files_are_readable_by_others_as_new_files_are_and_keep_replaced_permissions() {
+        use std::os::unix::fs::PermissionsExt as _;
+        let dir = scratch("permissions");
+        let plain = dir.join("plain.txt");
+        std::fs::write(&plain, b"x").unwrap();
+        let expected = plain.metadata().unwrap().permissions().mode() & 0o777;
+        let saved = dir.join("saved.txt");
+        write_atomic(&saved, b"x").unwrap();
+        assert_eq!(saved.metadata().unwrap().permissions().mode() & 0o777, expected);
+        // An existing file keeps its (here narrower) permissions.
+        std::fs::set_permissions(&saved, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_atomic(&saved, b"y").unwrap();
+        assert_eq!(saved.metadata().unwrap().permissions().mode() & 0o777, 0o640);
     }
 }
