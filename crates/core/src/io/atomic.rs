@@ -266,10 +266,16 @@ mod tests {
         let expected = plain.metadata().unwrap().permissions().mode() & 0o777;
         let saved = dir.join("saved.txt");
         write_atomic(&saved, b"x").unwrap();
-        assert_eq!(saved.metadata().unwrap().permissions().mode() & 0o777, expected);
+        assert_eq!(
+            saved.metadata().unwrap().permissions().mode() & 0o777,
+            expected
+        );
         // An existing file keeps its (here narrower) permissions.
         std::fs::set_permissions(&saved, std::fs::Permissions::from_mode(0o640)).unwrap();
         write_atomic(&saved, b"y").unwrap();
-        assert_eq!(saved.metadata().unwrap().permissions().mode() & 0o777, 0o640);
+        assert_eq!(
+            saved.metadata().unwrap().permissions().mode() & 0o777,
+            0o640
+        );
     }
 }

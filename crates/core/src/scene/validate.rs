@@ -160,6 +160,21 @@ pub enum SceneProblem {
         /// The face it lies on, in that cage's list.
         face: usize,
     },
+    /// Mesh vertices outside every cage, too far from their nearest (MVC) cage to follow it.
+    #[error(
+        "{count} mesh vertices lie outside every cage and more than {range} cage diagonals from \
+         their nearest cage (first: vertex {vertex}, nearest '{cage}'), where its mean value \
+         coordinates are not accurate; enlarge the cages to hold them, or make that cage gc",
+        range = crate::coords::MVC_RANGE_IN_DIAGONALS
+    )]
+    FarFromNearestCage {
+        /// How many.
+        count: usize,
+        /// The first.
+        vertex: usize,
+        /// Its nearest cage.
+        cage: String,
+    },
     /// Mesh vertices outside every leaf cage.
     #[error(
         "{count} mesh vertices lie outside every leaf cage (first: {listed}; within {min:?} .. {max:?}); \
@@ -537,6 +552,9 @@ fn check_overlaps_and_coverage(scene: &Scene, leaves: &[LocalCage], report: &mut
     }
     // Report each overlapping pair once, not once per vertex.
     dedup_overlaps(&mut report.errors);
+    if scene.settings.outside == OutsidePolicy::Nearest {
+        check_far_from_nearest_cage(scene, leaves, &outside, &mut report.errors);
+    }
     if !outside.is_empty() {
         let (lo, hi) =
             crate::cage::bounds_of(&outside.iter().map(|&v| mesh_points[v]).collect::<Vec<_>>());
@@ -643,6 +661,43 @@ fn check_cages_crossing(
         })
         .collect();
     errors.extend(found);
+}
+
+/// Under the `nearest` policy an outside mesh vertex follows its nearest cage through that
+/// cage's coordinates; mean value coordinates refuse points beyond their accurate range, so a
+/// bind would fail there: report it here, as `deform` would.
+fn check_far_from_nearest_cage(
+    scene: &Scene,
+    leaves: &[LocalCage],
+    outside: &[usize],
+    errors: &mut Vec<SceneProblem>,
+) {
+    use crate::coords::{CoordinateKind, MVC_RANGE_IN_DIAGONALS};
+    let points = scene.mesh.welded_positions();
+    let far: Vec<(usize, usize)> = outside
+        .par_iter()
+        .filter_map(|&v| {
+            let p = points[v];
+            let nearest = leaves
+                .iter()
+                .enumerate()
+                .map(|(c, l)| (c, l.cage.closest_point(p).2))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(c, _)| c)?;
+            let cage = &leaves[nearest].cage;
+            let (lo, hi) = cage.bounds();
+            let beyond = p.distance(0.5 * (lo + hi)) > MVC_RANGE_IN_DIAGONALS * cage.diagonal();
+            (scene.cages.leaves[nearest].kind == CoordinateKind::MeanValue && beyond)
+                .then_some((v, nearest))
+        })
+        .collect();
+    if let Some(&(vertex, cage)) = far.first() {
+        errors.push(SceneProblem::FarFromNearestCage {
+            count: far.len(),
+            vertex,
+            cage: scene.cages.leaves[cage].name.clone(),
+        });
+    }
 }
 
 fn dedup_overlaps(errors: &mut Vec<SceneProblem>) {

@@ -928,3 +928,41 @@ fn version_1_scenes_keep_their_mesh_as_is_and_new_ones_record_the_up_axis() {
         "a version-1 mesh was turned"
     );
 }
+
+/// Under the `nearest` policy, a mesh vertex outside every cage and beyond the range of its
+/// nearest cage's mean value coordinates is an error of `validate`, as the bind refuses it; a
+/// vertex just outside is only a warning.
+#[test]
+fn vertices_too_far_from_their_nearest_cage_fail_validation_as_the_bind_does() {
+    let with_extra = |far: f64| {
+        let mut scene = two_box_scene();
+        scene.settings.outside = OutsidePolicy::Nearest;
+        let mut positions = scene.mesh.positions().to_vec();
+        let mut triangles = scene.mesh.triangles().to_vec();
+        let base = positions.len() as u32;
+        positions.extend([
+            DVec3::new(far, 0.0, 0.0),
+            DVec3::new(far + 0.1, 0.0, 0.0),
+            DVec3::new(far, 0.1, 0.0),
+        ]);
+        triangles.push([base, base + 1, base + 2]);
+        scene.mesh = starcages_core::mesh::Mesh::new(positions, triangles, None, None).unwrap();
+        scene
+    };
+    let near = with_extra(1.5);
+    let report = validate_scene(&near);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    assert_eq!(report.warnings.len(), 1);
+    let far = with_extra(1e5);
+    let p = problems(&far);
+    assert!(
+        p.iter()
+            .any(|e| matches!(e, SceneProblem::FarFromNearestCage { count: 3, .. })),
+        "{p:?}"
+    );
+    let bound = starcages_core::star::StarBinding::bind_scene(
+        &far,
+        &starcages_core::BindControl::default(),
+    );
+    assert!(bound.is_err(), "the bind accepted what validate refuses");
+}
