@@ -19,6 +19,18 @@ pub enum MeshError {
         /// The vertex.
         vertex: usize,
     },
+    /// A vertex coordinate beyond [`crate::cage::MAX_COORDINATE`].
+    #[error(
+        "mesh vertex {vertex} has a coordinate of magnitude {value:e}, beyond ±{max:e} (the \
+         deformation is computed in 32-bit floats); fix that vertex or scale the model down",
+        max = crate::cage::MAX_COORDINATE
+    )]
+    CoordinateTooLarge {
+        /// The vertex.
+        vertex: usize,
+        /// Its largest absolute coordinate.
+        value: f64,
+    },
     /// A triangle refers to a vertex that does not exist.
     #[error("mesh triangle {triangle} refers to vertex {vertex}, but there are only {count}")]
     VertexOutOfRange {
@@ -67,6 +79,13 @@ impl Mesh {
         }
         if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
             return Err(MeshError::NonFiniteVertex { vertex });
+        }
+        let too_large = |p: &DVec3| p.abs().max_element() > crate::cage::MAX_COORDINATE;
+        if let Some(vertex) = positions.iter().position(too_large) {
+            return Err(MeshError::CoordinateTooLarge {
+                vertex,
+                value: positions[vertex].abs().max_element(),
+            });
         }
         for (t, tri) in triangles.iter().enumerate() {
             if let Some(&v) = tri.iter().find(|&&v| v as usize >= positions.len()) {

@@ -578,6 +578,18 @@ fn text_files_with_a_bom_read_whole_and_cut_obj_files_name_their_line() {
         error.contains("uv.obj:4:") && error.contains("not finite"),
         "{error}"
     );
+    // A mesh coordinate of 1e308 is named as such (it made cages of that size, which then
+    // failed validation with messages about cages).
+    let huge = write(
+        &dir,
+        "huge.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e308 1 1\nf 1 2 3\nf 1 2 4\n",
+    );
+    let error = read_mesh(&huge).unwrap_err().to_string();
+    assert!(
+        error.contains("huge.obj") && error.contains("magnitude 1e308, beyond ±1e9"),
+        "{error}"
+    );
     // Every text reader drops a byte-order mark: cage OBJ, points, scene JSON.
     let cage = write(
         &dir,
