@@ -5,9 +5,9 @@ use glam::Vec2;
 use starcages_viewport::View;
 
 use super::UiState;
-use super::dialogs;
+use super::file_dialog::FilePurpose;
 use super::transform_tool::{Mode, TransformTool};
-use crate::commands::{CameraChange, Command, CommandSender, UiCommand};
+use crate::commands::{CameraChange, Command, CommandSender, UiCommand, UnsavedAnswer};
 use crate::state::{EditorState, NewMeshOptions};
 
 /// Carries out `action` with the pointer at `pointer` (screen points; for G / R / S).
@@ -19,30 +19,14 @@ pub fn execute(
     sender: &mut CommandSender,
 ) {
     let camera = |change| Command::Camera(change);
+    let mut choose = |purpose| ui_state.files.request(purpose, None);
     let command = match action {
-        UiCommand::NewFromMesh => {
-            if let Some(path) = dialogs::mesh_file() {
-                ui_state.new_mesh_dialog = Some((path, NewMeshOptions::default()));
-            }
-            return;
-        }
-        UiCommand::Open => match dialogs::open_file() {
-            Some(path) => Command::Open(path),
-            None => return,
-        },
+        UiCommand::NewFromMesh => return choose(FilePurpose::NewFromMesh),
+        UiCommand::Open => return choose(FilePurpose::Open),
         UiCommand::Save if state.doc.path.is_some() => Command::Save,
-        UiCommand::Save | UiCommand::SaveAs => match dialogs::scene_destination() {
-            Some(path) => Command::SaveAs(path),
-            None => return,
-        },
-        UiCommand::ExportMesh => match dialogs::mesh_destination() {
-            Some(path) => Command::ExportMesh(path),
-            None => return,
-        },
-        UiCommand::ExportCages => match dialogs::cages_destination() {
-            Some(path) => Command::ExportCages(path),
-            None => return,
-        },
+        UiCommand::Save | UiCommand::SaveAs => return choose(FilePurpose::SaveScene),
+        UiCommand::ExportMesh => return choose(FilePurpose::ExportMesh),
+        UiCommand::ExportCages => return choose(FilePurpose::ExportCages),
         UiCommand::Undo => Command::Undo,
         UiCommand::Redo => Command::Redo,
         UiCommand::ToggleMirrorX => Command::SetMirrorX(!state.view.mirror_x),
@@ -56,6 +40,29 @@ pub fn execute(
         UiCommand::ViewFront => camera(CameraChange::View(View::Front)),
         UiCommand::ViewSide => camera(CameraChange::View(View::Side)),
         UiCommand::ViewTop => camera(CameraChange::View(View::Top)),
+    };
+    sender.send(command);
+}
+
+/// Carries out what a file was chosen for.
+pub fn file_chosen(
+    purpose: FilePurpose,
+    path: std::path::PathBuf,
+    ui_state: &mut UiState,
+    sender: &mut CommandSender,
+) {
+    let command = match purpose {
+        FilePurpose::Open => Command::Open(path),
+        FilePurpose::NewFromMesh => {
+            ui_state.new_mesh_dialog = Some((path, NewMeshOptions::default()));
+            return;
+        }
+        FilePurpose::SaveScene => Command::SaveAs(path),
+        FilePurpose::SaveBeforeContinuing => {
+            Command::AnswerUnsaved(UnsavedAnswer::Save(Some(path)))
+        }
+        FilePurpose::ExportMesh => Command::ExportMesh(path),
+        FilePurpose::ExportCages => Command::ExportCages(path),
     };
     sender.send(command);
 }

@@ -4,7 +4,7 @@
 //! [`UiState`].
 
 mod actions;
-mod dialogs;
+pub mod file_dialog;
 mod inspector;
 mod keyboard;
 mod menu;
@@ -36,6 +36,8 @@ pub struct UiState {
     pub tool: Option<TransformTool>,
     /// The name typed for a new pose.
     pub new_pose_name: String,
+    /// File dialogs: native on a worker, or in-app where no native one can be shown.
+    pub files: file_dialog::FileDialogs,
     /// The automatic-cages dialog of File ▸ New from mesh, while open.
     pub new_mesh_dialog: Option<(PathBuf, NewMeshOptions)>,
     /// A slider drag in progress (one undo step).
@@ -58,6 +60,7 @@ impl UiState {
             drag: None,
             tool: None,
             new_pose_name: String::new(),
+            files: file_dialog::FileDialogs::from_env(),
             new_mesh_dialog: None,
             slider_gesture: None,
             show_timings: true,
@@ -128,7 +131,10 @@ pub fn frame_ui(
         .show(ui, |ui| {
             viewport_input::viewport(state, ui_state, ui, sender)
         });
-    prompts::unsaved_prompt(state, &ctx, sender);
+    prompts::unsaved_prompt(state, ui_state, &ctx, sender);
+    if let Some((purpose, path)) = ui_state.files.poll(&ctx) {
+        actions::file_chosen(purpose, path, ui_state, sender);
+    }
     prompts::new_mesh_dialog(ui_state, &ctx, sender);
 }
 

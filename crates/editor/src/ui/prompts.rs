@@ -2,7 +2,7 @@
 //! automatic-cages dialog.
 
 use super::UiState;
-use super::dialogs;
+use super::file_dialog::FilePurpose;
 use super::inspector::{KINDS, kind_name};
 use crate::commands::{Command, CommandSender, UnsavedAnswer};
 use crate::state::EditorState;
@@ -10,7 +10,12 @@ use crate::state::document::is_gltf;
 use starcages_core::scene::UpAxis;
 
 /// "Unsaved changes" while an action waits for the answer.
-pub fn unsaved_prompt(state: &EditorState, ctx: &egui::Context, sender: &mut CommandSender) {
+pub fn unsaved_prompt(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ctx: &egui::Context,
+    sender: &mut CommandSender,
+) {
     if state.pending.is_none() {
         return;
     }
@@ -23,14 +28,14 @@ pub fn unsaved_prompt(state: &EditorState, ctx: &egui::Context, sender: &mut Com
         ));
         ui.horizontal(|ui| {
             if ui.button("Save").clicked() {
-                answer = Some(if state.doc.path.is_some() {
-                    UnsavedAnswer::Save(None)
+                if state.doc.path.is_some() {
+                    answer = Some(UnsavedAnswer::Save(None));
                 } else {
-                    match dialogs::scene_destination() {
-                        Some(path) => UnsavedAnswer::Save(Some(path)),
-                        None => UnsavedAnswer::Cancel,
-                    }
-                });
+                    // Answered when a file is chosen (or not, if the dialog is cancelled).
+                    ui_state
+                        .files
+                        .request(FilePurpose::SaveBeforeContinuing, None);
+                }
             }
             if ui.button("Don't save").clicked() {
                 answer = Some(UnsavedAnswer::Discard);

@@ -37,6 +37,10 @@ pub fn status_bar(
                 sender.send(Command::CancelBaseline);
             }
         }
+        if let Some(dialog) = ui_state.files.waiting_for() {
+            ui.spinner();
+            ui.label(format!("waiting for the {dialog} dialog"));
+        }
         if let Some(tool) = &ui_state.tool {
             ui.label(tool.describe());
         } else if let Some(message) = &state.message {

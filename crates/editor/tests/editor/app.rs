@@ -618,3 +618,48 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
         assert!(scene.cages.leaves.len() <= 27 && scene.cages.leaves.len() > 8);
     }
 }
+
+/// Where no native file dialog can be shown, File ▸ Open… opens the in-app one, and choosing a
+/// scene in it opens the scene: the action never silently vanishes.
+#[test]
+fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
+    let mut harness = harness();
+    // A fixed folder name: the snapshot shows it.
+    let dir = std::env::temp_dir().join("starcages-in-app-dialog");
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    let path = dir.join("bar.json");
+    starcages_core::scene::save_scene(
+        &starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        &path,
+    )
+    .unwrap();
+    harness.state_mut().ui.files.in_app_only = true;
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Open…").click();
+    harness.run_steps(2);
+    {
+        let dialog = harness.state_mut().ui.files.in_app.as_mut();
+        let dialog = dialog.expect("the in-app dialog is open");
+        dialog.enter(dir.clone());
+        dialog.name = "bar.json".into();
+    }
+    harness.run_steps(2);
+    harness.get_by_label("File name");
+    harness.snapshot_options(
+        "in_app_file_dialog",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    harness.get_by_role_and_label(Role::Button, "Open").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert!(
+        harness.state().ui.files.in_app.is_none(),
+        "the dialog closed"
+    );
+    assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
+    assert_eq!(state.doc.scene.cages.leaves.len(), 2);
+}
