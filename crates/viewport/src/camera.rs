@@ -14,19 +14,43 @@ pub struct OrbitCamera {
     pub yaw: f32,
     /// Elevation above the XY plane, radians, within ±(π/2 − 0.001).
     pub pitch: f32,
-    /// Vertical field of view, radians.
+    /// Vertical field of view, radians (in orthographic projection: the view shows what the
+    /// perspective one shows at the target's depth).
     pub fov_y: f32,
+    /// Orthographic projection instead of perspective (Blender's numpad 5).
+    pub orthographic: bool,
 }
 
-/// Standard views, as on Blender's numpad.
+/// Standard views, as on Blender's numpad (Ctrl gives the opposite ones).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum View {
     /// Looking along +Y (numpad 1).
     Front,
-    /// Looking along −X (numpad 3).
+    /// Looking along −Y (Ctrl+numpad 1).
+    Back,
+    /// Looking along −X, from the right (numpad 3).
     Side,
+    /// Looking along +X, from the left (Ctrl+numpad 3).
+    Left,
     /// Looking down −Z (numpad 7).
     Top,
+    /// Looking up +Z (Ctrl+numpad 7).
+    Bottom,
+}
+
+impl View {
+    /// The view looking at the target from the end of the world axis `axis` (0 x, 1 y, 2 z),
+    /// on its positive side or not: what clicking an axis of the gizmo gives.
+    pub fn from_axis(axis: usize, positive: bool) -> Self {
+        match (axis, positive) {
+            (0, true) => Self::Side,
+            (0, false) => Self::Left,
+            (1, true) => Self::Back,
+            (1, false) => Self::Front,
+            (_, true) => Self::Top,
+            (_, false) => Self::Bottom,
+        }
+    }
 }
 
 const PITCH_LIMIT: f32 = std::f32::consts::FRAC_PI_2 - 0.001;
@@ -39,6 +63,7 @@ impl Default for OrbitCamera {
             yaw: -1.2,
             pitch: 0.45,
             fov_y: 40f32.to_radians(),
+            orthographic: false,
         }
     }
 }
@@ -71,6 +96,20 @@ impl OrbitCamera {
 
     /// View → clip for a viewport of `aspect` = width / height (depth 0..1, as wgpu wants).
     pub fn projection(&self, aspect: f32) -> Mat4 {
+        if self.orthographic {
+            // The box the perspective view shows at the target's depth; depth spans the scene
+            // in front of and behind the target.
+            let half_height = self.distance * (self.fov_y * 0.5).tan();
+            let half_width = half_height * aspect.max(1e-6);
+            return glam::camera::rh::proj::directx::orthographic(
+                -half_width,
+                half_width,
+                -half_height,
+                half_height,
+                0.0,
+                self.distance * 100.0 + 1.0,
+            );
+        }
         let near = (self.distance * 0.01).max(1e-4);
         // wgpu's clip space: y up, depth 0..1 (glam's DirectX convention).
         glam::camera::rh::proj::directx::perspective(
@@ -131,10 +170,14 @@ impl OrbitCamera {
 
     /// Turns to a standard view, keeping target and distance.
     pub fn set_view(&mut self, view: View) {
+        use std::f32::consts::{FRAC_PI_2, PI};
         let (yaw, pitch) = match view {
-            View::Front => (-std::f32::consts::FRAC_PI_2, 0.0),
+            View::Front => (-FRAC_PI_2, 0.0),
+            View::Back => (FRAC_PI_2, 0.0),
             View::Side => (0.0, 0.0),
-            View::Top => (-std::f32::consts::FRAC_PI_2, PITCH_LIMIT),
+            View::Left => (PI, 0.0),
+            View::Top => (-FRAC_PI_2, PITCH_LIMIT),
+            View::Bottom => (-FRAC_PI_2, -PITCH_LIMIT),
         };
         self.yaw = yaw;
         self.pitch = pitch;
@@ -255,5 +298,61 @@ mod tests {
         let mut orbit = OrbitCamera::default();
         orbit.orbit(Vec2::new(0.0, 1e6));
         assert!(orbit.pitch <= PITCH_LIMIT && orbit.view().is_finite());
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_and_keep_the_scale_at_the_target() {
+        let mut camera = OrbitCamera::default();
+        let offset = Vec3::new(0.0, 0.0, 0.5);
+        let perspective = camera.project(camera.target + offset, SIZE).unwrap().0;
+        camera.orthographic = true;
+        let orthographic = camera.project(camera.target + offset, SIZE).unwrap().0;
+        // At the target's depth both show the same size (within the perspective's depth skew).
+        assert!(
+            (perspective.y - orthographic.y).abs() < 8.0,
+            "{perspective} vs {orthographic}"
+        );
+        let (_, a) = camera.ray(Vec2::new(10.0, 10.0), SIZE);
+        let (_, b) = camera.ray(Vec2::new(700.0, 500.0), SIZE);
+        assert!(a.distance(b) < 1e-4, "rays not parallel: {a} {b}");
+        assert!(a.distance(-camera.backward()) < 1e-4);
+        // A point behind the target projects without perspective: same pixel along the ray.
+        let near = camera.project(camera.target, SIZE).unwrap().0;
+        let far = camera
+            .project(camera.target - camera.backward() * 2.0, SIZE)
+            .unwrap()
+            .0;
+        assert!(near.distance(far) < 1e-2);
+    }
+
+    #[test]
+    fn opposite_views_look_along_opposite_directions_and_axis_clicks_look_from_that_axis() {
+        let mut camera = OrbitCamera::default();
+        let mut look = |view| {
+            camera.set_view(view);
+            -camera.backward()
+        };
+        for (view, opposite) in [
+            (View::Front, View::Back),
+            (View::Side, View::Left),
+            (View::Top, View::Bottom),
+        ] {
+            let (a, b) = (look(view), look(opposite));
+            assert!((a + b).length() < 1e-2, "{view:?} {a} vs {opposite:?} {b}");
+        }
+        assert!(look(View::Front).distance(Vec3::Y) < 1e-5);
+        assert!(look(View::Side).distance(-Vec3::X) < 1e-5);
+        assert!(look(View::Top).distance(-Vec3::Z) < 1e-2);
+        // Clicking the +X end of the gizmo looks from +X, along −X.
+        for (axis, unit) in [(0, Vec3::X), (1, Vec3::Y), (2, Vec3::Z)] {
+            for positive in [true, false] {
+                let from = if positive { unit } else { -unit };
+                let along = look(View::from_axis(axis, positive));
+                assert!(
+                    (along + from).length() < 1e-2,
+                    "axis {axis} {positive}: {along}"
+                );
+            }
+        }
     }
 }

@@ -27,6 +27,14 @@ pub const BACKGROUND_TOP: Rgba = [0.30, 0.31, 0.34, 1.0];
 pub const BACKGROUND_BOTTOM: Rgba = [0.16, 0.16, 0.18, 1.0];
 /// Mesh wireframe overlay.
 pub const WIREFRAME: Rgba = [0.1, 0.1, 0.1, 1.0];
+/// Ground grid lines.
+pub const GRID: Rgba = [0.36, 0.37, 0.40, 1.0];
+/// The X axis on the ground grid (Blender's red).
+pub const X_AXIS: Rgba = [0.80, 0.27, 0.30, 1.0];
+/// The Y axis on the ground grid (Blender's green).
+pub const Y_AXIS: Rgba = [0.45, 0.66, 0.22, 1.0];
+/// The Z axis (Blender's blue), in the axis gizmo.
+pub const Z_AXIS: Rgba = [0.25, 0.48, 0.86, 1.0];
 
 /// The colour of a leaf cage of `kind` (the paper's code).
 pub fn kind(kind: CoordinateKind) -> Rgba {

@@ -32,6 +32,54 @@ pub struct Dot {
     pub size: f32,
 }
 
+/// A ground grid under the box `min..max` (the model): on the plane z = 0, or lower where the
+/// model reaches below it, so the grid is a floor and never cuts through the model (lines are
+/// seen through surfaces). It covers the box seen from above with half its size again on every
+/// side, with lines every power of ten that gives about five to fifty cells across it, and the
+/// X axis in red and the Y axis in green, as in Blender.
+pub fn ground_grid(min: glam::Vec3, max: glam::Vec3) -> Vec<LineVertex> {
+    let (lo, hi) = (min.min(glam::Vec3::ZERO), max.max(glam::Vec3::ZERO));
+    let extent = (hi - lo).truncate().max_element().max(1e-6);
+    let step = 10f32.powf((extent / 5.0).log10().floor());
+    let margin = (extent * 0.5 / step).ceil();
+    // Cell index range along x and y.
+    let range = [0, 1].map(|k| {
+        (
+            (lo[k] / step).floor() - margin,
+            (hi[k] / step).ceil() + margin,
+        )
+    });
+    let z = min.z.min(0.0);
+    let mut lines = Vec::new();
+    // Lines across axis `k` (constant coordinate along it); the one through the origin is the
+    // other axis's line: x = 0 is the Y axis (green), y = 0 the X axis (red).
+    for (k, axis_color) in [(0, colors::Y_AXIS), (1, colors::X_AXIS)] {
+        let (a0, a1) = range[k];
+        let (b0, b1) = range[1 - k];
+        for i in 0..=(a1 - a0).clamp(0.0, 400.0) as i32 {
+            let a = (a0 + i as f32) * step;
+            let color = colors::to_u8(if a.abs() < step * 0.5 {
+                axis_color
+            } else {
+                colors::GRID
+            });
+            let mut start = [0.0, 0.0, z];
+            let mut end = [0.0, 0.0, z];
+            (start[k], end[k]) = (a, a);
+            (start[1 - k], end[1 - k]) = (b0 * step, b1 * step);
+            lines.push(LineVertex {
+                position: start,
+                color,
+            });
+            lines.push(LineVertex {
+                position: end,
+                color,
+            });
+        }
+    }
+    lines
+}
+
 /// How cages are shown.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct CageStyle {
@@ -256,6 +304,30 @@ mod tests {
         assert!(
             dots.iter()
                 .any(|d| d.color == colors::to_u8(colors::HOVERED))
+        );
+    }
+
+    #[test]
+    fn the_ground_grid_covers_the_scene_with_its_axes_coloured() {
+        let lines = ground_grid(
+            glam::Vec3::new(-0.3, -0.2, 0.1),
+            glam::Vec3::new(0.5, 0.4, 1.0),
+        );
+        assert!(lines.len().is_multiple_of(2) && lines.len() > 8 && lines.len() < 400);
+        assert!(lines.iter().all(|v| v.position[2] == 0.0));
+        // A model reaching below z = 0 gets its floor under its lowest point.
+        let under = ground_grid(glam::Vec3::new(-1.0, -1.0, -0.5), glam::Vec3::ONE);
+        assert!(under.iter().all(|v| v.position[2] == -0.5));
+        let xs = lines.iter().map(|v| v.position[0]);
+        let (min_x, max_x) = xs.fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)));
+        assert!(min_x <= -0.3 && max_x >= 0.5, "{min_x} .. {max_x}");
+        let red = colors::to_u8(colors::X_AXIS);
+        let green = colors::to_u8(colors::Y_AXIS);
+        assert!(lines.iter().any(|v| v.color == red && v.position[1] == 0.0));
+        assert!(
+            lines
+                .iter()
+                .any(|v| v.color == green && v.position[0] == 0.0)
         );
     }
 }

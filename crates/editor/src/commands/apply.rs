@@ -234,6 +234,7 @@ fn camera(state: &mut EditorState, change: CameraChange) {
             cursor_in_viewport,
         } => camera.zoom(steps, cursor_in_viewport, size),
         CameraChange::View(view) => camera.set_view(view),
+        CameraChange::ToggleOrthographic => camera.orthographic = !camera.orthographic,
         CameraChange::FrameAll => state.frame(false),
         CameraChange::FrameSelection => state.frame(true),
     }

@@ -42,8 +42,10 @@ pub enum CameraChange {
         /// The cursor in the viewport.
         cursor_in_viewport: Option<Vec2>,
     },
-    /// Front, side or top view.
+    /// A standard view (front, side, top and their opposites).
     View(View),
+    /// Perspective ↔ orthographic projection.
+    ToggleOrthographic,
     /// Frame everything.
     FrameAll,
     /// Frame the selected vertices.

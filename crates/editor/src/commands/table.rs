@@ -45,6 +45,14 @@ pub enum UiCommand {
     ViewSide,
     /// View ▸ Top
     ViewTop,
+    /// View ▸ Back
+    ViewBack,
+    /// View ▸ Left
+    ViewLeft,
+    /// View ▸ Bottom
+    ViewBottom,
+    /// View ▸ Perspective / orthographic
+    ToggleOrthographic,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -57,7 +65,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 19] = [
+    pub const ALL: [Self; 23] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -77,6 +85,10 @@ impl UiCommand {
         Self::ViewFront,
         Self::ViewSide,
         Self::ViewTop,
+        Self::ViewBack,
+        Self::ViewLeft,
+        Self::ViewBottom,
+        Self::ToggleOrthographic,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -101,6 +113,10 @@ impl UiCommand {
             Self::ViewFront => "Front",
             Self::ViewSide => "Side",
             Self::ViewTop => "Top",
+            Self::ViewBack => "Back",
+            Self::ViewLeft => "Left",
+            Self::ViewBottom => "Bottom",
+            Self::ToggleOrthographic => "Perspective / orthographic",
         }
     }
 
@@ -130,6 +146,12 @@ impl UiCommand {
             Self::ViewFront => "Look along +Y",
             Self::ViewSide => "Look along -X",
             Self::ViewTop => "Look down -Z",
+            Self::ViewBack => "Look along -Y (the opposite of Front)",
+            Self::ViewLeft => "Look along +X (the opposite of Side)",
+            Self::ViewBottom => "Look up +Z (the opposite of Top)",
+            Self::ToggleOrthographic => {
+                "Switch between perspective and orthographic projection (parallel lines stay parallel)"
+            }
         }
     }
 
@@ -152,6 +174,10 @@ impl UiCommand {
             Self::ViewFront => &const { [key(NONE, Key::Num1)] },
             Self::ViewSide => &const { [key(NONE, Key::Num3)] },
             Self::ViewTop => &const { [key(NONE, Key::Num7)] },
+            Self::ViewBack => &const { [key(CMD, Key::Num1)] },
+            Self::ViewLeft => &const { [key(CMD, Key::Num3)] },
+            Self::ViewBottom => &const { [key(CMD, Key::Num7)] },
+            Self::ToggleOrthographic => &const { [key(NONE, Key::Num5)] },
         }
     }
 

@@ -170,6 +170,9 @@ impl EditorState {
             bind_after_gesture: false,
             waker,
         };
+        // The editor shows the ground grid (off by default in the viewport crate's offscreen
+        // images).
+        state.view.layers.ground = true;
         state.revalidate();
         state.frame(false);
         state.start_bind("binding the scene");

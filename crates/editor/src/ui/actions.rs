@@ -40,6 +40,10 @@ pub fn execute(
         UiCommand::ViewFront => camera(CameraChange::View(View::Front)),
         UiCommand::ViewSide => camera(CameraChange::View(View::Side)),
         UiCommand::ViewTop => camera(CameraChange::View(View::Top)),
+        UiCommand::ViewBack => camera(CameraChange::View(View::Back)),
+        UiCommand::ViewLeft => camera(CameraChange::View(View::Left)),
+        UiCommand::ViewBottom => camera(CameraChange::View(View::Bottom)),
+        UiCommand::ToggleOrthographic => camera(CameraChange::ToggleOrthographic),
     };
     sender.send(command);
 }

@@ -73,9 +73,24 @@ pub fn menu_bar(
                 UiCommand::ViewFront,
                 UiCommand::ViewSide,
                 UiCommand::ViewTop,
+                UiCommand::ViewBack,
+                UiCommand::ViewLeft,
+                UiCommand::ViewBottom,
             ] {
                 item(ui, action, None, true, &mut chosen);
             }
+            let projection = if state.view.camera.orthographic {
+                "(now orthographic)"
+            } else {
+                "(now perspective)"
+            };
+            item(
+                ui,
+                UiCommand::ToggleOrthographic,
+                Some(projection),
+                true,
+                &mut chosen,
+            );
         });
     });
     if let Some(action) = chosen {

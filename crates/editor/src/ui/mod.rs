@@ -4,6 +4,7 @@
 //! [`UiState`].
 
 mod actions;
+pub mod axis_gizmo;
 pub mod file_dialog;
 mod inspector;
 mod keyboard;

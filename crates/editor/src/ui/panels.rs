@@ -45,6 +45,8 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
     ui.checkbox(&mut layers.flat, "Flat shading");
     ui.checkbox(&mut layers.cages, "Cages");
     ui.checkbox(&mut layers.vertices, "Cage vertices");
+    ui.checkbox(&mut layers.ground, "Ground grid")
+        .on_hover_text("The plane z = 0, with the X axis in red and the Y axis in green");
     if layers != state.view.layers {
         sender.send(Command::SetLayers(layers));
     }

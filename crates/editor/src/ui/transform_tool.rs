@@ -40,7 +40,17 @@ pub enum Axis {
 }
 
 impl Axis {
-    fn vector(self) -> DVec3 {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Self::X => 0,
+            Self::Y => 1,
+            Self::Z => 2,
+        }
+    }
+
+    /// The unit vector.
+    pub fn vector(self) -> DVec3 {
         match self {
             Self::X => DVec3::X,
             Self::Y => DVec3::Y,
@@ -68,6 +78,17 @@ pub struct TransformTool {
     start_pointer: Vec2,
     centre: DVec3,
     start: Vec<(u32, DVec3)>,
+}
+
+/// How far a transform has gone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Amount {
+    /// Grab: the displacement.
+    Delta(DVec3),
+    /// Rotate: the angle.
+    Degrees(f64),
+    /// Scale: the factor.
+    Factor(f64),
 }
 
 /// World displacement for a pointer move of `delta` points, in the view plane through `at`.
@@ -115,6 +136,40 @@ impl TransformTool {
         self.typed.parse::<f64>().ok().filter(|v| v.is_finite())
     }
 
+    /// How far the tool has gone for the pointer at `pointer` (screen points) in the viewport
+    /// `rect`: the typed value when there is one, else the mouse's.
+    pub fn amount(&self, camera: &OrbitCamera, rect: ScreenRect, pointer: Vec2) -> Amount {
+        let size = rect.size;
+        let centre_in_viewport = camera
+            .project(self.centre.as_vec3(), size)
+            .map_or(size * 0.5, |(p, _)| p);
+        let start_in_viewport = rect.local(self.start_pointer) - centre_in_viewport;
+        let pointer_in_viewport = rect.local(pointer) - centre_in_viewport;
+        match self.mode {
+            Mode::Grab => {
+                let mut delta = match self.typed_value() {
+                    Some(v) => self.axis.unwrap_or(Axis::X).vector() * v,
+                    None => {
+                        view_plane_delta(camera, size.y, self.centre, pointer - self.start_pointer)
+                    }
+                };
+                if let Some(axis) = self.axis {
+                    delta = axis.vector() * delta.dot(axis.vector());
+                }
+                Amount::Delta(delta)
+            }
+            Mode::Rotate => Amount::Degrees(self.typed_value().unwrap_or_else(|| {
+                let (a, b) = (start_in_viewport, pointer_in_viewport);
+                // Screen y points down: counter-clockwise on screen is negative here.
+                f64::from(-(a.x * b.y - a.y * b.x).atan2(a.dot(b))).to_degrees()
+            })),
+            Mode::Scale => Amount::Factor(self.typed_value().unwrap_or_else(|| {
+                let a = start_in_viewport.length().max(1.0);
+                f64::from(pointer_in_viewport.length() / a)
+            })),
+        }
+    }
+
     /// The moves for the pointer at `pointer` (screen points) in the viewport `rect`.
     pub fn moves(
         &self,
@@ -122,44 +177,17 @@ impl TransformTool {
         rect: ScreenRect,
         pointer: Vec2,
     ) -> Vec<(u32, DVec3)> {
-        let size = rect.size;
-        let centre_in_viewport = camera
-            .project(self.centre.as_vec3(), size)
-            .map_or(size * 0.5, |(p, _)| p);
-        let start_in_viewport = rect.local(self.start_pointer) - centre_in_viewport;
-        let pointer_in_viewport = rect.local(pointer) - centre_in_viewport;
         let centre = self.centre;
-        let map: Box<dyn Fn(DVec3) -> DVec3> = match self.mode {
-            Mode::Grab => {
-                let mut delta = match self.typed_value() {
-                    Some(v) => self.axis.unwrap_or(Axis::X).vector() * v,
-                    None => view_plane_delta(camera, size.y, centre, pointer - self.start_pointer),
-                };
-                if let Some(axis) = self.axis {
-                    delta = axis.vector() * delta.dot(axis.vector());
-                }
-                Box::new(move |p| p + delta)
-            }
-            Mode::Rotate => {
-                let angle = self.typed_value().map_or_else(
-                    || {
-                        let (a, b) = (start_in_viewport, pointer_in_viewport);
-                        // Screen y points down: counter-clockwise on screen is negative here.
-                        f64::from(-(a.x * b.y - a.y * b.x).atan2(a.dot(b)))
-                    },
-                    f64::to_radians,
-                );
+        let map: Box<dyn Fn(DVec3) -> DVec3> = match self.amount(camera, rect, pointer) {
+            Amount::Delta(delta) => Box::new(move |p| p + delta),
+            Amount::Degrees(degrees) => {
                 let axis = self
                     .axis
                     .map_or_else(|| camera.backward().as_dvec3(), Axis::vector);
-                let turn = DQuat::from_axis_angle(axis, angle);
+                let turn = DQuat::from_axis_angle(axis, degrees.to_radians());
                 Box::new(move |p| centre + turn * (p - centre))
             }
-            Mode::Scale => {
-                let factor = self.typed_value().unwrap_or_else(|| {
-                    let a = start_in_viewport.length().max(1.0);
-                    f64::from(pointer_in_viewport.length() / a)
-                });
+            Amount::Factor(factor) => {
                 let axis = self.axis.map(Axis::vector);
                 Box::new(move |p| match axis {
                     Some(a) => p + a * (p - centre).dot(a) * (factor - 1.0),
@@ -168,6 +196,40 @@ impl TransformTool {
             }
         };
         self.start.iter().map(|&(v, p)| (v, map(p))).collect()
+    }
+
+    /// The pivot: the centre of the vertices being transformed (world, rest of the gesture).
+    pub fn pivot(&self) -> DVec3 {
+        self.centre
+    }
+
+    /// The header shown over the viewport while the tool runs, as Blender's: the mode, the
+    /// axis, and the live amount or the typed value ("Grab along Z: 0.300").
+    pub fn header(&self, amount: Amount) -> String {
+        let name = match self.mode {
+            Mode::Grab => "Grab",
+            Mode::Rotate => "Rotate",
+            Mode::Scale => "Scale",
+        };
+        let axis = match (self.axis, self.mode) {
+            (Some(a), Mode::Rotate) => format!(" about {a:?}"),
+            (Some(a), _) => format!(" along {a:?}"),
+            (None, _) => String::new(),
+        };
+        let value = match amount {
+            Amount::Delta(d) => match self.axis {
+                Some(a) => format!("{:.3}", d.dot(a.vector())),
+                None => format!("({:.3}, {:.3}, {:.3}), {:.3}", d.x, d.y, d.z, d.length()),
+            },
+            Amount::Degrees(a) => format!("{a:.1}°"),
+            Amount::Factor(f) => format!("{f:.3}"),
+        };
+        let typed = if self.typed.is_empty() {
+            String::new()
+        } else {
+            format!("  [typed {}]", self.typed)
+        };
+        format!("{name}{axis}: {value}{typed}")
     }
 
     /// A one-line description for the status bar.

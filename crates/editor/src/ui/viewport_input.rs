@@ -8,9 +8,9 @@ use glam::{DVec3, Vec2};
 use starcages_viewport::colors;
 use starcages_viewport::picking::{pick_nearest, select_in_rectangle};
 
-use super::UiState;
 use super::transform_tool::view_plane_delta;
 use super::viewport_paint;
+use super::{UiState, axis_gizmo};
 use crate::commands::{CameraChange, Command, CommandSender};
 use crate::state::{EditorState, GestureId, ScreenRect, SelectMode};
 
@@ -92,6 +92,7 @@ pub fn viewport(
             i.pointer.secondary_clicked(),
         )
     });
+    let on_gizmo = pointer.is_some_and(|p| axis_gizmo::contains(rect, egui::pos2(p.x, p.y)));
     if ui_state.tool.is_some() {
         // The tool follows the pointer in `keyboard`; here only its mouse confirm / cancel.
         if response.clicked() {
@@ -101,10 +102,10 @@ pub fn viewport(
             ui_state.tool = None;
             sender.send(Command::EndGesture { keep: false });
         }
-    } else {
+    } else if !on_gizmo || ui_state.drag.is_some() {
         mouse(state, ui_state, ui, &response, screen_rect, sender);
     }
-    let hovered = if response.hovered() {
+    let hovered = if response.hovered() && !on_gizmo {
         pointer.and_then(|p| pick(state, p))
     } else {
         None
@@ -114,6 +115,12 @@ pub fn viewport(
     }
     viewport_paint::paint(state, ui_state, ui, rect);
     overlays(state, ui_state, ui, rect, pointer);
+    let click = pointer
+        .filter(|_| response.clicked() && on_gizmo && ui_state.tool.is_none())
+        .map(|p| egui::pos2(p.x, p.y));
+    if let Some(view) = axis_gizmo::gizmo(&ui.painter_at(rect), rect, &state.view.camera, click) {
+        sender.send(Command::Camera(CameraChange::View(view)));
+    }
 }
 
 fn mouse(
@@ -260,6 +267,58 @@ fn start_drag(
     }
 }
 
+/// While G / R / S runs: the locked axis as a line through the pivot, in the axis colour, and a
+/// header with the live amount at the top of the viewport.
+fn tool_overlay(
+    state: &EditorState,
+    tool: &super::TransformTool,
+    painter: &egui::Painter,
+    rect: egui::Rect,
+    pointer: Vec2,
+) {
+    let camera = &state.view.camera;
+    let view = state.view.viewport;
+    if let Some(axis) = tool.axis {
+        let pivot = tool.pivot().as_vec3();
+        let direction = axis.vector().as_vec3();
+        // Long enough to cross the view; both ends in front of the eye.
+        let reach = camera.distance * 20.0;
+        let ends = [pivot - direction * reach, pivot + direction * reach]
+            .map(|p| camera.project(p, view.size).map(|(q, _)| q));
+        if let [Some(a), Some(b)] = ends {
+            let [r, g, bl, _] =
+                colors::to_u8([colors::X_AXIS, colors::Y_AXIS, colors::Z_AXIS][axis.index()]);
+            painter.line_segment(
+                [
+                    rect.min + egui::vec2(a.x, a.y),
+                    rect.min + egui::vec2(b.x, b.y),
+                ],
+                egui::Stroke::new(1.5, egui::Color32::from_rgb(r, g, bl)),
+            );
+        }
+    }
+    // A label in an area (not painted text), so it is in the accessibility tree.
+    let header = tool.header(tool.amount(camera, view, pointer));
+    egui::Area::new(egui::Id::unique("transform-header"))
+        .order(egui::Order::Foreground)
+        .pivot(egui::Align2::CENTER_TOP)
+        .fixed_pos(rect.center_top() + egui::vec2(0.0, 10.0))
+        .interactable(false)
+        .show(painter.ctx(), |ui| {
+            egui::Frame::new()
+                .fill(egui::Color32::from_black_alpha(170))
+                .corner_radius(4.0)
+                .inner_margin(egui::Margin::symmetric(8, 4))
+                .show(ui, |ui| {
+                    ui.label(
+                        egui::RichText::new(header)
+                            .size(15.0)
+                            .color(egui::Color32::WHITE),
+                    );
+                });
+        });
+}
+
 fn overlays(
     state: &EditorState,
     ui_state: &UiState,
@@ -268,6 +327,9 @@ fn overlays(
     pointer: Option<Vec2>,
 ) {
     let painter = ui.painter_at(rect);
+    if let (Some(tool), Some(pointer)) = (&ui_state.tool, pointer) {
+        tool_overlay(state, tool, &painter, rect, pointer);
+    }
     if let (Some(Drag::Rectangle { start, .. }), Some(end)) = (&ui_state.drag, pointer) {
         let r = egui::Rect::from_two_pos(egui::pos2(start.x, start.y), egui::pos2(end.x, end.y));
         painter.rect_stroke(

@@ -10,7 +10,7 @@ use egui_wgpu::{CallbackResources, CallbackTrait, RenderState, ScreenDescriptor}
 use glam::Vec3;
 use starcages_core::star::StarBinding;
 use starcages_viewport::gpu::{Blit, GpuContext, Layers, SceneRenderer, ViewTarget};
-use starcages_viewport::layers::{Dot, LineVertex, cage_dots, cage_lines};
+use starcages_viewport::layers::{Dot, LineVertex, cage_dots, cage_lines, ground_grid};
 use starcages_viewport::{OrbitCamera, gpu::OFFSCREEN_FORMAT};
 
 use super::UiState;
@@ -76,6 +76,8 @@ pub struct FrameData {
     pub lines: Arc<Vec<LineVertex>>,
     /// Cage vertices.
     pub dots: Arc<Vec<Dot>>,
+    /// The ground grid.
+    pub guides: Arc<Vec<LineVertex>>,
     /// The mesh and its key (uploaded when the key changes).
     pub mesh: Option<(MeshKey, Arc<MeshUpload>)>,
     /// This frame's degrees of freedom (GPU deformation) and the deformed positions (CPU path),
@@ -184,6 +186,7 @@ impl CallbackTrait for ViewportCallback {
             r.color_generation = *generation;
         }
         r.renderer.set_lines(&r.gpu, &data.lines);
+        r.renderer.set_guides(&r.gpu, &data.guides);
         r.renderer.set_dots(&r.gpu, &data.dots);
         let width = (self.size_points.x * screen.pixels_per_point)
             .round()
@@ -238,6 +241,8 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     let style = state.view.cage_style(&state.selection, &scene.cages);
     let lines = Arc::new(cage_lines(&scene.cages, &scene.pose, &style));
     let dots = Arc::new(cage_dots(&scene.cages, &scene.pose, &style));
+    let (lo, hi) = scene.mesh.bounds();
+    let guides = Arc::new(ground_grid(lo.as_vec3(), hi.as_vec3()));
     let key = MeshKey {
         document: state.document_id,
         generation: state.generations.mesh,
@@ -266,6 +271,7 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
         layers: state.view.layers,
         lines,
         dots,
+        guides,
         mesh: Some(mesh),
         deformation,
         colors: state.map.colors(),

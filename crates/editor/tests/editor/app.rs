@@ -182,7 +182,9 @@ fn grab_with_an_axis_lock_and_a_typed_distance_then_cancel_a_rotation() {
         harness.event(egui::Event::Text(text.into()));
         harness.run_steps(1);
     }
-    harness.get_by_label_contains("Grab along Z: 0.25");
+    // The header over the viewport and the status bar's hint.
+    harness.get_by_label_contains("Grab along Z: 0.250  [typed 0.25]");
+    harness.get_by_label_contains("Grab along Z: 0.25 — X/Y/Z lock");
     harness.key_press(egui::Key::Enter);
     harness.run_steps(2);
     let state = &harness.state().state;
@@ -662,4 +664,116 @@ fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
     );
     assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
     assert_eq!(state.doc.scene.cages.leaves.len(), 2);
+}
+
+/// Blender's viewport aids: numpad 5 toggles orthographic, Ctrl+numpad gives the opposite
+/// views, clicking an end of the axis gizmo looks along that axis, and G shows a header with
+/// the live amount and the locked axis drawn through the pivot (snapshot with the ground grid).
+#[test]
+fn orthographic_toggle_opposite_views_axis_gizmo_and_the_transform_header() {
+    use starcages_editor::ui::axis_gizmo;
+    use starcages_viewport::View;
+    let mut harness = harness();
+    let looking = |harness: &egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        -harness.state().state.view.camera.backward()
+    };
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::Num5);
+    harness.run_steps(2);
+    assert!(harness.state().state.view.camera.orthographic);
+    harness.get_by_role_and_label(Role::Button, "View").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("(now orthographic)");
+    harness.key_press(egui::Key::Escape);
+    harness.key_press(egui::Key::Num5);
+    harness.run_steps(2);
+    assert!(!harness.state().state.view.camera.orthographic);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Num1);
+    harness.run_steps(2);
+    assert!(
+        looking(&harness).distance(-Vec3::Y) < 1e-3,
+        "Ctrl+1 looks along -Y"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Num7);
+    harness.run_steps(2);
+    assert!(
+        looking(&harness).distance(Vec3::Z) < 1e-2,
+        "Ctrl+7 looks up +Z"
+    );
+    // The gizmo: click the +X end, then the +Z end.
+    let rect = {
+        let v = harness.state().state.view.viewport;
+        egui::Rect::from_min_size(egui::pos2(v.min.x, v.min.y), egui::vec2(v.size.x, v.size.y))
+    };
+    for (axis, expected) in [(0, View::Side), (2, View::Top)] {
+        let camera = harness.state().state.view.camera;
+        let at = axis_gizmo::end_position(rect, &camera, axis, true);
+        harness.hover_at(at);
+        harness.run_steps(1);
+        harness.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed: true,
+            modifiers: egui::Modifiers::NONE,
+        });
+        harness.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed: false,
+            modifiers: egui::Modifiers::NONE,
+        });
+        harness.run_steps(2);
+        let mut reference = starcages_viewport::OrbitCamera::default();
+        reference.set_view(expected);
+        assert!(
+            looking(&harness).distance(-reference.backward()) < 1e-3,
+            "gizmo axis {axis}: {}",
+            looking(&harness)
+        );
+        assert!(
+            harness.state().state.selection.vertices.is_empty(),
+            "the click picked"
+        );
+    }
+    // G with a Z lock: the header shows the live value.
+    harness.state_mut().run(Command::Camera(
+        starcages_editor::commands::CameraChange::View(View::Front),
+    ));
+    let app = harness.state_mut();
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    app.run(Command::Select {
+        vertices: vec![v],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::G);
+    harness.run_steps(1);
+    harness.event(egui::Event::Text("z".into()));
+    harness.run_steps(1);
+    harness.hover_at(egui::pos2(centre.x + 30.0, centre.y - 60.0));
+    harness.run_steps(2);
+    let header = harness.get_by_label_contains("Grab along Z: ");
+    let text = {
+        use egui_kittest::kittest::NodeT as _;
+        let node = header.accesskit_node();
+        node.label().or_else(|| node.value()).unwrap_or_default()
+    };
+    let value: f64 = text
+        .trim_start_matches("Grab along Z: ")
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(value > 0.0, "moving up gives a positive Z: {text}");
+    harness.snapshot_options(
+        "transform_header_axis_and_grid",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1500),
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.tool.is_none());
 }

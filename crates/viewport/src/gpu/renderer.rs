@@ -39,6 +39,8 @@ pub struct Layers {
     pub cages: bool,
     /// Cage vertices.
     pub vertices: bool,
+    /// The ground grid and the X and Y axis lines (set by [`SceneRenderer::set_guides`]).
+    pub ground: bool,
 }
 
 impl Default for Layers {
@@ -49,6 +51,7 @@ impl Default for Layers {
             wireframe: false,
             cages: true,
             vertices: true,
+            ground: false,
         }
     }
 }
@@ -105,6 +108,7 @@ pub struct SceneRenderer {
     dot_pipeline: wgpu::RenderPipeline,
     mesh: Option<MeshBuffers>,
     lines: Dynamic,
+    guides: Dynamic,
     dots: Dynamic,
 }
 
@@ -277,6 +281,10 @@ impl SceneRenderer {
                 buffer: None,
                 count: 0,
             },
+            guides: Dynamic {
+                buffer: None,
+                count: 0,
+            },
             dots: Dynamic {
                 buffer: None,
                 count: 0,
@@ -405,6 +413,12 @@ impl SceneRenderer {
             .upload(gpu, "cage lines", bytemuck::cast_slice(lines), lines.len());
     }
 
+    /// Uploads the ground grid's lines (drawn when [`Layers::ground`] is on).
+    pub fn set_guides(&mut self, gpu: &GpuContext, lines: &[LineVertex]) {
+        self.guides
+            .upload(gpu, "ground grid", bytemuck::cast_slice(lines), lines.len());
+    }
+
     /// Cage vertices to draw.
     pub fn set_dots(&mut self, gpu: &GpuContext, dots: &[Dot]) {
         self.dots
@@ -451,6 +465,14 @@ impl SceneRenderer {
                 pass.set_index_buffer(mesh.edges.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..mesh.edge_count, 0, 0..1);
             }
+        }
+        if layers.ground
+            && self.guides.count > 0
+            && let Some(buffer) = &self.guides.buffer
+        {
+            pass.set_pipeline(&self.line_pipeline);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            pass.draw(0..self.guides.count, 0..1);
         }
         if layers.cages
             && self.lines.count > 0
