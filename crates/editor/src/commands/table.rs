@@ -53,6 +53,10 @@ pub enum UiCommand {
     ViewBottom,
     /// View ▸ Perspective / orthographic
     ToggleOrthographic,
+    /// View ▸ Item panel (the selection's coordinates)
+    ToggleItemPanel,
+    /// Help ▸ Keyboard shortcuts
+    ShowShortcuts,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -65,7 +69,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 23] = [
+    pub const ALL: [Self; 25] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -89,6 +93,8 @@ impl UiCommand {
         Self::ViewLeft,
         Self::ViewBottom,
         Self::ToggleOrthographic,
+        Self::ToggleItemPanel,
+        Self::ShowShortcuts,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -117,6 +123,8 @@ impl UiCommand {
             Self::ViewLeft => "Left",
             Self::ViewBottom => "Bottom",
             Self::ToggleOrthographic => "Perspective / orthographic",
+            Self::ToggleItemPanel => "Item panel",
+            Self::ShowShortcuts => "Keyboard shortcuts",
         }
     }
 
@@ -152,6 +160,10 @@ impl UiCommand {
             Self::ToggleOrthographic => {
                 "Switch between perspective and orthographic projection (parallel lines stay parallel)"
             }
+            Self::ToggleItemPanel => {
+                "Show or hide the coordinates of the selected vertices (rest and posed), editable"
+            }
+            Self::ShowShortcuts => "List every action with its keys",
         }
     }
 
@@ -178,6 +190,16 @@ impl UiCommand {
             Self::ViewLeft => &const { [key(CMD, Key::Num3)] },
             Self::ViewBottom => &const { [key(CMD, Key::Num7)] },
             Self::ToggleOrthographic => &const { [key(NONE, Key::Num5)] },
+            Self::ToggleItemPanel => &const { [key(NONE, Key::N)] },
+            Self::ShowShortcuts => {
+                &const {
+                    [
+                        key(NONE, Key::F1),
+                        key(NONE, Key::Questionmark),
+                        key(Modifiers::SHIFT, Key::Questionmark),
+                    ]
+                }
+            }
         }
     }
 

@@ -78,7 +78,7 @@ pub enum EditorError {
     )]
     OutputIsInput(PathBuf),
     /// Saving to the document's own file, which it does not have yet.
-    #[error("this scene has no file yet: use File ▸ Save as… to choose one")]
+    #[error("this scene has no file yet: use File > Save as… to choose one")]
     NoFile,
     /// The file named on the command line could not be opened.
     #[error("{0}; the demo scene is shown instead")]

@@ -41,6 +41,34 @@ pub struct Message {
     pub text: String,
     /// An error (red) or information.
     pub error: bool,
+    /// When it was shown (it fades after [`Message::LIFETIME`]).
+    pub shown: Instant,
+}
+
+impl Message {
+    /// How long information stays in the status bar; errors stay twice as long. The last
+    /// second of it fades out.
+    pub const LIFETIME: std::time::Duration = std::time::Duration::from_secs(6);
+
+    /// A message shown now.
+    pub fn new(text: impl Into<String>, error: bool) -> Self {
+        Self {
+            text: text.into(),
+            error,
+            shown: Instant::now(),
+        }
+    }
+
+    /// Its opacity now: 1 while fresh, falling to 0 over the last second of its lifetime.
+    pub fn opacity(&self) -> f32 {
+        let lifetime = if self.error {
+            2 * Self::LIFETIME
+        } else {
+            Self::LIFETIME
+        };
+        let left = lifetime.saturating_sub(self.shown.elapsed()).as_secs_f32();
+        left.min(1.0)
+    }
 }
 
 /// Timings and sizes shown in the stats panel (the paper's Table II columns).
@@ -372,10 +400,7 @@ impl EditorState {
         }
         if let Some(rig) = &mut self.rig {
             if let Err(e) = rig.hierarchy.restore(&self.doc.scene.pose_state) {
-                self.message = Some(Message {
-                    text: EditorError::Hierarchy(e).to_string(),
-                    error: true,
-                });
+                self.message = Some(Message::new(EditorError::Hierarchy(e).to_string(), true));
             }
             let start = Instant::now();
             rig.redeform_all(&self.doc.scene);
@@ -468,18 +493,12 @@ impl EditorState {
 
     /// Shows an error in the status bar.
     pub fn error(&mut self, error: EditorError) {
-        self.message = Some(Message {
-            text: error.to_string(),
-            error: true,
-        });
+        self.message = Some(Message::new(error.to_string(), true));
     }
 
     /// Shows information in the status bar.
     pub fn info(&mut self, text: impl Into<String>) {
-        self.message = Some(Message {
-            text: text.into(),
-            error: false,
-        });
+        self.message = Some(Message::new(text, false));
     }
 
     /// The deformed welded mesh (empty before the first bind).

@@ -44,6 +44,14 @@ pub fn execute(
         UiCommand::ViewLeft => camera(CameraChange::View(View::Left)),
         UiCommand::ViewBottom => camera(CameraChange::View(View::Bottom)),
         UiCommand::ToggleOrthographic => camera(CameraChange::ToggleOrthographic),
+        UiCommand::ToggleItemPanel => {
+            ui_state.show_item_panel = !ui_state.show_item_panel;
+            return;
+        }
+        UiCommand::ShowShortcuts => {
+            ui_state.show_shortcuts = !ui_state.show_shortcuts;
+            return;
+        }
     };
     sender.send(command);
 }

@@ -131,7 +131,7 @@ fn leaf_h(
 
 /// A slider that edits the document: one undo step per drag (a gesture from the drag's start
 /// to its end), or one per change when set without dragging (keyboard, accessibility).
-fn slider_edit(
+pub(super) fn slider_edit(
     ui_state: &mut UiState,
     response: &egui::Response,
     label: &str,

@@ -79,6 +79,7 @@ pub fn menu_bar(
             ] {
                 item(ui, action, None, true, &mut chosen);
             }
+            item(ui, UiCommand::ToggleItemPanel, None, true, &mut chosen);
             let projection = if state.view.camera.orthographic {
                 "(now orthographic)"
             } else {
@@ -91,6 +92,9 @@ pub fn menu_bar(
                 true,
                 &mut chosen,
             );
+        });
+        ui.menu_button("Help", |ui| {
+            item(ui, UiCommand::ShowShortcuts, None, true, &mut chosen);
         });
     });
     if let Some(action) = chosen {

@@ -6,7 +6,9 @@
 mod actions;
 pub mod axis_gizmo;
 pub mod file_dialog;
+mod help;
 mod inspector;
+mod item_panel;
 mod keyboard;
 mod menu;
 mod outliner;
@@ -43,6 +45,12 @@ pub struct UiState {
     pub new_mesh_dialog: Option<(PathBuf, NewMeshOptions)>,
     /// A slider drag in progress (one undo step).
     pub slider_gesture: Option<GestureId>,
+    /// The Item panel (N) is shown.
+    pub show_item_panel: bool,
+    /// The keyboard shortcuts window (F1) is shown.
+    pub show_shortcuts: bool,
+    /// Give up the keyboard focus egui moved on Tab (next frame).
+    drop_focus: bool,
     /// Show measured times in the stats panel (off for reproducible snapshots).
     pub show_timings: bool,
     /// Whether the 3D view can draw (wgpu available).
@@ -64,6 +72,9 @@ impl UiState {
             files: file_dialog::FileDialogs::from_env(),
             new_mesh_dialog: None,
             slider_gesture: None,
+            show_item_panel: false,
+            show_shortcuts: false,
+            drop_focus: false,
             show_timings: true,
             gpu,
             frame_ms: 0.0,
@@ -121,6 +132,9 @@ pub fn frame_ui(
         .default_size(280.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
+                if ui_state.show_item_panel {
+                    item_panel::item_panel(state, ui_state, ui, sender);
+                }
                 inspector::inspector(state, ui_state, ui, sender);
                 panels::view_options(state, ui, sender);
                 panels::stats(state, ui_state, ui);
@@ -137,6 +151,7 @@ pub fn frame_ui(
         actions::file_chosen(purpose, path, ui_state, sender);
     }
     prompts::new_mesh_dialog(ui_state, &ctx, sender);
+    help::shortcuts_window(ui_state, &ctx);
 }
 
 fn dropped_files(ctx: &egui::Context, sender: &mut CommandSender) {

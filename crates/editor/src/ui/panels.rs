@@ -44,6 +44,9 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
     ui.checkbox(&mut layers.wireframe, "Wireframe");
     ui.checkbox(&mut layers.flat, "Flat shading");
     ui.checkbox(&mut layers.cages, "Cages");
+    egui::CollapsingHeader::new("Cage colours")
+        .default_open(false)
+        .show(ui, super::help::legend);
     ui.checkbox(&mut layers.vertices, "Cage vertices");
     ui.checkbox(&mut layers.ground, "Ground grid")
         .on_hover_text("The plane z = 0, with the X axis in red and the Y axis in green");

@@ -43,13 +43,16 @@ pub fn status_bar(
         }
         if let Some(tool) = &ui_state.tool {
             ui.label(tool.describe());
-        } else if let Some(message) = &state.message {
+        } else if let Some(message) = state.message.as_ref().filter(|m| m.opacity() > 0.0) {
             let colour = if message.error {
                 egui::Color32::from_rgb(255, 110, 100)
             } else {
                 ui.visuals().text_color()
             };
-            ui.label(RichText::new(&message.text).color(colour));
+            ui.label(RichText::new(&message.text).color(colour.gamma_multiply(message.opacity())));
+            // Keep drawing until it has faded.
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
         } else {
             ui.label(
                 "Click a cage vertex to select it, drag to move; G/R/S transform; middle mouse orbits.",

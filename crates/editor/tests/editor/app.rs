@@ -777,3 +777,90 @@ fn orthographic_toggle_opposite_views_axis_gizmo_and_the_transform_header() {
     harness.run_steps(2);
     assert!(harness.state().ui.tool.is_none());
 }
+
+/// Keys a Blender user reaches for either act or say why not; N shows the selection's
+/// coordinates and editing them moves the selection (undoable); F1 lists the shortcuts with
+/// the cage colour legend; status messages fade.
+#[test]
+fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
+    let mut harness = harness();
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    for (key, modifiers, expected) in [
+        (egui::Key::X, egui::Modifiers::NONE, "X / Delete"),
+        (egui::Key::Delete, egui::Modifiers::NONE, "X / Delete"),
+        (
+            egui::Key::Tab,
+            egui::Modifiers::NONE,
+            "Tab: StarCages has one mode",
+        ),
+        (egui::Key::E, egui::Modifiers::NONE, "E (extrude)"),
+        (egui::Key::A, egui::Modifiers::SHIFT, "Shift+A (add)"),
+    ] {
+        harness.key_press_modifiers(modifiers, key);
+        harness.run_steps(2);
+        let message = harness.state().state.message.clone().unwrap();
+        assert!(
+            message.text.starts_with(expected),
+            "{key:?}: {}",
+            message.text
+        );
+        harness.get_by_label_contains(expected);
+    }
+    // Messages fade: an old one is no longer in the status bar (but kept in the state).
+    harness.state_mut().state.message.as_mut().unwrap().shown =
+        std::time::Instant::now() - starcages_editor::state::Message::LIFETIME * 2;
+    harness.run_steps(2);
+    assert!(harness.query_by_label_contains("Shift+A (add)").is_none());
+    // N: the Item panel, with the selected vertex's coordinates; typing a value moves it.
+    let app = harness.state_mut();
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    app.run(Command::Select {
+        vertices: vec![v],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    let before = app.state.doc.scene.pose[v as usize];
+    harness.key_press(egui::Key::N);
+    harness.run_steps(2);
+    assert!(harness.state().ui.show_item_panel);
+    harness.get_by_label(&format!("vertex {v}"));
+    harness.get_by_label_contains("Rest  X");
+    let z_field = || {
+        harness
+            .query_all_by_role(Role::SpinButton)
+            .nth(2)
+            .expect("three coordinate fields")
+    };
+    z_field().click();
+    harness.run_steps(1);
+    harness
+        .query_all_by_role(Role::SpinButton)
+        .nth(2)
+        .expect("the Z field")
+        .type_text(&format!("{}", before.z + 0.125));
+    harness.run_steps(1);
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    let after = harness.state().state.doc.scene.pose[v as usize];
+    assert!(
+        (after - before - DVec3::new(0.0, 0.0, 0.125)).length() < 1e-9,
+        "{before} -> {after}"
+    );
+    harness.state_mut().run(Command::Undo);
+    assert_eq!(harness.state().state.doc.scene.pose[v as usize], before);
+    // F1: every action with its keys, and the cage colours.
+    harness.key_press(egui::Key::F1);
+    harness.run_steps(2);
+    assert!(harness.state().ui.show_shortcuts);
+    // The window's title and its own row.
+    assert!(harness.query_all_by_label("Keyboard shortcuts").count() >= 2);
+    harness.get_by_label_contains("Switch between perspective and orthographic");
+    harness.get_by_label_contains("GC leaf cage");
+    harness.get_by_label_contains("border: a face shared by two leaf cages");
+    harness.snapshot_options(
+        "shortcuts_window_and_item_panel",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1500),
+    );
+}

@@ -1,0 +1,95 @@
+//! Help: the keyboard shortcuts window (F1 or ?), read from the [`UiCommand`] table with the
+//! G / R / S keys and the mouse, and the legend of the cage colours.
+
+use super::UiState;
+use crate::commands::UiCommand;
+
+/// Mouse and tool keys that are not table actions.
+const MORE: [(&str, &str); 6] = [
+    (
+        "Orbit / pan / zoom",
+        "middle mouse or Alt+left drag / Shift+middle / wheel",
+    ),
+    (
+        "Select / add to selection",
+        "click / Shift+click a cage vertex",
+    ),
+    ("Rectangle selection", "drag on empty space (Shift adds)"),
+    ("Move a vertex", "drag it"),
+    (
+        "During G / R / S",
+        "X / Y / Z lock an axis, type a number, Enter confirms, Esc cancels",
+    ),
+    ("Look along an axis", "click an end of the axis gizmo"),
+];
+
+/// The legend of what the colours of cages mean: (colour, meaning).
+pub fn cage_legend() -> [(egui::Color32, &'static str); 5] {
+    use starcages_viewport::colors;
+    let c = |rgba| {
+        let [r, g, b, _] = colors::to_u8(rgba);
+        egui::Color32::from_rgb(r, g, b)
+    };
+    let kind = |k| c(colors::kind(k));
+    use starcages_core::coords::CoordinateKind as K;
+    [
+        (kind(K::MeanValue), "MVC leaf cage (mean value coordinates)"),
+        (kind(K::Green), "GC leaf cage (Green coordinates)"),
+        (kind(K::Harmonic), "HC leaf cage (harmonic coordinates)"),
+        (c(colors::INTERNAL), "internal cage (drives cage vertices)"),
+        (c(colors::BORDER), "border: a face shared by two leaf cages"),
+    ]
+}
+
+/// The keyboard shortcuts window.
+pub fn shortcuts_window(ui_state: &mut UiState, ctx: &egui::Context) {
+    let mut open = ui_state.show_shortcuts;
+    egui::Window::new("Keyboard shortcuts")
+        .open(&mut open)
+        .collapsible(false)
+        .default_width(620.0)
+        .default_height(440.0)
+        .vscroll(true)
+        .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
+        .show(ctx, |ui| {
+            egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                for command in UiCommand::ALL {
+                    let mut keys: Vec<String> = command
+                        .shortcuts()
+                        .iter()
+                        .map(|s| ctx.format_shortcut(s).replace("Questionmark", "?"))
+                        .filter(|k| k != "Shift+?")
+                        .collect();
+                    keys.dedup();
+                    ui.label(command.label());
+                    ui.label(if keys.is_empty() {
+                        "menu".to_owned()
+                    } else {
+                        keys.join(", ")
+                    });
+                    ui.weak(command.tooltip());
+                    ui.end_row();
+                }
+                for (what, how) in MORE {
+                    ui.label(what);
+                    ui.label(how);
+                    ui.end_row();
+                }
+            });
+            ui.separator();
+            ui.label("Cage colours");
+            legend(ui);
+        });
+    ui_state.show_shortcuts = open;
+}
+
+/// The cage colour legend: a swatch and its meaning per line.
+pub fn legend(ui: &mut egui::Ui) {
+    for (colour, meaning) in cage_legend() {
+        ui.horizontal(|ui| {
+            let (swatch, _) = ui.allocate_exact_size(egui::vec2(14.0, 10.0), egui::Sense::hover());
+            ui.painter().rect_filled(swatch, 2.0, colour);
+            ui.label(meaning);
+        });
+    }
+}
