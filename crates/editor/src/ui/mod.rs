@@ -51,6 +51,8 @@ pub struct UiState {
     pub show_shortcuts: bool,
     /// Give up the keyboard focus egui moved on Tab (next frame).
     drop_focus: bool,
+    /// A question about poses, while open.
+    pub pose_prompt: Option<panels::PosePrompt>,
     /// Show measured times in the stats panel (off for reproducible snapshots).
     pub show_timings: bool,
     /// Whether the 3D view can draw (wgpu available).
@@ -75,6 +77,7 @@ impl UiState {
             show_item_panel: false,
             show_shortcuts: false,
             drop_focus: false,
+            pose_prompt: None,
             show_timings: true,
             gpu,
             frame_ms: 0.0,
@@ -152,6 +155,7 @@ pub fn frame_ui(
     }
     prompts::new_mesh_dialog(ui_state, &ctx, sender);
     help::shortcuts_window(ui_state, &ctx);
+    panels::pose_prompt(state, ui_state, &ctx, sender);
 }
 
 fn dropped_files(ctx: &egui::Context, sender: &mut CommandSender) {

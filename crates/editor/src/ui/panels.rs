@@ -114,14 +114,25 @@ pub fn poses(
 ) {
     ui.separator();
     ui.heading("Poses");
+    let active = active_pose(&state.doc.scene);
+    ui.label(match &active {
+        ActivePose::Rest => "current: the rest pose".to_owned(),
+        ActivePose::Stored(name) => format!("current: '{name}'"),
+        ActivePose::Unstored => "current: edited, not stored".to_owned(),
+    })
+    .on_hover_text(
+        "The pose the cages are in now: a stored one, the rest pose, or edits not stored yet",
+    );
     for name in state.doc.scene.poses.keys() {
         ui.horizontal(|ui| {
+            let is_active = matches!(&active, ActivePose::Stored(n) if n == name);
             if ui
-                .button(name)
+                .selectable_label(is_active, name)
                 .on_hover_text("switch to this pose")
                 .clicked()
+                && !is_active
             {
-                sender.send(Command::SwitchPose(Some(name.clone())));
+                switch_pose(ui_state, &active, Some(name.clone()), sender);
             }
             if ui
                 .small_button("delete")
@@ -134,12 +145,146 @@ pub fn poses(
     }
     ui.horizontal(|ui| {
         ui.add(egui::TextEdit::singleline(&mut ui_state.new_pose_name).hint_text("pose name"));
-        if ui.button("Store pose").clicked() {
-            sender.send(Command::StorePose(ui_state.new_pose_name.trim().to_owned()));
-            ui_state.new_pose_name.clear();
+        if ui
+            .button("Store pose")
+            .on_hover_text("Store the current pose under the typed name")
+            .clicked()
+        {
+            let name = ui_state.new_pose_name.trim().to_owned();
+            if state.doc.scene.poses.contains_key(&name) {
+                ui_state.pose_prompt = Some(PosePrompt::Overwrite(name));
+            } else {
+                sender.send(Command::StorePose(name));
+                ui_state.new_pose_name.clear();
+            }
         }
     });
-    if ui.button("Reset to rest").clicked() {
-        sender.send(Command::SwitchPose(None));
+    if ui
+        .button("Reset to rest")
+        .on_hover_text("Put every cage vertex back at its rest position")
+        .clicked()
+        && active != ActivePose::Rest
+    {
+        switch_pose(ui_state, &active, None, sender);
+    }
+}
+
+/// Which pose the cages are in: found by comparing positions, so it is always true.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ActivePose {
+    /// The rest pose.
+    Rest,
+    /// A stored pose (the first by name when several are equal).
+    Stored(String),
+    /// Edits not stored under any name.
+    Unstored,
+}
+
+/// The active pose of `scene`.
+pub fn active_pose(scene: &starcages_core::scene::Scene) -> ActivePose {
+    if let Some(name) = scene
+        .poses
+        .iter()
+        .find(|(_, p)| **p == scene.pose)
+        .map(|(n, _)| n.clone())
+    {
+        ActivePose::Stored(name)
+    } else if scene.pose == scene.cages.vertices {
+        ActivePose::Rest
+    } else {
+        ActivePose::Unstored
+    }
+}
+
+/// Switches to `target` (rest for `None`), asking first when the current pose has edits that
+/// are not stored.
+fn switch_pose(
+    ui_state: &mut UiState,
+    active: &ActivePose,
+    target: Option<String>,
+    sender: &mut CommandSender,
+) {
+    if *active == ActivePose::Unstored {
+        ui_state.pose_prompt = Some(PosePrompt::UnstoredEdits(target));
+    } else {
+        sender.send(Command::SwitchPose(target));
+    }
+}
+
+/// A question about poses, while open.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PosePrompt {
+    /// Switching to this pose (rest for `None`) would drop edits that are not stored.
+    UnstoredEdits(Option<String>),
+    /// A pose of this name exists: overwrite it?
+    Overwrite(String),
+}
+
+/// Name under which "Keep them" stores unstored edits (with a number when taken).
+fn unsaved_name(scene: &starcages_core::scene::Scene) -> String {
+    (1..)
+        .map(|k| {
+            if k == 1 {
+                "unsaved".to_owned()
+            } else {
+                format!("unsaved {k}")
+            }
+        })
+        .find(|n| !scene.poses.contains_key(n))
+        .unwrap_or_default()
+}
+
+/// The pose prompt, when one is open.
+pub fn pose_prompt(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ctx: &egui::Context,
+    sender: &mut CommandSender,
+) {
+    let Some(prompt) = ui_state.pose_prompt.clone() else {
+        return;
+    };
+    let mut close = false;
+    egui::Modal::new(egui::Id::unique("pose-prompt")).show(ctx, |ui| match &prompt {
+        PosePrompt::UnstoredEdits(target) => {
+            ui.heading("Edits not stored");
+            ui.label("The current pose has edits that are not stored in any pose.");
+            let keep = unsaved_name(&state.doc.scene);
+            ui.horizontal(|ui| {
+                if ui
+                    .button(format!("Keep them as '{keep}'"))
+                    .on_hover_text("Store the edits as a pose, then switch")
+                    .clicked()
+                {
+                    sender.send(Command::StorePose(keep.clone()));
+                    sender.send(Command::SwitchPose(target.clone()));
+                    close = true;
+                }
+                if ui.button("Discard them").clicked() {
+                    sender.send(Command::SwitchPose(target.clone()));
+                    close = true;
+                }
+                if ui.button("Cancel").clicked() {
+                    close = true;
+                }
+            });
+        }
+        PosePrompt::Overwrite(name) => {
+            ui.heading("Overwrite pose?");
+            ui.label(format!("A pose called '{name}' exists."));
+            ui.horizontal(|ui| {
+                if ui.button("Overwrite").clicked() {
+                    sender.send(Command::StorePose(name.clone()));
+                    ui_state.new_pose_name.clear();
+                    close = true;
+                }
+                if ui.button("Cancel").clicked() {
+                    close = true;
+                }
+            });
+        }
+    });
+    if close {
+        ui_state.pose_prompt = None;
     }
 }

@@ -864,3 +864,68 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
             .max_failed_pixels(1500),
     );
 }
+
+/// Poses: the active one is shown; switching away from edits not stored asks (keep them as a
+/// pose, discard, cancel); storing over an existing name asks before overwriting.
+#[test]
+fn poses_show_the_active_one_and_ask_before_losing_or_overwriting() {
+    let mut harness = harness();
+    let stored: Vec<String> = harness
+        .state()
+        .state
+        .doc
+        .scene
+        .poses
+        .keys()
+        .cloned()
+        .collect();
+    let first = stored
+        .first()
+        .expect("the critter has a stored pose")
+        .clone();
+    harness.state_mut().run(Command::SwitchPose(None));
+    harness.run_steps(2);
+    harness.get_by_label("current: the rest pose");
+    let app = harness.state_mut();
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    let moved = app.state.doc.scene.pose[v as usize] + DVec3::new(0.0, 0.0, 0.1);
+    app.run(Command::MoveVertices(vec![(v, moved)]));
+    harness.run_steps(2);
+    harness.get_by_label("current: edited, not stored");
+    // Switching asks; keeping stores the edits as 'unsaved' and switches.
+    harness.get_by_label(&first).click();
+    harness.run_steps(2);
+    harness.get_by_label("Edits not stored");
+    harness.get_by_label("Keep them as 'unsaved'").click();
+    harness.run_steps(3);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(
+        scene.poses.get("unsaved").map(|p| p[v as usize]),
+        Some(moved)
+    );
+    assert_eq!(&scene.pose, &scene.poses[&first]);
+    harness.get_by_label(&format!("current: '{first}'"));
+    // Storing over an existing name asks; Cancel leaves it, Overwrite replaces it.
+    harness
+        .state_mut()
+        .run(Command::MoveVertices(vec![(v, moved * 1.5)]));
+    harness.run_steps(1);
+    harness.state_mut().ui.new_pose_name = first.clone();
+    harness.get_by_label("Store pose").click();
+    harness.run_steps(2);
+    harness.get_by_label("Overwrite pose?");
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    assert_ne!(
+        harness.state().state.doc.scene.poses[&first][v as usize],
+        moved * 1.5
+    );
+    harness.get_by_label("Store pose").click();
+    harness.run_steps(2);
+    harness.get_by_label("Overwrite").click();
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.doc.scene.poses[&first][v as usize],
+        moved * 1.5
+    );
+}
