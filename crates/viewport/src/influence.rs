@@ -75,9 +75,13 @@ pub struct DifferenceStats {
     pub rms: f32,
 }
 
+/// Differences up to this fraction of the bounding box diagonal are f32 round-off: the two
+/// deformations are shown as identical.
+pub const IDENTICAL: f32 = 1e-5;
+
 /// The difference map between `a` (*Cages) and `b` (a single-cage deformation), scaled so the
-/// largest difference is 1, with the paper's max and RMS relative to the bounding box
-/// diagonal of `a`.
+/// largest difference is 1 (all zero when they are identical to [`IDENTICAL`]), with the
+/// paper's max and RMS relative to the bounding box diagonal of `a`.
 pub fn difference(a: &[Vec3], b: &[Vec3]) -> (MapValues, DifferenceStats) {
     let (lo, hi) = a.iter().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
@@ -91,6 +95,21 @@ pub fn difference(a: &[Vec3], b: &[Vec3]) -> (MapValues, DifferenceStats) {
         .collect();
     let max = distances.iter().copied().fold(0.0, f32::max);
     let rms = (distances.iter().map(|d| d * d).sum::<f32>() / distances.len().max(1) as f32).sqrt();
+    if max <= IDENTICAL {
+        // At rest (or for any pose both reproduce) the difference is f32 round-off: say so
+        // rather than stretch the noise to the full colour ramp.
+        return (
+            MapValues {
+                values: vec![0.0; distances.len()],
+                title: format!(
+                    "difference to single cage: identical (within {IDENTICAL:.0e} of the \
+                     diagonal); pose the cages to compare"
+                ),
+                range: ("0".into(), "0".into()),
+            },
+            DifferenceStats { max, rms },
+        );
+    }
     let scale = if max > 0.0 { 1.0 / max } else { 0.0 };
     let values = distances.iter().map(|d| d * scale).collect();
     (

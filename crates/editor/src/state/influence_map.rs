@@ -144,7 +144,8 @@ impl EditorState {
         let key = MapKey {
             choice,
             cage: self.selection.cage(),
-            vertex: self.selection.single_vertex(),
+            // W of the one selected vertex, else of the vertex under the cursor.
+            vertex: self.selection.single_vertex().or(self.selection.hovered),
             document,
             mesh,
             deformation: if difference_kind.is_some() {
@@ -179,7 +180,15 @@ impl EditorState {
             InfluenceChoice::JoinWeight => match key.vertex {
                 Some(v) => Some(influence::join_weight(&rig.binding, v)),
                 None => {
-                    self.map.note = Some("select one cage vertex".into());
+                    let selected = self.selection.vertices.len();
+                    self.map.note = Some(if selected > 1 {
+                        format!(
+                            "W is shown for one cage vertex: {selected} are selected; hover one \
+                             or select just one"
+                        )
+                    } else {
+                        "W is shown for one cage vertex: select or hover one".into()
+                    });
                     None
                 }
             },

@@ -7,7 +7,22 @@ use starcages_core::scene::{JoinPolicy, SceneSettings, Smoothing};
 
 use super::UiState;
 use crate::commands::{Command, CommandSender};
-use crate::state::{CageId, EditorState};
+use crate::state::{CageId, EditorState, InfluenceChoice};
+
+/// What a coordinate kind does, in plain words.
+fn kind_tooltip(kind: CoordinateKind) -> &'static str {
+    match kind {
+        CoordinateKind::MeanValue => "Mean value coordinates: smooth and fast to bind",
+        CoordinateKind::Harmonic => {
+            "Harmonic coordinates: never negative, so concave cages pull no part the wrong way; \
+             solved on a grid, slower to bind"
+        }
+        CoordinateKind::Green => {
+            "Green coordinates: also use the faces' normals, so shapes keep their proportions \
+             (quasi-conformal)"
+        }
+    }
+}
 
 /// The coordinate kinds a cage can use, in menu order.
 pub const KINDS: [CoordinateKind; 3] = [
@@ -60,9 +75,16 @@ pub fn inspector(
         .selected_text(kind_name(kind))
         .show_ui(ui, |ui| {
             for k in KINDS {
-                ui.selectable_value(&mut chosen, k, kind_name(k));
+                ui.selectable_value(&mut chosen, k, kind_name(k))
+                    .on_hover_text(kind_tooltip(k));
             }
-        });
+        })
+        .response
+        .on_hover_text(
+            "How this cage's vertices move the mesh inside it: MVC (smooth, fast), HC \
+             (harmonic: never negative, best in concave cages, slower to bind) or GC (Green: \
+             keeps shapes, also uses the faces' normals)",
+        );
     if chosen != kind {
         sender.send(Command::SetCageKind(cage, chosen));
     }
@@ -95,10 +117,25 @@ fn leaf_h(
     let mut h = cage.h.unwrap_or(scene.settings.default_h);
     let response = ui
         .add(egui::Slider::new(&mut h, 0.05..=1.0).text("h"))
-        .on_hover_text("how far into the cage its neighbours blend in (0: only at the border)");
+        .on_hover_text(
+            "h: how far into this cage its neighbours blend in. Small h: the cage's own \
+             coordinates (b = 1, red in the b map) almost up to its borders; h = 1: blending \
+             with the neighbours (b < 1, blue) reaches deep inside. The b map is shown while \
+             you drag",
+        );
+    // While dragging, show this cage's b map, so the change is visible even at rest.
+    if response.drag_started() && state.view.influence != InfluenceChoice::SelectedCage {
+        ui_state.influence_before_h_drag = Some(state.view.influence);
+        sender.send(Command::SetInfluence(InfluenceChoice::SelectedCage));
+    }
     slider_edit(ui_state, &response, "change h", sender, || {
         Command::SetCageH { leaf, h: Some(h) }
     });
+    if response.drag_stopped()
+        && let Some(before) = ui_state.influence_before_h_drag.take()
+    {
+        sender.send(Command::SetInfluence(before));
+    }
     if !cage.border_h.is_empty() {
         ui.label("Per-border h:");
     }
@@ -186,7 +223,9 @@ fn scene_settings(
         let mut settings = current;
         let response = ui
             .add(egui::Slider::new(&mut settings.default_h, 0.05..=1.0).text("default h"))
-            .on_hover_text("h of every cage that sets none");
+            .on_hover_text(
+                "h of every cage that sets none: how far into a cage its neighbours blend in",
+            );
         slider_edit(ui_state, &response, "change default h", sender, || {
             set("change default h", settings)
         });
@@ -197,7 +236,12 @@ fn scene_settings(
                 for s in [Smoothing::Sine, Smoothing::Cubic, Smoothing::Quintic] {
                     ui.selectable_value(&mut settings.smoothing, s, format!("{s:?}"));
                 }
-            });
+            })
+            .response
+            .on_hover_text(
+                "The curve that turns the distance from a border into the blend b (the \
+                 paper's f_h): all three are smooth (C1); quintic is also C2",
+            );
         if settings != current {
             sender.send(set("change smoothing", settings));
         }
@@ -213,14 +257,23 @@ fn scene_settings(
                 ] {
                     ui.selectable_value(&mut settings.join_coordinates, j, format!("{j:?}"));
                 }
-            });
+            })
+            .response
+            .on_hover_text(
+                "The coordinates of the join cages, which blend neighbouring cages smoothly \
+                 across their shared faces: Auto uses harmonic coordinates where a join cage \
+                 is concave (mean value coordinates can go negative there) and MVC elsewhere",
+            );
         if settings != current {
             sender.send(set("change join policy", settings));
         }
         let mut settings = current;
         let response = ui
             .add(egui::Slider::new(&mut settings.harmonic.resolution, 16..=128).text("HC grid"))
-            .on_hover_text("grid cells along the longest side of each harmonic cage");
+            .on_hover_text(
+                "Harmonic coordinates are solved on a grid: cells along the longest side of \
+                 each harmonic cage. Finer is more accurate and slower to bind",
+            );
         slider_edit(ui_state, &response, "change HC grid", sender, || {
             set("change HC grid", settings)
         });

@@ -53,6 +53,8 @@ pub struct UiState {
     drop_focus: bool,
     /// A question about poses, while open.
     pub pose_prompt: Option<panels::PosePrompt>,
+    /// The influence map shown before an h slider drag switched to the cage's b map.
+    pub influence_before_h_drag: Option<crate::state::InfluenceChoice>,
     /// Show measured times in the stats panel (off for reproducible snapshots).
     pub show_timings: bool,
     /// Whether the 3D view can draw (wgpu available).
@@ -78,6 +80,7 @@ impl UiState {
             show_shortcuts: false,
             drop_focus: false,
             pose_prompt: None,
+            influence_before_h_drag: None,
             show_timings: true,
             gpu,
             frame_ms: 0.0,

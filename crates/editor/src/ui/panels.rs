@@ -17,6 +17,27 @@ fn influence_name(choice: InfluenceChoice) -> String {
     }
 }
 
+/// What an influence map shows, in plain words.
+fn influence_tooltip(choice: InfluenceChoice) -> &'static str {
+    match choice {
+        InfluenceChoice::None => "The mesh in its own colour",
+        InfluenceChoice::SelectedCage | InfluenceChoice::AllCages => {
+            "b: how much a mesh point follows its own cage. Red (b = 1): only this cage's own \
+             coordinates; blue (b = 0): blended with its neighbours through the join cages, \
+             which is what makes the deformation smooth across borders. h sets how far blue \
+             reaches in"
+        }
+        InfluenceChoice::JoinWeight => {
+            "W: how much one cage vertex's join transformation moves each mesh point (red: \
+             fully, blue: not at all); select or hover one cage vertex"
+        }
+        InfluenceChoice::Difference(_) => {
+            "How far the *Cages deformation is from deforming with one single cage of that \
+             kind around everything (red: the largest difference); pose the cages to compare"
+        }
+    }
+}
+
 /// Influence map, layers, shading, mirroring.
 pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut CommandSender) {
     ui.separator();
@@ -34,27 +55,38 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
                 InfluenceChoice::Difference(CoordinateKind::MeanValue),
                 InfluenceChoice::Difference(CoordinateKind::Green),
             ] {
-                ui.selectable_value(&mut choice, c, influence_name(c));
+                ui.selectable_value(&mut choice, c, influence_name(c))
+                    .on_hover_text(influence_tooltip(c));
             }
-        });
+        })
+        .response
+        .on_hover_text(influence_tooltip(current));
     if choice != current {
         sender.send(Command::SetInfluence(choice));
     }
     let mut layers = state.view.layers;
-    ui.checkbox(&mut layers.wireframe, "Wireframe");
-    ui.checkbox(&mut layers.flat, "Flat shading");
-    ui.checkbox(&mut layers.cages, "Cages");
+    ui.checkbox(&mut layers.wireframe, "Wireframe")
+        .on_hover_text("Draw the mesh's edges over it");
+    ui.checkbox(&mut layers.flat, "Flat shading")
+        .on_hover_text("One shade per triangle instead of smooth shading");
+    ui.checkbox(&mut layers.cages, "Cages")
+        .on_hover_text("Draw the cages' edges (colours: see Cage colours)");
     egui::CollapsingHeader::new("Cage colours")
         .default_open(false)
         .show(ui, super::help::legend);
-    ui.checkbox(&mut layers.vertices, "Cage vertices");
+    ui.checkbox(&mut layers.vertices, "Cage vertices")
+        .on_hover_text("Draw the cage vertices you pick and move");
     ui.checkbox(&mut layers.ground, "Ground grid")
         .on_hover_text("The plane z = 0, with the X axis in red and the Y axis in green");
     if layers != state.view.layers {
         sender.send(Command::SetLayers(layers));
     }
     let mut mirror = state.view.mirror_x;
-    if ui.checkbox(&mut mirror, "X mirror editing").changed() {
+    if ui
+        .checkbox(&mut mirror, "X mirror editing")
+        .on_hover_text("Moving a cage vertex also moves its mirror image across x = 0")
+        .changed()
+    {
         sender.send(Command::SetMirrorX(mirror));
     }
     if let Some(values) = state.map.values() {

@@ -929,3 +929,102 @@ fn poses_show_the_active_one_and_ask_before_losing_or_overwriting() {
         moved * 1.5
     );
 }
+
+/// Dragging h shows the cage's b map while dragging (then the map chosen before); the W map
+/// with several vertices selected follows the vertex under the cursor, or says what to do.
+#[test]
+fn dragging_h_shows_the_b_map_and_the_w_map_follows_the_hovered_vertex() {
+    let mut harness = harness();
+    harness.get_by_label("head_0_0_0 (mvc)").click();
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.view.influence, InfluenceChoice::None);
+    let slider = harness.get_by_role_and_label(Role::Slider, "h");
+    let at = slider.rect().center();
+    harness.event(egui::Event::PointerMoved(at));
+    harness.event(egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: egui::Modifiers::NONE,
+    });
+    harness.run_steps(1);
+    harness.event(egui::Event::PointerMoved(at + egui::vec2(-40.0, 0.0)));
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.view.influence,
+        InfluenceChoice::SelectedCage,
+        "the b map is shown while dragging h"
+    );
+    harness.event(egui::Event::PointerButton {
+        pos: at + egui::vec2(-40.0, 0.0),
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: egui::Modifiers::NONE,
+    });
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.view.influence, InfluenceChoice::None);
+    let head = leaf(harness.state(), "head_0_0_0");
+    assert_ne!(harness.state().state.doc.scene.cages.leaves[head].h, None);
+    // W with the whole head cage selected: a note, then the hovered vertex's map.
+    harness
+        .state_mut()
+        .run(Command::SetInfluence(InfluenceChoice::JoinWeight));
+    settle(&mut harness);
+    let note = harness.state().state.map.note.clone().unwrap_or_default();
+    assert!(note.contains("are selected"), "{note}");
+    let v = harness.state().state.doc.scene.cages.leaves[head].faces[0][0];
+    let on_screen = vertex_on_screen(&harness.state().state, v).unwrap();
+    harness.hover_at(on_screen);
+    harness.run_steps(3);
+    assert_eq!(harness.state().state.selection.hovered, Some(v));
+    assert!(
+        harness.state().state.map.values().is_some(),
+        "W of the hovered vertex"
+    );
+}
+
+/// Every control says in plain words what it does: the b / W / h maps, red and blue, the join
+/// policy and the HC grid among them.
+#[test]
+fn controls_explain_themselves_in_tooltips() {
+    let mut harness = harness();
+    // Tooltips at once (a person rests the pointer a moment first).
+    harness
+        .ctx
+        .all_styles_mut(|style| style.interaction.tooltip_delay = 0.0);
+    harness.get_by_label("head_0_0_0 (mvc)").click();
+    harness.run_steps(2);
+    harness.get_by_label("Scene settings").click();
+    harness.run_steps(2);
+    for (label, words) in [
+        ("h", "how far into this cage its neighbours blend in"),
+        ("HC grid", "Harmonic coordinates are solved on a grid"),
+        ("Join cages", "blend neighbouring cages smoothly"),
+        ("Influence map", "The mesh in its own colour"),
+        ("Ground grid", "X axis in red"),
+        ("Coordinates", "How this cage's vertices move the mesh"),
+    ] {
+        let node = harness
+            .query_all_by_label(label)
+            .next()
+            .unwrap_or_else(|| panic!("no control called {label}"));
+        node.hover();
+        harness.run_steps(3);
+        let found = harness.query_by_label_contains(words).is_some();
+        assert!(found, "no tooltip for {label} containing '{words}'");
+        harness.hover_at(egui::pos2(5.0, 790.0));
+        harness.run_steps(2);
+    }
+    // b's colours are explained where the map is chosen.
+    harness
+        .state_mut()
+        .run(Command::SetInfluence(InfluenceChoice::AllCages));
+    harness.run_steps(2);
+    harness
+        .query_all_by_label("Influence map")
+        .next()
+        .unwrap()
+        .hover();
+    harness.run_steps(3);
+    harness.get_by_label_contains("Red (b = 1): only this cage's own");
+}
