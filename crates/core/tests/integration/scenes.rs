@@ -978,3 +978,61 @@ fn vertices_too_far_from_their_nearest_cage_fail_validation_as_the_bind_does() {
     );
     assert!(bound.is_err(), "the bind accepted what validate refuses");
 }
+
+/// A glTF source (Y-up by specification) with a UV seam: its rest export is the source's
+/// vertices, count and order, to float precision, turned back to Y-up.
+#[test]
+fn glb_exports_keep_the_source_vertex_order_and_axes() {
+    let dir = scratch("glb-round-trip");
+    // A Y-up square pyramid: the apex is duplicated with two UVs (a seam).
+    let positions = [
+        DVec3::new(-1.0, 0.0, -1.0),
+        DVec3::new(1.0, 0.0, -1.0),
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(-1.0, 0.0, 1.0),
+        DVec3::new(0.0, 2.0, 0.0),
+        DVec3::new(0.0, 2.0, 0.0),
+    ];
+    let triangles = [[0, 1, 2], [0, 2, 3], [0, 4, 1], [1, 4, 2], [2, 5, 3], [3, 5, 0]];
+    let normals = [glam::Vec3::Y; 6];
+    let uvs = [
+        glam::Vec2::new(0.0, 0.0),
+        glam::Vec2::new(1.0, 0.0),
+        glam::Vec2::new(1.0, 1.0),
+        glam::Vec2::new(0.0, 1.0),
+        glam::Vec2::new(0.5, 0.5),
+        glam::Vec2::new(0.25, 0.75),
+    ];
+    let source = dir.join("pyramid.glb");
+    let bytes = starcages_core::io::glb_bytes(&positions, &triangles, &normals, Some(&uvs));
+    std::fs::write(&source, bytes).unwrap();
+    let mesh = starcages_core::io::read_mesh_as(&source, UpAxis::Y).unwrap();
+    assert!((mesh.bounds().1.z - 2.0).abs() < 1e-12, "the apex points up along Z");
+    assert_eq!(mesh.welded_positions().len(), 5, "the seam's two apex vertices weld");
+    let cages = autocage(&mesh, &AutocageOptions::default());
+    let scene = Scene::from_mesh_file(
+        source.clone(),
+        UpAxis::Y,
+        mesh,
+        cages,
+        SceneSettings::default(),
+    );
+    let binding = starcages_core::star::StarBinding::bind_scene(
+        &scene,
+        &starcages_core::BindControl::default(),
+    )
+    .unwrap();
+    let rest: Vec<DVec3> = binding
+        .deform(&scene.cages.vertices, &scene.pose)
+        .iter()
+        .map(|p| p.as_dvec3())
+        .collect();
+    let out = dir.join("rest.glb");
+    starcages_core::scene::write_deformed_mesh(&out, &scene, &rest).unwrap();
+    let back = read_mesh(&out).unwrap();
+    assert_eq!(back.positions().len(), positions.len());
+    for (a, b) in positions.iter().zip(back.positions()) {
+        assert!(a.distance(*b) < 1e-5, "{a} vs {b}");
+    }
+    assert_eq!(back.uvs().unwrap(), &uvs[..], "UVs and the seam kept");
+}
