@@ -53,11 +53,23 @@ pub enum MeshError {
     },
 }
 
+/// One part of a mesh read from a file with several (a glTF primitive): its vertices and
+/// triangles are consecutive in the mesh's original layout.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MeshPart {
+    /// Its vertices in the original layout.
+    pub vertices: std::ops::Range<u32>,
+    /// Its triangles (whose corners lie in `vertices`).
+    pub triangles: std::ops::Range<u32>,
+}
+
 /// A triangle mesh: original layout plus its welded view.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
+    /// The parts of the source file (glTF primitives), in order; empty for one part.
+    parts: Vec<MeshPart>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
     /// Original vertex → welded vertex.
@@ -128,12 +140,53 @@ impl Mesh {
         Ok(Self {
             positions,
             triangles,
+            parts: Vec::new(),
             normals,
             uvs,
             weld,
             welded_positions,
             welded_triangles,
         })
+    }
+
+    /// This mesh split into `parts` (a glTF file's primitives, written back as such); parts
+    /// that do not tile the vertices and triangles in order, each triangle inside its part's
+    /// vertices, are ignored.
+    pub fn with_parts(mut self, parts: Vec<MeshPart>) -> Self {
+        let tiles = |ends: &mut dyn Iterator<Item = std::ops::Range<u32>>, total: usize| {
+            let mut next = 0;
+            for r in ends {
+                if r.start != next || r.end < r.start {
+                    return false;
+                }
+                next = r.end;
+            }
+            next as usize == total
+        };
+        let inside = parts.iter().all(|p| {
+            self.triangles
+                .get(p.triangles.start as usize..p.triangles.end as usize)
+                .is_some_and(|ts| ts.iter().flatten().all(|v| p.vertices.contains(v)))
+        });
+        if parts.len() > 1
+            && tiles(
+                &mut parts.iter().map(|p| p.vertices.clone()),
+                self.positions.len(),
+            )
+            && tiles(
+                &mut parts.iter().map(|p| p.triangles.clone()),
+                self.triangles.len(),
+            )
+            && inside
+        {
+            self.parts = parts;
+        }
+        self
+    }
+
+    /// The parts of the source file (empty: one part).
+    pub fn parts(&self) -> &[MeshPart] {
+        &self.parts
     }
 
     /// Original vertex positions (export layout).

@@ -60,6 +60,7 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         uvs,
         all_normals,
         all_uvs,
+        parts,
     } = out;
     super::mesh_from_file(
         path,
@@ -68,6 +69,7 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         all_normals.then_some(normals),
         all_uvs.then_some(uvs),
     )
+    .map(|mesh| mesh.with_parts(parts))
 }
 
 /// Why a file that read without error gave no triangle: what it lacks, as precisely as the
@@ -364,6 +366,8 @@ struct Accumulator {
     uvs: Vec<Vec2>,
     all_normals: bool,
     all_uvs: bool,
+    /// Each primitive (instance) read, in order.
+    parts: Vec<crate::mesh::MeshPart>,
 }
 
 /// Most node instances a file may expand to (a node graph that shares subtrees can describe
@@ -532,6 +536,7 @@ fn add_node_mesh(
                 None => out.all_uvs = false,
             }
             let base = first as u32;
+            let first_triangle = out.triangles.len() as u32;
             let flip = affine.matrix3.determinant() < 0.0;
             let mut push = |t: [u32; 3]| {
                 let t = t.map(|v| v + base);
@@ -555,6 +560,10 @@ fn add_node_mesh(
                 }
                 None => (0..count as u32 / 3).for_each(|t| push([3 * t, 3 * t + 1, 3 * t + 2])),
             }
+            out.parts.push(crate::mesh::MeshPart {
+                vertices: base..out.positions.len() as u32,
+                triangles: first_triangle..out.triangles.len() as u32,
+            });
         }
     }
     Ok(())

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::{FileError, extension, write_atomic};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, MeshPart};
 
 /// Writes `mesh` with vertex `positions` (original layout) to an OBJ or GLB file, with normals
 /// recomputed from those positions, atomically.
@@ -20,7 +20,13 @@ pub fn write_mesh(path: &Path, mesh: &Mesh, positions: &[DVec3]) -> Result<(), F
     let normals = mesh.recompute_normals(positions);
     let bytes = match extension(path).as_str() {
         "obj" => obj_text(positions, mesh.triangles(), Some(&normals), mesh.uvs()).into_bytes(),
-        "glb" => glb_bytes(positions, mesh.triangles(), &normals, mesh.uvs()),
+        "glb" => glb_bytes_in_parts(
+            positions,
+            mesh.triangles(),
+            &normals,
+            mesh.uvs(),
+            mesh.parts(),
+        ),
         other => {
             return Err(FileError::Unsupported {
                 path: path.to_path_buf(),
@@ -75,68 +81,120 @@ pub fn glb_bytes(
     normals: &[Vec3],
     uvs: Option<&[Vec2]>,
 ) -> Vec<u8> {
+    glb_bytes_in_parts(positions, triangles, normals, uvs, &[])
+}
+
+/// A binary glTF 2.0 file of a triangle mesh with one primitive per part (each with its own
+/// vertices, in order, and local indices: a glTF source's primitives come back as they were),
+/// or one primitive when `parts` is empty.
+pub fn glb_bytes_in_parts(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    normals: &[Vec3],
+    uvs: Option<&[Vec2]>,
+    parts: &[MeshPart],
+) -> Vec<u8> {
+    let whole = [MeshPart {
+        vertices: 0..positions.len() as u32,
+        triangles: 0..triangles.len() as u32,
+    }];
+    let parts = if parts.is_empty() { &whole[..] } else { parts };
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
-    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32| {
+    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32, stride: Option<usize>| {
         let offset = bin.len();
         bin.extend_from_slice(data);
         while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
-        views.push(serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}));
+        let mut view = serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target});
+        if let Some(stride) = stride {
+            view["byteStride"] = serde_json::json!(stride);
+        }
+        views.push(view);
         views.len() - 1
     };
     let f32s = |values: &mut dyn Iterator<Item = f32>| -> Vec<u8> {
         values.flat_map(f32::to_le_bytes).collect()
     };
     let pos32: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
-    let (lo, hi) = pos32.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
     const ARRAY_BUFFER: u32 = 34962;
     const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+    // Attribute views are shared (a stride makes them slicable); each part's accessors start
+    // at its first vertex.
     let position_view = push_view(
         &mut bin,
         &f32s(&mut pos32.iter().flat_map(|p| p.to_array())),
         ARRAY_BUFFER,
+        Some(12),
     );
     let normal_view = push_view(
         &mut bin,
         &f32s(&mut normals.iter().flat_map(|n| n.to_array())),
         ARRAY_BUFFER,
+        Some(12),
     );
     let uv_view = uvs.map(|uvs| {
         push_view(
             &mut bin,
             &f32s(&mut uvs.iter().flat_map(|t| t.to_array())),
             ARRAY_BUFFER,
+            Some(8),
         )
     });
-    let index_bytes: Vec<u8> = triangles
+    let index_bytes: Vec<u8> = parts
         .iter()
-        .flatten()
+        .flat_map(|part| {
+            triangles[part.triangles.start as usize..part.triangles.end as usize]
+                .iter()
+                .flatten()
+                .map(move |i| i - part.vertices.start)
+        })
         .flat_map(|i| i.to_le_bytes())
         .collect();
-    let index_view = push_view(&mut bin, &index_bytes, ELEMENT_ARRAY_BUFFER);
-    let n = positions.len();
-    let mut accessors = vec![
-        serde_json::json!({"bufferView": position_view, "componentType": 5126, "count": n, "type": "VEC3",
-            "min": lo.to_array(), "max": hi.to_array()}),
-        serde_json::json!({"bufferView": normal_view, "componentType": 5126, "count": n, "type": "VEC3"}),
-        serde_json::json!({"bufferView": index_view, "componentType": 5125, "count": triangles.len() * 3, "type": "SCALAR"}),
-    ];
-    let mut attributes = serde_json::json!({"POSITION": 0, "NORMAL": 1});
-    if let Some(view) = uv_view {
-        accessors.push(serde_json::json!({"bufferView": view, "componentType": 5126, "count": n, "type": "VEC2"}));
-        attributes["TEXCOORD_0"] = serde_json::json!(3);
+    let index_view = push_view(&mut bin, &index_bytes, ELEMENT_ARRAY_BUFFER, None);
+    let mut accessors = Vec::new();
+    let mut primitives = Vec::new();
+    for part in parts {
+        let (v0, v1) = (part.vertices.start as usize, part.vertices.end as usize);
+        let n = v1 - v0;
+        let (lo, hi) = pos32[v0..v1].iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let mut push = |accessor: serde_json::Value| {
+            accessors.push(accessor);
+            accessors.len() - 1
+        };
+        let position = push(
+            serde_json::json!({"bufferView": position_view, "byteOffset": v0 * 12,
+            "componentType": 5126, "count": n, "type": "VEC3", "min": lo.to_array(), "max": hi.to_array()}),
+        );
+        let normal = push(
+            serde_json::json!({"bufferView": normal_view, "byteOffset": v0 * 12,
+            "componentType": 5126, "count": n, "type": "VEC3"}),
+        );
+        let first_index = 12 * part.triangles.start as usize;
+        let index_count = 3 * (part.triangles.end - part.triangles.start) as usize;
+        let indices = push(
+            serde_json::json!({"bufferView": index_view, "byteOffset": first_index,
+            "componentType": 5125, "count": index_count, "type": "SCALAR"}),
+        );
+        let mut attributes = serde_json::json!({"POSITION": position, "NORMAL": normal});
+        if let Some(view) = uv_view {
+            let uv = push(serde_json::json!({"bufferView": view, "byteOffset": v0 * 8,
+                "componentType": 5126, "count": n, "type": "VEC2"}));
+            attributes["TEXCOORD_0"] = serde_json::json!(uv);
+        }
+        primitives
+            .push(serde_json::json!({"attributes": attributes, "indices": indices, "mode": 4}));
     }
     let document = serde_json::json!({
         "asset": {"version": "2.0", "generator": "StarCages"},
         "scene": 0,
         "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0, "name": "deformed"}],
-        "meshes": [{"primitives": [{"attributes": attributes, "indices": 2, "mode": 4}]}],
+        "meshes": [{"primitives": primitives}],
         "buffers": [{"byteLength": bin.len()}],
         "bufferViews": views,
         "accessors": accessors,

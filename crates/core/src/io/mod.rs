@@ -22,7 +22,7 @@ use crate::mesh::{Mesh, MeshError};
 
 pub use atomic::{is_same_file, remove_unfinished_saves, write_atomic};
 pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
-pub use mesh_write::{glb_bytes, obj_text, write_mesh};
+pub use mesh_write::{glb_bytes, glb_bytes_in_parts, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
 pub use obj_like_source::{ObjCopyReport, write_obj_like_source};
 pub use points::{parse_points, read_points};

@@ -50,7 +50,10 @@ impl UpAxis {
         });
         let uvs = mesh.uvs().map(<[glam::Vec2]>::to_vec);
         // Rotating finite positions keeps them finite and the triangles valid.
-        Mesh::new(positions, mesh.triangles().to_vec(), normals, uvs).unwrap_or(mesh)
+        let parts = mesh.parts().to_vec();
+        Mesh::new(positions, mesh.triangles().to_vec(), normals, uvs)
+            .map(|turned| turned.with_parts(parts))
+            .unwrap_or(mesh)
     }
 
     /// The name used on the command line and in scene files.

@@ -261,3 +261,39 @@ fn files_without_triangles_say_what_they_lack() {
         );
     }
 }
+
+/// A glTF file with two primitives is read as two parts and written back as two primitives,
+/// each with its own vertices in the source's order.
+#[test]
+fn primitives_come_back_as_primitives_in_order() {
+    let dir = scratch("two-primitives");
+    // Two triangles' worth of data: primitive 0 uses vertices 0..3, primitive 1 a second copy.
+    let json = document(
+        r#"[{"mesh":0},{"mesh":0,"translation":[2,0,0]}]"#,
+        PRIMITIVE,
+        &format!("[{POSITION},{INDICES}]"),
+        VIEWS,
+    )
+    .replace(r#""nodes":[0]"#, r#""nodes":[0,1]"#);
+    let path = dir.join("two.gltf");
+    std::fs::write(&path, &json).unwrap();
+    let mesh = read_mesh(&path).unwrap();
+    assert_eq!(mesh.parts().len(), 2, "two primitive instances");
+    assert_eq!(mesh.parts()[1].vertices, 3..6);
+    let out = dir.join("back.glb");
+    starcages_core::io::write_mesh(&out, &mesh, mesh.positions()).unwrap();
+    let back = read_mesh(&out).unwrap();
+    assert_eq!(back.parts(), mesh.parts());
+    assert_eq!(back.positions(), mesh.positions());
+    assert_eq!(back.triangles(), mesh.triangles());
+    // The written file has two primitives with three vertices each.
+    let bytes = std::fs::read(&out).unwrap();
+    let json_length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let document: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_length]).unwrap();
+    let primitives = document["meshes"][0]["primitives"].as_array().unwrap();
+    assert_eq!(primitives.len(), 2);
+    for p in primitives {
+        let position = p["attributes"]["POSITION"].as_u64().unwrap() as usize;
+        assert_eq!(document["accessors"][position]["count"], 3);
+    }
+}
