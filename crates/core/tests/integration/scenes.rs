@@ -993,7 +993,14 @@ fn glb_exports_keep_the_source_vertex_order_and_axes() {
         DVec3::new(0.0, 2.0, 0.0),
         DVec3::new(0.0, 2.0, 0.0),
     ];
-    let triangles = [[0, 1, 2], [0, 2, 3], [0, 4, 1], [1, 4, 2], [2, 5, 3], [3, 5, 0]];
+    let triangles = [
+        [0, 1, 2],
+        [0, 2, 3],
+        [0, 4, 1],
+        [1, 4, 2],
+        [2, 5, 3],
+        [3, 5, 0],
+    ];
     let normals = [glam::Vec3::Y; 6];
     let uvs = [
         glam::Vec2::new(0.0, 0.0),
@@ -1007,8 +1014,15 @@ fn glb_exports_keep_the_source_vertex_order_and_axes() {
     let bytes = starcages_core::io::glb_bytes(&positions, &triangles, &normals, Some(&uvs));
     std::fs::write(&source, bytes).unwrap();
     let mesh = starcages_core::io::read_mesh_as(&source, UpAxis::Y).unwrap();
-    assert!((mesh.bounds().1.z - 2.0).abs() < 1e-12, "the apex points up along Z");
-    assert_eq!(mesh.welded_positions().len(), 5, "the seam's two apex vertices weld");
+    assert!(
+        (mesh.bounds().1.z - 2.0).abs() < 1e-12,
+        "the apex points up along Z"
+    );
+    assert_eq!(
+        mesh.welded_positions().len(),
+        5,
+        "the seam's two apex vertices weld"
+    );
     let cages = autocage(&mesh, &AutocageOptions::default());
     let scene = Scene::from_mesh_file(
         source.clone(),

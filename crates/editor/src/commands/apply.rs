@@ -118,6 +118,22 @@ pub fn apply(state: &mut EditorState, command: Command) {
         Command::BeginGesture { id, label } => state.begin_gesture(id, &label),
         Command::EndGesture { keep } => state.end_gesture(keep),
         Command::MoveVertices(moves) => move_vertices(state, &moves),
+        Command::MoveRestVertices(moves) => {
+            state.edit_scene("move rest positions", |scene| {
+                for &(v, to) in &moves {
+                    let Some(rest) = scene.cages.vertices.get_mut(v as usize) else {
+                        continue;
+                    };
+                    let delta = to - *rest;
+                    *rest = to;
+                    for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
+                        if let Some(p) = pose.get_mut(v as usize) {
+                            *p += delta;
+                        }
+                    }
+                }
+            });
+        }
         Command::SetCageKind(cage, kind) => {
             if cage.kind(&state.doc.scene.cages).is_some_and(|k| k != kind) {
                 state.edit_scene("change coordinates", |scene| match cage {

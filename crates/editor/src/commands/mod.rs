@@ -96,6 +96,10 @@ pub enum Command {
     },
     /// Move cage vertices to new positions (a hand edit, propagated down the hierarchy).
     MoveVertices(Vec<(u32, DVec3)>),
+    /// Move cage vertices' rest positions (the binding): the current pose and every stored
+    /// pose move them by the same amount, so poses keep their displacement from rest. Only
+    /// the rows the edit can change are bound again.
+    MoveRestVertices(Vec<(u32, DVec3)>),
     /// Change a cage's coordinates.
     SetCageKind(CageId, CoordinateKind),
     /// Set a leaf cage's h (`None`: the scene's default).

@@ -123,6 +123,9 @@ pub enum Scope {
     Leaves(Arc<StarBinding>, Vec<usize>),
     /// Only the hierarchy (internal cages changed); the mesh binding is kept.
     Hierarchy(Arc<StarBinding>),
+    /// The rest positions of these cage vertices moved: the rows they can change, and the
+    /// hierarchy.
+    RestEdit(Arc<StarBinding>, Vec<u32>),
 }
 
 /// What a finished bind delivers.
@@ -161,6 +164,7 @@ pub fn bind(
         Scope::Full | Scope::Preview => StarBinding::bind_scene(scene, control).map(Arc::new),
         Scope::Leaves(old, leaves) => old.rebind_leaves(scene, &leaves, control).map(Arc::new),
         Scope::Hierarchy(old) => Ok(old),
+        Scope::RestEdit(old, moved) => old.rebind_rest_edit(scene, &moved, control).map(Arc::new),
     }
     .map_err(EditorError::Bind)?;
     let hierarchy = Hierarchy::bind(scene).map_err(EditorError::Hierarchy)?;

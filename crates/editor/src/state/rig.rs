@@ -82,6 +82,17 @@ pub fn rebind_scope(rig: &Rig, scene: &Scene) -> Scope {
         // Re-binding part of a preview would keep its join cages: bind it all again.
         return Scope::Preview;
     }
+    let same_structure = *settings == scene.settings
+        && bound.vertices.len() == now.vertices.len()
+        && bound.leaves == now.leaves
+        && bound.internals == now.internals;
+    if same_structure && bound.vertices != now.vertices {
+        // Only rest positions moved: bind again what they can change.
+        let moved = (0..now.vertices.len() as u32)
+            .filter(|&v| bound.vertices[v as usize] != now.vertices[v as usize])
+            .collect();
+        return Scope::RestEdit(Arc::clone(&rig.binding), moved);
+    }
     if *settings != scene.settings
         || bound.vertices != now.vertices
         || bound.leaves.len() != now.leaves.len()

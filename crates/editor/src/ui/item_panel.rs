@@ -1,6 +1,6 @@
-//! The Item panel (N, as Blender's sidebar): the selected vertices' median, posed (editable:
-//! moves the whole selection, one undo step per drag) and at rest, and the one vertex's index
-//! when a single vertex is selected.
+//! The Item panel (N, as Blender's sidebar): the selected vertices' median, posed and at rest,
+//! both editable (the whole selection moves; one undo step per drag), and the one vertex's
+//! index when a single vertex is selected.
 
 use glam::DVec3;
 
@@ -68,10 +68,40 @@ pub fn item_panel(
             );
         }
     });
-    ui.label(format!(
-        "Rest  X {:.4}  Y {:.4}  Z {:.4}",
-        rest.x, rest.y, rest.z
-    ))
-    .on_hover_text("Where the selection is in the rest cages (the binding); not editable here");
+    ui.label("Rest").on_hover_text(
+        "Where the selection is in the rest cages, which the binding is made for. Moving it \
+         binds again the part of the mesh it reaches; every pose moves with it",
+    );
+    let mut edited = rest;
+    ui.horizontal(|ui| {
+        for (k, name) in ["X", "Y", "Z"].into_iter().enumerate() {
+            ui.label(name);
+            let response = ui
+                .add(
+                    egui::DragValue::new(&mut edited[k])
+                        .speed(0.01)
+                        .max_decimals(4),
+                )
+                .on_hover_text(format!(
+                    "{name} of the selection's median at rest; drag or type to move the rest \
+                     cages (the poses follow)"
+                ));
+            let delta = edited - rest;
+            slider_edit(ui_state, &response, "move rest positions", sender, || {
+                Command::MoveRestVertices(
+                    selected
+                        .iter()
+                        .filter_map(|&v| {
+                            scene
+                                .cages
+                                .vertices
+                                .get(v as usize)
+                                .map(|p| (v, *p + delta))
+                        })
+                        .collect(),
+                )
+            });
+        }
+    });
     ui.separator();
 }

@@ -10,7 +10,7 @@ pub fn outliner(state: &EditorState, ui: &mut egui::Ui, sender: &mut CommandSend
     let mut layers = state.view.layers;
     if ui
         .checkbox(&mut layers.mesh, "Mesh")
-        .on_hover_text("draw the deformed mesh")
+        .on_hover_text("Draw the deformed mesh")
         .changed()
     {
         sender.send(Command::SetLayers(layers));
@@ -53,14 +53,24 @@ fn cage_row(state: &EditorState, id: CageId, ui: &mut egui::Ui, sender: &mut Com
         let mut visible = !state.view.is_hidden(id);
         if ui
             .checkbox(&mut visible, "")
-            .on_hover_text("visible")
+            .on_hover_text("Show or hide this cage (hidden cages cannot be picked)")
             .changed()
         {
             sender.send(Command::SetCageHidden(id, !visible));
         }
         let selected = state.selection.cage() == Some(id);
         let label = format!("{name} ({})", kind.short_name());
-        if ui.selectable_label(selected, label).clicked() {
+        let what = match id {
+            CageId::Leaf(_) => "a leaf cage: it deforms the mesh inside it",
+            CageId::Internal(_) => "an internal cage: it moves the cage vertices it owns",
+        };
+        if ui
+            .selectable_label(selected, label)
+            .on_hover_text(format!(
+                "{name}, {what}; click to inspect it and select its vertices"
+            ))
+            .clicked()
+        {
             sender.send(Command::InspectCage(Some(id)));
         }
     });
