@@ -16,7 +16,9 @@ pub fn unsaved_prompt(
     ctx: &egui::Context,
     sender: &mut CommandSender,
 ) {
-    if state.pending.is_none() {
+    // Hidden while a file dialog asks where to save (it would cover that dialog); shown again
+    // if that one is cancelled.
+    if state.pending.is_none() || ui_state.files.is_open() {
         return;
     }
     let mut answer = None;

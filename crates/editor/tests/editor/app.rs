@@ -1100,3 +1100,44 @@ fn editing_rest_positions_in_the_item_panel_rebinds_and_moves_the_poses_along() 
     assert_eq!(scene.cages.vertices, before.cages.vertices);
     assert_eq!(scene.poses, before.poses);
 }
+
+/// Save from the unsaved-changes prompt of a scene without a file opens the file dialog on
+/// top (the prompt steps aside), and choosing a file saves and carries on.
+#[test]
+fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
+    let mut harness = harness();
+    harness.state_mut().ui.files.in_app_only = true;
+    let dir = std::env::temp_dir().join(format!(
+        "starcages-save-from-prompt-{}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let other = dir.join("bar.json");
+    starcages_core::scene::save_scene(
+        &starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        &other,
+    )
+    .unwrap();
+    // An edit, then Open: the prompt asks.
+    let app = harness.state_mut();
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    let moved = app.state.doc.scene.pose[v as usize] + DVec3::Z * 0.1;
+    app.run(Command::MoveVertices(vec![(v, moved)]));
+    app.run(Command::Open(other.clone()));
+    harness.run_steps(2);
+    harness.get_by_label("Unsaved changes");
+    harness.get_by_role_and_label(Role::Button, "Save").click();
+    harness.run_steps(2);
+    assert!(harness.query_by_label("Unsaved changes").is_none(), "the prompt covers the dialog");
+    {
+        let dialog = harness.state_mut().ui.files.in_app.as_mut().expect("the save dialog");
+        dialog.enter(dir.clone());
+        dialog.name = "critter-edited.json".into();
+    }
+    harness.run_steps(2);
+    harness.get_by_role_and_label(Role::Button, "Save").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert!(dir.join("critter-edited.json").exists(), "not saved");
+    assert_eq!(harness.state().state.doc.path.as_deref(), Some(other.as_path()));
+}
