@@ -244,7 +244,11 @@ impl InAppDialog {
                 } else {
                     "Open"
                 };
-                if ui.button(confirm).clicked() {
+                if ui
+                    .button(confirm)
+                    .on_hover_text(format!("{confirm} the file named above"))
+                    .clicked()
+                {
                     match self.chosen() {
                         Ok(path) => outcome = Some(Some(path)),
                         Err(problem) => self.problem = Some(problem),

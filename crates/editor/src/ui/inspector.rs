@@ -51,7 +51,11 @@ pub fn inspector(
     if !state.selection.vertices.is_empty() {
         ui.menu_button("Add internal cage around selection", |ui| {
             for k in KINDS {
-                if ui.button(kind_name(k)).clicked() {
+                if ui
+                    .button(kind_name(k))
+                    .on_hover_text(kind_tooltip(k))
+                    .clicked()
+                {
                     sender.send(Command::AddInternalCage(k));
                 }
             }
@@ -154,7 +158,13 @@ fn leaf_h(
     if !neighbours.is_empty() {
         ui.menu_button("Override h on a border", |ui| {
             for n in neighbours {
-                if ui.button(&n).clicked() {
+                if ui
+                    .button(&n)
+                    .on_hover_text(format!(
+                        "Give the border with {n} its own h (how far that neighbour blends in)"
+                    ))
+                    .clicked()
+                {
                     sender.send(Command::SetBorderH {
                         leaf,
                         neighbour: n,
@@ -162,7 +172,9 @@ fn leaf_h(
                     });
                 }
             }
-        });
+        })
+        .response
+        .on_hover_text("Set a different h on the border with one neighbouring cage");
     }
 }
 

@@ -23,7 +23,11 @@ pub fn menu_bar(
                     ui.label("nothing yet");
                 }
                 for path in &state.recent {
-                    if ui.button(path.display().to_string()).clicked() {
+                    if ui
+                        .button(path.display().to_string())
+                        .on_hover_text("Open this file again")
+                        .clicked()
+                    {
                         sender.send(Command::Open(path.clone()));
                     }
                 }

@@ -1107,10 +1107,8 @@ fn editing_rest_positions_in_the_item_panel_rebinds_and_moves_the_poses_along() 
 fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
     let mut harness = harness();
     harness.state_mut().ui.files.in_app_only = true;
-    let dir = std::env::temp_dir().join(format!(
-        "starcages-save-from-prompt-{}",
-        std::process::id()
-    ));
+    let dir =
+        std::env::temp_dir().join(format!("starcages-save-from-prompt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let other = dir.join("bar.json");
     starcages_core::scene::save_scene(
@@ -1128,9 +1126,18 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
     harness.get_by_label("Unsaved changes");
     harness.get_by_role_and_label(Role::Button, "Save").click();
     harness.run_steps(2);
-    assert!(harness.query_by_label("Unsaved changes").is_none(), "the prompt covers the dialog");
+    assert!(
+        harness.query_by_label("Unsaved changes").is_none(),
+        "the prompt covers the dialog"
+    );
     {
-        let dialog = harness.state_mut().ui.files.in_app.as_mut().expect("the save dialog");
+        let dialog = harness
+            .state_mut()
+            .ui
+            .files
+            .in_app
+            .as_mut()
+            .expect("the save dialog");
         dialog.enter(dir.clone());
         dialog.name = "critter-edited.json".into();
     }
@@ -1139,5 +1146,8 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
     harness.run_steps(2);
     settle(&mut harness);
     assert!(dir.join("critter-edited.json").exists(), "not saved");
-    assert_eq!(harness.state().state.doc.path.as_deref(), Some(other.as_path()));
+    assert_eq!(
+        harness.state().state.doc.path.as_deref(),
+        Some(other.as_path())
+    );
 }
