@@ -35,6 +35,9 @@ enum Command {
     InternalCage(commands::internal_cage::InternalCageArgs),
     /// Assemble a scene from a mesh and a cage OBJ file.
     New(commands::new::NewArgs),
+    /// Build or change a rig with a script of operations (add-box, extrude, delete, mirror,
+    /// rest moves).
+    Edit(commands::edit::EditArgs),
     /// Write a scene's leaf cages, in a pose, to OBJ.
     Cages(commands::cages::CagesArgs),
     /// Deform a scene's mesh into a pose and write it (OBJ or GLB).
@@ -90,6 +93,7 @@ fn main() -> ExitCode {
         Command::Autocage(args) => commands::autocage::run(&args),
         Command::InternalCage(args) => commands::internal_cage::run(&args),
         Command::New(args) => commands::new::run(&args),
+        Command::Edit(args) => commands::edit::run(&args),
         Command::Cages(args) => commands::cages::run(&args),
         Command::Deform(args) => commands::deform::run(&args),
         Command::Eval(args) => commands::eval::run(&args),

@@ -6,6 +6,7 @@ pub mod bench_gpu;
 pub mod cages;
 pub mod deform;
 pub mod demo;
+pub mod edit;
 pub mod eval;
 pub mod info;
 pub mod internal_cage;

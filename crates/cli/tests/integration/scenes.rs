@@ -262,3 +262,66 @@ fn y_up_obj_files_stand_up_and_round_trip_unchanged() {
     assert_eq!(refused.status.code(), Some(2));
     assert!(stderr(&refused).contains("Y-up by specification"));
 }
+
+/// `edit` builds a rig from nothing around a mesh with a script of operations, validates and
+/// deforms it; an operation that cannot apply names itself and writes nothing.
+#[test]
+fn edit_builds_a_rig_from_nothing_and_refuses_a_bad_op_writing_nothing() {
+    let d = dir("edit");
+    // A Z-up tower mesh: 1 wide, 2 tall.
+    let tower = d.join("tower.obj");
+    std::fs::write(
+        &tower,
+        "v 0.1 0.1 0.1\nv 0.9 0.1 0.1\nv 0.1 0.9 0.1\nv 0.9 0.9 0.1\nv 0.1 0.1 1.9\nv 0.9 0.1 1.9\n\
+         v 0.1 0.9 1.9\nv 0.9 0.9 1.9\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    let scene = d.join("rig.json");
+    // Face 1 of an add-box is its top.
+    ok(&cli(&[
+        "edit",
+        s(&tower),
+        "--up",
+        "z",
+        "--out",
+        s(&scene),
+        "--op",
+        "add-box body 0 0 0 1 1 1",
+        "--op",
+        "extrude body 1 1 top",
+        "--op",
+        "rest top: scale 1.1",
+    ]));
+    let info = cli(&["info", s(&scene), "--json"]);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let names: Vec<&str> = info["cages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["body", "top"], "the extrusion took the name given");
+    ok(&cli(&["validate", s(&scene)]));
+    let out = d.join("deformed.obj");
+    ok(&cli(&["deform", s(&scene), "--out", s(&out)]));
+    // A bad op: named, status 2, nothing written.
+    let other = d.join("other.json");
+    let refused = cli(&[
+        "edit",
+        s(&scene),
+        "--out",
+        s(&other),
+        "--op",
+        "delete body",
+        "--op",
+        "extrude nobody 0 1",
+    ]);
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    assert!(
+        stderr(&refused).contains("--op 2 'extrude nobody 0 1'")
+            && stderr(&refused).contains("no leaf cage 'nobody'"),
+        "{}",
+        stderr(&refused)
+    );
+    assert!(!other.exists());
+}

@@ -28,6 +28,7 @@ pub use auto::{AutoInternalCage, AutoInternalCageError, add_auto_internal_cage};
 pub use edit::{CageEdit, CageTransform, EditError};
 use follow::{Follow, RebindRequest, anchor_points, rebind};
 pub use remove::{RemoveInternalCageError, remove_internal_cage};
+pub(crate) use remove::{forget, renumber};
 
 /// Why the hierarchy could not be bound or an edit applied.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -88,13 +88,13 @@ pub fn remove_internal_cage(
 }
 
 /// Drops the records of `vertices` (they lost their parent).
-fn forget(state: &mut HierarchyState, vertices: &BTreeSet<u32>) {
+pub(crate) fn forget(state: &mut HierarchyState, vertices: &BTreeSet<u32>) {
     state.hand_moved.retain(|v| !vertices.contains(v));
     state.rebound.retain(|r| !vertices.contains(&r.vertex));
 }
 
 /// Removes the vertices `removed` (used by no cage) and shifts every index above them.
-fn renumber(scene: &mut Scene, removed: &BTreeSet<u32>) {
+pub(crate) fn renumber(scene: &mut Scene, removed: &BTreeSet<u32>) {
     if removed.is_empty() {
         return;
     }

@@ -11,5 +11,6 @@ mod harmonic;
 mod hierarchy;
 mod lanes;
 mod mean_value;
+mod rig_edit;
 mod scenes;
 mod star;

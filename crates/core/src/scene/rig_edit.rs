@@ -1,0 +1,471 @@
+//! Building a rig: operations on the rest cages, each a function of the scene that either
+//! applies whole or refuses with a reason (the scene is then unchanged). Poses follow rest
+//! edits as displacements (a rest move moves every pose by the same amount); new vertices start
+//! at rest in every pose. `starcages-cli edit` runs them from a script.
+
+use std::collections::BTreeSet;
+
+use glam::{DQuat, DVec3};
+use thiserror::Error;
+
+use super::{LeafCage, Scene};
+use crate::cage::shapes::box_faces;
+use crate::coords::CoordinateKind;
+
+/// One rig operation.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RigOp {
+    /// A new axis-aligned box leaf cage from `min` to `max` (corners at positions of existing
+    /// vertices reuse them, so a box beside a cage shares its face).
+    AddBox {
+        /// Its name.
+        name: String,
+        /// One corner.
+        min: DVec3,
+        /// The opposite corner.
+        max: DVec3,
+        /// Its coordinates.
+        kind: CoordinateKind,
+    },
+    /// A new leaf cage on a face of `cage`, pushed out `distance` along its outward normal; the
+    /// new cage shares that face with `cage`.
+    Extrude {
+        /// The cage.
+        cage: String,
+        /// The face, 0-based in the cage's face list.
+        face: usize,
+        /// How far.
+        distance: f64,
+        /// The new cage's name.
+        name: String,
+    },
+    /// Remove a leaf cage; vertices no other cage uses go.
+    Delete {
+        /// The cage.
+        cage: String,
+    },
+    /// A copy of `cage` mirrored across x = 0 (vertices on the plane are shared).
+    Mirror {
+        /// The cage.
+        cage: String,
+        /// The copy's name.
+        name: String,
+    },
+    /// Move a cage's rest vertices (and every pose by the same amount).
+    Rest {
+        /// The cage.
+        cage: String,
+        /// How.
+        transform: RestTransform,
+    },
+}
+
+/// A change of a cage's rest positions, about the centroid of its vertices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RestTransform {
+    /// Move by this vector.
+    Translate(DVec3),
+    /// Turn about this axis by degrees.
+    Rotate(DVec3, f64),
+    /// Scale by this factor.
+    Scale(f64),
+}
+
+/// Why a rig operation could not apply.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum RigEditError {
+    /// No leaf cage of that name.
+    #[error("there is no leaf cage '{0}'; check the name (starcages-cli info lists them)")]
+    NoSuchCage(String),
+    /// The name is taken.
+    #[error("a cage called '{0}' exists already; choose another name")]
+    NameTaken(String),
+    /// No such face.
+    #[error("cage '{cage}' has {count} faces; face {face} does not exist (faces count from 0)")]
+    NoSuchFace {
+        /// The cage.
+        cage: String,
+        /// The face asked for.
+        face: usize,
+        /// How many it has.
+        count: usize,
+    },
+    /// The face already borders another cage.
+    #[error("face {face} of '{cage}' is shared with another cage already; extrude a free face")]
+    FaceShared {
+        /// The cage.
+        cage: String,
+        /// The face.
+        face: usize,
+    },
+    /// A number out of range.
+    #[error("{0}")]
+    Value(String),
+    /// The operation text could not be read.
+    #[error("'{op}': {why}")]
+    Syntax {
+        /// The text.
+        op: String,
+        /// What is wrong.
+        why: String,
+    },
+}
+
+impl RigOp {
+    /// Reads an operation as `starcages-cli edit --op` takes it (see its help).
+    pub fn parse(text: &str) -> Result<Self, RigEditError> {
+        let syntax = |why: &str| RigEditError::Syntax {
+            op: text.to_owned(),
+            why: why.to_owned(),
+        };
+        let number = |token: &str| -> Result<f64, RigEditError> {
+            token
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| syntax(&format!("'{token}' is not a finite number")))
+        };
+        if let Some((cage, rest)) = text.strip_prefix("rest ").and_then(|r| r.split_once(':')) {
+            let words: Vec<&str> = rest.split_whitespace().collect();
+            let transform = match words.as_slice() {
+                ["translate", x, y, z] => {
+                    RestTransform::Translate(DVec3::new(number(x)?, number(y)?, number(z)?))
+                }
+                ["rotate", x, y, z, degrees] => RestTransform::Rotate(
+                    DVec3::new(number(x)?, number(y)?, number(z)?),
+                    number(degrees)?,
+                ),
+                ["scale", s] => RestTransform::Scale(number(s)?),
+                _ => {
+                    return Err(syntax(
+                        "expected 'rest CAGE: translate X Y Z', 'rotate AX AY AZ DEG' or 'scale S'",
+                    ));
+                }
+            };
+            return Ok(Self::Rest {
+                cage: cage.trim().to_owned(),
+                transform,
+            });
+        }
+        let words: Vec<&str> = text.split_whitespace().collect();
+        match words.as_slice() {
+            ["add-box", name, coords @ ..] if coords.len() == 6 || coords.len() == 7 => {
+                let c: Vec<f64> = coords[..6]
+                    .iter()
+                    .map(|t| number(t))
+                    .collect::<Result<_, _>>()?;
+                let kind = match coords.get(6) {
+                    Some(k) => k.parse().map_err(|e: String| syntax(&e))?,
+                    None => CoordinateKind::MeanValue,
+                };
+                Ok(Self::AddBox {
+                    name: (*name).to_owned(),
+                    min: DVec3::new(c[0], c[1], c[2]),
+                    max: DVec3::new(c[3], c[4], c[5]),
+                    kind,
+                })
+            }
+            ["extrude", cage, face, distance, rest @ ..] if rest.len() <= 1 => {
+                let face: usize = face
+                    .parse()
+                    .map_err(|_| syntax(&format!("face '{face}' is not a face number")))?;
+                Ok(Self::Extrude {
+                    cage: (*cage).to_owned(),
+                    face,
+                    distance: number(distance)?,
+                    name: rest
+                        .first()
+                        .map_or_else(|| format!("{cage}_extruded"), |n| (*n).to_owned()),
+                })
+            }
+            ["delete", cage] => Ok(Self::Delete {
+                cage: (*cage).to_owned(),
+            }),
+            ["mirror", cage, rest @ ..] if rest.len() <= 1 => Ok(Self::Mirror {
+                cage: (*cage).to_owned(),
+                name: rest
+                    .first()
+                    .map_or_else(|| format!("{cage}_mirrored"), |n| (*n).to_owned()),
+            }),
+            _ => Err(syntax(
+                "unknown operation; use add-box, extrude, delete, mirror or 'rest CAGE: …'",
+            )),
+        }
+    }
+}
+
+/// Applies `op` to `scene`, or refuses with the scene unchanged.
+pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
+    let mut edited = scene.clone();
+    match op {
+        RigOp::AddBox {
+            name,
+            min,
+            max,
+            kind,
+        } => add_box(&mut edited, name, *min, *max, *kind)?,
+        RigOp::Extrude {
+            cage,
+            face,
+            distance,
+            name,
+        } => extrude(&mut edited, cage, *face, *distance, name)?,
+        RigOp::Delete { cage } => delete(&mut edited, cage)?,
+        RigOp::Mirror { cage, name } => mirror(&mut edited, cage, name)?,
+        RigOp::Rest { cage, transform } => rest(&mut edited, cage, *transform)?,
+    }
+    *scene = edited;
+    Ok(())
+}
+
+fn leaf(scene: &Scene, name: &str) -> Result<usize, RigEditError> {
+    scene
+        .cages
+        .leaf_index(name)
+        .ok_or_else(|| RigEditError::NoSuchCage(name.to_owned()))
+}
+
+fn free_name(scene: &Scene, name: &str) -> Result<(), RigEditError> {
+    let set = &scene.cages;
+    let taken =
+        set.leaves.iter().any(|c| c.name == name) || set.internals.iter().any(|c| c.name == name);
+    if taken || name.is_empty() {
+        Err(RigEditError::NameTaken(name.to_owned()))
+    } else {
+        Ok(())
+    }
+}
+
+/// The vertex at exactly `p` (rest), or a new one there (at rest in every pose).
+fn vertex_at(scene: &mut Scene, p: DVec3) -> u32 {
+    if let Some(v) = scene.cages.vertices.iter().position(|q| *q == p) {
+        return v as u32;
+    }
+    scene.cages.vertices.push(p);
+    scene.pose.push(p);
+    for pose in scene.poses.values_mut() {
+        pose.push(p);
+    }
+    scene.cages.vertices.len() as u32 - 1
+}
+
+fn add_box(
+    scene: &mut Scene,
+    name: &str,
+    min: DVec3,
+    max: DVec3,
+    kind: CoordinateKind,
+) -> Result<(), RigEditError> {
+    free_name(scene, name)?;
+    let (lo, hi) = (min.min(max), min.max(max));
+    if (hi - lo).min_element() <= 0.0 {
+        return Err(RigEditError::Value(format!(
+            "add-box {name}: the box is flat ({lo} .. {hi}); give it a size along every axis"
+        )));
+    }
+    let corners: [u32; 8] = std::array::from_fn(|c| {
+        let p = DVec3::new(
+            if c & 1 == 0 { lo.x } else { hi.x },
+            if c & 2 == 0 { lo.y } else { hi.y },
+            if c & 4 == 0 { lo.z } else { hi.z },
+        );
+        vertex_at(scene, p)
+    });
+    scene.cages.leaves.push(LeafCage {
+        name: name.to_owned(),
+        kind,
+        h: None,
+        border_h: Default::default(),
+        faces: box_faces(corners),
+    });
+    Ok(())
+}
+
+fn extrude(
+    scene: &mut Scene,
+    cage: &str,
+    face: usize,
+    distance: f64,
+    name: &str,
+) -> Result<(), RigEditError> {
+    free_name(scene, name)?;
+    let c = leaf(scene, cage)?;
+    let faces = &scene.cages.leaves[c].faces;
+    let Some(corners) = faces.get(face).cloned() else {
+        return Err(RigEditError::NoSuchFace {
+            cage: cage.to_owned(),
+            face,
+            count: faces.len(),
+        });
+    };
+    let mut key = corners.clone();
+    key.sort_unstable();
+    let shared = scene
+        .cages
+        .leaves
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != c)
+        .flat_map(|(_, l)| &l.faces)
+        .any(|f| {
+            let mut k = f.clone();
+            k.sort_unstable();
+            k == key
+        });
+    if shared {
+        return Err(RigEditError::FaceShared {
+            cage: cage.to_owned(),
+            face,
+        });
+    }
+    if distance.is_nan() || distance <= 0.0 {
+        return Err(RigEditError::Value(format!(
+            "extrude {cage} {face}: the distance {distance} must be positive"
+        )));
+    }
+    // The face's outward normal (Newell's method: counter-clockwise seen from outside).
+    let points: Vec<DVec3> = corners
+        .iter()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    let normal = points
+        .iter()
+        .zip(points.iter().cycle().skip(1))
+        .map(|(a, b)| a.cross(*b))
+        .sum::<DVec3>()
+        .normalize_or_zero();
+    if normal == DVec3::ZERO {
+        return Err(RigEditError::Value(format!(
+            "face {face} of '{cage}' has no area to extrude"
+        )));
+    }
+    let cap: Vec<u32> = points
+        .iter()
+        .map(|p| vertex_at(scene, *p + normal * distance))
+        .collect();
+    // The base is the shared face run the other way; the cap keeps the face's orientation
+    // (it faces outwards, away from the old cage); the sides join edge (a, b) to (a', b').
+    let mut new_faces = vec![
+        corners.iter().rev().copied().collect::<Vec<u32>>(),
+        cap.clone(),
+    ];
+    let k = corners.len();
+    for i in 0..k {
+        let j = (i + 1) % k;
+        new_faces.push(vec![corners[i], corners[j], cap[j], cap[i]]);
+    }
+    let kind = scene.cages.leaves[c].kind;
+    scene.cages.leaves.push(LeafCage {
+        name: name.to_owned(),
+        kind,
+        h: None,
+        border_h: Default::default(),
+        faces: new_faces,
+    });
+    Ok(())
+}
+
+fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
+    let c = leaf(scene, cage)?;
+    let gone = scene.cages.leaves.remove(c);
+    let set = &scene.cages;
+    let used: BTreeSet<u32> = set
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten())
+        .chain(set.internals.iter().flat_map(|i| i.faces.iter().flatten()))
+        .copied()
+        .collect();
+    let removed: BTreeSet<u32> = gone
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|v| !used.contains(v))
+        .collect();
+    // Neighbours' per-border h for the gone cage, ownership of removed vertices and their
+    // hierarchy records go with them.
+    for other in &mut scene.cages.leaves {
+        other.border_h.remove(cage);
+    }
+    for internal in &mut scene.cages.internals {
+        internal.owns.retain(|v| !removed.contains(v));
+    }
+    for state in std::iter::once(&mut scene.pose_state).chain(scene.pose_states.values_mut()) {
+        crate::hierarchy::forget(state, &removed);
+    }
+    crate::hierarchy::renumber(scene, &removed);
+    Ok(())
+}
+
+fn mirror(scene: &mut Scene, cage: &str, name: &str) -> Result<(), RigEditError> {
+    free_name(scene, name)?;
+    let c = leaf(scene, cage)?;
+    let source = scene.cages.leaves[c].clone();
+    let mut map = std::collections::BTreeMap::new();
+    for &v in source.faces.iter().flatten() {
+        if map.contains_key(&v) {
+            continue;
+        }
+        let p = scene.cages.vertices[v as usize];
+        let mirrored = DVec3::new(-p.x, p.y, p.z);
+        map.insert(v, vertex_at(scene, mirrored));
+    }
+    // A reflection turns orientation inside out: run every face the other way.
+    let faces = source
+        .faces
+        .iter()
+        .map(|f| f.iter().rev().map(|v| map[v]).collect())
+        .collect();
+    scene.cages.leaves.push(LeafCage {
+        name: name.to_owned(),
+        faces,
+        border_h: Default::default(),
+        ..source
+    });
+    Ok(())
+}
+
+fn rest(scene: &mut Scene, cage: &str, transform: RestTransform) -> Result<(), RigEditError> {
+    let c = leaf(scene, cage)?;
+    let vertices: BTreeSet<u32> = scene.cages.leaves[c]
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let centre = vertices
+        .iter()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .sum::<DVec3>()
+        / vertices.len().max(1) as f64;
+    let map: Box<dyn Fn(DVec3) -> DVec3> = match transform {
+        RestTransform::Translate(d) => Box::new(move |p| p + d),
+        RestTransform::Rotate(axis, degrees) => {
+            let Some(axis) = axis.try_normalize() else {
+                return Err(RigEditError::Value(format!(
+                    "rest {cage}: rotate needs a non-zero axis"
+                )));
+            };
+            let turn = DQuat::from_axis_angle(axis, degrees.to_radians());
+            Box::new(move |p| centre + turn * (p - centre))
+        }
+        RestTransform::Scale(s) if s > 0.0 => Box::new(move |p| centre + (p - centre) * s),
+        RestTransform::Scale(s) => {
+            return Err(RigEditError::Value(format!(
+                "rest {cage}: scale {s} must be positive"
+            )));
+        }
+    };
+    for &v in &vertices {
+        let old = scene.cages.vertices[v as usize];
+        let delta = map(old) - old;
+        scene.cages.vertices[v as usize] = old + delta;
+        for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
+            if let Some(p) = pose.get_mut(v as usize) {
+                *p += delta;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,156 @@
+//! Rig operations: extrude gives two cages sharing exactly one face, delete and add undo each
+//! other exactly, mirror is exact, rest edits move the poses along and re-bind incrementally
+//! to what a full bind gives, and bad operations are refused with the scene unchanged.
+
+use glam::DVec3;
+use starcages_core::BindControl;
+use starcages_core::scene::demo::box_mesh;
+use starcages_core::scene::{
+    CageSet, MeshSource, OutsidePolicy, RigEditError, RigOp, Scene, SceneSettings, apply_rig_op,
+    validate_scene,
+};
+use starcages_core::star::StarBinding;
+
+/// A tall box mesh and no cages yet.
+fn empty_scene() -> Scene {
+    let mesh = box_mesh(
+        DVec3::new(0.1, 0.1, 0.1),
+        DVec3::new(0.9, 0.9, 1.8),
+        [3, 3, 6],
+    );
+    Scene::new(
+        MeshSource::Embedded,
+        mesh,
+        CageSet::default(),
+        SceneSettings::default(),
+    )
+}
+
+fn op(text: &str) -> RigOp {
+    RigOp::parse(text).unwrap()
+}
+
+#[test]
+fn a_box_and_an_extrusion_build_a_valid_two_cage_rig_sharing_one_face() {
+    let mut scene = empty_scene();
+    apply_rig_op(&mut scene, &op("add-box body 0 0 0 1 1 1")).unwrap();
+    // Face 1 of a box is its top (z = max), counter-clockwise from outside.
+    let top = scene.cages.leaves[0]
+        .faces
+        .iter()
+        .position(|f| f.iter().all(|&v| scene.cages.vertices[v as usize].z == 1.0))
+        .unwrap();
+    apply_rig_op(&mut scene, &op(&format!("extrude body {top} 1 neck"))).unwrap();
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    let adjacency = scene.cages.adjacency();
+    assert_eq!(adjacency.len(), 1);
+    assert_eq!(adjacency[0].faces.len(), 1, "exactly one shared face");
+    assert_eq!(scene.cages.vertices.len(), 12);
+    assert_eq!(
+        scene.pose.len(),
+        12,
+        "new vertices start at rest in the pose"
+    );
+    // It binds and deforms; a rest edit re-binds incrementally to the full bind.
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    let mut edited = scene.clone();
+    apply_rig_op(&mut edited, &op("rest neck: scale 1.2")).unwrap();
+    let moved: Vec<u32> = (0..edited.cages.vertices.len() as u32)
+        .filter(|&v| edited.cages.vertices[v as usize] != scene.cages.vertices[v as usize])
+        .collect();
+    assert!(!moved.is_empty());
+    let incremental = binding
+        .rebind_rest_edit(&edited, &moved, &BindControl::default())
+        .unwrap();
+    let full = StarBinding::bind_scene(&edited, &BindControl::default()).unwrap();
+    let (a, b) = (
+        incremental.deform(&edited.cages.vertices, &edited.pose),
+        full.deform(&edited.cages.vertices, &edited.pose),
+    );
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max);
+    assert!(worst < 1e-5, "{worst}");
+}
+
+#[test]
+fn adding_then_deleting_gives_back_the_scene_and_mirror_is_exact() {
+    let mut scene = empty_scene();
+    scene.settings.outside = OutsidePolicy::Nearest;
+    apply_rig_op(&mut scene, &op("add-box right 0 0 0 1 1 2")).unwrap();
+    let before = scene.clone();
+    apply_rig_op(&mut scene, &op("add-box extra 1 0 0 2 1 2 gc")).unwrap();
+    assert_eq!(
+        scene.cages.vertices.len(),
+        12,
+        "the shared face's corners are reused"
+    );
+    apply_rig_op(&mut scene, &op("delete extra")).unwrap();
+    assert_eq!(scene, before, "delete undoes add exactly");
+    // Mirror across x = 0: the x = 0 face is shared, every other vertex mirrored exactly.
+    apply_rig_op(&mut scene, &op("mirror right left")).unwrap();
+    let left = scene.cages.leaf_index("left").unwrap();
+    for face in &scene.cages.leaves[left].faces {
+        for &v in face {
+            let p = scene.cages.vertices[v as usize];
+            let mirror = DVec3::new(-p.x, p.y, p.z);
+            assert!(scene.cages.vertices.contains(&mirror));
+        }
+    }
+    assert_eq!(scene.cages.vertices.len(), 12);
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    assert_eq!(scene.cages.adjacency().len(), 1);
+}
+
+#[test]
+fn bad_operations_are_refused_and_leave_the_scene_unchanged() {
+    let mut scene = empty_scene();
+    apply_rig_op(&mut scene, &op("add-box a 0 0 0 1 1 1")).unwrap();
+    apply_rig_op(&mut scene, &op("extrude a 1 0.5 b")).unwrap();
+    let before = scene.clone();
+    let shared = scene.cages.leaves[0]
+        .faces
+        .iter()
+        .position(|f| {
+            let mut k = f.clone();
+            k.sort_unstable();
+            scene.cages.leaves[1].faces.iter().any(|g| {
+                let mut h = g.clone();
+                h.sort_unstable();
+                h == k
+            })
+        })
+        .unwrap();
+    for (text, expected) in [
+        (
+            format!("extrude a {shared} 1 c"),
+            "shared with another cage",
+        ),
+        ("extrude a 99 1 c".to_owned(), "face 99 does not exist"),
+        ("extrude nobody 0 1 c".to_owned(), "no leaf cage 'nobody'"),
+        ("add-box a 0 0 0 1 1 1".to_owned(), "exists already"),
+        ("add-box flat 0 0 0 1 1 0".to_owned(), "flat"),
+        ("rest a: scale -1".to_owned(), "must be positive"),
+    ] {
+        let error = apply_rig_op(&mut scene, &op(&text))
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(expected), "{text}: {error}");
+        assert_eq!(scene, before, "{text} changed the scene");
+    }
+    for text in [
+        "extrude a one 1",
+        "spin a",
+        "add-box x 0 0 0 1 1 z",
+        "rest a: twist 3",
+    ] {
+        assert!(
+            matches!(RigOp::parse(text), Err(RigEditError::Syntax { .. })),
+            "{text}"
+        );
+    }
+}
