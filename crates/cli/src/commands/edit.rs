@@ -17,11 +17,11 @@ pub struct EditArgs {
     /// Scene file to write (never the input).
     #[arg(long)]
     out: PathBuf,
-    /// An operation, repeatable, applied in order:
-    /// "add-box NAME X0 Y0 Z0 X1 Y1 Z1 [mvc|hc|gc]";
-    /// "extrude CAGE FACE DIST [NAME]" (FACE 0-based in the cage's face list, pushed out DIST
+    /// An operation, repeatable, applied in order (KIND and NAME at the end are optional):
+    /// "add-box NAME X0 Y0 Z0 X1 Y1 Z1 KIND" (KIND: mvc, hc or gc);
+    /// "extrude CAGE FACE DIST NAME" (FACE 0-based in the cage's face list, pushed out DIST
     /// along its outward normal; the new cage shares that face);
-    /// "delete CAGE"; "mirror CAGE [NAME]" (across x = 0);
+    /// "delete CAGE"; "mirror CAGE NAME" (across x = 0);
     /// "rest CAGE: translate X Y Z" | "rest CAGE: rotate AX AY AZ DEG" | "rest CAGE: scale S"
     /// (about the cage's centroid; poses move along).
     #[arg(long = "op", value_name = "OP", required = true)]
