@@ -21,7 +21,8 @@ pub struct EditArgs {
     /// "add-box NAME X0 Y0 Z0 X1 Y1 Z1 KIND" (KIND: mvc, hc or gc);
     /// "extrude CAGE FACE DIST NAME" (FACE 0-based in the cage's face list, pushed out DIST
     /// along its outward normal; the new cage shares that face);
-    /// "delete CAGE"; "mirror CAGE NAME" (across x = 0);
+    /// "split CAGE x|y|z T NAME" (loop cut across the ring of quads at fraction T);
+    /// "delete CAGE"; "merge A B"; "mirror CAGE NAME" (across x = 0);
     /// "rest CAGE: translate X Y Z" | "rest CAGE: rotate AX AY AZ DEG" | "rest CAGE: scale S"
     /// (about the cage's centroid; poses move along).
     #[arg(long = "op", value_name = "OP", required = true)]

@@ -51,6 +51,27 @@ pub enum RigOp {
         /// The copy's name.
         name: String,
     },
+    /// Join two neighbouring cages into the first (the faces they share dissolve).
+    Merge {
+        /// The cage that stays.
+        first: String,
+        /// The cage merged into it.
+        second: String,
+    },
+    /// Loop cut: split a cage whose faces are two ends and a ring of quads between them (a box,
+    /// an extruded cage) across the ring, at fraction `t` from the end facing −`axis`; the
+    /// two parts share the new face.
+    Split {
+        /// The cage.
+        cage: String,
+        /// The world axis the cut goes across (0 x, 1 y, 2 z): the ends are the faces whose
+        /// normals are most aligned with it.
+        axis: usize,
+        /// Where, in (0, 1).
+        t: f64,
+        /// The new part's name (the part beyond the cut).
+        name: String,
+    },
     /// Move a cage's rest vertices (and every pose by the same amount).
     Rest {
         /// The cage.
@@ -181,6 +202,26 @@ impl RigOp {
             ["delete", cage] => Ok(Self::Delete {
                 cage: (*cage).to_owned(),
             }),
+            ["merge", first, second] => Ok(Self::Merge {
+                first: (*first).to_owned(),
+                second: (*second).to_owned(),
+            }),
+            ["split", cage, axis, t, rest @ ..] if rest.len() <= 1 => {
+                let axis = match *axis {
+                    "x" | "X" => 0,
+                    "y" | "Y" => 1,
+                    "z" | "Z" => 2,
+                    other => return Err(syntax(&format!("axis '{other}' is not x, y or z"))),
+                };
+                Ok(Self::Split {
+                    cage: (*cage).to_owned(),
+                    axis,
+                    t: number(t)?,
+                    name: rest
+                        .first()
+                        .map_or_else(|| format!("{cage}_cut"), |n| (*n).to_owned()),
+                })
+            }
             ["mirror", cage, rest @ ..] if rest.len() <= 1 => Ok(Self::Mirror {
                 cage: (*cage).to_owned(),
                 name: rest
@@ -188,7 +229,7 @@ impl RigOp {
                     .map_or_else(|| format!("{cage}_mirrored"), |n| (*n).to_owned()),
             }),
             _ => Err(syntax(
-                "unknown operation; use add-box, extrude, delete, mirror or 'rest CAGE: …'",
+                "unknown operation; use add-box, extrude, split, delete, merge, mirror or 'rest CAGE: …'",
             )),
         }
     }
@@ -211,6 +252,13 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
             name,
         } => extrude(&mut edited, cage, *face, *distance, name)?,
         RigOp::Delete { cage } => delete(&mut edited, cage)?,
+        RigOp::Merge { first, second } => merge(&mut edited, first, second)?,
+        RigOp::Split {
+            cage,
+            axis,
+            t,
+            name,
+        } => split(&mut edited, cage, *axis, *t, name)?,
         RigOp::Mirror { cage, name } => mirror(&mut edited, cage, name)?,
         RigOp::Rest { cage, transform } => rest(&mut edited, cage, *transform)?,
     }
@@ -395,6 +443,222 @@ fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
         crate::hierarchy::forget(state, &removed);
     }
     crate::hierarchy::renumber(scene, &removed);
+    Ok(())
+}
+
+/// A face's key: its vertices sorted (the same face in two cages has the same key).
+fn face_key(face: &[u32]) -> Vec<u32> {
+    let mut key = face.to_vec();
+    key.sort_unstable();
+    key
+}
+
+fn merge(scene: &mut Scene, first: &str, second: &str) -> Result<(), RigEditError> {
+    let (a, b) = (leaf(scene, first)?, leaf(scene, second)?);
+    if a == b {
+        return Err(RigEditError::Value(format!(
+            "merge {first} {second}: the same cage twice"
+        )));
+    }
+    let shared: BTreeSet<Vec<u32>> = {
+        let of_b: BTreeSet<Vec<u32>> = scene.cages.leaves[b]
+            .faces
+            .iter()
+            .map(|f| face_key(f))
+            .collect();
+        scene.cages.leaves[a]
+            .faces
+            .iter()
+            .map(|f| face_key(f))
+            .filter(|k| of_b.contains(k))
+            .collect()
+    };
+    if shared.is_empty() {
+        return Err(RigEditError::Value(format!(
+            "merge {first} {second}: they share no face; only neighbours can be merged"
+        )));
+    }
+    let keep = |faces: &[Vec<u32>]| -> Vec<Vec<u32>> {
+        faces
+            .iter()
+            .filter(|f| !shared.contains(&face_key(f)))
+            .cloned()
+            .collect()
+    };
+    let mut faces = keep(&scene.cages.leaves[a].faces);
+    faces.extend(keep(&scene.cages.leaves[b].faces));
+    scene.cages.leaves[a].faces = faces;
+    scene.cages.leaves[a].border_h.remove(second);
+    let gone = scene.cages.leaves.remove(b);
+    for other in &mut scene.cages.leaves {
+        other.border_h.remove(&gone.name);
+    }
+    // The vertices only the dissolved faces used (none for two boxes) go.
+    let used: BTreeSet<u32> = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten())
+        .chain(
+            scene
+                .cages
+                .internals
+                .iter()
+                .flat_map(|i| i.faces.iter().flatten()),
+        )
+        .copied()
+        .collect();
+    let removed: BTreeSet<u32> = gone
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|v| !used.contains(v))
+        .collect();
+    for internal in &mut scene.cages.internals {
+        internal.owns.retain(|v| !removed.contains(v));
+    }
+    crate::hierarchy::renumber(scene, &removed);
+    Ok(())
+}
+
+fn split(
+    scene: &mut Scene,
+    cage: &str,
+    axis: usize,
+    t: f64,
+    name: &str,
+) -> Result<(), RigEditError> {
+    free_name(scene, name)?;
+    let c = leaf(scene, cage)?;
+    if !(t > 0.0 && t < 1.0) {
+        return Err(RigEditError::Value(format!(
+            "split {cage}: t = {t} must be inside (0, 1)"
+        )));
+    }
+    let faces = scene.cages.leaves[c].faces.clone();
+    let vertices = &scene.cages.vertices;
+    let normal = |f: &[u32]| -> DVec3 {
+        let p: Vec<DVec3> = f.iter().map(|&v| vertices[v as usize]).collect();
+        p.iter()
+            .zip(p.iter().cycle().skip(1))
+            .map(|(a, b)| a.cross(*b))
+            .sum::<DVec3>()
+            .normalize_or_zero()
+    };
+    let along = |f: &[u32]| normal(f)[axis];
+    let not_a_ring = || {
+        RigEditError::Value(format!(
+            "split {cage}: it is not two ends joined by a ring of quads across that axis (a box or an \
+         extruded cage is); cut another cage or along another axis"
+        ))
+    };
+    // The ends: the faces most against and most along the axis.
+    let (low, high) = (0..faces.len()).fold((0, 0), |(lo, hi), f| {
+        (
+            if along(&faces[f]) < along(&faces[lo]) {
+                f
+            } else {
+                lo
+            },
+            if along(&faces[f]) > along(&faces[hi]) {
+                f
+            } else {
+                hi
+            },
+        )
+    });
+    let (start, end) = (&faces[low], &faces[high]);
+    let k = start.len();
+    if low == high || end.len() != k || faces.len() != k + 2 {
+        return Err(not_a_ring());
+    }
+    // Each start vertex's partner on the end face: the other end of its side edge.
+    let end_set: BTreeSet<u32> = end.iter().copied().collect();
+    let mut partner = std::collections::BTreeMap::new();
+    for (f, side) in faces.iter().enumerate() {
+        if f == low || f == high {
+            continue;
+        }
+        if side.len() != 4 {
+            return Err(not_a_ring());
+        }
+        for i in 0..4 {
+            let (a, b) = (side[i], side[(i + 1) % 4]);
+            if start.contains(&a) && end_set.contains(&b) {
+                partner.insert(a, b);
+            } else if start.contains(&b) && end_set.contains(&a) {
+                partner.insert(b, a);
+            }
+        }
+    }
+    if partner.len() != k {
+        return Err(not_a_ring());
+    }
+    // A ring face shared with a neighbour would be cut on one side only (a T-junction).
+    for (f, side) in faces.iter().enumerate() {
+        if f == low || f == high {
+            continue;
+        }
+        let key = face_key(side);
+        if let Some(other) = scene
+            .cages
+            .leaves
+            .iter()
+            .enumerate()
+            .find(|(i, l)| *i != c && l.faces.iter().any(|g| face_key(g) == key))
+        {
+            return Err(RigEditError::Value(format!(
+                "split {cage}: ring face {f} is shared with '{}', which the cut would leave \
+                 with a T-junction; cut along another axis",
+                other.1.name
+            )));
+        }
+    }
+    // New vertices on the side edges, at t from the start end.
+    let mut cut = std::collections::BTreeMap::new();
+    for (&a, &b) in &partner {
+        let (pa, pb) = (
+            scene.cages.vertices[a as usize],
+            scene.cages.vertices[b as usize],
+        );
+        cut.insert(a, vertex_at(scene, pa + (pb - pa) * t));
+        // The end vertex maps to the same cut vertex.
+        cut.insert(b, cut[&a]);
+    }
+    // The start part keeps the start face and the start halves of the sides; the far part
+    // gets the end face and the far halves. A side quad's start-side corners stay, its
+    // end-side corners become cut vertices (and the other way round for the far part).
+    let mut near = vec![start.clone()];
+    let mut far = vec![end.clone()];
+    for (f, side) in faces.iter().enumerate() {
+        if f == low || f == high {
+            continue;
+        }
+        near.push(
+            side.iter()
+                .map(|v| if end_set.contains(v) { cut[v] } else { *v })
+                .collect(),
+        );
+        far.push(
+            side.iter()
+                .map(|v| if end_set.contains(v) { *v } else { cut[v] })
+                .collect(),
+        );
+    }
+    // The new face: the start face moved to the cut, facing the far part from the near one
+    // (its orientation is the end face's), and reversed for the far part.
+    let cut_face: Vec<u32> = start.iter().rev().map(|v| cut[v]).collect();
+    near.push(cut_face.clone());
+    far.push(cut_face.iter().rev().copied().collect());
+    let original = scene.cages.leaves[c].clone();
+    scene.cages.leaves[c].faces = near;
+    scene.cages.leaves.push(LeafCage {
+        name: name.to_owned(),
+        faces: far,
+        border_h: Default::default(),
+        ..original
+    });
     Ok(())
 }
 

@@ -154,3 +154,53 @@ fn bad_operations_are_refused_and_leave_the_scene_unchanged() {
         );
     }
 }
+
+#[test]
+fn a_loop_cut_gives_two_cages_sharing_the_new_face_and_merge_dissolves_it() {
+    let mut scene = empty_scene();
+    apply_rig_op(&mut scene, &op("add-box tall 0 0 0 1 1 2")).unwrap();
+    let before = scene.clone();
+    apply_rig_op(&mut scene, &op("split tall z 0.25 upper")).unwrap();
+    assert_eq!(scene.cages.leaves.len(), 2);
+    assert_eq!(scene.cages.vertices.len(), 12);
+    let cut: Vec<f64> = scene.cages.vertices[8..].iter().map(|p| p.z).collect();
+    assert!(cut.iter().all(|&z| (z - 0.5).abs() < 1e-12), "{cut:?}");
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    let adjacency = scene.cages.adjacency();
+    assert_eq!(adjacency.len(), 1);
+    assert_eq!(adjacency[0].faces.len(), 1);
+    // It binds; merge gives back one cage over the same volume.
+    StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    apply_rig_op(&mut scene, &op("merge tall upper")).unwrap();
+    assert_eq!(scene.cages.leaves.len(), 1);
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    let volume = |s: &Scene| {
+        starcages_core::scene::LocalCage::new(&s.cages.vertices, &s.cages.leaves[0].faces)
+            .unwrap()
+            .cage
+            .volume()
+    };
+    assert!((volume(&scene) - volume(&before)).abs() < 1e-12);
+    // Refusals: not neighbours, a cut out of range, a ring face shared with a neighbour.
+    apply_rig_op(&mut scene, &op("add-box far 3 0 0 4 1 1")).unwrap();
+    let error = apply_rig_op(&mut scene, &op("merge tall far"))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("share no face"), "{error}");
+    let error = apply_rig_op(&mut scene, &op("split tall z 1.5"))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("inside (0, 1)"), "{error}");
+    let mut pair = empty_scene();
+    apply_rig_op(&mut pair, &op("add-box a 0 0 0 1 1 2")).unwrap();
+    apply_rig_op(&mut pair, &op("add-box side 1 0 0 2 1 2")).unwrap();
+    let error = apply_rig_op(&mut pair, &op("split a z 0.5"))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("T-junction"), "{error}");
+    // Across x, the shared face is an end: that cut is fine.
+    apply_rig_op(&mut pair, &op("split a x 0.5")).unwrap();
+    assert_eq!(pair.cages.adjacency().len(), 2);
+}

@@ -564,3 +564,60 @@ fn a_rest_edit_rebinds_only_nearby_rows_and_equals_a_full_bind() {
         assert!(worst_row_difference(&old, &full) > 1e-4);
     }
 }
+
+/// A border made by the rig operations (a box extruded along x, then cut across x) is C1 as
+/// the demos' borders are, where plain piecewise T is only C0.
+#[test]
+fn borders_made_by_extrude_and_loop_cut_are_c1() {
+    use starcages_core::scene::{RigOp, apply_rig_op};
+    let mesh = box_mesh(
+        DVec3::new(-0.9, -0.4, -0.4),
+        DVec3::new(1.9, 0.4, 0.4),
+        [14, 4, 4],
+    );
+    let mut scene = Scene::new(
+        MeshSource::Embedded,
+        mesh,
+        CageSet::default(),
+        SceneSettings {
+            join_coordinates: JoinPolicy::Mvc,
+            ..Default::default()
+        },
+    );
+    apply_rig_op(
+        &mut scene,
+        &RigOp::parse("add-box left -1 -0.5 -0.5 0 0.5 0.5").unwrap(),
+    )
+    .unwrap();
+    // The +x face of the box: extrude it 2 along x, then cut the new cage in half across x.
+    let face = scene.cages.leaves[0]
+        .faces
+        .iter()
+        .position(|f| f.iter().all(|&v| scene.cages.vertices[v as usize].x == 0.0))
+        .unwrap();
+    apply_rig_op(
+        &mut scene,
+        &RigOp::parse(&format!("extrude left {face} 2 right")).unwrap(),
+    )
+    .unwrap();
+    apply_rig_op(&mut scene, &RigOp::parse("split right x 0.5 far").unwrap()).unwrap();
+    let report = starcages_core::scene::validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| wavy(p)).collect();
+    let (y, z) = (0.13, -0.21);
+    let star = |p: DVec3| evaluate_points(&scene, &[p], &posed, &control()).unwrap()[0];
+    // The extruded border at x = 0 and the cut at x = 1.
+    for (x0, near, beyond) in [(0.0, 0, 1), (1.0, 1, 2)] {
+        let (j1, j2) = (
+            derivative_jump(star, x0, y, z, 1e-2),
+            derivative_jump(star, x0, y, z, 1e-3),
+        );
+        assert!(
+            j2 < 0.2 * j1 + 1e-5,
+            "x = {x0}: jump {j1} at 1e-2, {j2} at 1e-3"
+        );
+        let plain = |p: DVec3| plain_t(&scene, if p.x < x0 { near } else { beyond }, p, &posed);
+        let p2 = derivative_jump(plain, x0, y, z, 1e-3);
+        assert!(j2 < 0.1 * p2, "x = {x0}: *Cages jump {j2} vs plain {p2}");
+    }
+}
