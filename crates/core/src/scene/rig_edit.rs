@@ -413,9 +413,9 @@ fn extrude(
     Ok(())
 }
 
-fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
-    let c = leaf(scene, cage)?;
-    let gone = scene.cages.leaves.remove(c);
+/// Removes the vertices of `gone` (a removed cage's faces) that no cage uses any more, with
+/// their ownership and hierarchy records, renumbering every index.
+fn drop_unused_vertices(scene: &mut Scene, gone: &[Vec<u32>]) {
     let set = &scene.cages;
     let used: BTreeSet<u32> = set
         .leaves
@@ -425,17 +425,11 @@ fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
         .copied()
         .collect();
     let removed: BTreeSet<u32> = gone
-        .faces
         .iter()
         .flatten()
         .copied()
         .filter(|v| !used.contains(v))
         .collect();
-    // Neighbours' per-border h for the gone cage, ownership of removed vertices and their
-    // hierarchy records go with them.
-    for other in &mut scene.cages.leaves {
-        other.border_h.remove(cage);
-    }
     for internal in &mut scene.cages.internals {
         internal.owns.retain(|v| !removed.contains(v));
     }
@@ -443,6 +437,16 @@ fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
         crate::hierarchy::forget(state, &removed);
     }
     crate::hierarchy::renumber(scene, &removed);
+}
+
+fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
+    let c = leaf(scene, cage)?;
+    let gone = scene.cages.leaves.remove(c);
+    // Neighbours' per-border h for the gone cage go too.
+    for other in &mut scene.cages.leaves {
+        other.border_h.remove(cage);
+    }
+    drop_unused_vertices(scene, &gone.faces);
     Ok(())
 }
 
@@ -494,31 +498,7 @@ fn merge(scene: &mut Scene, first: &str, second: &str) -> Result<(), RigEditErro
         other.border_h.remove(&gone.name);
     }
     // The vertices only the dissolved faces used (none for two boxes) go.
-    let used: BTreeSet<u32> = scene
-        .cages
-        .leaves
-        .iter()
-        .flat_map(|l| l.faces.iter().flatten())
-        .chain(
-            scene
-                .cages
-                .internals
-                .iter()
-                .flat_map(|i| i.faces.iter().flatten()),
-        )
-        .copied()
-        .collect();
-    let removed: BTreeSet<u32> = gone
-        .faces
-        .iter()
-        .flatten()
-        .copied()
-        .filter(|v| !used.contains(v))
-        .collect();
-    for internal in &mut scene.cages.internals {
-        internal.owns.retain(|v| !removed.contains(v));
-    }
-    crate::hierarchy::renumber(scene, &removed);
+    drop_unused_vertices(scene, &gone.faces);
     Ok(())
 }
 
