@@ -23,6 +23,7 @@ pub struct EditArgs {
     /// along its outward normal; the new cage shares that face);
     /// "split CAGE x|y|z T NAME" (loop cut across the ring of quads at fraction T);
     /// "delete CAGE"; "merge A B"; "mirror CAGE NAME" (across x = 0);
+    /// "fit CAGE MARGIN" (pull free vertices in to the mesh, MARGIN × its diagonal away);
     /// "rest CAGE: translate X Y Z" | "rest CAGE: rotate AX AY AZ DEG" | "rest CAGE: scale S"
     /// (about the cage's centroid; poses move along).
     #[arg(long = "op", value_name = "OP", required = true)]

@@ -72,6 +72,15 @@ pub enum RigOp {
         /// The new part's name (the part beyond the cut).
         name: String,
     },
+    /// Fit to mesh: pull the cage's vertices that no other leaf cage shares toward its centre,
+    /// as far as keeps every mesh vertex it holds inside with `margin` (a fraction of the
+    /// mesh's bounding box diagonal) between them and the cage.
+    Fit {
+        /// The cage.
+        cage: String,
+        /// The margin, as a fraction of the mesh's diagonal.
+        margin: f64,
+    },
     /// Move a cage's rest vertices (and every pose by the same amount).
     Rest {
         /// The cage.
@@ -202,6 +211,10 @@ impl RigOp {
             ["delete", cage] => Ok(Self::Delete {
                 cage: (*cage).to_owned(),
             }),
+            ["fit", cage, margin] => Ok(Self::Fit {
+                cage: (*cage).to_owned(),
+                margin: number(margin)?,
+            }),
             ["merge", first, second] => Ok(Self::Merge {
                 first: (*first).to_owned(),
                 second: (*second).to_owned(),
@@ -229,7 +242,7 @@ impl RigOp {
                     .map_or_else(|| format!("{cage}_mirrored"), |n| (*n).to_owned()),
             }),
             _ => Err(syntax(
-                "unknown operation; use add-box, extrude, split, delete, merge, mirror or 'rest CAGE: …'",
+                "unknown operation; use add-box, extrude, split, delete, merge, mirror, fit or 'rest CAGE: …'",
             )),
         }
     }
@@ -260,6 +273,7 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
             name,
         } => split(&mut edited, cage, *axis, *t, name)?,
         RigOp::Mirror { cage, name } => mirror(&mut edited, cage, name)?,
+        RigOp::Fit { cage, margin } => fit(&mut edited, cage, *margin)?,
         RigOp::Rest { cage, transform } => rest(&mut edited, cage, *transform)?,
     }
     *scene = edited;
@@ -670,6 +684,90 @@ fn mirror(scene: &mut Scene, cage: &str, name: &str) -> Result<(), RigEditError>
     Ok(())
 }
 
+fn fit(scene: &mut Scene, cage: &str, margin: f64) -> Result<(), RigEditError> {
+    use super::{LocalCage, leaf_containment};
+    let c = leaf(scene, cage)?;
+    if !(0.0..=0.5).contains(&margin) {
+        return Err(RigEditError::Value(format!(
+            "fit {cage}: margin {margin} must be in [0, 0.5] (a fraction of the mesh's diagonal)"
+        )));
+    }
+    let (lo, hi) = scene.mesh.bounds();
+    let gap = margin * (hi - lo).length();
+    let local = |s: &Scene| LocalCage::new(&s.cages.vertices, &s.cages.leaves[c].faces);
+    let cage_now = local(scene).map_err(|e| {
+        RigEditError::Value(format!(
+            "fit {cage}: the cage is not valid to start with: {e}"
+        ))
+    })?;
+    // The mesh vertices this cage holds now: they must stay inside, `gap` from its surface.
+    let points = scene.mesh.welded_positions();
+    let held: Vec<DVec3> = leaf_containment(std::slice::from_ref(&cage_now), points)
+        .iter()
+        .zip(points)
+        .filter(|(c, _)| c.is_covered())
+        .map(|(_, p)| *p)
+        .collect();
+    if held.is_empty() {
+        return Err(RigEditError::Value(format!(
+            "fit {cage}: it holds no mesh vertex to fit to"
+        )));
+    }
+    let shared: BTreeSet<u32> = scene
+        .cages
+        .leaves
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != c)
+        .flat_map(|(_, l)| l.faces.iter().flatten().copied())
+        .collect();
+    let free: Vec<u32> = cage_now
+        .global
+        .iter()
+        .copied()
+        .filter(|v| !shared.contains(v))
+        .collect();
+    let centre = cage_now.cage.positions().iter().sum::<DVec3>() / cage_now.global.len() as f64;
+    let fits = |s: &Scene| {
+        local(s).is_ok_and(|l| {
+            held.iter()
+                .all(|&p| l.cage.winding_number(p) > 0.5 && l.cage.closest_point(p).2 >= gap)
+        })
+    };
+    // Each free vertex in turn, as far toward the centre as still fits (bisection on the
+    // fraction of the way), three rounds so that later moves let earlier vertices go further.
+    for _ in 0..3 {
+        for &v in &free {
+            let start = scene.cages.vertices[v as usize];
+            let (mut ok, mut bad) = (0.0f64, 1.0f64);
+            for _ in 0..20 {
+                let t = 0.5 * (ok + bad);
+                scene.cages.vertices[v as usize] = start + (centre - start) * t;
+                if fits(scene) {
+                    ok = t;
+                } else {
+                    bad = t;
+                }
+            }
+            let to = start + (centre - start) * ok;
+            scene.cages.vertices[v as usize] = start;
+            move_rest_vertex(scene, v, to);
+        }
+    }
+    Ok(())
+}
+
+/// Moves rest vertex `v` to `to`, and every pose by the same amount.
+fn move_rest_vertex(scene: &mut Scene, v: u32, to: DVec3) {
+    let delta = to - scene.cages.vertices[v as usize];
+    scene.cages.vertices[v as usize] = to;
+    for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
+        if let Some(p) = pose.get_mut(v as usize) {
+            *p += delta;
+        }
+    }
+}
+
 fn rest(scene: &mut Scene, cage: &str, transform: RestTransform) -> Result<(), RigEditError> {
     let c = leaf(scene, cage)?;
     let vertices: BTreeSet<u32> = scene.cages.leaves[c]
@@ -702,14 +800,8 @@ fn rest(scene: &mut Scene, cage: &str, transform: RestTransform) -> Result<(), R
         }
     };
     for &v in &vertices {
-        let old = scene.cages.vertices[v as usize];
-        let delta = map(old) - old;
-        scene.cages.vertices[v as usize] = old + delta;
-        for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
-            if let Some(p) = pose.get_mut(v as usize) {
-                *p += delta;
-            }
-        }
+        let to = map(scene.cages.vertices[v as usize]);
+        move_rest_vertex(scene, v, to);
     }
     Ok(())
 }

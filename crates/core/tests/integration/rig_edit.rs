@@ -204,3 +204,53 @@ fn a_loop_cut_gives_two_cages_sharing_the_new_face_and_merge_dissolves_it() {
     apply_rig_op(&mut pair, &op("split a x 0.5")).unwrap();
     assert_eq!(pair.cages.adjacency().len(), 2);
 }
+
+/// Fit pulls a loose box in to the mesh: every mesh vertex stays inside with the margin, the
+/// cage gets smaller, and vertices shared with a neighbour stay where they are.
+#[test]
+fn fit_pulls_a_cage_to_the_mesh_keeping_the_margin_and_shared_vertices() {
+    let mut scene = empty_scene();
+    // The mesh spans (0.1, 0.1, 0.1) .. (0.9, 0.9, 1.8); a loose box around its lower part
+    // and a neighbour above.
+    apply_rig_op(&mut scene, &op("add-box low -0.5 -0.5 -0.5 1.5 1.5 1")).unwrap();
+    apply_rig_op(&mut scene, &op("add-box high -0.5 -0.5 1 1.5 1.5 2.5")).unwrap();
+    let volume = |s: &Scene, c: usize| {
+        starcages_core::scene::LocalCage::new(&s.cages.vertices, &s.cages.leaves[c].faces)
+            .unwrap()
+            .cage
+            .volume()
+    };
+    let before = scene.clone();
+    apply_rig_op(&mut scene, &op("fit low 0.01")).unwrap();
+    assert!(
+        volume(&scene, 0) < 0.8 * volume(&before, 0),
+        "the cage did not shrink"
+    );
+    // The shared face (z = 1) did not move.
+    for face in &before.cages.leaves[1].faces {
+        for &v in face {
+            assert_eq!(
+                scene.cages.vertices[v as usize],
+                before.cages.vertices[v as usize]
+            );
+        }
+    }
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+    let local =
+        starcages_core::scene::LocalCage::new(&scene.cages.vertices, &scene.cages.leaves[0].faces)
+            .unwrap();
+    let (lo, hi) = scene.mesh.bounds();
+    let gap = 0.01 * (hi - lo).length();
+    for p in scene.mesh.welded_positions().iter().filter(|p| p.z < 1.0) {
+        assert!(local.cage.winding_number(*p) > 0.5);
+        assert!(
+            local.cage.closest_point(*p).2 >= gap * 0.999,
+            "{p} too close"
+        );
+    }
+    assert!(
+        apply_rig_op(&mut scene, &op("fit low 2")).is_err(),
+        "a margin out of range"
+    );
+}
