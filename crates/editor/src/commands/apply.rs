@@ -117,23 +117,31 @@ pub fn apply(state: &mut EditorState, command: Command) {
         }
         Command::BeginGesture { id, label } => state.begin_gesture(id, &label),
         Command::EndGesture { keep } => state.end_gesture(keep),
+        Command::MoveVertices(moves) if state.mode == crate::state::EditMode::Rig => {
+            move_rest_vertices(state, &moves, true)
+        }
         Command::MoveVertices(moves) => move_vertices(state, &moves),
-        Command::MoveRestVertices(moves) => {
-            state.edit_scene("move rest positions", |scene| {
-                for &(v, to) in &moves {
-                    let Some(rest) = scene.cages.vertices.get_mut(v as usize) else {
-                        continue;
-                    };
-                    let delta = to - *rest;
-                    *rest = to;
-                    for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
-                        if let Some(p) = pose.get_mut(v as usize) {
-                            *p += delta;
-                        }
-                    }
+        Command::SetMode(mode) => {
+            state.mode = mode;
+            state.info(match mode {
+                crate::state::EditMode::Rig => {
+                    "Rig mode: moving vertices edits the rest cages (poses follow); E extrudes \
+                     the selected face, Ctrl+R cuts the inspected cage, Shift+A adds a box, X \
+                     deletes the inspected cage; Tab: back to Pose mode"
                 }
+                crate::state::EditMode::Pose => "Pose mode: moving vertices poses the mesh",
             });
         }
+        Command::Rig(op) => {
+            let label = format!("rig: {}", rig_op_label(&op));
+            match state.edit_scene(&label, |scene| {
+                starcages_core::scene::apply_rig_op(scene, &op)
+            }) {
+                Ok(()) => state.info(label),
+                Err(e) => state.error(EditorError::Rig(e.to_string())),
+            }
+        }
+        Command::MoveRestVertices(moves) => move_rest_vertices(state, &moves, false),
         Command::SetCageKind(cage, kind) => {
             if cage.kind(&state.doc.scene.cages).is_some_and(|k| k != kind) {
                 state.edit_scene("change coordinates", |scene| match cage {
@@ -253,6 +261,46 @@ fn camera(state: &mut EditorState, change: CameraChange) {
         CameraChange::ToggleOrthographic => camera.orthographic = !camera.orthographic,
         CameraChange::FrameAll => state.frame(false),
         CameraChange::FrameSelection => state.frame(true),
+    }
+}
+
+/// Moves rest positions (and every pose by the same amount): the N panel's rest fields (`to`
+/// is the new rest position), and every move in Rig mode (`to` is where the vertex is dragged
+/// in the current pose, `posed`).
+fn move_rest_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)], posed: bool) {
+    state.edit_scene("move rest positions", |scene| {
+        for &(v, to) in moves {
+            let Some(rest) = scene.cages.vertices.get_mut(v as usize) else {
+                continue;
+            };
+            let from = if posed {
+                scene.pose.get(v as usize).copied().unwrap_or(*rest)
+            } else {
+                *rest
+            };
+            let delta = to - from;
+            *rest += delta;
+            for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
+                if let Some(p) = pose.get_mut(v as usize) {
+                    *p += delta;
+                }
+            }
+        }
+    });
+}
+
+/// A short name of a rig operation for the undo history.
+fn rig_op_label(op: &starcages_core::scene::RigOp) -> String {
+    use starcages_core::scene::RigOp;
+    match op {
+        RigOp::AddBox { name, .. } => format!("add box '{name}'"),
+        RigOp::Extrude { cage, name, .. } => format!("extrude '{cage}' into '{name}'"),
+        RigOp::Delete { cage } => format!("delete '{cage}'"),
+        RigOp::Merge { first, second } => format!("merge '{second}' into '{first}'"),
+        RigOp::Split { cage, name, .. } => format!("loop cut '{cage}' ('{name}')"),
+        RigOp::Mirror { cage, name } => format!("mirror '{cage}' as '{name}'"),
+        RigOp::Fit { cage, .. } => format!("fit '{cage}'"),
+        RigOp::Rest { cage, .. } => format!("move rest of '{cage}'"),
     }
 }
 

@@ -164,6 +164,10 @@ pub enum Command {
     SetViewport(ScreenRect),
     /// Show a message in the status bar (why a key did nothing, say).
     Info(String),
+    /// Switch between Pose mode and Rig mode.
+    SetMode(crate::state::EditMode),
+    /// A rig operation on the rest cages (one undo step).
+    Rig(starcages_core::scene::RigOp),
 }
 
 /// Collects the commands the UI sends during a frame.

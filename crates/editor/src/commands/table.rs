@@ -57,6 +57,16 @@ pub enum UiCommand {
     ToggleItemPanel,
     /// Help ▸ Keyboard shortcuts
     ShowShortcuts,
+    /// Edit ▸ Pose / Rig mode
+    ToggleMode,
+    /// Rig ▸ Extrude face
+    Extrude,
+    /// Rig ▸ Loop cut
+    LoopCut,
+    /// Rig ▸ Add box cage
+    AddBox,
+    /// Rig ▸ Delete cage
+    DeleteCage,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -69,7 +79,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 25] = [
+    pub const ALL: [Self; 30] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -95,6 +105,11 @@ impl UiCommand {
         Self::ToggleOrthographic,
         Self::ToggleItemPanel,
         Self::ShowShortcuts,
+        Self::ToggleMode,
+        Self::Extrude,
+        Self::LoopCut,
+        Self::AddBox,
+        Self::DeleteCage,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -125,6 +140,11 @@ impl UiCommand {
             Self::ToggleOrthographic => "Perspective / orthographic",
             Self::ToggleItemPanel => "Item panel",
             Self::ShowShortcuts => "Keyboard shortcuts",
+            Self::ToggleMode => "Pose / Rig mode",
+            Self::Extrude => "Extrude face",
+            Self::LoopCut => "Loop cut",
+            Self::AddBox => "Add box cage",
+            Self::DeleteCage => "Delete cage",
         }
     }
 
@@ -164,6 +184,18 @@ impl UiCommand {
                 "Show or hide the coordinates of the selected vertices (rest and posed), editable"
             }
             Self::ShowShortcuts => "List every action with its keys",
+            Self::ToggleMode => {
+                "Pose mode poses the mesh; Rig mode edits the rest cages (the binding), with the \
+                 rig operations on keys"
+            }
+            Self::Extrude => {
+                "Rig mode: a new cage on the selected face of a leaf cage, sharing that face"
+            }
+            Self::LoopCut => "Rig mode: cut the inspected cage in two across its longest side",
+            Self::AddBox => {
+                "Rig mode: a box cage around the selected vertices (or around the mesh)"
+            }
+            Self::DeleteCage => "Rig mode: delete the inspected leaf cage",
         }
     }
 
@@ -191,6 +223,11 @@ impl UiCommand {
             Self::ViewBottom => &const { [key(CMD, Key::Num7)] },
             Self::ToggleOrthographic => &const { [key(NONE, Key::Num5)] },
             Self::ToggleItemPanel => &const { [key(NONE, Key::N)] },
+            Self::ToggleMode => &const { [key(NONE, Key::Tab)] },
+            Self::Extrude => &const { [key(NONE, Key::E)] },
+            Self::LoopCut => &const { [key(CMD, Key::R)] },
+            Self::AddBox => &const { [key(Modifiers::SHIFT, Key::A)] },
+            Self::DeleteCage => &const { [key(NONE, Key::X), key(NONE, Key::Delete)] },
             Self::ShowShortcuts => {
                 &const {
                     [

@@ -62,6 +62,9 @@ pub enum EditorError {
     /// A worker thread ended without an answer (it panicked).
     #[error("the {0} worker stopped unexpectedly; try again")]
     WorkerLost(&'static str),
+    /// A rig operation could not apply (the reason names the operation's problem).
+    #[error("{0}")]
+    Rig(String),
     /// The action needs a binding that is not there yet.
     #[error("the scene is still being bound; try again in a moment")]
     NotBound,

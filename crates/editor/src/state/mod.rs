@@ -121,6 +121,17 @@ pub struct Gesture {
 /// Every document installed gets a new id, never reused: GPU uploads and caches key on it.
 static NEXT_DOCUMENT_ID: AtomicU64 = AtomicU64::new(1);
 
+/// What moving cage vertices does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EditMode {
+    /// Moving cage vertices poses the mesh; the rest cages and the binding stay.
+    #[default]
+    Pose,
+    /// Moving cage vertices edits the rest cages (the binding); poses move along. Rig
+    /// operations (extrude, loop cut, add, delete) are on keys.
+    Rig,
+}
+
 /// The whole editor state.
 pub struct EditorState {
     /// The open document.
@@ -131,6 +142,8 @@ pub struct EditorState {
     pub selection: Selection,
     /// Camera, layers, hidden cages, influence map, mirroring.
     pub view: ViewState,
+    /// Pose mode or Rig mode.
+    pub mode: EditMode,
     /// Undo and redo.
     pub undo: UndoStack,
     /// A gesture in progress.
@@ -182,6 +195,7 @@ impl EditorState {
             document_id: NEXT_DOCUMENT_ID.fetch_add(1, Ordering::Relaxed),
             selection: Selection::default(),
             view: ViewState::default(),
+            mode: EditMode::Pose,
             undo: UndoStack::default(),
             gesture: None,
             rig: None,

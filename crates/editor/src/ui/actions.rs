@@ -8,7 +8,7 @@ use super::UiState;
 use super::file_dialog::FilePurpose;
 use super::transform_tool::{Mode, TransformTool};
 use crate::commands::{CameraChange, Command, CommandSender, UiCommand, UnsavedAnswer};
-use crate::state::{EditorState, NewMeshOptions};
+use crate::state::{EditMode, EditorState, NewMeshOptions};
 
 /// Carries out `action` with the pointer at `pointer` (screen points; for G / R / S).
 pub fn execute(
@@ -52,8 +52,32 @@ pub fn execute(
             ui_state.show_shortcuts = !ui_state.show_shortcuts;
             return;
         }
+        UiCommand::ToggleMode => Command::SetMode(match state.mode {
+            EditMode::Pose => EditMode::Rig,
+            EditMode::Rig => EditMode::Pose,
+        }),
+        UiCommand::Extrude | UiCommand::LoopCut | UiCommand::AddBox | UiCommand::DeleteCage
+            if state.mode == EditMode::Pose =>
+        {
+            Command::Info(format!(
+                "{}: Rig mode only (it edits the rest cages); Tab switches to Rig mode",
+                action.label()
+            ))
+        }
+        UiCommand::Extrude => rig(super::rig_keys::extrude(state)),
+        UiCommand::LoopCut => rig(super::rig_keys::loop_cut(state)),
+        UiCommand::AddBox => rig(super::rig_keys::add_box(state)),
+        UiCommand::DeleteCage => rig(super::rig_keys::delete(state)),
     };
     sender.send(command);
+}
+
+/// A rig operation, or why there is none (said in the status bar).
+fn rig(op: Result<starcages_core::scene::RigOp, String>) -> Command {
+    match op {
+        Ok(op) => Command::Rig(op),
+        Err(why) => Command::Info(why),
+    }
 }
 
 /// Carries out what a file was chosen for.

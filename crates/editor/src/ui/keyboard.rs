@@ -48,39 +48,12 @@ pub fn shortcuts(
         {
             if let Some(action) = UiCommand::for_key(key, modifiers) {
                 execute(action, state, ui_state, pointer, sender);
-            } else if let Some(why) = why_nothing(key, modifiers) {
-                sender.send(Command::Info(why.into()));
-                // egui moves the keyboard focus on Tab; a Blender user pressing it did not
-                // mean to, and the next key would go to that widget.
+                // egui moves the keyboard focus on Tab; a Blender user pressing it meant the
+                // mode, and the next key would go to that widget.
                 ui_state.drop_focus = key == Key::Tab;
             }
         }
     }
-}
-
-/// What a Blender user's key that has no action here would do there, and what to do instead
-/// (shown in the status bar rather than doing nothing).
-pub fn why_nothing(key: Key, modifiers: egui::Modifiers) -> Option<&'static str> {
-    let plain = !modifiers.command && !modifiers.alt;
-    Some(match key {
-        Key::Delete | Key::X if plain && !modifiers.shift => {
-            "X / Delete: nothing to delete here. Cage vertices are posed, not removed; an \
-             internal cage is removed in the cage inspector"
-        }
-        Key::Tab if plain => {
-            "Tab: StarCages has one mode: moving cage vertices poses the mesh. Rest cages come \
-             from File > New from mesh, or an OBJ assembled with starcages-cli new"
-        }
-        Key::E if plain && !modifiers.shift => {
-            "E (extrude): cages cannot be extruded in the editor yet; build them elsewhere and \
-             assemble them with starcages-cli new"
-        }
-        Key::A if plain && modifiers.shift => {
-            "Shift+A (add): File > New from mesh boxes a mesh in cages; Add internal cage around \
-             selection is in the cage inspector"
-        }
-        _ => return None,
-    })
 }
 
 /// Keys of the G / R / S tool; the tool follows the pointer once per frame.

@@ -51,6 +51,12 @@ pub fn menu_bar(
             item(ui, UiCommand::Undo, undo, undo.is_some(), &mut chosen);
             item(ui, UiCommand::Redo, redo, redo.is_some(), &mut chosen);
             ui.separator();
+            let mode = match state.mode {
+                crate::state::EditMode::Pose => "(now Pose)",
+                crate::state::EditMode::Rig => "(now Rig)",
+            };
+            item(ui, UiCommand::ToggleMode, Some(mode), true, &mut chosen);
+            ui.separator();
             let mut mirror = state.view.mirror_x;
             if ui
                 .checkbox(&mut mirror, UiCommand::ToggleMirrorX.label())
@@ -96,6 +102,17 @@ pub fn menu_bar(
                 true,
                 &mut chosen,
             );
+        });
+        ui.menu_button("Rig", |ui| {
+            let rig = state.mode == crate::state::EditMode::Rig;
+            for action in [
+                UiCommand::Extrude,
+                UiCommand::LoopCut,
+                UiCommand::AddBox,
+                UiCommand::DeleteCage,
+            ] {
+                item(ui, action, None, rig, &mut chosen);
+            }
         });
         ui.menu_button("Help", |ui| {
             item(ui, UiCommand::ShowShortcuts, None, true, &mut chosen);

@@ -14,6 +14,7 @@ mod menu;
 mod outliner;
 mod panels;
 mod prompts;
+mod rig_keys;
 mod status_bar;
 mod transform_tool;
 mod viewport_input;

@@ -15,6 +15,13 @@ pub fn status_bar(
     sender: &mut CommandSender,
 ) {
     ui.horizontal(|ui| {
+        let (mode, colour) = match state.mode {
+            crate::state::EditMode::Pose => ("Pose mode", ui.visuals().text_color()),
+            crate::state::EditMode::Rig => ("Rig mode", egui::Color32::from_rgb(255, 170, 60)),
+        };
+        ui.label(RichText::new(mode).strong().color(colour))
+            .on_hover_text("Tab switches: Pose mode poses the mesh, Rig mode edits the rest cages");
+        ui.separator();
         if let Some(load) = &state.load_job {
             ui.spinner();
             ui.label(&load.label);

@@ -786,32 +786,46 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
     let mut harness = harness();
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
-    for (key, modifiers, expected) in [
-        (egui::Key::X, egui::Modifiers::NONE, "X / Delete"),
-        (egui::Key::Delete, egui::Modifiers::NONE, "X / Delete"),
-        (
-            egui::Key::Tab,
-            egui::Modifiers::NONE,
-            "Tab: StarCages has one mode",
-        ),
-        (egui::Key::E, egui::Modifiers::NONE, "E (extrude)"),
-        (egui::Key::A, egui::Modifiers::SHIFT, "Shift+A (add)"),
+    // Rig operations in Pose mode say how to reach them.
+    for (key, modifiers) in [
+        (egui::Key::X, egui::Modifiers::NONE),
+        (egui::Key::Delete, egui::Modifiers::NONE),
+        (egui::Key::E, egui::Modifiers::NONE),
+        (egui::Key::A, egui::Modifiers::SHIFT),
+        (egui::Key::R, egui::Modifiers::COMMAND),
     ] {
         harness.key_press_modifiers(modifiers, key);
         harness.run_steps(2);
         let message = harness.state().state.message.clone().unwrap();
         assert!(
-            message.text.starts_with(expected),
+            message.text.contains("Rig mode only") && message.text.contains("Tab"),
             "{key:?}: {}",
             message.text
         );
-        harness.get_by_label_contains(expected);
     }
+    // Tab switches to Rig mode and back; the status bar says which.
+    harness.get_by_label("Pose mode");
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.mode,
+        starcages_editor::state::EditMode::Rig
+    );
+    harness.get_by_label("Rig mode");
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.mode,
+        starcages_editor::state::EditMode::Pose
+    );
+    harness.key_press(egui::Key::A);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
     // Messages fade: an old one is no longer in the status bar (but kept in the state).
     harness.state_mut().state.message.as_mut().unwrap().shown =
         std::time::Instant::now() - starcages_editor::state::Message::LIFETIME * 2;
     harness.run_steps(2);
-    assert!(harness.query_by_label_contains("Shift+A (add)").is_none());
+    assert!(harness.query_by_label_contains("Rig mode only").is_none());
     // N: the Item panel, with the selected vertex's coordinates; typing a value moves it.
     let app = harness.state_mut();
     let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
@@ -1150,4 +1164,88 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
         harness.state().state.doc.path.as_deref(),
         Some(other.as_path())
     );
+}
+
+/// Rig mode: Tab enters it; E extrudes the selected face into a new cage sharing it; X
+/// deletes the inspected cage and undo brings it back; Ctrl+R cuts a cage; moving vertices
+/// edits the rest cages (the poses follow); the binding follows every change.
+#[test]
+fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
+    let doc = Document {
+        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let (mut harness, _) = crate::common::harness_on(doc);
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    // The +x face of the right cage.
+    let app = harness.state_mut();
+    let scene = &app.state.doc.scene;
+    let right = scene.cages.leaf_index("cage_1_0_0").unwrap();
+    let face: Vec<u32> = scene.cages.leaves[right]
+        .faces
+        .iter()
+        .find(|f| f.iter().all(|&v| scene.cages.vertices[v as usize].x > 1.0))
+        .unwrap()
+        .clone();
+    app.run(Command::Select {
+        vertices: face.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert_eq!(state.doc.scene.cages.adjacency().len(), 2);
+    assert!(starcages_core::scene::validate_scene(&state.doc.scene).is_valid());
+    assert_eq!(
+        state.rig.as_ref().unwrap().bound_for.0.leaves.len(),
+        3,
+        "the binding follows"
+    );
+    // X deletes the inspected (new) cage; undo brings it back.
+    let new_cage = CageId::Leaf(2);
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(new_cage)));
+    harness.key_press(egui::Key::X);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
+    // Ctrl+R cuts the inspected cage across its longest side.
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(0))));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves.len(),
+        4,
+        "{:?}",
+        harness.state().state.message
+    );
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    // Moving a vertex in Rig mode moves its rest position; the poses follow.
+    let v = face[0];
+    let before_rest = scene.cages.vertices[v as usize];
+    let before_pose = scene.pose[v as usize];
+    let to = before_pose + DVec3::new(0.1, 0.0, 0.0);
+    harness
+        .state_mut()
+        .run(Command::MoveVertices(vec![(v, to)]));
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert!(
+        (scene.cages.vertices[v as usize] - before_rest - DVec3::new(0.1, 0.0, 0.0)).length()
+            < 1e-12
+    );
+    assert!((scene.pose[v as usize] - to).length() < 1e-12);
 }
