@@ -45,13 +45,12 @@ pub fn shortcuts(
             modifiers,
             ..
         } = event
+            && let Some(action) = UiCommand::for_key(key, modifiers)
         {
-            if let Some(action) = UiCommand::for_key(key, modifiers) {
-                execute(action, state, ui_state, pointer, sender);
-                // egui moves the keyboard focus on Tab; a Blender user pressing it meant the
-                // mode, and the next key would go to that widget.
-                ui_state.drop_focus = key == Key::Tab;
-            }
+            execute(action, state, ui_state, pointer, sender);
+            // egui moves the keyboard focus on Tab; a Blender user pressing it meant the mode,
+            // and the next key would go to that widget.
+            ui_state.drop_focus = key == Key::Tab;
         }
     }
 }
