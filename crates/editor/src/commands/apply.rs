@@ -121,6 +121,13 @@ pub fn apply(state: &mut EditorState, command: Command) {
             move_rest_vertices(state, &moves, true)
         }
         Command::MoveVertices(moves) => move_vertices(state, &moves),
+        Command::SetMode(crate::state::EditMode::Pose) if !state.rig_problems.is_empty() => {
+            state.error(EditorError::Rig(format!(
+                "fix the rig before posing ({} problem(s)): {}",
+                state.rig_problems.len(),
+                state.rig_problems[0]
+            )));
+        }
         Command::SetMode(mode) => {
             state.mode = mode;
             state.info(match mode {

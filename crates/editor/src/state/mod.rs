@@ -144,6 +144,9 @@ pub struct EditorState {
     pub view: ViewState,
     /// Pose mode or Rig mode.
     pub mode: EditMode,
+    /// What is wrong with the rig, found after every change of the document (empty: valid).
+    /// The last valid binding stays in use meanwhile; Pose mode waits for a valid rig.
+    pub rig_problems: Vec<String>,
     /// Undo and redo.
     pub undo: UndoStack,
     /// A gesture in progress.
@@ -196,6 +199,7 @@ impl EditorState {
             selection: Selection::default(),
             view: ViewState::default(),
             mode: EditMode::Pose,
+            rig_problems: Vec::new(),
             undo: UndoStack::default(),
             gesture: None,
             rig: None,
@@ -216,6 +220,11 @@ impl EditorState {
         // images).
         state.view.layers.ground = true;
         state.revalidate();
+        state.rig_problems = starcages_core::scene::validate_scene(&state.doc.scene)
+            .errors
+            .iter()
+            .map(ToString::to_string)
+            .collect();
         state.frame(false);
         state.start_bind("binding the scene");
         state
@@ -400,6 +409,18 @@ impl EditorState {
     pub fn document_changed(&mut self) {
         self.doc.dirty = true;
         self.revalidate();
+        self.rig_problems = starcages_core::scene::validate_scene(&self.doc.scene)
+            .errors
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        if !self.rig_problems.is_empty() {
+            // An invalid rig is not bound: the last valid binding stays in use (a bind of the
+            // old state still running is stale: dropping it cancels it).
+            self.bind_job = None;
+            self.bind_after_gesture = false;
+            return;
+        }
         let stale = self
             .rig
             .as_ref()

@@ -115,6 +115,7 @@ pub fn viewport(
     }
     viewport_paint::paint(state, ui_state, ui, rect);
     overlays(state, ui_state, ui, rect, pointer);
+    rig_banner(state, ui, rect);
     let click = pointer
         .filter(|_| response.clicked() && on_gizmo && ui_state.tool.is_none())
         .map(|p| egui::pos2(p.x, p.y));
@@ -265,6 +266,34 @@ fn start_drag(
         start_pointer: origin,
         start,
     }
+}
+
+/// A banner over the viewport while the rig has problems: how many, the first, and that the
+/// last valid binding stays in use.
+fn rig_banner(state: &EditorState, ui: &egui::Ui, rect: egui::Rect) {
+    let Some(first) = state.rig_problems.first() else {
+        return;
+    };
+    let text = format!(
+        "The rig has {} problem(s); the last valid binding stays in use until they are fixed. \
+         First: {first}",
+        state.rig_problems.len()
+    );
+    egui::Area::new(egui::Id::unique("rig-problems"))
+        .order(egui::Order::Foreground)
+        .pivot(egui::Align2::CENTER_BOTTOM)
+        .fixed_pos(rect.center_bottom() - egui::vec2(0.0, 70.0))
+        .interactable(false)
+        .show(ui.ctx(), |ui| {
+            egui::Frame::new()
+                .fill(egui::Color32::from_rgb(120, 40, 30))
+                .corner_radius(4.0)
+                .inner_margin(egui::Margin::symmetric(10, 6))
+                .show(ui, |ui| {
+                    ui.set_max_width(rect.width() * 0.8);
+                    ui.label(egui::RichText::new(text).color(egui::Color32::WHITE));
+                });
+        });
 }
 
 /// While G / R / S runs: the locked axis as a line through the pivot, in the axis colour, and a

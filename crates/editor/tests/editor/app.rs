@@ -1249,3 +1249,59 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     );
     assert!((scene.pose[v as usize] - to).length() < 1e-12);
 }
+
+/// An invalid rig (a box overlapping the cages) shows a banner with the first problem, keeps
+/// the last valid binding and refuses Pose mode until it is fixed (here by undo).
+#[test]
+fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
+    let doc = Document {
+        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let (mut harness, _) = crate::common::harness_on(doc);
+    let binding = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(1);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3);
+    assert!(
+        !state.rig_problems.is_empty(),
+        "a box over the cages overlaps them"
+    );
+    harness.get_by_label_contains("The rig has");
+    assert!(
+        std::sync::Arc::ptr_eq(
+            &binding,
+            &harness.state().state.rig.as_ref().unwrap().binding
+        ),
+        "the last valid binding stays"
+    );
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.mode, starcages_editor::state::EditMode::Rig);
+    assert!(
+        state
+            .message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("fix the rig before posing")
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert!(harness.state().state.rig_problems.is_empty());
+    assert!(harness.query_by_label_contains("The rig has").is_none());
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.mode,
+        starcages_editor::state::EditMode::Pose
+    );
+}
