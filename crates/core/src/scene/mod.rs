@@ -34,7 +34,7 @@ pub use file::{
 };
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
-pub use rig_edit::{RestTransform, RigEditError, RigOp, apply_rig_op};
+pub use rig_edit::{RestTransform, RigEditError, RigOp, apply_rig_op, import_leaf_cages};
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;

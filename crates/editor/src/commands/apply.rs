@@ -72,6 +72,25 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 Err(e) => state.error(EditorError::Export(e)),
             }
         }
+        Command::ImportCages(path) => {
+            let up = state.doc.scene.export_up();
+            match starcages_core::io::read_cage_set_obj(
+                &path,
+                starcages_core::coords::CoordinateKind::MeanValue,
+            ) {
+                Ok(mut set) => {
+                    for p in &mut set.vertices {
+                        *p = up.to_scene(*p);
+                    }
+                    let count = set.leaves.len();
+                    state.edit_scene("import cages", |scene| {
+                        starcages_core::scene::import_leaf_cages(scene, &set)
+                    });
+                    state.info(format!("imported {count} cage(s) from {}", path.display()));
+                }
+                Err(e) => state.error(EditorError::Rig(e.to_string())),
+            }
+        }
         Command::AnswerUnsaved(answer) => answer_unsaved(state, answer),
         Command::RequestClose => {
             if state.doc.dirty {

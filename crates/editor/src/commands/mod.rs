@@ -68,6 +68,9 @@ pub enum Command {
     ExportMesh(PathBuf),
     /// Write the posed cages (OBJ).
     ExportCages(PathBuf),
+    /// Add the cages of an OBJ file (one leaf cage per `o`/`g` group, in the mesh file's axes)
+    /// to the rig.
+    ImportCages(PathBuf),
     /// The answer to the unsaved-changes prompt.
     AnswerUnsaved(UnsavedAnswer),
     /// The window wants to close (asks first over unsaved changes).

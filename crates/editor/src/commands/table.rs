@@ -19,6 +19,8 @@ pub enum UiCommand {
     ExportMesh,
     /// File ▸ Export cages…
     ExportCages,
+    /// File ▸ Import cages…
+    ImportCages,
     /// Edit ▸ Undo
     Undo,
     /// Edit ▸ Redo
@@ -79,13 +81,14 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 30] = [
+    pub const ALL: [Self; 31] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
         Self::SaveAs,
         Self::ExportMesh,
         Self::ExportCages,
+        Self::ImportCages,
         Self::Undo,
         Self::Redo,
         Self::ToggleMirrorX,
@@ -121,6 +124,7 @@ impl UiCommand {
             Self::SaveAs => "Save as…",
             Self::ExportMesh => "Export deformed mesh…",
             Self::ExportCages => "Export cages…",
+            Self::ImportCages => "Import cages…",
             Self::Undo => "Undo",
             Self::Redo => "Redo",
             Self::ToggleMirrorX => "X mirror editing",
@@ -157,6 +161,10 @@ impl UiCommand {
             Self::SaveAs => "Save the scene to a new file",
             Self::ExportMesh => "Write the deformed mesh as OBJ or GLB",
             Self::ExportCages => "Write the cages in the current pose as OBJ",
+            Self::ImportCages => {
+                "Add the cages of an OBJ file (one leaf cage per o/g group) to the rig; corners \
+                 at the positions of existing cage vertices are shared"
+            }
             Self::Undo => "Undo the last edit (a whole drag is one step)",
             Self::Redo => "Redo the last undone edit",
             Self::ToggleMirrorX => "Moving a vertex also moves its mirror image across x = 0",
@@ -202,7 +210,11 @@ impl UiCommand {
     /// Its keyboard shortcuts (the first is shown in menus).
     pub fn shortcuts(self) -> &'static [KeyboardShortcut] {
         match self {
-            Self::NewFromMesh | Self::ExportMesh | Self::ExportCages | Self::ToggleMirrorX => &[],
+            Self::NewFromMesh
+            | Self::ExportMesh
+            | Self::ExportCages
+            | Self::ImportCages
+            | Self::ToggleMirrorX => &[],
             Self::Open => &const { [key(CMD, Key::O)] },
             Self::Save => &const { [key(CMD, Key::S)] },
             Self::SaveAs => &const { [key(CMD_SHIFT, Key::S)] },

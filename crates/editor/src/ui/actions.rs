@@ -27,6 +27,7 @@ pub fn execute(
         UiCommand::Save | UiCommand::SaveAs => return choose(FilePurpose::SaveScene),
         UiCommand::ExportMesh => return choose(FilePurpose::ExportMesh),
         UiCommand::ExportCages => return choose(FilePurpose::ExportCages),
+        UiCommand::ImportCages => return choose(FilePurpose::ImportCages),
         UiCommand::Undo => Command::Undo,
         UiCommand::Redo => Command::Redo,
         UiCommand::ToggleMirrorX => Command::SetMirrorX(!state.view.mirror_x),
@@ -99,6 +100,7 @@ pub fn file_chosen(
         }
         FilePurpose::ExportMesh => Command::ExportMesh(path),
         FilePurpose::ExportCages => Command::ExportCages(path),
+        FilePurpose::ImportCages => Command::ImportCages(path),
     };
     sender.send(command);
 }

@@ -22,6 +22,8 @@ pub enum FilePurpose {
     ExportMesh,
     /// File ▸ Export cages.
     ExportCages,
+    /// File ▸ Import cages.
+    ImportCages,
 }
 
 impl FilePurpose {
@@ -33,6 +35,7 @@ impl FilePurpose {
             Self::SaveScene | Self::SaveBeforeContinuing => "Save scene",
             Self::ExportMesh => "Export deformed mesh",
             Self::ExportCages => "Export cages",
+            Self::ImportCages => "Import cages",
         }
     }
 
@@ -51,7 +54,7 @@ impl FilePurpose {
             Self::NewFromMesh => &["obj", "gltf", "glb"],
             Self::SaveScene | Self::SaveBeforeContinuing => &["json"],
             Self::ExportMesh => &["obj", "glb"],
-            Self::ExportCages => &["obj"],
+            Self::ExportCages | Self::ImportCages => &["obj"],
         }
     }
 
@@ -61,7 +64,7 @@ impl FilePurpose {
             Self::SaveScene | Self::SaveBeforeContinuing => "scene.json",
             Self::ExportMesh => "deformed.obj",
             Self::ExportCages => "cages.obj",
-            Self::Open | Self::NewFromMesh => "",
+            Self::Open | Self::NewFromMesh | Self::ImportCages => "",
         }
     }
 

@@ -1305,3 +1305,52 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
         starcages_editor::state::EditMode::Pose
     );
 }
+
+/// File > Import cages adds an OBJ's cages to the rig, in the mesh file's axes, sharing the
+/// faces where they meet the rig; undo removes them.
+#[test]
+fn importing_cages_adds_them_to_the_rig_sharing_faces() {
+    let doc = Document {
+        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let (mut harness, _) = crate::common::harness_on(doc);
+    // A box beside the bar's +x face, written Y-up (OBJ convention); the bar is symmetric in
+    // y and z, so the box is the same in both axes.
+    let corners: Vec<String> = (0..8)
+        .map(|c: u32| {
+            let x = if c & 1 == 0 { 1.1 } else { 2.0 };
+            let y = if c & 2 == 0 { -0.35 } else { 0.35 };
+            let z = if c & 4 == 0 { -0.35 } else { 0.35 };
+            format!("v {x} {y} {z}")
+        })
+        .collect();
+    let faces = starcages_core::cage::shapes::box_faces(std::array::from_fn(|c| c as u32 + 1));
+    let mut text = corners.join("\n") + "\no tip\n";
+    for f in faces {
+        text += &format!(
+            "f {}\n",
+            f.iter()
+                .map(|v| v.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+    }
+    let path = scratch("import-cages").join("tip.obj");
+    std::fs::write(&path, text).unwrap();
+    harness.state_mut().run(Command::ImportCages(path));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert_eq!(scene.cages.leaves[2].name, "tip");
+    assert_eq!(
+        scene.cages.adjacency().len(),
+        2,
+        "the tip shares the bar's end face"
+    );
+    assert!(state.rig_problems.is_empty(), "{:?}", state.rig_problems);
+    harness.state_mut().run(Command::Undo);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+}
