@@ -760,10 +760,39 @@ fn fit(scene: &mut Scene, cage: &str, margin: f64) -> Result<(), RigEditError> {
         .filter(|v| !shared.contains(v))
         .collect();
     let centre = cage_now.cage.positions().iter().sum::<DVec3>() / cage_now.global.len() as f64;
+    // The margin is kept from the faces that are not shared: mesh vertices may lie on a border.
+    let shared_face: Vec<bool> = scene.cages.leaves[c]
+        .faces
+        .iter()
+        .map(|f| {
+            let key = face_key(f);
+            scene
+                .cages
+                .leaves
+                .iter()
+                .enumerate()
+                .any(|(i, l)| i != c && l.faces.iter().any(|g| face_key(g) == key))
+        })
+        .collect();
     let fits = |s: &Scene| {
         local(s).is_ok_and(|l| {
+            let positions = l.cage.positions();
+            let free_distance = |p: DVec3| {
+                l.cage
+                    .triangles()
+                    .iter()
+                    .zip(l.cage.triangle_polygon())
+                    .filter(|(_, poly)| !shared_face[**poly as usize])
+                    .map(|(t, _)| {
+                        let [a, b, c] = t.map(|v| positions[v as usize]);
+                        crate::geometry::closest_point_on_triangle(p, a, b, c)
+                            .0
+                            .distance(p)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            };
             held.iter()
-                .all(|&p| l.cage.winding_number(p) > 0.5 && l.cage.closest_point(p).2 >= gap)
+                .all(|&p| l.cage.winding_number(p) > 0.5 && free_distance(p) >= gap)
         })
     };
     // Each free vertex in turn, as far toward the centre as still fits (bisection on the

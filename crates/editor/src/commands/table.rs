@@ -69,6 +69,12 @@ pub enum UiCommand {
     AddBox,
     /// Rig ▸ Delete cage
     DeleteCage,
+    /// Rig ▸ Merge with neighbour
+    MergeCages,
+    /// Rig ▸ Mirror across X
+    MirrorCage,
+    /// Rig ▸ Fit to mesh
+    FitCage,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -81,7 +87,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 31] = [
+    pub const ALL: [Self; 34] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -113,6 +119,9 @@ impl UiCommand {
         Self::LoopCut,
         Self::AddBox,
         Self::DeleteCage,
+        Self::MergeCages,
+        Self::MirrorCage,
+        Self::FitCage,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -149,6 +158,9 @@ impl UiCommand {
             Self::LoopCut => "Loop cut",
             Self::AddBox => "Add box cage",
             Self::DeleteCage => "Delete cage",
+            Self::MergeCages => "Merge with neighbour",
+            Self::MirrorCage => "Mirror across X",
+            Self::FitCage => "Fit to mesh",
         }
     }
 
@@ -204,6 +216,15 @@ impl UiCommand {
                 "Rig mode: a box cage around the selected vertices (or around the mesh)"
             }
             Self::DeleteCage => "Rig mode: delete the inspected leaf cage",
+            Self::MergeCages => {
+                "Rig mode: merge the inspected cage with the neighbour whose shared face is \
+                 selected (or its only neighbour)"
+            }
+            Self::MirrorCage => "Rig mode: a copy of the inspected cage mirrored across x = 0",
+            Self::FitCage => {
+                "Rig mode: pull the inspected cage in to the mesh (vertices it shares stay), \
+                 keeping a margin of 2 % of the mesh's size"
+            }
         }
     }
 
@@ -240,6 +261,9 @@ impl UiCommand {
             Self::LoopCut => &const { [key(CMD, Key::R)] },
             Self::AddBox => &const { [key(Modifiers::SHIFT, Key::A)] },
             Self::DeleteCage => &const { [key(NONE, Key::X), key(NONE, Key::Delete)] },
+            Self::MergeCages => &const { [key(NONE, Key::M)] },
+            Self::MirrorCage => &const { [key(CMD, Key::M)] },
+            Self::FitCage => &[],
             Self::ShowShortcuts => {
                 &const {
                     [

@@ -57,7 +57,13 @@ pub fn execute(
             EditMode::Pose => EditMode::Rig,
             EditMode::Rig => EditMode::Pose,
         }),
-        UiCommand::Extrude | UiCommand::LoopCut | UiCommand::AddBox | UiCommand::DeleteCage
+        UiCommand::Extrude
+        | UiCommand::LoopCut
+        | UiCommand::AddBox
+        | UiCommand::DeleteCage
+        | UiCommand::MergeCages
+        | UiCommand::MirrorCage
+        | UiCommand::FitCage
             if state.mode == EditMode::Pose =>
         {
             Command::Info(format!(
@@ -69,6 +75,9 @@ pub fn execute(
         UiCommand::LoopCut => rig(super::rig_keys::loop_cut(state)),
         UiCommand::AddBox => rig(super::rig_keys::add_box(state)),
         UiCommand::DeleteCage => rig(super::rig_keys::delete(state)),
+        UiCommand::MergeCages => rig(super::rig_keys::merge(state)),
+        UiCommand::MirrorCage => rig(super::rig_keys::mirror(state)),
+        UiCommand::FitCage => rig(super::rig_keys::fit(state)),
     };
     sender.send(command);
 }

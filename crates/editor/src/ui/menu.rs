@@ -111,6 +111,9 @@ pub fn menu_bar(
                 UiCommand::LoopCut,
                 UiCommand::AddBox,
                 UiCommand::DeleteCage,
+                UiCommand::MergeCages,
+                UiCommand::MirrorCage,
+                UiCommand::FitCage,
             ] {
                 item(ui, action, None, rig, &mut chosen);
             }

@@ -114,3 +114,76 @@ pub fn delete(state: &EditorState) -> Result<RigOp, String> {
         _ => Err("X / Delete: inspect the leaf cage to delete (click it in the outliner)".into()),
     }
 }
+
+/// The inspected leaf cage's index and name, or why there is none.
+fn inspected_leaf(state: &EditorState, what: &str) -> Result<(usize, String), String> {
+    match state.selection.cage() {
+        Some(CageId::Leaf(c)) => Ok((c, state.doc.scene.cages.leaves[c].name.clone())),
+        _ => Err(format!(
+            "{what}: inspect a leaf cage first (click it in the outliner)"
+        )),
+    }
+}
+
+/// M: the inspected cage and the neighbour whose shared face is selected (or its only one).
+pub fn merge(state: &EditorState) -> Result<RigOp, String> {
+    let (c, name) = inspected_leaf(state, "M (merge)")?;
+    let set = &state.doc.scene.cages;
+    let key = |f: &[u32]| {
+        let mut k = f.to_vec();
+        k.sort_unstable();
+        k
+    };
+    let own: Vec<Vec<u32>> = set.leaves[c].faces.iter().map(|f| key(f)).collect();
+    // Each neighbour with the faces it shares with the inspected cage.
+    let neighbours: Vec<(usize, Vec<Vec<u32>>)> = (0..set.leaves.len())
+        .filter(|&n| n != c)
+        .map(|n| {
+            let shared = set.leaves[n]
+                .faces
+                .iter()
+                .map(|f| key(f))
+                .filter(|k| own.contains(k))
+                .collect::<Vec<_>>();
+            (n, shared)
+        })
+        .filter(|(_, shared)| !shared.is_empty())
+        .collect();
+    let selected = &state.selection.vertices;
+    let chosen = neighbours
+        .iter()
+        .find(|(_, shared)| {
+            shared
+                .iter()
+                .any(|f| f.iter().all(|v| selected.contains(v)))
+        })
+        .or_else(|| (neighbours.len() == 1).then(|| &neighbours[0]));
+    match chosen {
+        Some((n, _)) => Ok(RigOp::Merge {
+            first: name,
+            second: set.leaves[*n].name.clone(),
+        }),
+        None => Err(format!(
+            "M (merge): '{name}' has {} neighbours; select the face it shares with the one to merge",
+            neighbours.len()
+        )),
+    }
+}
+
+/// Ctrl+M: a mirrored copy of the inspected cage.
+pub fn mirror(state: &EditorState) -> Result<RigOp, String> {
+    let (_, name) = inspected_leaf(state, "Ctrl+M (mirror)")?;
+    Ok(RigOp::Mirror {
+        name: fresh_name(state, &format!("{name}_mirror")),
+        cage: name,
+    })
+}
+
+/// Fit the inspected cage to the mesh with a 2 % margin.
+pub fn fit(state: &EditorState) -> Result<RigOp, String> {
+    let (_, name) = inspected_leaf(state, "Fit to mesh")?;
+    Ok(RigOp::Fit {
+        cage: name,
+        margin: 0.02,
+    })
+}

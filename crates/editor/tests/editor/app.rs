@@ -1354,3 +1354,61 @@ fn importing_cages_adds_them_to_the_rig_sharing_faces() {
     harness.state_mut().run(Command::Undo);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
 }
+
+/// Rig mode's merge (M), mirror (Ctrl+M) and Fit to mesh work on the inspected cage.
+#[test]
+fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
+    let doc = Document {
+        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let (mut harness, _) = crate::common::harness_on(doc);
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(1);
+    // Fit the left cage: it shrinks toward the bar, its shared face stays.
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(0))));
+    let before = harness.state().state.doc.scene.clone();
+    harness.state_mut().ui.show_shortcuts = false;
+    harness.get_by_role_and_label(Role::Button, "Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Fit to mesh").click();
+    harness.run_steps(2);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_ne!(
+        scene.cages.vertices,
+        before.cages.vertices,
+        "{:?}",
+        harness.state().state.message
+    );
+    assert!(
+        harness.state().state.rig_problems.is_empty(),
+        "{:?}",
+        harness.state().state.rig_problems
+    );
+    // M merges the two cages (the left one has one neighbour).
+    harness.key_press(egui::Key::M);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 1);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // Ctrl+M mirrors the inspected cage across x = 0: a copy that overlaps the other half of
+    // the bar, which the live validation reports.
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(1))));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::M);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert!(state.doc.scene.cages.leaves[2].name.contains("mirror"));
+    assert!(
+        !state.rig_problems.is_empty(),
+        "a mirror over the other half overlaps it"
+    );
+}
