@@ -1171,16 +1171,7 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
 /// edits the rest cages (the poses follow); the binding follows every change.
 #[test]
 fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
-    let doc = Document {
-        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
-        path: None,
-        dirty: false,
-    };
-    let (mut harness, _) = crate::common::harness_on(doc);
-    let centre = harness.state().state.view.viewport.center();
-    harness.hover_at(egui::pos2(centre.x, centre.y));
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    let mut harness = crate::common::bar_harness(true);
     // The +x face of the right cage.
     let app = harness.state_mut();
     let scene = &app.state.doc.scene;
@@ -1254,12 +1245,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
 /// the last valid binding and refuses Pose mode until it is fixed (here by undo).
 #[test]
 fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
-    let doc = Document {
-        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
-        path: None,
-        dirty: false,
-    };
-    let (mut harness, _) = crate::common::harness_on(doc);
+    let mut harness = crate::common::bar_harness(false);
     let binding = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
@@ -1310,12 +1296,7 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
 /// faces where they meet the rig; undo removes them.
 #[test]
 fn importing_cages_adds_them_to_the_rig_sharing_faces() {
-    let doc = Document {
-        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
-        path: None,
-        dirty: false,
-    };
-    let (mut harness, _) = crate::common::harness_on(doc);
+    let mut harness = crate::common::bar_harness(false);
     // A box beside the bar's +x face, written Y-up (OBJ convention); the bar is symmetric in
     // y and z, so the box is the same in both axes.
     let corners: Vec<String> = (0..8)
@@ -1358,16 +1339,7 @@ fn importing_cages_adds_them_to_the_rig_sharing_faces() {
 /// Rig mode's merge (M), mirror (Ctrl+M) and Fit to mesh work on the inspected cage.
 #[test]
 fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
-    let doc = Document {
-        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
-        path: None,
-        dirty: false,
-    };
-    let (mut harness, _) = crate::common::harness_on(doc);
-    let centre = harness.state().state.view.viewport.center();
-    harness.hover_at(egui::pos2(centre.x, centre.y));
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(1);
+    let mut harness = crate::common::bar_harness(true);
     // Fit the left cage: it shrinks toward the bar, its shared face stays.
     harness
         .state_mut()

@@ -67,3 +67,21 @@ pub fn leaf(app: &EditorApp, name: &str) -> usize {
 pub fn cage(app: &EditorApp, name: &str) -> CageId {
     CageId::by_name(&app.state.doc.scene.cages, name).unwrap()
 }
+
+/// The app on the bar demo (two cages side by side), the pointer over the viewport, in Rig
+/// mode when `rig_mode`.
+pub fn bar_harness(rig_mode: bool) -> Harness<'static, EditorApp> {
+    let doc = Document {
+        scene: demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let (mut harness, _) = harness_on(doc);
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    if rig_mode {
+        harness.key_press(egui::Key::Tab);
+        harness.run_steps(1);
+    }
+    harness
+}
