@@ -137,7 +137,8 @@ pub fn apply(state: &mut EditorState, command: Command) {
         Command::BeginGesture { id, label } => state.begin_gesture(id, &label),
         Command::EndGesture { keep } => state.end_gesture(keep),
         Command::MoveVertices(moves) if state.mode == crate::state::EditMode::Rig => {
-            move_rest_vertices(state, &moves, true)
+            // Rig mode shows and moves the rest cages.
+            move_rest_vertices(state, &moves, false)
         }
         Command::MoveVertices(moves) => move_vertices(state, &moves),
         Command::SetMode(crate::state::EditMode::Pose) if !state.rig_problems.is_empty() => {

@@ -493,16 +493,25 @@ impl EditorState {
         out
     }
 
+    /// The cage vertex positions shown, picked and moved: the rest cages in Rig mode, the
+    /// current pose in Pose mode.
+    pub fn shown_positions(&self) -> &[DVec3] {
+        match self.mode {
+            EditMode::Rig => &self.doc.scene.cages.vertices,
+            EditMode::Pose => &self.doc.scene.pose,
+        }
+    }
+
     /// Frames everything, or the selection.
     pub fn frame(&mut self, selection_only: bool) {
-        let pose = &self.doc.scene.pose;
+        let pose = self.shown_positions();
         let points: Vec<DVec3> = if selection_only && !self.selection.vertices.is_empty() {
             let selected = self.selection.vertices.iter();
             selected
                 .filter_map(|&v| pose.get(v as usize).copied())
                 .collect()
         } else {
-            let mut all = pose.clone();
+            let mut all = pose.to_vec();
             let (lo, hi) = self.doc.scene.mesh.bounds();
             all.extend([lo, hi]);
             all.extend(self.deformed().iter().map(|p| p.as_dvec3()));

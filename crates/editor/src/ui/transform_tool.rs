@@ -110,7 +110,7 @@ impl TransformTool {
         pointer: Vec2,
         gesture: GestureId,
     ) -> Option<Self> {
-        let pose = &state.doc.scene.pose;
+        let pose = state.shown_positions();
         let start: Vec<(u32, DVec3)> = state
             .selection
             .vertices

@@ -45,7 +45,11 @@ fn vec2(p: Pos2) -> Vec2 {
 }
 
 fn pose_f32(state: &EditorState) -> Vec<glam::Vec3> {
-    state.doc.scene.pose.iter().map(|p| p.as_vec3()).collect()
+    state
+        .shown_positions()
+        .iter()
+        .map(|p| p.as_vec3())
+        .collect()
 }
 
 /// The cage vertex under `pointer` (screen points), if any.
@@ -65,7 +69,7 @@ pub fn pick(state: &EditorState, pointer: Vec2) -> Option<u32> {
 /// The screen position (points) of cage vertex `v` in the current view.
 pub fn vertex_on_screen(state: &EditorState, v: u32) -> Option<egui::Pos2> {
     let rect = state.view.viewport;
-    let p = state.doc.scene.pose.get(v as usize)?.as_vec3();
+    let p = state.shown_positions().get(v as usize)?.as_vec3();
     let (pixel, _) = state.view.camera.project(p, rect.size)?;
     let at = rect.min + pixel;
     Some(egui::pos2(at.x, at.y))
@@ -251,7 +255,7 @@ fn start_drag(
         }
         selected.insert(v);
     }
-    let pose = &state.doc.scene.pose;
+    let pose = state.shown_positions();
     let start = selected
         .iter()
         .filter_map(|&s| pose.get(s as usize).map(|p| (s, *p)))

@@ -239,8 +239,9 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     }
     let scene = &state.doc.scene;
     let style = state.view.cage_style(&state.selection, &scene.cages);
-    let lines = Arc::new(cage_lines(&scene.cages, &scene.pose, &style));
-    let dots = Arc::new(cage_dots(&scene.cages, &scene.pose, &style));
+    let shown = state.shown_positions();
+    let lines = Arc::new(cage_lines(&scene.cages, shown, &style));
+    let dots = Arc::new(cage_dots(&scene.cages, shown, &style));
     let (lo, hi) = scene.mesh.bounds();
     let guides = Arc::new(ground_grid(lo.as_vec3(), hi.as_vec3()));
     let key = MeshKey {
@@ -259,12 +260,22 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
             (key, upload)
         }
     };
-    let deformation = state.rig.as_ref().map(|rig| {
-        (
+    let deformation = state.rig.as_ref().map(|rig| match state.mode {
+        // Rig mode shows the mesh at rest: the binding's own rest positions (for the rest
+        // cages it was made for), under a generation of their own.
+        crate::state::EditMode::Rig => {
+            let rest = &rig.bound_for.0.vertices;
+            (
+                u64::MAX - 1,
+                Arc::new(rig.binding.operator.dofs(rest, rest)),
+                Arc::new(rig.binding.deform(rest, rest)),
+            )
+        }
+        crate::state::EditMode::Pose => (
             state.generations.deformation,
             Arc::clone(&rig.dofs),
             Arc::clone(&rig.deformed),
-        )
+        ),
     });
     let data = FrameData {
         camera: state.view.camera,

@@ -1384,3 +1384,43 @@ fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
         "a mirror over the other half overlaps it"
     );
 }
+
+/// Rig mode shows, picks and moves the rest cages even while a pose is active; Pose mode shows
+/// the pose again.
+#[test]
+fn rig_mode_shows_the_rest_cages_while_a_pose_is_active() {
+    let mut harness = crate::common::bar_harness(false);
+    let pose = harness
+        .state()
+        .state
+        .doc
+        .scene
+        .poses
+        .keys()
+        .next()
+        .unwrap()
+        .clone();
+    harness.state_mut().run(Command::SwitchPose(Some(pose)));
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    let v = (0..scene.pose.len())
+        .find(|&v| scene.pose[v] != scene.cages.vertices[v])
+        .expect("the pose moves some vertex") as u32;
+    let on_screen = |h: &egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        vertex_on_screen(&h.state().state, v).unwrap()
+    };
+    let posed_at = on_screen(&harness);
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.shown_positions(), &scene.cages.vertices[..]);
+    let rest_at = on_screen(&harness);
+    assert!(rest_at.distance(posed_at) > 1.0, "the rest cage is shown");
+    // Picking in Rig mode finds the vertex where its rest position is drawn.
+    harness.hover_at(rest_at);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.selection.hovered, Some(v));
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    assert!(on_screen(&harness).distance(posed_at) < 1e-3);
+}
