@@ -282,6 +282,7 @@ pub fn import_leaf_cages(scene: &mut Scene, imported: &super::CageSet) {
 
 /// Applies `op` to `scene`, or refuses with the scene unchanged.
 pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
+    check_structure(scene)?;
     let mut edited = scene.clone();
     match op {
         RigOp::AddBox {
@@ -309,6 +310,35 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
         RigOp::Rest { cage, transform } => rest(&mut edited, cage, *transform)?,
     }
     *scene = edited;
+    Ok(())
+}
+
+/// The operations index vertices through the faces and the poses: a scene read from a file
+/// that `validate` would refuse on those grounds is refused here rather than indexed.
+fn check_structure(scene: &Scene) -> Result<(), RigEditError> {
+    let count = scene.cages.vertices.len();
+    let set = &scene.cages;
+    let faces = set
+        .leaves
+        .iter()
+        .map(|c| (&c.name, &c.faces))
+        .chain(set.internals.iter().map(|c| (&c.name, &c.faces)));
+    for (name, faces) in faces {
+        if let Some(v) = faces.iter().flatten().find(|&&v| v as usize >= count) {
+            return Err(RigEditError::Value(format!(
+                "cage '{name}' refers to vertex {v}, but there are {count}; fix the scene first \
+                 (starcages-cli validate lists its problems)"
+            )));
+        }
+    }
+    let poses = std::iter::once(&scene.pose).chain(scene.poses.values());
+    if poses.into_iter().any(|p| p.len() != count) {
+        return Err(RigEditError::Value(
+            "a pose has another vertex count than the cages; fix the scene first (starcages-cli \
+             validate lists its problems)"
+                .into(),
+        ));
+    }
     Ok(())
 }
 

@@ -254,3 +254,23 @@ fn fit_pulls_a_cage_to_the_mesh_keeping_the_margin_and_shared_vertices() {
         "a margin out of range"
     );
 }
+
+/// A scene whose faces name missing vertices (read from a broken file) is refused, not
+/// indexed.
+#[test]
+fn a_structurally_broken_scene_is_refused_not_indexed() {
+    let mut scene = empty_scene();
+    apply_rig_op(&mut scene, &op("add-box a 0 0 0 1 1 1")).unwrap();
+    scene.cages.leaves[0].faces[0][0] = 999;
+    for text in [
+        "extrude a 1 0.5 b",
+        "split a z 0.5",
+        "mirror a",
+        "fit a 0.01",
+        "rest a: scale 2",
+        "delete a",
+    ] {
+        let error = apply_rig_op(&mut scene, &op(text)).unwrap_err().to_string();
+        assert!(error.contains("refers to vertex 999"), "{text}: {error}");
+    }
+}
