@@ -161,10 +161,16 @@ pub fn apply(state: &mut EditorState, command: Command) {
         }
         Command::Rig(op) => {
             let label = format!("rig: {}", rig_op_label(&op));
+            let leaves_before = state.doc.scene.cages.leaves.len();
             match state.edit_scene(&label, |scene| {
                 starcages_core::scene::apply_rig_op(scene, &op)
             }) {
-                Ok(()) => state.info(label),
+                Ok(()) => {
+                    state.info(label);
+                    if let starcages_core::scene::RigOp::Extrude { .. } = op {
+                        select_extruded_cap(state, leaves_before);
+                    }
+                }
                 Err(e) => state.error(EditorError::Rig(e.to_string())),
             }
         }
@@ -314,6 +320,37 @@ fn move_rest_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)], pos
             }
         }
     });
+}
+
+/// After an extrusion: selects the new cap (the new cage's vertices that are new) and asks the
+/// UI to start G along the axis most aligned with the cap's offset.
+fn select_extruded_cap(state: &mut EditorState, leaves_before: usize) {
+    let scene = &state.doc.scene;
+    let Some(cage) = scene.cages.leaves.get(leaves_before) else {
+        return;
+    };
+    // Faces 0 and 1 of an extruded cage are its base (the shared face) and its cap.
+    let (Some(base), Some(cap)) = (cage.faces.first(), cage.faces.get(1)) else {
+        return;
+    };
+    let centre = |face: &[u32]| {
+        face.iter()
+            .filter_map(|&v| scene.cages.vertices.get(v as usize))
+            .sum::<glam::DVec3>()
+            / face.len().max(1) as f64
+    };
+    let offset = centre(cap) - centre(base);
+    let cap = cap.clone();
+    let axis = (0..3).fold(0, |best, k| {
+        if offset[k].abs() > offset[best].abs() {
+            k
+        } else {
+            best
+        }
+    });
+    state.selection.vertices = cap.into_iter().collect();
+    let id = state.grab_request.map_or(1, |(id, _)| id + 1);
+    state.grab_request = Some((id, axis));
 }
 
 /// A short name of a rig operation for the undo history.

@@ -209,7 +209,9 @@ impl UiCommand {
                  rig operations on keys"
             }
             Self::Extrude => {
-                "Rig mode: a new cage on the selected face of a leaf cage, sharing that face"
+                "Rig mode: a new cage on the selected face of a leaf cage, sharing that face; \
+                 then move its cap along the face's normal (type a distance, Enter, or Esc to \
+                 keep the default depth)"
             }
             Self::LoopCut => "Rig mode: cut the inspected cage in two across its longest side",
             Self::AddBox => {

@@ -144,6 +144,9 @@ pub struct EditorState {
     pub view: ViewState,
     /// Pose mode or Rig mode.
     pub mode: EditMode,
+    /// After an extrusion: (a new id, the world axis most along the face's normal). The UI
+    /// starts G along it at once on the new cap, as Blender's extrude does.
+    pub grab_request: Option<(u64, usize)>,
     /// What is wrong with the rig, found after every change of the document (empty: valid).
     /// The last valid binding stays in use meanwhile; Pose mode waits for a valid rig.
     pub rig_problems: Vec<String>,
@@ -200,6 +203,7 @@ impl EditorState {
             view: ViewState::default(),
             mode: EditMode::Pose,
             rig_problems: Vec::new(),
+            grab_request: None,
             undo: UndoStack::default(),
             gesture: None,
             rig: None,

@@ -6,7 +6,7 @@ use starcages_viewport::View;
 
 use super::UiState;
 use super::file_dialog::FilePurpose;
-use super::transform_tool::{Mode, TransformTool};
+use super::transform_tool::{Axis, Mode, TransformTool};
 use crate::commands::{CameraChange, Command, CommandSender, UiCommand, UnsavedAnswer};
 use crate::state::{EditMode, EditorState, NewMeshOptions};
 
@@ -112,6 +112,20 @@ pub fn file_chosen(
         FilePurpose::ImportCages => Command::ImportCages(path),
     };
     sender.send(command);
+}
+
+/// G on the selection with the axis `axis` (0 x, 1 y, 2 z) locked.
+pub fn grab_along(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    pointer: Vec2,
+    axis: usize,
+    sender: &mut CommandSender,
+) {
+    start_tool(Mode::Grab, state, ui_state, pointer, sender);
+    if let Some(tool) = &mut ui_state.tool {
+        tool.axis = Some([Axis::X, Axis::Y, Axis::Z][axis.min(2)]);
+    }
 }
 
 fn start_tool(

@@ -44,10 +44,14 @@ pub fn cage_legend() -> [(egui::Color32, &'static str); 5] {
 /// The keyboard shortcuts window.
 pub fn shortcuts_window(ui_state: &mut UiState, ctx: &egui::Context) {
     let mut open = ui_state.show_shortcuts;
+    let max_width = (ctx.content_rect().width() - 40.0).clamp(300.0, 900.0);
+    // What is left beside the action and key columns.
+    let description_width = (max_width - 340.0).max(200.0);
     egui::Window::new("Keyboard shortcuts")
         .open(&mut open)
         .collapsible(false)
         .default_width(620.0)
+        .max_width(max_width)
         .default_height(440.0)
         .vscroll(true)
         .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
@@ -67,12 +71,23 @@ pub fn shortcuts_window(ui_state: &mut UiState, ctx: &egui::Context) {
                     } else {
                         keys.join(", ")
                     });
-                    ui.weak(command.tooltip());
+                    // Long descriptions wrap inside the window instead of widening it
+                    // past the screen.
+                    ui.vertical(|ui| {
+                        ui.set_width(description_width);
+                        ui.add(
+                            egui::Label::new(egui::RichText::new(command.tooltip()).weak()).wrap(),
+                        );
+                    });
                     ui.end_row();
                 }
                 for (what, how) in MORE {
                     ui.label(what);
-                    ui.label(how);
+                    ui.label("mouse / tool");
+                    ui.vertical(|ui| {
+                        ui.set_width(description_width);
+                        ui.add(egui::Label::new(how).wrap());
+                    });
                     ui.end_row();
                 }
             });

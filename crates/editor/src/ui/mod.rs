@@ -54,6 +54,8 @@ pub struct UiState {
     drop_focus: bool,
     /// A question about poses, while open.
     pub pose_prompt: Option<panels::PosePrompt>,
+    /// The last extrusion grab request started (see `EditorState::grab_request`).
+    grab_handled: u64,
     /// The influence map shown before an h slider drag switched to the cage's b map.
     pub influence_before_h_drag: Option<crate::state::InfluenceChoice>,
     /// Show measured times in the stats panel (off for reproducible snapshots).
@@ -82,6 +84,7 @@ impl UiState {
             drop_focus: false,
             pose_prompt: None,
             influence_before_h_drag: None,
+            grab_handled: 0,
             show_timings: true,
             gpu,
             frame_ms: 0.0,
@@ -130,6 +133,16 @@ pub fn frame_ui(
     let ctx = ui.ctx().clone();
     dropped_files(&ctx, sender);
     keyboard::shortcuts(state, ui_state, &ctx, sender);
+    if let Some((id, axis)) = state.grab_request
+        && id != ui_state.grab_handled
+    {
+        // Extrude continues as G along the face's normal, as in Blender.
+        ui_state.grab_handled = id;
+        let pointer = ctx
+            .input(|i| i.pointer.latest_pos())
+            .map_or(state.view.viewport.center(), |p| glam::Vec2::new(p.x, p.y));
+        actions::grab_along(state, ui_state, pointer, axis, sender);
+    }
     Panel::top("menu").show(ui, |ui| menu::menu_bar(state, ui_state, ui, sender));
     Panel::bottom("status").show(ui, |ui| status_bar::status_bar(state, ui_state, ui, sender));
     Panel::left("outliner").default_size(220.0).show(ui, |ui| {

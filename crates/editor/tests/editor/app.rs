@@ -1188,8 +1188,33 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     });
     harness.key_press(egui::Key::E);
     harness.run_steps(2);
+    // E continues as G along the face's normal (x here) on the new cap, as Blender's extrude.
+    assert!(harness.state().ui.tool.is_some(), "E starts G");
+    let state = &harness.state().state;
+    let cap: Vec<u32> = state.selection.vertices.iter().copied().collect();
+    assert_eq!(cap.len(), 4, "the new cap is selected");
+    assert!(cap.iter().all(|v| !face.contains(v)));
+    let cap_before: Vec<DVec3> = cap
+        .iter()
+        .map(|&v| state.doc.scene.cages.vertices[v as usize])
+        .collect();
+    for text in ["0", ".", "2", "5"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.get_by_label_contains("Grab along X: 0.250");
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
     settle(&mut harness);
     let state = &harness.state().state;
+    assert!(harness.state().ui.tool.is_none());
+    for (&v, before) in cap.iter().zip(&cap_before) {
+        let moved = state.doc.scene.cages.vertices[v as usize] - *before;
+        assert!(
+            (moved - DVec3::new(0.25, 0.0, 0.0)).length() < 1e-12,
+            "the cap moves along x in the rest cages: {moved}"
+        );
+    }
     assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
     assert_eq!(state.doc.scene.cages.adjacency().len(), 2);
     assert!(starcages_core::scene::validate_scene(&state.doc.scene).is_valid());
