@@ -8,6 +8,7 @@
 //! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
 //! * [`scene`]: the scene model, its validation, files and demos.
 //! * [`star`]: *Cages deformation compiled into one sparse operator.
+//! * [`surface_nets`]: closed meshes of implicit surfaces (the creature demo).
 
 pub mod cage;
 pub mod coords;
@@ -18,6 +19,7 @@ pub mod mesh;
 mod messages;
 pub mod scene;
 pub mod star;
+pub mod surface_nets;
 
 pub use cage::{Cage, CageError};
 pub use coords::{BindControl, BindSettings, CageWeights, CoordError, CoordinateKind, bind};

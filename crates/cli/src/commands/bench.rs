@@ -32,6 +32,10 @@ pub struct BenchArgs {
     /// docs/performance.md use 4 4 4).
     #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID)]
     grid: Vec<u32>,
+    /// Also bench these scene files (repeatable; named by their file stem), e.g. a rig built
+    /// with `edit`.
+    #[arg(long, value_name = "SCENE")]
+    scene: Vec<PathBuf>,
     /// Only these scenes (names as in the output).
     #[arg(long)]
     only: Vec<String>,
@@ -43,6 +47,26 @@ pub struct BenchArgs {
     /// scenes' own h.
     #[arg(long, value_delimiter = ',', value_name = "H,H,...")]
     h: Vec<f64>,
+    /// Also the paper's Table II pairs: *Cages with every leaf cage MVC against the single MVC
+    /// cage, and every leaf cage GC against the single GC cage (the scene's h and join
+    /// cages), with memory, bind and the time to follow one cage-vertex move (Table II's
+    /// "Deform").
+    #[arg(long)]
+    table2: bool,
+}
+
+/// One pair of the paper's Table II: *Cages with every leaf cage of one kind against the single
+/// cage of that kind.
+#[derive(Serialize)]
+struct TableTwo {
+    scene: String,
+    /// "mvc" or "gc".
+    kind: String,
+    memory_ratio: f64,
+    bind_ratio: f64,
+    /// Single-cage time over *Cages time to follow one cage-vertex move (Table II, column 4).
+    move_ratio: f64,
+    frame_ratio: f64,
 }
 
 #[derive(Serialize)]
@@ -54,6 +78,9 @@ struct Row {
     memory_mb: f64,
     /// Stored weights per mesh vertex: memory and frame time follow it.
     nonzeros_per_row: f64,
+    /// The share of mesh vertices with b < 1 (eq. 11), which read join cages: where h decides
+    /// memory and frame time.
+    blended_share: f64,
     bind_cage_s: f64,
     bind_total_s: f64,
     frame_s: f64,
@@ -96,6 +123,8 @@ struct Report {
     array_read_gb_s: f64,
     rows: Vec<Row>,
     ratios: Vec<Ratios>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    table2: Vec<TableTwo>,
 }
 
 /// Best of `n` timings of `f`, in seconds.
@@ -176,6 +205,8 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
         cages: scene.cages.leaves.len(),
         memory_mb: binding.stats.operator_bytes as f64 / 1e6,
         nonzeros_per_row: operator.nonzeros() as f64 / operator.row_count().max(1) as f64,
+        blended_share: binding.boundary_weight.iter().filter(|&&b| b < 1.0).count() as f64
+            / binding.boundary_weight.len().max(1) as f64,
         bind_cage_s: binding.stats.seconds_cage_coordinates,
         bind_total_s: binding.stats.seconds_total,
         frame_s,
@@ -267,6 +298,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ("egg", 1.0),
         ("bumpy", 1.0),
         ("prism", args.prism_detail),
+        ("creature", 1.0),
     ] {
         if let Some(scene) = demo_scene(name, detail) {
             scenes.push((name.to_owned(), scene));
@@ -297,9 +329,17 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             scenes.push((format!("{name}-{}x{}x{}", grid[0], grid[1], grid[2]), scene));
         }
     }
+    for file in &args.scene {
+        let scene = starcages_core::scene::load_scene(file)?;
+        let name = file
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        scenes.push((name, scene));
+    }
     scenes.retain(|(n, _)| args.only.is_empty() || args.only.contains(n));
     let mut rows = Vec::new();
     let mut ratios = Vec::new();
+    let mut table2 = Vec::new();
     if let Some(h) = args.h.iter().find(|h| !(**h > 0.0 && **h <= 1.0)) {
         return Err(crate::InputError(format!("--h {h}: each h must be in (0, 1]")).into());
     }
@@ -347,6 +387,27 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             });
         }
         rows.extend(stars);
+        if args.table2 {
+            for (kind, single) in [
+                (CoordinateKind::MeanValue, &mvc),
+                (CoordinateKind::Green, &gc),
+            ] {
+                let mut uniform = scene.clone();
+                for cage in &mut uniform.cages.leaves {
+                    cage.kind = kind;
+                }
+                let star = bench_method(name, &format!("stars all-{kind}"), &uniform, &pose)?;
+                table2.push(TableTwo {
+                    scene: name.clone(),
+                    kind: kind.to_string(),
+                    memory_ratio: single.memory_mb / star.memory_mb,
+                    bind_ratio: single.bind_total_s / star.bind_total_s,
+                    move_ratio: single.move_s / star.move_s,
+                    frame_ratio: single.frame_s / star.frame_s,
+                });
+                rows.push(star);
+            }
+        }
         rows.extend([mvc, gc]);
         if !args.no_hc {
             rows.push(bench_method(
@@ -366,6 +427,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         array_read_gb_s: array_read_bandwidth(),
         rows,
         ratios,
+        table2,
     };
     if args.json {
         crate::output::line(starcages_core::scene::to_pretty_json(
@@ -378,13 +440,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         report.threads, report.simd, report.array_read_gb_s
     ))?;
     crate::output::line(format_args!(
-        "{:<16} {:<13} {:>8} {:>5} {:>9} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
+        "{:<16} {:<13} {:>8} {:>5} {:>9} {:>7} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
         "scene",
         "method",
         "vertices",
         "cages",
         "MB",
         "nnz/row",
+        "b<1 %",
         "bind cc",
         "bind s",
         "frame s",
@@ -393,13 +456,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     ))?;
     for r in &report.rows {
         crate::output::line(format_args!(
-            "{:<16} {:<13} {:>8} {:>5} {:>9.2} {:>7.1} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
+            "{:<16} {:<13} {:>8} {:>5} {:>9.2} {:>7.1} {:>7.1} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
             r.scene,
             r.method,
             r.mesh_vertices,
             r.cages,
             r.memory_mb,
             r.nonzeros_per_row,
+            100.0 * r.blended_share,
             r.bind_cage_s,
             r.bind_total_s,
             r.frame_s,
@@ -421,6 +485,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             q.memory_vs_gc,
             100.0 * q.rest_edit_rows,
             100.0 * q.rest_edit_vs_bind
+        ))?;
+    }
+    for t in &report.table2 {
+        crate::output::line(format_args!(
+            "{:<16} Table II, every leaf {} against the single {} cage: memory {:.1}x less, bind {:.2}x, one cage-vertex move {:.1}x faster, whole frame {:.1}x faster",
+            t.scene, t.kind, t.kind, t.memory_ratio, t.bind_ratio, t.move_ratio, t.frame_ratio
         ))?;
     }
     Ok(())

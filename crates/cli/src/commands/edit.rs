@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use starcages_core::scene::{
-    CageSet, RigOp, Scene, SceneSettings, UpAxis, apply_rig_op, load_scene,
+    CageSet, RigOp, Scene, SceneSettings, UpAxis, apply_rig_op, load_scene, parse_rig_script,
 };
 
 /// Arguments of `edit`.
@@ -19,15 +19,24 @@ pub struct EditArgs {
     out: PathBuf,
     /// An operation, repeatable, applied in order (KIND and NAME at the end are optional):
     /// "add-box NAME X0 Y0 Z0 X1 Y1 Z1 KIND" (KIND: mvc, hc or gc);
-    /// "extrude CAGE FACE DIST NAME" (FACE 0-based in the cage's face list, pushed out DIST
-    /// along its outward normal; the new cage shares that face);
+    /// "extrude CAGE FACE DIST NAME" (FACE 0-based in the cage's face list, or the direction it
+    /// faces: +x, -x, +y, -y, +z, -z; pushed out DIST along its outward normal; the new cage
+    /// shares that face);
     /// "split CAGE x|y|z T NAME" (loop cut across the ring of quads at fraction T);
     /// "delete CAGE"; "merge A B"; "mirror CAGE NAME" (across x = 0);
     /// "fit CAGE MARGIN" (pull free vertices in to the mesh, MARGIN × its diagonal away);
     /// "rest CAGE: translate X Y Z" | "rest CAGE: rotate AX AY AZ DEG" | "rest CAGE: scale S"
-    /// (about the cage's centroid; poses move along).
-    #[arg(long = "op", value_name = "OP", required = true)]
+    /// (about the cage's centroid; poses move along);
+    /// "kind CAGE mvc|hc|gc" (its coordinates); "h CAGE|all H" (blending parameter of a cage,
+    /// or the scene's default);
+    /// "subdivide" (every face of every leaf cage cut into quads through its edge midpoints
+    /// and centre).
+    #[arg(long = "op", value_name = "OP", required_unless_present = "script")]
     ops: Vec<String>,
+    /// A file of operations, one per line as --op takes them (`#` starts a comment), run before
+    /// the --op ones (assets/creature/rig.ops is an example).
+    #[arg(long, value_name = "FILE")]
+    script: Option<PathBuf>,
     /// Up axis of an OBJ mesh given as the input (glTF is always Y-up).
     #[arg(long, value_parser = |s: &str| s.parse::<UpAxis>())]
     up: Option<UpAxis>,
@@ -57,18 +66,27 @@ pub fn run(args: &EditArgs) -> anyhow::Result<()> {
     let mesh = super::mesh_file(&scene).map(std::path::Path::to_path_buf);
     inputs.extend(mesh.as_deref());
     super::check_output("--out", &args.out, &inputs, &["json"])?;
-    // Read every operation first: a typo in the last one writes nothing.
-    let ops: Vec<RigOp> = args
-        .ops
-        .iter()
-        .enumerate()
-        .map(|(i, text)| {
-            RigOp::parse(text).map_err(|e| crate::InputError(format!("--op {}: {e}", i + 1)))
-        })
-        .collect::<Result<_, _>>()?;
-    for (i, (op, text)) in ops.iter().zip(&args.ops).enumerate() {
+    // Read every operation first: a typo in the last one writes nothing. Each is named by
+    // where it came from ("rig.ops line 12", "--op 2") in errors.
+    let mut ops: Vec<(String, String, RigOp)> = Vec::new();
+    if let Some(script) = &args.script {
+        let text = starcages_core::io::read_text(script)?;
+        let parsed = parse_rig_script(&text)
+            .map_err(|e| crate::InputError(format!("{}: {e}", script.display())))?;
+        let lines: Vec<&str> = text.lines().collect();
+        for (line, op) in parsed {
+            let source = lines.get(line - 1).map_or("", |l| l.trim()).to_owned();
+            ops.push((format!("{} line {line}", script.display()), source, op));
+        }
+    }
+    for (i, text) in args.ops.iter().enumerate() {
+        let op =
+            RigOp::parse(text).map_err(|e| crate::InputError(format!("--op {}: {e}", i + 1)))?;
+        ops.push((format!("--op {}", i + 1), text.clone(), op));
+    }
+    for (place, text, op) in &ops {
         apply_rig_op(&mut scene, op).map_err(|e| {
-            crate::InputError(format!("--op {} '{text}': {e}; nothing was written", i + 1))
+            crate::InputError(format!("{place} '{text}': {e}; nothing was written"))
         })?;
     }
     let summary = format!(

@@ -268,14 +268,7 @@ fn y_up_obj_files_stand_up_and_round_trip_unchanged() {
 #[test]
 fn edit_builds_a_rig_from_nothing_and_refuses_a_bad_op_writing_nothing() {
     let d = dir("edit");
-    // A Z-up tower mesh: 1 wide, 2 tall.
-    let tower = d.join("tower.obj");
-    std::fs::write(
-        &tower,
-        "v 0.1 0.1 0.1\nv 0.9 0.1 0.1\nv 0.1 0.9 0.1\nv 0.9 0.9 0.1\nv 0.1 0.1 1.9\nv 0.9 0.1 1.9\n\
-         v 0.1 0.9 1.9\nv 0.9 0.9 1.9\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
-    )
-    .unwrap();
+    let tower = write_tower(&d);
     let scene = d.join("rig.json");
     // Face 1 of an add-box is its top.
     ok(&cli(&[
@@ -324,4 +317,93 @@ fn edit_builds_a_rig_from_nothing_and_refuses_a_bad_op_writing_nothing() {
         stderr(&refused)
     );
     assert!(!other.exists());
+}
+
+/// `edit --script` runs a file of operations (comments allowed) before the `--op` ones; a bad
+/// line is named by file and line and nothing is written. `bench --scene --table2` benches the
+/// result against the single cages of the same kind.
+#[test]
+fn edit_runs_a_script_file_and_bench_measures_the_result_as_table_two() {
+    let d = dir("edit-script");
+    let tower = write_tower(&d);
+    let script = d.join("rig.ops");
+    std::fs::write(
+        &script,
+        "# a tower in two cages\nadd-box body 0 0 0 1 1 1\n\nextrude body +z 1 top # up\nkind top gc\n",
+    )
+    .unwrap();
+    let scene = d.join("rig.json");
+    ok(&cli(&[
+        "edit",
+        s(&tower),
+        "--up",
+        "z",
+        "--out",
+        s(&scene),
+        "--script",
+        s(&script),
+        "--op",
+        "subdivide",
+    ]));
+    let info = cli(&["info", s(&scene), "--json"]);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let cages = info["cages"].as_array().unwrap();
+    assert_eq!(cages.len(), 2);
+    assert_eq!(cages[1]["kind"], "gc");
+    assert_eq!(cages[1]["faces"], 24, "subdivided after the script");
+    let bench = cli(&[
+        "bench",
+        "--scene",
+        s(&scene),
+        "--only",
+        "rig",
+        "--no-hc",
+        "--table2",
+        "--json",
+    ]);
+    ok(&bench);
+    let report: serde_json::Value = serde_json::from_slice(&bench.stdout).unwrap();
+    let pairs = report["table2"].as_array().unwrap();
+    assert_eq!(pairs.len(), 2);
+    assert!(
+        pairs
+            .iter()
+            .all(|p| p["memory_ratio"].as_f64().unwrap() > 0.0)
+    );
+    // A bad line: named by file and line; nothing written.
+    std::fs::write(
+        &script,
+        "add-box body 0 0 0 1 1 1\nextrude body sideways 1\n",
+    )
+    .unwrap();
+    let other = d.join("other.json");
+    let refused = cli(&[
+        "edit",
+        s(&tower),
+        "--up",
+        "z",
+        "--out",
+        s(&other),
+        "--script",
+        s(&script),
+    ]);
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    assert!(
+        stderr(&refused).contains("rig.ops: line 2:"),
+        "{}",
+        stderr(&refused)
+    );
+    assert!(!other.exists());
+}
+
+/// A Z-up tower mesh, 0.8 wide and 1.8 tall, as `tower.obj` in `d`.
+fn write_tower(d: &std::path::Path) -> std::path::PathBuf {
+    let tower = d.join("tower.obj");
+    std::fs::write(
+        &tower,
+        "v 0.1 0.1 0.1\nv 0.9 0.1 0.1\nv 0.1 0.9 0.1\nv 0.9 0.9 0.1\nv 0.1 0.1 1.9\nv 0.9 0.1 1.9\n\
+         v 0.1 0.9 1.9\nv 0.9 0.9 1.9\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    tower
 }

@@ -208,7 +208,7 @@ pub fn read_file_bytes(path: &Path) -> Result<Vec<u8>, FileError> {
 
 /// A text file as UTF-8, without a leading byte-order mark (which some editors write and which
 /// would otherwise hide inside the first number or keyword: "x '\u{feff}0.5' is not a number").
-pub(crate) fn read_text(path: &Path) -> Result<String, FileError> {
+pub fn read_text(path: &Path) -> Result<String, FileError> {
     let mut bytes = read_file_bytes(path)?;
     if bytes.starts_with(b"\xEF\xBB\xBF") {
         bytes.drain(..3);

@@ -5,6 +5,7 @@
 mod autocage;
 mod cage_set;
 mod containment;
+pub mod creature;
 pub mod demo;
 mod export;
 mod file;
@@ -12,6 +13,7 @@ mod pose_state;
 mod pretty_json;
 mod rig_edit;
 mod settings;
+mod subdivide;
 mod up_axis;
 mod validate;
 
@@ -34,8 +36,12 @@ pub use file::{
 };
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
-pub use rig_edit::{RestTransform, RigEditError, RigOp, apply_rig_op, import_leaf_cages};
+pub use rig_edit::{
+    FaceRef, MAX_RIG_SCRIPT_OPS, RestTransform, RigEditError, RigOp, apply_rig_op,
+    import_leaf_cages, parse_rig_script,
+};
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
+pub use subdivide::subdivide_leaf_cages;
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;
 pub use validate::{MAX_COORDINATE, SceneProblem, ValidationReport, validate_scene};

@@ -32,8 +32,8 @@ pub enum RigOp {
     Extrude {
         /// The cage.
         cage: String,
-        /// The face, 0-based in the cage's face list.
-        face: usize,
+        /// The face: by index or by the direction it faces.
+        face: FaceRef,
         /// How far.
         distance: f64,
         /// The new cage's name.
@@ -81,6 +81,27 @@ pub enum RigOp {
         /// The margin, as a fraction of the mesh's diagonal.
         margin: f64,
     },
+    /// Give a leaf cage other coordinates.
+    Kind {
+        /// The cage.
+        cage: String,
+        /// Its new coordinates.
+        kind: CoordinateKind,
+    },
+    /// Set the blending parameter h (eq. 11) of one leaf cage, or with `cage` = `all` the
+    /// scene's default h (cages without their own h use it).
+    H {
+        /// The cage, or `all`.
+        cage: String,
+        /// h in (0, 1].
+        h: f64,
+    },
+    /// Subdivide every face of every leaf cage into quads (a vertex at each edge's midpoint and
+    /// at each face's centre, Blender's Subdivide). Shared faces and edges are cut the same way
+    /// on both sides, so the rig stays watertight; poses get the same midpoints of their own
+    /// positions. Refused while internal cages drive leaf vertices (the new vertices would
+    /// have no driver).
+    Subdivide,
     /// Move a cage's rest vertices (and every pose by the same amount).
     Rest {
         /// The cage.
@@ -88,6 +109,36 @@ pub enum RigOp {
         /// How.
         transform: RestTransform,
     },
+}
+
+/// A face of a cage, named by its index in the cage's face list (0-based, as in the scene
+/// file) or by the direction it faces (`+x`, `-z`, …: the face whose outward normal is most
+/// aligned with that axis, so a script reads as what it builds).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FaceRef {
+    /// By index.
+    Index(usize),
+    /// By direction: the axis (0 x, 1 y, 2 z) and whether it is the positive one.
+    Facing {
+        /// The world axis.
+        axis: usize,
+        /// Towards +axis (true) or −axis.
+        positive: bool,
+    },
+}
+
+impl std::fmt::Display for FaceRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Index(i) => write!(f, "{i}"),
+            Self::Facing { axis, positive } => write!(
+                f,
+                "{}{}",
+                if *positive { '+' } else { '-' },
+                ['x', 'y', 'z'][(*axis).min(2)]
+            ),
+        }
+    }
 }
 
 /// A change of a cage's rest positions, about the centroid of its vertices.
@@ -131,6 +182,14 @@ pub enum RigEditError {
     /// A number out of range.
     #[error("{0}")]
     Value(String),
+    /// An operation of a script failed.
+    #[error("line {line}: {problem}")]
+    AtLine {
+        /// The script's line, from 1.
+        line: usize,
+        /// What went wrong there.
+        problem: Box<RigEditError>,
+    },
     /// The operation text could not be read.
     #[error("'{op}': {why}")]
     Syntax {
@@ -196,9 +255,29 @@ impl RigOp {
                 })
             }
             ["extrude", cage, face, distance, rest @ ..] if rest.len() <= 1 => {
-                let face: usize = face
-                    .parse()
-                    .map_err(|_| syntax(&format!("face '{face}' is not a face number")))?;
+                let direction = |axis: usize| match face.as_bytes().first() {
+                    Some(b'+') => Some(FaceRef::Facing {
+                        axis,
+                        positive: true,
+                    }),
+                    Some(b'-') => Some(FaceRef::Facing {
+                        axis,
+                        positive: false,
+                    }),
+                    _ => None,
+                };
+                let face = match face.get(1..) {
+                    Some("x" | "X") => direction(0),
+                    Some("y" | "Y") => direction(1),
+                    Some("z" | "Z") => direction(2),
+                    _ => None,
+                }
+                .or_else(|| face.parse().ok().map(FaceRef::Index))
+                .ok_or_else(|| {
+                    syntax(&format!(
+                        "face '{face}' is neither a face number nor a direction (+x, -x, +y, -y, +z, -z)"
+                    ))
+                })?;
                 Ok(Self::Extrude {
                     cage: (*cage).to_owned(),
                     face,
@@ -208,6 +287,15 @@ impl RigOp {
                         .map_or_else(|| format!("{cage}_extruded"), |n| (*n).to_owned()),
                 })
             }
+            ["kind", cage, kind] => Ok(Self::Kind {
+                cage: (*cage).to_owned(),
+                kind: kind.parse().map_err(|e: String| syntax(&e))?,
+            }),
+            ["subdivide"] => Ok(Self::Subdivide),
+            ["h", cage, h] => Ok(Self::H {
+                cage: (*cage).to_owned(),
+                h: number(h)?,
+            }),
             ["delete", cage] => Ok(Self::Delete {
                 cage: (*cage).to_owned(),
             }),
@@ -242,10 +330,42 @@ impl RigOp {
                     .map_or_else(|| format!("{cage}_mirrored"), |n| (*n).to_owned()),
             }),
             _ => Err(syntax(
-                "unknown operation; use add-box, extrude, split, delete, merge, mirror, fit or 'rest CAGE: …'",
+                "unknown operation; use add-box, extrude, split, delete, merge, mirror, fit, kind, h, subdivide or 'rest CAGE: …'",
             )),
         }
     }
+}
+
+/// The most operations one rig script may hold (each one copies the scene while it applies,
+/// so a longer script is a mistake, not a rig).
+pub const MAX_RIG_SCRIPT_OPS: usize = 10_000;
+
+/// Reads a rig script: one operation per line as `--op` takes it; blank lines and text after
+/// `#` are ignored. Returns each operation with its line (from 1), or the first line that
+/// cannot be read.
+pub fn parse_rig_script(text: &str) -> Result<Vec<(usize, RigOp)>, RigEditError> {
+    let mut ops = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or_default().trim();
+        if line.is_empty() {
+            continue;
+        }
+        if ops.len() == MAX_RIG_SCRIPT_OPS {
+            return Err(RigEditError::AtLine {
+                line: i + 1,
+                problem: Box::new(RigEditError::Value(format!(
+                    "a rig script has at most {MAX_RIG_SCRIPT_OPS} operations; split it into \
+                     several runs"
+                ))),
+            });
+        }
+        let op = RigOp::parse(line).map_err(|e| RigEditError::AtLine {
+            line: i + 1,
+            problem: Box::new(e),
+        })?;
+        ops.push((i + 1, op));
+    }
+    Ok(ops)
 }
 
 /// Adds the leaf cages of `imported` (positions in scene coordinates) to `scene`: vertices at
@@ -308,6 +428,25 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
         RigOp::Mirror { cage, name } => mirror(&mut edited, cage, name)?,
         RigOp::Fit { cage, margin } => fit(&mut edited, cage, *margin)?,
         RigOp::Rest { cage, transform } => rest(&mut edited, cage, *transform)?,
+        RigOp::Kind { cage, kind } => {
+            let c = leaf(&edited, cage)?;
+            edited.cages.leaves[c].kind = *kind;
+        }
+        RigOp::Subdivide => super::subdivide::subdivide_leaf_cages(&mut edited)?,
+        RigOp::H { cage, h } => {
+            if !(*h > 0.0 && *h <= 1.0) {
+                return Err(RigEditError::Value(format!(
+                    "h {cage} {h}: h must be in (0, 1] (1 blends across the whole cage, small \
+                     values only near its borders)"
+                )));
+            }
+            if cage == "all" {
+                edited.settings.default_h = *h;
+            } else {
+                let c = leaf(&edited, cage)?;
+                edited.cages.leaves[c].h = Some(*h);
+            }
+        }
     }
     *scene = edited;
     Ok(())
@@ -405,15 +544,56 @@ fn add_box(
     Ok(())
 }
 
+/// The index of the face `face` names in leaf cage `c`.
+fn face_index(scene: &Scene, c: usize, face: FaceRef) -> Result<usize, RigEditError> {
+    let cage = &scene.cages.leaves[c];
+    match face {
+        FaceRef::Index(i) => Ok(i),
+        FaceRef::Facing { axis, positive } => {
+            let mut toward = DVec3::ZERO;
+            toward[axis.min(2)] = if positive { 1.0 } else { -1.0 };
+            cage.faces
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (i, face_normal(scene, f).dot(toward)))
+                .filter(|(_, alignment)| *alignment > 0.5)
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(i, _)| i)
+                .ok_or_else(|| {
+                    RigEditError::Value(format!(
+                        "cage '{}' has no face facing {face}; name the face by its number",
+                        cage.name
+                    ))
+                })
+        }
+    }
+}
+
+/// A face's unit outward normal (Newell's method: counter-clockwise seen from outside), zero
+/// for a face without area.
+fn face_normal(scene: &Scene, face: &[u32]) -> DVec3 {
+    let points: Vec<DVec3> = face
+        .iter()
+        .filter_map(|&v| scene.cages.vertices.get(v as usize).copied())
+        .collect();
+    points
+        .iter()
+        .zip(points.iter().cycle().skip(1))
+        .map(|(a, b)| a.cross(*b))
+        .sum::<DVec3>()
+        .normalize_or_zero()
+}
+
 fn extrude(
     scene: &mut Scene,
     cage: &str,
-    face: usize,
+    face: FaceRef,
     distance: f64,
     name: &str,
 ) -> Result<(), RigEditError> {
     free_name(scene, name)?;
     let c = leaf(scene, cage)?;
+    let face = face_index(scene, c, face)?;
     let faces = &scene.cages.leaves[c].faces;
     let Some(corners) = faces.get(face).cloned() else {
         return Err(RigEditError::NoSuchFace {
@@ -447,17 +627,11 @@ fn extrude(
             "extrude {cage} {face}: the distance {distance} must be positive"
         )));
     }
-    // The face's outward normal (Newell's method: counter-clockwise seen from outside).
     let points: Vec<DVec3> = corners
         .iter()
         .map(|&v| scene.cages.vertices[v as usize])
         .collect();
-    let normal = points
-        .iter()
-        .zip(points.iter().cycle().skip(1))
-        .map(|(a, b)| a.cross(*b))
-        .sum::<DVec3>()
-        .normalize_or_zero();
+    let normal = face_normal(scene, &corners);
     if normal == DVec3::ZERO {
         return Err(RigEditError::Value(format!(
             "face {face} of '{cage}' has no area to extrude"

@@ -12,5 +12,6 @@ mod hierarchy;
 mod lanes;
 mod mean_value;
 mod rig_edit;
+mod rig_script;
 mod scenes;
 mod star;

@@ -4,27 +4,12 @@
 
 use glam::DVec3;
 use starcages_core::BindControl;
-use starcages_core::scene::demo::box_mesh;
 use starcages_core::scene::{
-    CageSet, MeshSource, OutsidePolicy, RigEditError, RigOp, Scene, SceneSettings, apply_rig_op,
-    validate_scene,
+    OutsidePolicy, RigEditError, RigOp, Scene, apply_rig_op, validate_scene,
 };
 use starcages_core::star::StarBinding;
 
-/// A tall box mesh and no cages yet.
-fn empty_scene() -> Scene {
-    let mesh = box_mesh(
-        DVec3::new(0.1, 0.1, 0.1),
-        DVec3::new(0.9, 0.9, 1.8),
-        [3, 3, 6],
-    );
-    Scene::new(
-        MeshSource::Embedded,
-        mesh,
-        CageSet::default(),
-        SceneSettings::default(),
-    )
-}
+use crate::common::empty_scene;
 
 fn op(text: &str) -> RigOp {
     RigOp::parse(text).unwrap()

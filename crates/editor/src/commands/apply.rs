@@ -365,6 +365,9 @@ fn rig_op_label(op: &starcages_core::scene::RigOp) -> String {
         RigOp::Mirror { cage, name } => format!("mirror '{cage}' as '{name}'"),
         RigOp::Fit { cage, .. } => format!("fit '{cage}'"),
         RigOp::Rest { cage, .. } => format!("move rest of '{cage}'"),
+        RigOp::Kind { cage, kind } => format!("'{cage}' to {kind}"),
+        RigOp::H { cage, h } => format!("h of '{cage}' to {h}"),
+        RigOp::Subdivide => "subdivide the leaf cages".into(),
     }
 }
 

@@ -40,7 +40,7 @@ pub fn extrude(state: &EditorState) -> Result<RigOp, String> {
                     .fold(0.0, f64::max);
                 return Ok(RigOp::Extrude {
                     cage: cage.name.clone(),
-                    face: f,
+                    face: starcages_core::scene::FaceRef::Index(f),
                     distance: 0.5 * longest,
                     name: fresh_name(state, &cage.name),
                 });

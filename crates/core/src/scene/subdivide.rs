@@ -1,0 +1,73 @@
+//! Subdivision of the leaf cages: every face becomes quads through a vertex at the midpoint of
+//! each of its edges and one at its centre (linear: the rest shape does not change). An edge or
+//! a face that several cages share gets one new vertex, so borders stay exactly shared.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::Scene;
+use super::rig_edit::RigEditError;
+
+/// Subdivides every leaf cage's faces; every pose gets the same midpoints and centres of its
+/// own positions. Refused while the scene has internal cages.
+pub fn subdivide_leaf_cages(scene: &mut Scene) -> Result<(), RigEditError> {
+    if !scene.cages.internals.is_empty() {
+        return Err(RigEditError::Value(
+            "subdivide: internal cages drive leaf vertices, and the new vertices would have no \
+             driver; remove the internal cages first (or subdivide before adding them)"
+                .into(),
+        ));
+    }
+    // A new vertex is the mean of some old ones: keyed by their sorted indices.
+    let mut made: BTreeMap<Vec<u32>, u32> = BTreeMap::new();
+    let mut means: Vec<Vec<u32>> = Vec::new();
+    let first_new = scene.cages.vertices.len() as u32;
+    let mut mean_of = |mut of: Vec<u32>| -> u32 {
+        of.sort_unstable();
+        *made.entry(of.clone()).or_insert_with(|| {
+            means.push(of);
+            first_new + means.len() as u32 - 1
+        })
+    };
+    let mut new_faces: Vec<Vec<Vec<u32>>> = Vec::with_capacity(scene.cages.leaves.len());
+    for cage in &scene.cages.leaves {
+        let mut faces = Vec::new();
+        for face in &cage.faces {
+            let k = face.len();
+            if k < 3 {
+                faces.push(face.clone());
+                continue;
+            }
+            let centre = mean_of(face.clone());
+            let mids: Vec<u32> = (0..k)
+                .map(|i| mean_of(vec![face[i], face[(i + 1) % k]]))
+                .collect();
+            // Corner i's quad: the corner, the midpoint after it, the centre, the midpoint before
+            // it (the face's own orientation).
+            for i in 0..k {
+                faces.push(vec![face[i], mids[i], centre, mids[(i + k - 1) % k]]);
+            }
+        }
+        new_faces.push(faces);
+    }
+    let mean = |positions: &[DVec3], of: &[u32]| -> DVec3 {
+        of.iter()
+            .filter_map(|&v| positions.get(v as usize))
+            .sum::<DVec3>()
+            / of.len().max(1) as f64
+    };
+    let extend = |positions: &mut Vec<DVec3>| {
+        let added: Vec<DVec3> = means.iter().map(|of| mean(positions, of)).collect();
+        positions.extend(added);
+    };
+    extend(&mut scene.cages.vertices);
+    extend(&mut scene.pose);
+    for pose in scene.poses.values_mut() {
+        extend(pose);
+    }
+    for (cage, faces) in scene.cages.leaves.iter_mut().zip(new_faces) {
+        cage.faces = faces;
+    }
+    Ok(())
+}
