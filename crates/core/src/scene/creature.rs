@@ -117,6 +117,18 @@ pub fn creature(detail: f64) -> Scene {
     );
     apply_rig_script(&mut scene, CREATURE_RIG)
         .unwrap_or_else(|e| unreachable!("creature rig: {e}"));
+    // A pose: the head turned and lowered, the tail up, a front leg stepping forward.
+    super::demo::store_pose(
+        &mut scene,
+        "step",
+        &[
+            "head: rotate 0 0 1 30",
+            "head: translate 0.05 0.1 -0.08",
+            "tail: rotate 0 1 0 -25",
+            "shin_front_left: rotate 0 1 0 -30",
+            "shin_front_left: translate 0.12 0 0.04",
+        ],
+    );
     scene
 }
 

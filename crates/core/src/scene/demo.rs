@@ -323,7 +323,7 @@ fn bumpy(cells: [u32; 2]) -> Scene {
 }
 
 fn critter(resolution: u32) -> Scene {
-    use crate::hierarchy::{AutoInternalCage, CageEdit, Hierarchy, add_auto_internal_cage};
+    use crate::hierarchy::{AutoInternalCage, add_auto_internal_cage};
     // A unit head with two ears growing up and back.
     let ears = [DVec3::new(-0.4, 0.35, 0.85), DVec3::new(0.4, 0.35, 0.85)].map(DVec3::normalize);
     let mesh = uv_sphere(resolution, |d| {
@@ -393,24 +393,39 @@ fn critter(resolution: u32) -> Scene {
         &head_owns,
     );
     // Fig. 13's sequence as a pose: a leaf, its parent, the grandparent, a leaf again.
+    store_pose(
+        &mut scene,
+        "fig13",
+        &[
+            "ear_left: scale 1.3",
+            "ears: rotate 1 0 0 -25",
+            "head: rotate 0 0 1 20",
+            "head_1_0_1: translate 0.15 -0.2 0",
+        ],
+    );
+    scene
+}
+
+/// Stores the pose `name`: the rest pose with `edits` ("CAGE: rotate …", as `--apply` takes
+/// them) applied in order through the cage hierarchy, with its hierarchy state when it is not
+/// the rest state. The edits are the demo's own and known to apply.
+pub(super) fn store_pose(scene: &mut Scene, name: &str, edits: &[&str]) {
+    use crate::hierarchy::{CageEdit, Hierarchy};
     let mut hierarchy =
-        Hierarchy::bind(&scene).unwrap_or_else(|e| unreachable!("critter hierarchy: {e}"));
+        Hierarchy::bind(scene).unwrap_or_else(|e| unreachable!("{name} hierarchy: {e}"));
     let mut pose = scene.pose.clone();
-    for edit in [
-        "ear_left: scale 1.3",
-        "ears: rotate 1 0 0 -25",
-        "head: rotate 0 0 1 20",
-        "head_1_0_1: translate 0.15 -0.2 0",
-    ] {
+    for edit in edits {
         let edit: CageEdit = edit.parse().unwrap_or_else(|e| unreachable!("{e}"));
         let moves = edit
             .moves(&scene.cages, &pose)
             .unwrap_or_else(|e| unreachable!("{e}"));
         hierarchy
             .apply(&mut pose, &moves)
-            .unwrap_or_else(|e| unreachable!("critter pose: {e}"));
+            .unwrap_or_else(|e| unreachable!("{name} pose: {e}"));
     }
-    scene.poses.insert("fig13".into(), pose);
-    scene.pose_states.insert("fig13".into(), hierarchy.state());
-    scene
+    scene.poses.insert(name.into(), pose);
+    let state = hierarchy.state();
+    if !state.is_rest() {
+        scene.pose_states.insert(name.into(), state);
+    }
 }

@@ -29,6 +29,13 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 state.start_load(path);
             }
         }
+        Command::OpenDemo(name) => {
+            if state.doc.dirty {
+                state.pending = Some(Pending::OpenDemo(name));
+            } else {
+                state.start_load_demo(name);
+            }
+        }
         Command::NewFromMesh(path, options) => {
             if state.doc.dirty {
                 state.pending = Some(Pending::NewFromMesh(path, options));
@@ -505,6 +512,7 @@ fn answer_unsaved(state: &mut EditorState, answer: UnsavedAnswer) {
     }
     match pending {
         Pending::Open(path) => state.start_load(path),
+        Pending::OpenDemo(name) => state.start_load_demo(name),
         Pending::NewFromMesh(path, options) => new_from_mesh(state, &path, &options),
         Pending::Close => state.close_confirmed = true,
     }

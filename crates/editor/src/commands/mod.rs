@@ -57,6 +57,8 @@ pub enum CameraChange {
 pub enum Command {
     /// Open a scene or a mesh (asks first when there are unsaved changes).
     Open(PathBuf),
+    /// Open a generated demo scene by name (asks first when there are unsaved changes).
+    OpenDemo(String),
     /// A new scene around a mesh in automatic grid cages (asks first over unsaved changes).
     NewFromMesh(PathBuf, NewMeshOptions),
     /// Save to the document's file (the UI asks for one with [`Command::SaveAs`] when there is

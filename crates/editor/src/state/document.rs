@@ -36,6 +36,17 @@ impl Document {
         }
     }
 
+    /// The generated demo scene `name` (see `starcages-cli demo --list`), unsaved.
+    pub fn demo_named(name: &str) -> Result<Self, EditorError> {
+        let scene =
+            demo_scene(name, 1.0).ok_or_else(|| EditorError::UnknownDemo(name.to_owned()))?;
+        Ok(Self {
+            scene,
+            path: None,
+            dirty: false,
+        })
+    }
+
     /// Opens a scene (`.json`) or a mesh (`.obj`, `.gltf`, `.glb`; boxed in automatic grid
     /// cages). The error names the file, what is wrong and what to do.
     pub fn open(path: &Path) -> Result<Self, EditorError> {

@@ -15,6 +15,9 @@ pub enum EditorError {
     /// A scene file could not be read.
     #[error("could not open {0}. The current scene is unchanged")]
     OpenScene(#[source] SceneFileError),
+    /// No demo of that name.
+    #[error("there is no demo '{0}'; File > Open demo lists them")]
+    UnknownDemo(String),
     /// A mesh file could not be read.
     #[error("could not open {0}. The current scene is unchanged")]
     OpenMesh(#[source] FileError),

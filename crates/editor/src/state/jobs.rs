@@ -213,6 +213,12 @@ pub type LoadResult = Result<Document, EditorError>;
 pub type BaselineResult = Result<Arc<StarBinding>, EditorError>;
 
 /// Opening `path` on a worker.
+pub fn load_demo(name: String, wake: Option<Waker>) -> Job<LoadResult> {
+    let label = format!("generating the {name} demo");
+    Job::spawn("loading", label, wake, move |_| Document::demo_named(&name))
+}
+
+/// Opens the file `path` on a worker.
 pub fn load(path: PathBuf, wake: Option<Waker>) -> Job<LoadResult> {
     let label = format!("opening {}", path.display());
     Job::spawn("loading", label, wake, move |_| Document::open(&path))

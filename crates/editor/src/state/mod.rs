@@ -85,6 +85,8 @@ pub struct Stats {
 pub enum Pending {
     /// Open this file.
     Open(PathBuf),
+    /// Open this generated demo.
+    OpenDemo(String),
     /// Close the window.
     Close,
     /// Create a new scene around a mesh.
@@ -376,6 +378,12 @@ impl EditorState {
     pub fn start_load(&mut self, path: PathBuf) {
         self.info(format!("opening {}…", path.display()));
         self.load_job = Some(jobs::load(path, self.waker.clone()));
+    }
+
+    /// Starts generating the demo `name` on a worker, as [`Self::start_load`].
+    pub fn start_load_demo(&mut self, name: String) {
+        self.info(format!("generating the {name} demo…"));
+        self.load_job = Some(jobs::load_demo(name, self.waker.clone()));
     }
 
     /// Hand moves (vertex, new position), mirrored when X mirroring is on, propagated down the

@@ -32,6 +32,13 @@ pub fn menu_bar(
                     }
                 }
             });
+            ui.menu_button("Open demo", |ui| {
+                for (name, description) in starcages_core::scene::demo::DEMOS {
+                    if ui.button(name).on_hover_text(description).clicked() {
+                        sender.send(Command::OpenDemo(name.to_owned()));
+                    }
+                }
+            });
             ui.separator();
             item(ui, UiCommand::Save, None, true, &mut chosen);
             item(ui, UiCommand::SaveAs, None, true, &mut chosen);

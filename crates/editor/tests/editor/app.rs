@@ -1449,3 +1449,28 @@ fn rig_mode_shows_the_rest_cages_while_a_pose_is_active() {
     harness.run_steps(2);
     assert!(on_screen(&harness).distance(posed_at) < 1e-3);
 }
+
+/// File ▸ Open demo lists every generated demo (the creature among them) and opens one on a
+/// worker, clean and bound.
+#[test]
+fn file_open_demo_lists_the_demos_and_opens_one() {
+    let mut harness = harness();
+    harness.get_by_label("File").click();
+    harness.run_steps(2);
+    harness.get_by_label("Open demo").click();
+    harness.run_steps(2);
+    for (name, _) in starcages_core::scene::demo::DEMOS {
+        harness.get_by_label(name);
+    }
+    harness.get_by_label("bumpy").click();
+    harness.run_steps(1);
+    assert!(
+        harness.state().state.load_job.is_some(),
+        "the demo is generated in the background"
+    );
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3);
+    assert!(!state.doc.dirty && state.doc.path.is_none());
+    assert!(state.rig.is_some(), "bound");
+}
