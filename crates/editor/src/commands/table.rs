@@ -75,6 +75,8 @@ pub enum UiCommand {
     MirrorCage,
     /// Rig ▸ Fit to mesh
     FitCage,
+    /// Rig ▸ Subdivide
+    SubdivideCages,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -87,7 +89,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 34] = [
+    pub const ALL: [Self; 35] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -122,6 +124,7 @@ impl UiCommand {
         Self::MergeCages,
         Self::MirrorCage,
         Self::FitCage,
+        Self::SubdivideCages,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -161,6 +164,7 @@ impl UiCommand {
             Self::MergeCages => "Merge with neighbour",
             Self::MirrorCage => "Mirror across X",
             Self::FitCage => "Fit to mesh",
+            Self::SubdivideCages => "Subdivide",
         }
     }
 
@@ -223,6 +227,10 @@ impl UiCommand {
                  selected (or its only neighbour)"
             }
             Self::MirrorCage => "Rig mode: a copy of the inspected cage mirrored across x = 0",
+            Self::SubdivideCages => {
+                "Rig mode: cut every face of every leaf cage into quads through its edge \
+                 midpoints and centre (more vertices to pose; the shape does not change)"
+            }
             Self::FitCage => {
                 "Rig mode: pull the inspected cage in to the mesh (vertices it shares stay), \
                  keeping a margin of 2 % of the mesh's size"
@@ -265,7 +273,7 @@ impl UiCommand {
             Self::DeleteCage => &const { [key(NONE, Key::X), key(NONE, Key::Delete)] },
             Self::MergeCages => &const { [key(NONE, Key::M)] },
             Self::MirrorCage => &const { [key(CMD, Key::M)] },
-            Self::FitCage => &[],
+            Self::FitCage | Self::SubdivideCages => &[],
             Self::ShowShortcuts => {
                 &const {
                     [

@@ -64,6 +64,7 @@ pub fn execute(
         | UiCommand::MergeCages
         | UiCommand::MirrorCage
         | UiCommand::FitCage
+        | UiCommand::SubdivideCages
             if state.mode == EditMode::Pose =>
         {
             Command::Info(format!(
@@ -78,6 +79,7 @@ pub fn execute(
         UiCommand::MergeCages => rig(super::rig_keys::merge(state)),
         UiCommand::MirrorCage => rig(super::rig_keys::mirror(state)),
         UiCommand::FitCage => rig(super::rig_keys::fit(state)),
+        UiCommand::SubdivideCages => rig(Ok(starcages_core::scene::RigOp::Subdivide)),
     };
     sender.send(command);
 }

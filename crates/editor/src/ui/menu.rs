@@ -121,6 +121,7 @@ pub fn menu_bar(
                 UiCommand::MergeCages,
                 UiCommand::MirrorCage,
                 UiCommand::FitCage,
+                UiCommand::SubdivideCages,
             ] {
                 item(ui, action, None, rig, &mut chosen);
             }

@@ -1474,3 +1474,29 @@ fn file_open_demo_lists_the_demos_and_opens_one() {
     assert!(!state.doc.dirty && state.doc.path.is_none());
     assert!(state.rig.is_some(), "bound");
 }
+
+/// Rig ▸ Subdivide cuts every face of every leaf cage into quads in one undo step; the rig
+/// stays valid and bound, and undo gives back the cages.
+#[test]
+fn rig_menu_subdivides_every_cage_in_one_undo_step() {
+    use egui::accesskit::Role;
+    let mut harness = crate::common::bar_harness(true);
+    let before = harness.state().state.doc.scene.clone();
+    harness.get_by_role_and_label(Role::Button, "Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Subdivide").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert!(scene.cages.leaves.iter().all(|c| c.faces.len() == 24));
+    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert_eq!(
+        state.rig.as_ref().unwrap().bound_for.0.vertices.len(),
+        scene.cages.vertices.len(),
+        "the binding follows"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages, before.cages);
+}
