@@ -91,6 +91,12 @@ pub struct CageStyle {
     pub hovered: Option<u32>,
     /// Show only this hierarchy level at full strength (0: leaf cages); others dimmed.
     pub focus_level: Option<usize>,
+    /// Leaf cages with a problem (by index), drawn in the warning colour.
+    pub warning_cages: BTreeSet<usize>,
+    /// Cage vertices with a problem, drawn as large warning dots.
+    pub warning_vertices: BTreeSet<u32>,
+    /// Other points to mark (mesh vertices outside every cage), small warning dots.
+    pub warning_points: Vec<glam::Vec3>,
 }
 
 /// Hierarchy level of every cage, leaves then internal cages: 0 for leaves, and for an
@@ -173,12 +179,17 @@ pub fn cage_lines(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<LineV
         if style.hidden.contains(&i) {
             continue;
         }
-        let base = colors::kind(cage.kind);
+        let base = if style.warning_cages.contains(&i) {
+            colors::WARNING
+        } else {
+            colors::kind(cage.kind)
+        };
+        let warned = style.warning_cages.contains(&i);
         let dim = dim_for(i);
         let mut edges = polygon_edges(&cage.faces);
         edges.retain(|e| drawn.insert(*e));
         push(edges, &|e| {
-            let c = if border_edges.contains(&e) {
+            let c = if border_edges.contains(&e) && !warned {
                 colors::BORDER
             } else {
                 base
@@ -198,7 +209,8 @@ pub fn cage_lines(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<LineV
 }
 
 /// Cage vertices of visible cages as dots in `pose`: selected ones orange and larger, the
-/// hovered one light yellow, vertices only on dimmed levels faded.
+/// hovered one light yellow, ones with a problem large and yellow, vertices only on dimmed
+/// levels faded; then the style's warning points as small yellow dots.
 pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
     let levels = cage_levels(set);
     let leaves = set.leaves.len();
@@ -231,6 +243,8 @@ pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
                 (colors::HOVERED, 10.0)
             } else if style.selected.contains(&id) {
                 (colors::SELECTED, 9.0)
+            } else if style.warning_vertices.contains(&id) {
+                (colors::WARNING, 11.0)
             } else if focused[v] {
                 (colors::VERTEX, 7.0)
             } else {
@@ -242,6 +256,11 @@ pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
                 size,
             }
         })
+        .chain(style.warning_points.iter().map(|p| Dot {
+            position: p.to_array(),
+            color: colors::to_u8(colors::WARNING),
+            size: 4.0,
+        }))
         .collect()
 }
 

@@ -44,7 +44,9 @@ pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use subdivide::subdivide_leaf_cages;
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;
-pub use validate::{MAX_COORDINATE, SceneProblem, ValidationReport, validate_scene};
+pub use validate::{
+    MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, validate_scene,
+};
 
 /// Where the scene's mesh comes from.
 #[derive(Debug, Clone, PartialEq)]

@@ -258,6 +258,69 @@ pub struct ValidationReport {
     pub warnings: Vec<String>,
 }
 
+/// The elements a problem is about, so an editor can draw them in a warning colour: leaf cages
+/// (by index), cage vertices and mesh vertices.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ProblemElements {
+    /// Leaf cages, by index in the scene's list.
+    pub leaf_cages: Vec<usize>,
+    /// Cage vertices (the shared array).
+    pub cage_vertices: Vec<u32>,
+    /// Mesh vertices.
+    pub mesh_vertices: Vec<usize>,
+}
+
+impl SceneProblem {
+    /// The leaf cages, cage vertices and mesh vertices this problem names (leaf cages by their
+    /// index in `set`; names that are not leaf cages are left out).
+    pub fn elements(&self, set: &super::CageSet) -> ProblemElements {
+        let leaf = |name: &str| set.leaf_index(name);
+        let mut out = ProblemElements::default();
+        let mut cages = |names: &[&String]| {
+            out.leaf_cages
+                .extend(names.iter().filter_map(|n| leaf(n.as_str())));
+        };
+        match self {
+            Self::DuplicateName { name } => cages(&[name]),
+            Self::Cage { cage, .. }
+            | Self::InvalidH { cage, .. }
+            | Self::UnknownBorder { cage, .. }
+            | Self::FaceSharedByMany { cage, .. } => cages(&[cage]),
+            Self::SharedFaceSameOrientation { first, second, .. } => cages(&[first, second]),
+            Self::MeshVertexInTwoCages {
+                vertex,
+                first,
+                second,
+            } => {
+                cages(&[first, second]);
+                out.mesh_vertices.push(*vertex);
+            }
+            Self::CageVertexInsideCage { vertex, cage }
+            | Self::VertexOnCageSurface { vertex, cage, .. } => {
+                cages(&[cage]);
+                out.cage_vertices.push(*vertex as u32);
+            }
+            Self::CagesCross {
+                first,
+                second,
+                a,
+                b,
+                ..
+            } => {
+                cages(&[first, second]);
+                out.cage_vertices.extend([*a as u32, *b as u32]);
+            }
+            Self::FarFromNearestCage { vertex, cage, .. } => {
+                cages(&[cage]);
+                out.mesh_vertices.push(*vertex);
+            }
+            Self::MeshOutside { vertices, .. } => out.mesh_vertices.extend(vertices),
+            _ => {}
+        }
+        out
+    }
+}
+
 impl ValidationReport {
     /// Whether the scene is usable.
     pub fn is_valid(&self) -> bool {

@@ -288,3 +288,28 @@ fn the_creature_is_a_valid_rig_of_fourteen_chained_cages_around_65k_triangles() 
     // The script in the repository is the one the demo ran.
     assert!(CREATURE_RIG.contains("extrude body_front +z"));
 }
+
+#[test]
+fn problems_name_the_cages_and_vertices_they_are_about() {
+    let mut scene = empty_scene();
+    apply_rig_script(
+        &mut scene,
+        "add-box a 0 0 0 1 1 1\nadd-box b 0.5 0.05 0.05 1.5 0.95 2.0\n",
+    )
+    .unwrap();
+    let report = validate_scene(&scene);
+    assert!(!report.is_valid());
+    let mut cages = std::collections::BTreeSet::new();
+    let mut vertices = 0;
+    for problem in &report.errors {
+        let elements = problem.elements(&scene.cages);
+        cages.extend(elements.leaf_cages);
+        vertices += elements.cage_vertices.len() + elements.mesh_vertices.len();
+    }
+    assert_eq!(cages, [0, 1].into(), "{:?}", report.errors);
+    assert!(vertices > 0);
+    // A valid rig names nothing.
+    let mut valid = empty_scene();
+    apply_rig_script(&mut valid, "add-box a 0 0 0 1 1 2\n").unwrap();
+    assert!(validate_scene(&valid).errors.is_empty());
+}

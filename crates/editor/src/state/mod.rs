@@ -11,6 +11,7 @@ pub mod jobs;
 pub mod mirror;
 pub mod recent;
 mod rig;
+pub mod rig_warnings;
 mod selection;
 pub mod undo;
 mod view;
@@ -152,6 +153,8 @@ pub struct EditorState {
     /// What is wrong with the rig, found after every change of the document (empty: valid).
     /// The last valid binding stays in use meanwhile; Pose mode waits for a valid rig.
     pub rig_problems: Vec<String>,
+    /// The cages and vertices those problems name, drawn in the warning colour.
+    pub rig_warnings: rig_warnings::RigWarnings,
     /// Undo and redo.
     pub undo: UndoStack,
     /// A gesture in progress.
@@ -205,6 +208,7 @@ impl EditorState {
             view: ViewState::default(),
             mode: EditMode::Pose,
             rig_problems: Vec::new(),
+            rig_warnings: rig_warnings::RigWarnings::default(),
             grab_request: None,
             undo: UndoStack::default(),
             gesture: None,
@@ -226,11 +230,7 @@ impl EditorState {
         // images).
         state.view.layers.ground = true;
         state.revalidate();
-        state.rig_problems = starcages_core::scene::validate_scene(&state.doc.scene)
-            .errors
-            .iter()
-            .map(ToString::to_string)
-            .collect();
+        state.check_rig();
         state.frame(false);
         state.start_bind("binding the scene");
         state
@@ -415,17 +415,21 @@ impl EditorState {
         Ok(())
     }
 
+    /// Validates the scene: its problems, and the elements they name for the viewport.
+    fn check_rig(&mut self) {
+        let report = starcages_core::scene::validate_scene(&self.doc.scene);
+        self.rig_warnings =
+            rig_warnings::RigWarnings::from_problems(&self.doc.scene, &report.errors);
+        self.rig_problems = report.errors.iter().map(ToString::to_string).collect();
+    }
+
     /// After the document's editable state was replaced (an edit, undo, redo, a cancelled
     /// gesture, a pose switch): revalidates, then binds again what the change affects, or
     /// restores the hierarchy state and redeforms.
     pub fn document_changed(&mut self) {
         self.doc.dirty = true;
         self.revalidate();
-        self.rig_problems = starcages_core::scene::validate_scene(&self.doc.scene)
-            .errors
-            .iter()
-            .map(ToString::to_string)
-            .collect();
+        self.check_rig();
         if !self.rig_problems.is_empty() {
             // An invalid rig is not bound: the last valid binding stays in use (a bind of the
             // old state still running is stale: dropping it cancels it).

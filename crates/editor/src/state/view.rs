@@ -138,6 +138,7 @@ impl ViewState {
             selected: selection.vertices.clone(),
             hovered: selection.hovered,
             focus_level,
+            ..CageStyle::default()
         }
     }
 }

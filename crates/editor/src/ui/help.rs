@@ -24,7 +24,7 @@ const MORE: [(&str, &str); 6] = [
 ];
 
 /// The legend of what the colours of cages mean: (colour, meaning).
-pub fn cage_legend() -> [(egui::Color32, &'static str); 5] {
+pub fn cage_legend() -> [(egui::Color32, &'static str); 6] {
     use starcages_viewport::colors;
     let c = |rgba| {
         let [r, g, b, _] = colors::to_u8(rgba);
@@ -38,6 +38,10 @@ pub fn cage_legend() -> [(egui::Color32, &'static str); 5] {
         (kind(K::Harmonic), "HC leaf cage (harmonic coordinates)"),
         (c(colors::INTERNAL), "internal cage (drives cage vertices)"),
         (c(colors::BORDER), "border: a face shared by two leaf cages"),
+        (
+            c(colors::WARNING),
+            "problem: a cage, vertex or mesh vertex the rig's validation names (point at it for why)",
+        ),
     ]
 }
 

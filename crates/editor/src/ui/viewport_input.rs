@@ -120,6 +120,7 @@ pub fn viewport(
     viewport_paint::paint(state, ui_state, ui, rect);
     overlays(state, ui_state, ui, rect, pointer);
     rig_banner(state, ui, rect);
+    problem_under_pointer(state, ui);
     let click = pointer
         .filter(|_| response.clicked() && on_gizmo && ui_state.tool.is_none())
         .map(|p| egui::pos2(p.x, p.y));
@@ -270,6 +271,30 @@ fn start_drag(
         start_pointer: origin,
         start,
     }
+}
+
+/// Next to the pointer, over a cage vertex drawn as a problem (or of a cage drawn so): what is
+/// wrong there.
+fn problem_under_pointer(state: &EditorState, ui: &egui::Ui) {
+    let Some(v) = state.selection.hovered else {
+        return;
+    };
+    let Some(reason) = state.rig_warnings.reason_at_vertex(&state.doc.scene, v) else {
+        return;
+    };
+    let Some(pointer) = ui.ctx().input(|i| i.pointer.latest_pos()) else {
+        return;
+    };
+    egui::Area::new(egui::Id::unique("problem-under-pointer"))
+        .order(egui::Order::Tooltip)
+        .fixed_pos(pointer + egui::vec2(16.0, 16.0))
+        .interactable(false)
+        .show(ui.ctx(), |ui| {
+            egui::Frame::popup(ui.style()).show(ui, |ui| {
+                ui.set_max_width(360.0);
+                ui.label(format!("Problem here: {reason}"));
+            });
+        });
 }
 
 /// A banner over the viewport while the rig has problems: how many, the first, and that the

@@ -238,7 +238,8 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
         return;
     }
     let scene = &state.doc.scene;
-    let style = state.view.cage_style(&state.selection, &scene.cages);
+    let mut style = state.view.cage_style(&state.selection, &scene.cages);
+    state.rig_warnings.mark(scene, &mut style);
     let shown = state.shown_positions();
     let lines = Arc::new(cage_lines(&scene.cages, shown, &style));
     let dots = Arc::new(cage_dots(&scene.cages, shown, &style));

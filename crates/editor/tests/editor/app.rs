@@ -1500,3 +1500,53 @@ fn rig_menu_subdivides_every_cage_in_one_undo_step() {
     harness.run_steps(2);
     assert_eq!(harness.state().state.doc.scene.cages, before.cages);
 }
+
+/// Live validation draws what is wrong: a box added over the bar's cages overlaps them, so it
+/// (and the cages it overlaps) are drawn in the warning colour, the offending vertices as large
+/// warning dots, and the pointer over one of them says why.
+#[test]
+fn an_invalid_rig_draws_its_problem_cages_in_the_warning_colour_with_the_reason_on_hover() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert!(!state.rig_problems.is_empty());
+    let added = state.doc.scene.cages.leaves.len() - 1;
+    assert!(
+        state.rig_warnings.cages.contains_key(&added),
+        "the new box is warned: {:?}",
+        state.rig_warnings
+    );
+    // The pointer over a vertex of the warned box: the reason next to it.
+    let v = state.doc.scene.cages.leaves[added].faces[0][0];
+    let rect = state.view.viewport;
+    let at = state.shown_positions()[v as usize].as_vec3();
+    let (pixel, _) = state.view.camera.project(at, rect.size).unwrap();
+    let pointer = rect.min + pixel;
+    harness.hover_at(egui::pos2(pointer.x, pointer.y));
+    harness.run_steps(3);
+    assert!(harness.state().state.selection.hovered.is_some());
+    harness.get_by_label_contains("Problem here: ");
+    // The warning colour is on screen.
+    let image = harness.render().unwrap();
+    let [r, g, b, _] = starcages_viewport::colors::to_u8(starcages_viewport::colors::WARNING);
+    let warned = image
+        .pixels()
+        .filter(|p| p.0[0].abs_diff(r) < 30 && p.0[1].abs_diff(g) < 30 && p.0[2].abs_diff(b) < 40)
+        .count();
+    assert!(warned > 100, "{warned} warning-coloured pixels");
+    harness.snapshot_options(
+        "rig_mode_warnings",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // Undo: the rig is valid again and nothing is warned.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.rig_warnings,
+        starcages_editor::state::rig_warnings::RigWarnings::default()
+    );
+}
