@@ -53,7 +53,8 @@ impl eframe::App for EditorApp {
         let busy = self.state.bind_job.is_some()
             || self.state.load_job.is_some()
             || self.state.map.baseline_progress().is_some()
-            || self.ui.tool.is_some();
+            || self.ui.tool.is_some()
+            || self.ui.loop_cut.is_some();
         if busy {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }

@@ -37,8 +37,8 @@ pub use file::{
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub use rig_edit::{
-    FaceRef, MAX_RIG_SCRIPT_OPS, RestTransform, RigEditError, RigOp, apply_rig_op,
-    import_leaf_cages, parse_rig_script,
+    FaceRef, LoopCutRing, MAX_RIG_SCRIPT_OPS, RestTransform, RigEditError, RigOp, apply_rig_op,
+    import_leaf_cages, loop_cut_ring, parse_rig_script,
 };
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use subdivide::subdivide_leaf_cages;

@@ -752,37 +752,26 @@ fn merge(scene: &mut Scene, first: &str, second: &str) -> Result<(), RigEditErro
     Ok(())
 }
 
-fn split(
-    scene: &mut Scene,
-    cage: &str,
-    axis: usize,
-    t: f64,
-    name: &str,
-) -> Result<(), RigEditError> {
-    free_name(scene, name)?;
+/// The ring a loop cut of leaf cage `cage` across world axis `axis` (0 x, 1 y, 2 z) goes
+/// around: the cage's two ends (the faces most against and most along the axis) and, for each
+/// corner of the start end in its order, the corner of the far end its side edge leads to. A cut
+/// at fraction t puts a vertex on each of those edges at t from the start. Refused where the
+/// cage is not two ends joined by a ring of quads, or a ring face is shared with a neighbour
+/// (the cut would leave it a T-junction).
+pub fn loop_cut_ring(scene: &Scene, cage: &str, axis: usize) -> Result<LoopCutRing, RigEditError> {
     let c = leaf(scene, cage)?;
-    if !(t > 0.0 && t < 1.0) {
-        return Err(RigEditError::Value(format!(
-            "split {cage}: t = {t} must be inside (0, 1)"
-        )));
-    }
-    let faces = scene.cages.leaves[c].faces.clone();
-    let vertices = &scene.cages.vertices;
-    let normal = |f: &[u32]| -> DVec3 {
-        let p: Vec<DVec3> = f.iter().map(|&v| vertices[v as usize]).collect();
-        p.iter()
-            .zip(p.iter().cycle().skip(1))
-            .map(|(a, b)| a.cross(*b))
-            .sum::<DVec3>()
-            .normalize_or_zero()
-    };
-    let along = |f: &[u32]| normal(f)[axis];
+    let faces = &scene.cages.leaves[c].faces;
+    let axis = axis.min(2);
+    let along = |f: &[u32]| face_normal(scene, f)[axis];
     let not_a_ring = || {
         RigEditError::Value(format!(
             "split {cage}: it is not two ends joined by a ring of quads across that axis (a box or an \
          extruded cage is); cut another cage or along another axis"
         ))
     };
+    if faces.is_empty() {
+        return Err(not_a_ring());
+    }
     // The ends: the faces most against and most along the axis.
     let (low, high) = (0..faces.len()).fold((0, 0), |(lo, hi), f| {
         (
@@ -845,6 +834,44 @@ fn split(
             )));
         }
     }
+    Ok(LoopCutRing {
+        start_face: low,
+        end_face: high,
+        edges: start.iter().map(|&a| (a, partner[&a])).collect(),
+    })
+}
+
+/// Where a loop cut goes: see [`loop_cut_ring`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LoopCutRing {
+    /// The end the cut fraction is measured from (index in the cage's faces).
+    pub start_face: usize,
+    /// The other end.
+    pub end_face: usize,
+    /// The side edges, (start corner, far corner), in the start face's order.
+    pub edges: Vec<(u32, u32)>,
+}
+
+fn split(
+    scene: &mut Scene,
+    cage: &str,
+    axis: usize,
+    t: f64,
+    name: &str,
+) -> Result<(), RigEditError> {
+    free_name(scene, name)?;
+    let c = leaf(scene, cage)?;
+    if !(t > 0.0 && t < 1.0) {
+        return Err(RigEditError::Value(format!(
+            "split {cage}: t = {t} must be inside (0, 1)"
+        )));
+    }
+    let ring = loop_cut_ring(scene, cage, axis)?;
+    let faces = scene.cages.leaves[c].faces.clone();
+    let (low, high) = (ring.start_face, ring.end_face);
+    let (start, end) = (&faces[low], &faces[high]);
+    let end_set: BTreeSet<u32> = end.iter().copied().collect();
+    let partner: std::collections::BTreeMap<u32, u32> = ring.edges.iter().copied().collect();
     // New vertices on the side edges, at t from the start end.
     let mut cut = std::collections::BTreeMap::new();
     for (&a, &b) in &partner {

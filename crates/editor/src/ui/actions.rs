@@ -73,7 +73,13 @@ pub fn execute(
             ))
         }
         UiCommand::Extrude => rig(super::rig_keys::extrude(state)),
-        UiCommand::LoopCut => rig(super::rig_keys::loop_cut(state)),
+        UiCommand::LoopCut => match super::loop_cut_tool::LoopCutTool::begin(state) {
+            Ok(cut) => {
+                ui_state.loop_cut = Some(cut);
+                return;
+            }
+            Err(why) => Command::Info(why),
+        },
         UiCommand::AddBox => rig(super::rig_keys::add_box(state)),
         UiCommand::DeleteCage => rig(super::rig_keys::delete(state)),
         UiCommand::MergeCages => rig(super::rig_keys::merge(state)),

@@ -37,6 +37,10 @@ pub fn shortcuts(
         tool_keys(state, ui_state, &events, pointer, sender);
         return;
     }
+    if ui_state.loop_cut.is_some() {
+        loop_cut_keys(state, ui_state, &events, sender);
+        return;
+    }
     for event in events {
         if let Event::Key {
             key,
@@ -51,6 +55,46 @@ pub fn shortcuts(
             // egui moves the keyboard focus on Tab; a Blender user pressing it meant the mode,
             // and the next key would go to that widget.
             ui_state.drop_focus = key == Key::Tab;
+        }
+    }
+}
+
+/// Keys of the loop cut being placed: digits type the fraction, Enter cuts, Esc drops it.
+fn loop_cut_keys(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    events: &[Event],
+    sender: &mut CommandSender,
+) {
+    let Some(cut) = &mut ui_state.loop_cut else {
+        return;
+    };
+    for event in events {
+        match event {
+            Event::Text(text) => cut
+                .typed
+                .extend(text.chars().filter(|c| c.is_ascii_digit() || *c == '.')),
+            Event::Key {
+                key, pressed: true, ..
+            } => match key {
+                Key::Backspace => {
+                    cut.typed.pop();
+                }
+                Key::Enter => {
+                    if let Ok(t) = cut.typed.parse::<f64>() {
+                        cut.t = t.clamp(0.02, 0.98);
+                    }
+                    sender.send(Command::Rig(cut.operation(state)));
+                    ui_state.loop_cut = None;
+                    return;
+                }
+                Key::Escape => {
+                    ui_state.loop_cut = None;
+                    return;
+                }
+                _ => {}
+            },
+            _ => {}
         }
     }
 }

@@ -10,6 +10,7 @@ mod help;
 mod inspector;
 mod item_panel;
 mod keyboard;
+mod loop_cut_tool;
 mod menu;
 mod outliner;
 mod panels;
@@ -38,6 +39,8 @@ pub struct UiState {
     pub drag: Option<Drag>,
     /// A G / R / S transform in progress.
     pub tool: Option<TransformTool>,
+    /// Ctrl+R's loop cut while it is being placed.
+    pub loop_cut: Option<loop_cut_tool::LoopCutTool>,
     /// The name typed for a new pose.
     pub new_pose_name: String,
     /// File dialogs: native on a worker, or in-app where no native one can be shown.
@@ -75,6 +78,7 @@ impl UiState {
         Self {
             drag: None,
             tool: None,
+            loop_cut: None,
             new_pose_name: String::new(),
             files: file_dialog::FileDialogs::from_env(),
             new_mesh_dialog: None,
@@ -104,6 +108,13 @@ impl UiState {
     /// undo, or the document was replaced).
     fn revalidate(&mut self, state: &EditorState) {
         let live = state.gesture_id();
+        // A loop cut is placed on a cage of Rig mode; another mode or a cage gone ends it.
+        if self.loop_cut.as_ref().is_some_and(|cut| {
+            state.mode != crate::state::EditMode::Rig
+                || state.doc.scene.cages.leaf_index(&cut.cage).is_none()
+        }) {
+            self.loop_cut = None;
+        }
         if self.tool.as_ref().is_some_and(|t| Some(t.gesture) != live) {
             self.tool = None;
         }

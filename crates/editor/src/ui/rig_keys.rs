@@ -1,7 +1,7 @@
 //! Rig mode's keys turned into rig operations from what is selected and inspected: E extrudes
-//! the selected face, Ctrl+R cuts the inspected cage across its longest side, Shift+A adds a
-//! box around the selection (or the mesh), X / Delete deletes the inspected cage. Each gives
-//! the operation, or why there is none.
+//! the selected face, Shift+A adds a box around the selection (or the mesh), X / Delete
+//! deletes the inspected cage. Each gives the operation, or why there is none. (Ctrl+R's loop
+//! cut is placed with the mouse first: `loop_cut_tool`.)
 
 use glam::DVec3;
 use starcages_core::scene::RigOp;
@@ -48,32 +48,6 @@ pub fn extrude(state: &EditorState) -> Result<RigOp, String> {
         }
     }
     Err("E (extrude): select every corner of one face of a leaf cage first".into())
-}
-
-/// Ctrl+R: the inspected leaf cage cut in half across its longest side.
-pub fn loop_cut(state: &EditorState) -> Result<RigOp, String> {
-    let Some(CageId::Leaf(c)) = state.selection.cage() else {
-        return Err(
-            "Ctrl+R (loop cut): inspect a leaf cage first (click it in the outliner)".into(),
-        );
-    };
-    let scene = &state.doc.scene;
-    let cage = &scene.cages.leaves[c];
-    let points: Vec<DVec3> = cage
-        .faces
-        .iter()
-        .flatten()
-        .map(|&v| scene.cages.vertices[v as usize])
-        .collect();
-    let (lo, hi) = starcages_core::cage::bounds_of(&points);
-    let extent = hi - lo;
-    let axis = (0..3).fold(0, |best, k| if extent[k] > extent[best] { k } else { best });
-    Ok(RigOp::Split {
-        cage: cage.name.clone(),
-        axis,
-        t: 0.5,
-        name: fresh_name(state, &cage.name),
-    })
 }
 
 /// Shift+A: a box around the selected vertices (5 % larger), or around the mesh.

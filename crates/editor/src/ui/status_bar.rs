@@ -50,6 +50,8 @@ pub fn status_bar(
         }
         if let Some(tool) = &ui_state.tool {
             ui.label(tool.describe());
+        } else if let Some(cut) = &ui_state.loop_cut {
+            ui.label(cut.describe());
         } else if let Some(message) = state.message.as_ref().filter(|m| m.opacity() > 0.0) {
             let colour = if message.error {
                 egui::Color32::from_rgb(255, 110, 100)

@@ -97,7 +97,22 @@ pub fn viewport(
         )
     });
     let on_gizmo = pointer.is_some_and(|p| axis_gizmo::contains(rect, egui::pos2(p.x, p.y)));
-    if ui_state.tool.is_some() {
+    if let Some(cut) = &mut ui_state.loop_cut {
+        // The cut follows the pointer; a click makes it, a right click drops it.
+        if let Some(p) = pointer {
+            let camera = &state.view.camera;
+            let size = state.view.viewport.size;
+            cut.follow(state, p - state.view.viewport.min, |w| {
+                camera.project(w.as_vec3(), size).map(|(q, _)| q)
+            });
+        }
+        if response.clicked() {
+            sender.send(Command::Rig(cut.operation(state)));
+            ui_state.loop_cut = None;
+        } else if secondary {
+            ui_state.loop_cut = None;
+        }
+    } else if ui_state.tool.is_some() {
         // The tool follows the pointer in `keyboard`; here only its mouse confirm / cancel.
         if response.clicked() {
             ui_state.tool = None;
@@ -121,6 +136,9 @@ pub fn viewport(
     overlays(state, ui_state, ui, rect, pointer);
     rig_banner(state, ui, rect);
     problem_under_pointer(state, ui);
+    if let Some(cut) = &ui_state.loop_cut {
+        loop_cut_overlay(state, cut, ui.painter(), rect);
+    }
     let click = pointer
         .filter(|_| response.clicked() && on_gizmo && ui_state.tool.is_none())
         .map(|p| egui::pos2(p.x, p.y));
@@ -325,6 +343,56 @@ fn rig_banner(state: &EditorState, ui: &egui::Ui, rect: egui::Rect) {
         });
 }
 
+/// While a loop cut is placed: the ring where it would cut, and a header with the fraction.
+fn loop_cut_overlay(
+    state: &EditorState,
+    cut: &super::loop_cut_tool::LoopCutTool,
+    painter: &egui::Painter,
+    rect: egui::Rect,
+) {
+    let camera = &state.view.camera;
+    let size = state.view.viewport.size;
+    let ring: Vec<egui::Pos2> = cut
+        .ring_points(state)
+        .iter()
+        .filter_map(|p| camera.project(p.as_vec3(), size))
+        .map(|(q, _)| rect.min + egui::vec2(q.x, q.y))
+        .collect();
+    if ring.len() >= 2 {
+        let [r, g, b, _] = colors::to_u8(colors::SELECTED);
+        let mut closed = ring.clone();
+        closed.push(ring[0]);
+        painter.add(egui::Shape::line(
+            closed,
+            egui::Stroke::new(2.5, egui::Color32::from_rgb(r, g, b)),
+        ));
+    }
+    header_label(painter.ctx(), rect, "loop-cut-header", cut.header());
+}
+
+/// A header at the top of the viewport: a label in an area (not painted text), so it is in
+/// the accessibility tree.
+fn header_label(ctx: &egui::Context, rect: egui::Rect, id: &str, text: String) {
+    egui::Area::new(egui::Id::unique(id))
+        .order(egui::Order::Foreground)
+        .pivot(egui::Align2::CENTER_TOP)
+        .fixed_pos(rect.center_top() + egui::vec2(0.0, 10.0))
+        .interactable(false)
+        .show(ctx, |ui| {
+            egui::Frame::new()
+                .fill(egui::Color32::from_black_alpha(170))
+                .corner_radius(4.0)
+                .inner_margin(egui::Margin::symmetric(8, 4))
+                .show(ui, |ui| {
+                    ui.label(
+                        egui::RichText::new(text)
+                            .size(15.0)
+                            .color(egui::Color32::WHITE),
+                    );
+                });
+        });
+}
+
 /// While G / R / S runs: the locked axis as a line through the pivot, in the axis colour, and a
 /// header with the live amount at the top of the viewport.
 fn tool_overlay(
@@ -355,26 +423,8 @@ fn tool_overlay(
             );
         }
     }
-    // A label in an area (not painted text), so it is in the accessibility tree.
     let header = tool.header(tool.amount(camera, view, pointer));
-    egui::Area::new(egui::Id::unique("transform-header"))
-        .order(egui::Order::Foreground)
-        .pivot(egui::Align2::CENTER_TOP)
-        .fixed_pos(rect.center_top() + egui::vec2(0.0, 10.0))
-        .interactable(false)
-        .show(painter.ctx(), |ui| {
-            egui::Frame::new()
-                .fill(egui::Color32::from_black_alpha(170))
-                .corner_radius(4.0)
-                .inner_margin(egui::Margin::symmetric(8, 4))
-                .show(ui, |ui| {
-                    ui.label(
-                        egui::RichText::new(header)
-                            .size(15.0)
-                            .color(egui::Color32::WHITE),
-                    );
-                });
-        });
+    header_label(painter.ctx(), rect, "transform-header", header);
 }
 
 fn overlays(

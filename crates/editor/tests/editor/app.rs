@@ -1234,11 +1234,17 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     harness.run_steps(2);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
-    // Ctrl+R cuts the inspected cage across its longest side.
+    // Ctrl+R places a cut across the inspected cage's longest side; Enter makes it.
     harness
         .state_mut()
         .run(Command::InspectCage(Some(CageId::Leaf(0))));
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    harness.run_steps(2);
+    assert!(
+        harness.state().ui.loop_cut.is_some(),
+        "the cut is being placed"
+    );
+    harness.key_press(egui::Key::Enter);
     harness.run_steps(2);
     settle(&mut harness);
     let scene = harness.state().state.doc.scene.clone();
@@ -1548,5 +1554,71 @@ fn an_invalid_rig_draws_its_problem_cages_in_the_warning_colour_with_the_reason_
     assert_eq!(
         harness.state().state.rig_warnings,
         starcages_editor::state::rig_warnings::RigWarnings::default()
+    );
+}
+
+/// Ctrl+R's cut slides with the mouse before it is made: the preview follows the pointer along
+/// the cage, a typed fraction overrides it, Esc drops the cut and Enter makes it there.
+#[test]
+fn the_loop_cut_slides_with_the_mouse_and_a_typed_fraction_places_it() {
+    let mut harness = crate::common::bar_harness(true);
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(0))));
+    let rect = harness.state().state.view.viewport;
+    let centre = rect.center();
+    // Esc drops the cut: nothing changes.
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    harness.run_steps(2);
+    harness.get_by_label_contains("Loop cut 'cage_0_0_0' across X");
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.loop_cut.is_none());
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // The pointer at either side of the view slides the cut to different places.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    let mut fractions = Vec::new();
+    for x in [
+        rect.min.x + 0.2 * rect.size.x,
+        rect.min.x + 0.8 * rect.size.x,
+    ] {
+        harness.hover_at(egui::pos2(x, centre.y));
+        harness.run_steps(2);
+        fractions.push(harness.state().ui.loop_cut.as_ref().unwrap().t);
+    }
+    assert!(
+        (fractions[0] - fractions[1]).abs() > 0.05,
+        "the cut follows the pointer: {fractions:?}"
+    );
+    harness.snapshot_options(
+        "rig_mode_loop_cut",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // A typed fraction wins; Enter cuts there.
+    for text in ["0", ".", "2", "5"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.get_by_label_contains("0.25 of the way  [typed 0.25]");
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3);
+    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    // The left cage spans x in [-1.1, 0] in the bar demo at this detail: the cut's vertices
+    // sit a quarter of the way along it.
+    let xs: Vec<f64> = scene.cages.vertices.iter().map(|p| p.x).collect();
+    let (lo, hi) = (-1.1_f64, 0.0_f64);
+    let expected = lo + 0.25 * (hi - lo);
+    assert!(
+        xs.iter().any(|x| (x - expected).abs() < 1e-9)
+            || xs
+                .iter()
+                .any(|x| (x - (hi - 0.25 * (hi - lo))).abs() < 1e-9),
+        "{xs:?}"
     );
 }
