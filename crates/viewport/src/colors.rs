@@ -15,6 +15,8 @@ pub const NO_VALUE: Rgba = [0.55, 0.55, 0.55, 1.0];
 pub const INTERNAL: Rgba = [0.62, 0.62, 0.62, 1.0];
 /// Borders between leaf cages (faces shared by two cages).
 pub const BORDER: Rgba = [1.0, 0.42, 0.75, 1.0];
+/// The current pose's cages drawn faintly over the rest cages (Rig mode's ghost).
+pub const GHOST: Rgba = [0.47, 0.47, 0.52, 1.0];
 /// Cages, cage vertices and mesh vertices with a problem (Rig mode's live validation).
 pub const WARNING: Rgba = [1.0, 0.85, 0.1, 1.0];
 /// Selected cage vertices.

@@ -208,6 +208,39 @@ pub fn cage_lines(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<LineV
     out
 }
 
+/// The visible cages' edges that `pose` moves away from `rest`, in the faint ghost colour: Rig
+/// mode draws the current pose this way over the rest cages it edits (edges the pose leaves in
+/// place are not drawn twice).
+pub fn ghost_lines(
+    set: &CageSet,
+    pose: &[DVec3],
+    rest: &[DVec3],
+    hidden: &BTreeSet<usize>,
+) -> Vec<LineVertex> {
+    let leaves = set.leaves.len();
+    let faces = set
+        .leaves
+        .iter()
+        .map(|c| &c.faces)
+        .chain(set.internals.iter().map(|c| &c.faces))
+        .enumerate()
+        .filter(|(i, _)| !hidden.contains(i) && *i < leaves + set.internals.len())
+        .flat_map(|(_, faces)| polygon_edges(faces));
+    let edges: BTreeSet<(u32, u32)> = faces.collect();
+    let moved = |v: u32| pose.get(v as usize) != rest.get(v as usize);
+    let ghost = colors::to_u8(colors::GHOST);
+    edges
+        .into_iter()
+        .filter(|&(a, b)| moved(a) || moved(b))
+        .filter_map(|(a, b)| Some([pose.get(a as usize)?, pose.get(b as usize)?]))
+        .flatten()
+        .map(|p| LineVertex {
+            position: p.as_vec3().to_array(),
+            color: ghost,
+        })
+        .collect()
+}
+
 /// Cage vertices of visible cages as dots in `pose`: selected ones orange and larger, the
 /// hovered one light yellow, ones with a problem large and yellow, vertices only on dimmed
 /// levels faded; then the style's warning points as small yellow dots.

@@ -160,7 +160,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
             state.info(match mode {
                 crate::state::EditMode::Rig => {
                     "Rig mode: moving vertices edits the rest cages (poses follow); E extrudes \
-                     the selected face, Ctrl+R cuts the inspected cage, Shift+A adds a box, X \
+                     the selected face, Ctrl+R loop-cuts the inspected cage, Shift+A adds a box, X \
                      deletes the inspected cage; Tab: back to Pose mode"
                 }
                 crate::state::EditMode::Pose => "Pose mode: moving vertices poses the mesh",

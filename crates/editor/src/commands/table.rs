@@ -217,7 +217,10 @@ impl UiCommand {
                  then move its cap along the face's normal (type a distance, Enter, or Esc to \
                  keep the default depth)"
             }
-            Self::LoopCut => "Rig mode: cut the inspected cage in two across its longest side",
+            Self::LoopCut => {
+                "Rig mode: cut the inspected cage in two across its longest side; slide the cut \
+                 with the mouse (or type a fraction), then click or Enter"
+            }
             Self::AddBox => {
                 "Rig mode: a box cage around the selected vertices (or around the mesh)"
             }

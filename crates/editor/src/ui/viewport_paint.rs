@@ -10,7 +10,9 @@ use egui_wgpu::{CallbackResources, CallbackTrait, RenderState, ScreenDescriptor}
 use glam::Vec3;
 use starcages_core::star::StarBinding;
 use starcages_viewport::gpu::{Blit, GpuContext, Layers, SceneRenderer, ViewTarget};
-use starcages_viewport::layers::{Dot, LineVertex, cage_dots, cage_lines, ground_grid};
+use starcages_viewport::layers::{
+    Dot, LineVertex, cage_dots, cage_lines, ghost_lines, ground_grid,
+};
 use starcages_viewport::{OrbitCamera, gpu::OFFSCREEN_FORMAT};
 
 use super::UiState;
@@ -241,7 +243,17 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     let mut style = state.view.cage_style(&state.selection, &scene.cages);
     state.rig_warnings.mark(scene, &mut style);
     let shown = state.shown_positions();
-    let lines = Arc::new(cage_lines(&scene.cages, shown, &style));
+    let mut lines = cage_lines(&scene.cages, shown, &style);
+    // Rig mode edits the rest cages; the current pose, where it differs, is ghosted over them.
+    if state.mode == crate::state::EditMode::Rig && scene.pose != scene.cages.vertices {
+        lines.extend(ghost_lines(
+            &scene.cages,
+            &scene.pose,
+            &scene.cages.vertices,
+            &style.hidden,
+        ));
+    }
+    let lines = Arc::new(lines);
     let dots = Arc::new(cage_dots(&scene.cages, shown, &style));
     let (lo, hi) = scene.mesh.bounds();
     let guides = Arc::new(ground_grid(lo.as_vec3(), hi.as_vec3()));

@@ -1451,9 +1451,24 @@ fn rig_mode_shows_the_rest_cages_while_a_pose_is_active() {
     harness.hover_at(rest_at);
     harness.run_steps(2);
     assert_eq!(harness.state().state.selection.hovered, Some(v));
+    // The pose is ghosted over the rest cages: faint lines in the ghost colour.
+    let ghost_pixels = |h: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        let [r, g, b, _] = starcages_viewport::colors::to_u8(starcages_viewport::colors::GHOST);
+        h.render()
+            .unwrap()
+            .pixels()
+            .filter(|p| p.0[0].abs_diff(r) < 6 && p.0[1].abs_diff(g) < 6 && p.0[2].abs_diff(b) < 6)
+            .count()
+    };
+    let in_rig_mode = ghost_pixels(&mut harness);
     harness.key_press(egui::Key::Tab);
     harness.run_steps(2);
     assert!(on_screen(&harness).distance(posed_at) < 1e-3);
+    let in_pose_mode = ghost_pixels(&mut harness);
+    assert!(
+        in_rig_mode > in_pose_mode + 100,
+        "ghost pixels: {in_rig_mode} in Rig mode, {in_pose_mode} in Pose mode"
+    );
 }
 
 /// File ▸ Open demo lists every generated demo (the creature among them) and opens one on a
