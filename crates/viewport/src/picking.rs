@@ -61,6 +61,55 @@ pub fn select_in_rectangle(
         .collect()
 }
 
+/// The polygon (an index into `polygons`, corners indexing `positions`) the ray through pixel
+/// `cursor_in_viewport` meets first, if any. Polygons are fan-triangulated from their first
+/// corner; either side counts.
+pub fn pick_polygon(
+    camera: &OrbitCamera,
+    viewport_size: Vec2,
+    positions: &[Vec3],
+    polygons: &[&[u32]],
+    cursor_in_viewport: Vec2,
+) -> Option<usize> {
+    let (origin, direction) = camera.ray(cursor_in_viewport, viewport_size);
+    let mut best: Option<(f32, usize)> = None;
+    for (i, polygon) in polygons.iter().enumerate() {
+        let corners: Vec<Vec3> = polygon
+            .iter()
+            .filter_map(|&v| positions.get(v as usize).copied())
+            .collect();
+        if corners.len() < 3 || corners.len() != polygon.len() {
+            continue;
+        }
+        for k in 1..corners.len() - 1 {
+            if let Some(t) =
+                ray_triangle(origin, direction, [corners[0], corners[k], corners[k + 1]])
+                && best.is_none_or(|(b, _)| t < b)
+            {
+                best = Some((t, i));
+            }
+        }
+    }
+    best.map(|(_, i)| i)
+}
+
+/// Distance along the ray to triangle `tri` (Möller–Trumbore), either side facing.
+fn ray_triangle(origin: Vec3, direction: Vec3, tri: [Vec3; 3]) -> Option<f32> {
+    let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+    let p = direction.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let inverse = 1.0 / det;
+    let s = origin - tri[0];
+    let u = s.dot(p) * inverse;
+    let q = s.cross(e1);
+    let v = direction.dot(q) * inverse;
+    let t = e2.dot(q) * inverse;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -131,5 +180,35 @@ mod tests {
             Vec2::ZERO,
         );
         assert_eq!(left, swapped);
+    }
+
+    #[test]
+    fn a_polygon_is_picked_where_the_ray_meets_it_first() {
+        let camera = OrbitCamera::default();
+        let size = Vec2::new(400.0, 300.0);
+        // Two squares facing the eye along its view direction, one behind the other.
+        let eye_dir = -camera.backward();
+        let (u, w) = eye_dir.any_orthonormal_pair();
+        let square = |centre: Vec3| -> Vec<Vec3> {
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(a, b)| centre + u * a + w * b)
+                .to_vec()
+        };
+        let near = camera.target;
+        let far = camera.target + eye_dir * 2.0;
+        let mut positions = square(far);
+        positions.extend(square(near));
+        let polygons: [&[u32]; 2] = [&[0, 1, 2, 3], &[4, 5, 6, 7]];
+        let centre = size / 2.0;
+        assert_eq!(
+            pick_polygon(&camera, size, &positions, &polygons, centre),
+            Some(1),
+            "the nearer square"
+        );
+        assert_eq!(
+            pick_polygon(&camera, size, &positions, &polygons, Vec2::new(1.0, 1.0)),
+            None,
+            "a corner of the view misses both"
+        );
     }
 }

@@ -166,21 +166,13 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 crate::state::EditMode::Pose => "Pose mode: moving vertices poses the mesh",
             });
         }
-        Command::Rig(op) => {
-            let label = format!("rig: {}", rig_op_label(&op));
-            let leaves_before = state.doc.scene.cages.leaves.len();
-            match state.edit_scene(&label, |scene| {
-                starcages_core::scene::apply_rig_op(scene, &op)
-            }) {
-                Ok(()) => {
-                    state.info(label);
-                    if let starcages_core::scene::RigOp::Extrude { .. } = op {
-                        select_extruded_cap(state, leaves_before);
-                    }
-                }
-                Err(e) => state.error(EditorError::Rig(e.to_string())),
-            }
+        Command::Rig(op) => apply_rig_ops(state, vec![op]),
+        Command::RigOps(ops) => apply_rig_ops(state, ops),
+        Command::SelectFaces { faces, mode } => {
+            let set = &state.doc.scene.cages;
+            state.selection.select_faces(faces, mode, set);
         }
+        Command::SetFaceSelect(on) => state.view.face_select = on,
         Command::MoveRestVertices(moves) => move_rest_vertices(state, &moves, false),
         Command::SetCageKind(cage, kind) => {
             if cage.kind(&state.doc.scene.cages).is_some_and(|k| k != kind) {
@@ -255,13 +247,15 @@ pub fn apply(state: &mut EditorState, command: Command) {
             let count = state.doc.scene.cages.vertices.len();
             let valid = vertices.into_iter().filter(|&v| (v as usize) < count);
             state.selection.select(valid, mode);
+            // Faces that lost a corner are no longer selected.
+            state.selection.revalidate(&state.doc.scene.cages);
         }
         Command::SelectAll => {
             let pickable = state.view.pickable(&state.doc.scene.cages);
             let all = (0..pickable.len() as u32).filter(|&v| pickable[v as usize]);
             state.selection.select(all, SelectMode::Replace);
         }
-        Command::SelectNone => state.selection.vertices.clear(),
+        Command::SelectNone => state.selection.select([], SelectMode::Replace),
         Command::InspectCage(cage) => {
             let set = &state.doc.scene.cages;
             let cage = cage.filter(|c| c.exists(set));
@@ -327,6 +321,45 @@ fn move_rest_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)], pos
             }
         }
     });
+}
+
+/// Rig operations as one undo step, applied whole or not at all; after extrusions the new caps
+/// are selected (and one cap starts G along its normal).
+fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::scene::RigOp>) {
+    let label = match ops.as_slice() {
+        [op] => format!("rig: {}", rig_op_label(op)),
+        _ => format!("rig: {} operations", ops.len()),
+    };
+    let leaves_before = state.doc.scene.cages.leaves.len();
+    let result = state.edit_scene(&label, |scene| {
+        let mut edited = scene.clone();
+        for op in &ops {
+            starcages_core::scene::apply_rig_op(&mut edited, op)?;
+        }
+        *scene = edited;
+        Ok::<(), starcages_core::scene::RigEditError>(())
+    });
+    match result {
+        Ok(()) => {
+            state.info(label);
+            let extruded = ops
+                .iter()
+                .filter(|op| matches!(op, starcages_core::scene::RigOp::Extrude { .. }))
+                .count();
+            if extruded == 1 && ops.len() == 1 {
+                select_extruded_cap(state, leaves_before);
+            } else if extruded > 0 {
+                let caps: Vec<u32> = state.doc.scene.cages.leaves[leaves_before..]
+                    .iter()
+                    .filter_map(|cage| cage.faces.get(1))
+                    .flatten()
+                    .copied()
+                    .collect();
+                state.selection.select(caps, SelectMode::Replace);
+            }
+        }
+        Err(e) => state.error(EditorError::Rig(e.to_string())),
+    }
 }
 
 /// After an extrusion: selects the new cap (the new cage's vertices that are new) and asks the

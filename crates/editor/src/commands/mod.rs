@@ -173,6 +173,19 @@ pub enum Command {
     SetMode(crate::state::EditMode),
     /// A rig operation on the rest cages (one undo step).
     Rig(starcages_core::scene::RigOp),
+    /// Several rig operations applied whole or not at all, as one undo step (E on several
+    /// faces).
+    RigOps(Vec<starcages_core::scene::RigOp>),
+    /// Select leaf-cage faces (cage index, face index): their corners join the vertex
+    /// selection.
+    SelectFaces {
+        /// The faces.
+        faces: Vec<(usize, usize)>,
+        /// How they combine with the selection.
+        mode: crate::state::SelectMode,
+    },
+    /// Face select mode (Rig mode): clicks pick cage faces instead of vertices.
+    SetFaceSelect(bool),
 }
 
 /// Collects the commands the UI sends during a frame.

@@ -19,6 +19,9 @@ pub struct Selection {
     pub hovered: Option<u32>,
     /// The vertex count the vertex indices were picked in.
     vertex_count: usize,
+    /// Selected leaf-cage faces (face select mode), by cage name and face index; their corners
+    /// are in `vertices` too. A face goes when one of its corners is deselected.
+    pub faces: BTreeSet<(String, usize)>,
 }
 
 /// How a picked set of vertices combines with the selection.
@@ -37,6 +40,7 @@ impl Selection {
     pub fn select(&mut self, picked: impl IntoIterator<Item = u32>, mode: SelectMode) {
         if mode == SelectMode::Replace {
             self.vertices.clear();
+            self.faces.clear();
         }
         for v in picked {
             if mode == SelectMode::Toggle && self.vertices.contains(&v) {
@@ -45,6 +49,48 @@ impl Selection {
                 self.vertices.insert(v);
             }
         }
+    }
+
+    /// Combines leaf-cage faces `picked` (cage index, face index in `set`) into the selection,
+    /// with their corners; faces `set` does not have are ignored.
+    pub fn select_faces(&mut self, picked: Vec<(usize, usize)>, mode: SelectMode, set: &CageSet) {
+        if mode == SelectMode::Replace {
+            self.vertices.clear();
+            self.faces.clear();
+        }
+        for (c, f) in picked {
+            let Some((cage, face)) = set
+                .leaves
+                .get(c)
+                .and_then(|cage| Some((cage, cage.faces.get(f)?)))
+            else {
+                continue;
+            };
+            let key = (cage.name.clone(), f);
+            if mode == SelectMode::Toggle && self.faces.remove(&key) {
+                // Its corners go, except those of other selected faces.
+                let kept: BTreeSet<u32> = self
+                    .faces
+                    .iter()
+                    .filter_map(|(name, g)| set.leaves.get(set.leaf_index(name)?)?.faces.get(*g))
+                    .flatten()
+                    .copied()
+                    .collect();
+                self.vertices
+                    .retain(|v| !face.contains(v) || kept.contains(v));
+            } else {
+                self.faces.insert(key);
+                self.vertices.extend(face.iter().copied());
+            }
+        }
+    }
+
+    /// The selected faces as (cage index, face index) in `set`.
+    pub fn face_indices(&self, set: &CageSet) -> Vec<(usize, usize)> {
+        self.faces
+            .iter()
+            .filter_map(|(name, f)| Some((set.leaf_index(name)?, *f)))
+            .collect()
     }
 
     /// The cage shown in the inspector.
@@ -69,6 +115,12 @@ impl Selection {
         }
         self.vertex_count = count;
         self.vertices.retain(|&v| (v as usize) < count);
+        let vertices = &self.vertices;
+        self.faces.retain(|(name, f)| {
+            set.leaf_index(name)
+                .and_then(|c| set.leaves[c].faces.get(*f))
+                .is_some_and(|face| face.iter().all(|v| vertices.contains(v)))
+        });
         self.hovered = self.hovered.filter(|&v| (v as usize) < count);
         self.cage = self.cage.take().and_then(|(id, name)| {
             let id = match id.name(set) {

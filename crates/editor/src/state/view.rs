@@ -71,6 +71,8 @@ pub struct ViewState {
     pub influence: InfluenceChoice,
     /// Moving a vertex moves its mirror partner across x = 0.
     pub mirror_x: bool,
+    /// Face select mode (Rig mode): clicks pick leaf-cage faces instead of vertices.
+    pub face_select: bool,
     /// Where the 3D view was drawn last frame.
     pub viewport: ScreenRect,
 }

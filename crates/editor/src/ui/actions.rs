@@ -72,6 +72,12 @@ pub fn execute(
                 action.label()
             ))
         }
+        UiCommand::Extrude if !state.selection.faces.is_empty() => {
+            match super::rig_keys::extrude_faces(state) {
+                Ok(ops) => Command::RigOps(ops),
+                Err(why) => Command::Info(why),
+            }
+        }
         UiCommand::Extrude => rig(super::rig_keys::extrude(state)),
         UiCommand::LoopCut => match super::loop_cut_tool::LoopCutTool::begin(state) {
             Ok(cut) => {

@@ -17,6 +17,55 @@ fn fresh_name(state: &EditorState, stem: &str) -> String {
         .unwrap_or_default()
 }
 
+/// E in face select mode: every selected face pushed out by half its longest edge into a new
+/// cage (one undo step); a face shared with a neighbour already cannot be extruded.
+pub fn extrude_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
+    let scene = &state.doc.scene;
+    let set = &scene.cages;
+    let shared = set.faces_by_vertex_set();
+    let mut taken: Vec<String> = set.cage_names().iter().map(|n| (*n).to_owned()).collect();
+    let mut ops = Vec::new();
+    for (c, f) in state.selection.face_indices(set) {
+        let cage = &set.leaves[c];
+        let Some(face) = cage.faces.get(f) else {
+            continue;
+        };
+        let mut key = face.clone();
+        key.sort_unstable();
+        if shared.get(&key).is_some_and(|s| s.len() > 1) {
+            return Err(format!(
+                "E (extrude): face {f} of '{}' is shared with a neighbour already; select free faces",
+                cage.name
+            ));
+        }
+        let name = (1..)
+            .map(|i| format!("{}_{i}", cage.name))
+            .find(|n| !taken.contains(n))
+            .unwrap_or_default();
+        taken.push(name.clone());
+        ops.push(RigOp::Extrude {
+            cage: cage.name.clone(),
+            face: starcages_core::scene::FaceRef::Index(f),
+            distance: 0.5 * longest_edge(scene, face),
+            name,
+        });
+    }
+    if ops.is_empty() {
+        return Err("E (extrude): select faces first (click them in face select mode)".into());
+    }
+    Ok(ops)
+}
+
+/// The longest edge of a polygon face (rest positions).
+fn longest_edge(scene: &starcages_core::scene::Scene, face: &[u32]) -> f64 {
+    (0..face.len())
+        .map(|k| {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            scene.cages.vertices[a as usize].distance(scene.cages.vertices[b as usize])
+        })
+        .fold(0.0, f64::max)
+}
+
 /// E: the face of a leaf cage whose corners are all selected, pushed out by half its longest
 /// edge into a new cage.
 pub fn extrude(state: &EditorState) -> Result<RigOp, String> {
@@ -32,16 +81,10 @@ pub fn extrude(state: &EditorState) -> Result<RigOp, String> {
         let cage = &scene.cages.leaves[c];
         for (f, face) in cage.faces.iter().enumerate() {
             if face.iter().all(|v| selected.contains(v)) {
-                let longest = (0..face.len())
-                    .map(|k| {
-                        let (a, b) = (face[k], face[(k + 1) % face.len()]);
-                        scene.cages.vertices[a as usize].distance(scene.cages.vertices[b as usize])
-                    })
-                    .fold(0.0, f64::max);
                 return Ok(RigOp::Extrude {
                     cage: cage.name.clone(),
                     face: starcages_core::scene::FaceRef::Index(f),
-                    distance: 0.5 * longest,
+                    distance: 0.5 * longest_edge(scene, face),
                     name: fresh_name(state, &cage.name),
                 });
             }

@@ -52,6 +52,53 @@ fn pose_f32(state: &EditorState) -> Vec<glam::Vec3> {
         .collect()
 }
 
+/// The leaf-cage face under `pointer` (screen points), nearest the eye: (cage, face).
+pub fn pick_face(state: &EditorState, pointer: Vec2) -> Option<(usize, usize)> {
+    let rect = state.view.viewport;
+    let set = &state.doc.scene.cages;
+    let hidden = state.view.cage_style(&state.selection, set).hidden;
+    let keys: Vec<(usize, usize)> = set
+        .leaves
+        .iter()
+        .enumerate()
+        .filter(|(c, _)| !hidden.contains(c))
+        .flat_map(|(c, cage)| (0..cage.faces.len()).map(move |f| (c, f)))
+        .collect();
+    let polygons: Vec<&[u32]> = keys
+        .iter()
+        .map(|&(c, f)| set.leaves[c].faces[f].as_slice())
+        .collect();
+    let hit = starcages_viewport::picking::pick_polygon(
+        &state.view.camera,
+        rect.size,
+        &pose_f32(state),
+        &polygons,
+        rect.local(pointer),
+    )?;
+    keys.get(hit).copied()
+}
+
+/// The shown leaf-cage faces (cage, face) whose corners are all in `inside`.
+fn faces_within(
+    state: &EditorState,
+    inside: &std::collections::BTreeSet<u32>,
+) -> Vec<(usize, usize)> {
+    let set = &state.doc.scene.cages;
+    let hidden = state.view.cage_style(&state.selection, set).hidden;
+    set.leaves
+        .iter()
+        .enumerate()
+        .filter(|(c, _)| !hidden.contains(c))
+        .flat_map(|(c, cage)| {
+            cage.faces
+                .iter()
+                .enumerate()
+                .filter(|(_, face)| face.iter().all(|v| inside.contains(v)))
+                .map(move |(f, _)| (c, f))
+        })
+        .collect()
+}
+
 /// The cage vertex under `pointer` (screen points), if any.
 pub fn pick(state: &EditorState, pointer: Vec2) -> Option<u32> {
     let rect = state.view.viewport;
@@ -136,6 +183,7 @@ pub fn viewport(
     overlays(state, ui_state, ui, rect, pointer);
     rig_banner(state, ui, rect);
     problem_under_pointer(state, ui);
+    select_mode_switch(state, ui, rect, sender);
     if let Some(cut) = &ui_state.loop_cut {
         loop_cut_overlay(state, cut, ui.painter(), rect);
     }
@@ -219,8 +267,16 @@ fn mouse(
                     } else {
                         SelectMode::Replace
                     };
-                    let vertices = hits.iter().map(|&i| i as u32).collect();
-                    sender.send(Command::Select { vertices, mode });
+                    if state.mode == crate::state::EditMode::Rig && state.view.face_select {
+                        // Face select mode: the faces whose corners are all inside.
+                        let inside: std::collections::BTreeSet<u32> =
+                            hits.iter().map(|&i| i as u32).collect();
+                        let faces = faces_within(state, &inside);
+                        sender.send(Command::SelectFaces { faces, mode });
+                    } else {
+                        let vertices = hits.iter().map(|&i| i as u32).collect();
+                        sender.send(Command::Select { vertices, mode });
+                    }
                 }
             }
             _ => {}
@@ -232,6 +288,17 @@ fn mouse(
         } else {
             SelectMode::Replace
         };
+        if state.mode == crate::state::EditMode::Rig && state.view.face_select {
+            match pointer.and_then(|p| pick_face(state, p)) {
+                Some(face) => sender.send(Command::SelectFaces {
+                    faces: vec![face],
+                    mode,
+                }),
+                None if !modifiers.shift => sender.send(Command::SelectNone),
+                None => {}
+            }
+            return;
+        }
         match pointer.and_then(|p| pick(state, p)) {
             Some(v) => sender.send(Command::Select {
                 vertices: vec![v],
@@ -427,6 +494,74 @@ fn tool_overlay(
     header_label(painter.ctx(), rect, "transform-header", header);
 }
 
+/// The selected faces' outlines, in the selection colour.
+fn selected_faces_overlay(state: &EditorState, painter: &egui::Painter, rect: egui::Rect) {
+    let set = &state.doc.scene.cages;
+    let shown = state.shown_positions();
+    let camera = &state.view.camera;
+    let size = state.view.viewport.size;
+    let [r, g, b, _] = colors::to_u8(colors::SELECTED);
+    for (c, f) in state.selection.face_indices(set) {
+        let Some(face) = set.leaves.get(c).and_then(|cage| cage.faces.get(f)) else {
+            continue;
+        };
+        let mut outline: Vec<egui::Pos2> = face
+            .iter()
+            .filter_map(|&v| camera.project(shown.get(v as usize)?.as_vec3(), size))
+            .map(|(q, _)| rect.min + egui::vec2(q.x, q.y))
+            .collect();
+        if outline.len() == face.len() && outline.len() >= 3 {
+            // A faint fill (Blender tints selected faces), then the outline.
+            painter.add(egui::Shape::convex_polygon(
+                outline.clone(),
+                egui::Color32::from_rgba_unmultiplied(r, g, b, 40),
+                egui::Stroke::NONE,
+            ));
+            outline.push(outline[0]);
+            painter.add(egui::Shape::line(
+                outline,
+                egui::Stroke::new(3.0, egui::Color32::from_rgb(r, g, b)),
+            ));
+        }
+    }
+}
+
+/// In Rig mode, the choice between selecting vertices and faces, at the viewport's top left.
+fn select_mode_switch(
+    state: &EditorState,
+    ui: &egui::Ui,
+    rect: egui::Rect,
+    sender: &mut CommandSender,
+) {
+    if state.mode != crate::state::EditMode::Rig {
+        return;
+    }
+    egui::Area::new(egui::Id::unique("select-mode"))
+        .order(egui::Order::Foreground)
+        .fixed_pos(rect.left_top() + egui::vec2(10.0, 10.0))
+        .show(ui.ctx(), |ui| {
+            ui.horizontal(|ui| {
+                let faces = state.view.face_select;
+                if ui
+                    .selectable_label(!faces, "Vertex select")
+                    .on_hover_text("Clicks pick cage vertices")
+                    .clicked()
+                {
+                    sender.send(Command::SetFaceSelect(false));
+                }
+                if ui
+                    .selectable_label(faces, "Face select")
+                    .on_hover_text(
+                        "Clicks pick faces of leaf cages (Shift adds); E extrudes every selected face",
+                    )
+                    .clicked()
+                {
+                    sender.send(Command::SetFaceSelect(true));
+                }
+            });
+        });
+}
+
 fn overlays(
     state: &EditorState,
     ui_state: &UiState,
@@ -438,6 +573,7 @@ fn overlays(
     if let (Some(tool), Some(pointer)) = (&ui_state.tool, pointer) {
         tool_overlay(state, tool, &painter, rect, pointer);
     }
+    selected_faces_overlay(state, &painter, rect);
     if let (Some(Drag::Rectangle { start, .. }), Some(end)) = (&ui_state.drag, pointer) {
         let r = egui::Rect::from_two_pos(egui::pos2(start.x, start.y), egui::pos2(end.x, end.y));
         painter.rect_stroke(

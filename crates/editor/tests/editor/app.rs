@@ -1637,3 +1637,158 @@ fn the_loop_cut_slides_with_the_mouse_and_a_typed_fraction_places_it() {
         "{xs:?}"
     );
 }
+
+/// The screen position of a leaf-cage face's centre, and the face of `cage` that looks most
+/// toward the camera.
+fn front_face_on_screen(
+    state: &starcages_editor::state::EditorState,
+    cage: usize,
+) -> (usize, egui::Pos2) {
+    let set = &state.doc.scene.cages;
+    let eye = state.view.camera.eye().as_dvec3();
+    let rest = &set.vertices;
+    let (f, face) = set.leaves[cage]
+        .faces
+        .iter()
+        .enumerate()
+        .max_by(|(_, a), (_, b)| {
+            let facing = |face: &Vec<u32>| {
+                let p: Vec<DVec3> = face.iter().map(|&v| rest[v as usize]).collect();
+                let centre = p.iter().sum::<DVec3>() / p.len() as f64;
+                let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+                normal.dot((eye - centre).normalize())
+            };
+            facing(a).total_cmp(&facing(b))
+        })
+        .unwrap();
+    let corners: Vec<egui::Pos2> = face
+        .iter()
+        .map(|&v| vertex_on_screen(state, v).unwrap())
+        .collect();
+    let centre = corners
+        .iter()
+        .fold(egui::Vec2::ZERO, |sum, p| sum + p.to_vec2())
+        / corners.len() as f32;
+    (f, centre.to_pos2())
+}
+
+/// Face select mode: a click picks a leaf-cage face, Shift+click adds one, E extrudes every
+/// selected face into its own cage in one undo step; a face shared with a neighbour is refused.
+#[test]
+fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.run_steps(2);
+    harness.get_by_label("Face select").click();
+    harness.run_steps(2);
+    assert!(harness.state().state.view.face_select);
+    let (left, right) = {
+        let app = harness.state();
+        (leaf(app, "cage_0_0_0"), leaf(app, "cage_1_0_0"))
+    };
+    let (left_face, left_at) = front_face_on_screen(&harness.state().state, left);
+    let (right_face, right_at) = front_face_on_screen(&harness.state().state, right);
+    harness.hover_at(left_at);
+    harness.run_steps(1);
+    harness.drag_at(left_at);
+    harness.run_steps(1);
+    harness.drop_at(left_at);
+    harness.run_steps(2);
+    let picked = harness
+        .state()
+        .state
+        .selection
+        .face_indices(&harness.state().state.doc.scene.cages);
+    assert_eq!(
+        picked,
+        vec![(left, left_face)],
+        "a click picks the face under it"
+    );
+    let shift = egui::Modifiers::SHIFT;
+    harness.hover_at(right_at);
+    harness.run_steps(1);
+    for pressed in [true, false] {
+        harness.event_modifiers(
+            egui::Event::PointerButton {
+                pos: right_at,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers: shift,
+            },
+            shift,
+        );
+        harness.run_steps(1);
+    }
+    harness.run_steps(1);
+    let state = &harness.state().state;
+    let mut picked = state.selection.face_indices(&state.doc.scene.cages);
+    picked.sort_unstable();
+    assert_eq!(
+        picked,
+        vec![(left, left_face), (right, right_face)],
+        "Shift adds"
+    );
+    assert_eq!(
+        state.selection.vertices.len(),
+        6,
+        "their corners (one edge shared) are selected"
+    );
+    harness.snapshot_options(
+        "rig_mode_face_select",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // E: one new cage per face, each sharing its face with its parent, as one undo step.
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves.len(),
+        4,
+        "{:?}",
+        harness.state().state.message
+    );
+    // Each new cage shares its face with its parent; the two new cages, pushed out of
+    // neighbouring faces by the same distance, share the wall between them (as Blender's region
+    // extrude keeps the common edge joined).
+    assert_eq!(scene.cages.adjacency().len(), 4);
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    assert_eq!(
+        harness.state().state.selection.vertices.len(),
+        6,
+        "the two new caps are selected"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(
+        harness.state().state.doc.scene.cages.leaves.len(),
+        2,
+        "one step"
+    );
+    // The face the two cages share cannot be extruded.
+    let state = &harness.state().state;
+    let set = &state.doc.scene.cages;
+    let shared = set.leaves[left]
+        .faces
+        .iter()
+        .position(|face| {
+            let mut key = face.clone();
+            key.sort_unstable();
+            set.faces_by_vertex_set()
+                .get(&key)
+                .is_some_and(|cages| cages.len() > 1)
+        })
+        .unwrap();
+    harness.state_mut().run(Command::SelectFaces {
+        faces: vec![(left, shared)],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 2);
+    let message = format!("{:?}", state.message);
+    assert!(message.contains("shared with a neighbour"), "{message}");
+}
