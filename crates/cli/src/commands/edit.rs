@@ -30,7 +30,9 @@ pub struct EditArgs {
     /// "kind CAGE mvc|hc|gc" (its coordinates); "h CAGE|all H" (blending parameter of a cage,
     /// or the scene's default);
     /// "subdivide" (every face of every leaf cage cut into quads through its edge midpoints
-    /// and centre).
+    /// and centre);
+    /// "weld [DIST]" (cage vertices within DIST, default 0: exactly equal, become one, so
+    /// cages that meet there share their border).
     #[arg(long = "op", value_name = "OP", required_unless_present = "script")]
     ops: Vec<String>,
     /// A file of operations, one per line as --op takes them (`#` starts a comment), run before

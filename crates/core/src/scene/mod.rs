@@ -16,6 +16,7 @@ mod settings;
 mod subdivide;
 mod up_axis;
 mod validate;
+mod weld;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -47,6 +48,7 @@ pub(crate) use validate::check_hierarchy;
 pub use validate::{
     MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, validate_scene,
 };
+pub use weld::{WeldReport, weld_vertices};
 
 /// Where the scene's mesh comes from.
 #[derive(Debug, Clone, PartialEq)]

@@ -102,6 +102,12 @@ pub enum RigOp {
     /// positions. Refused while internal cages drive leaf vertices (the new vertices would
     /// have no driver).
     Subdivide,
+    /// Weld: merge cage vertices no farther apart than `distance` (0: only those at exactly
+    /// the same position), so cages that touch there share their border (see `weld_vertices`).
+    Weld {
+        /// The distance, in scene units.
+        distance: f64,
+    },
     /// Move a cage's rest vertices (and every pose by the same amount).
     Rest {
         /// The cage.
@@ -292,6 +298,10 @@ impl RigOp {
                 kind: kind.parse().map_err(|e: String| syntax(&e))?,
             }),
             ["subdivide"] => Ok(Self::Subdivide),
+            ["weld"] => Ok(Self::Weld { distance: 0.0 }),
+            ["weld", distance] => Ok(Self::Weld {
+                distance: number(distance)?,
+            }),
             ["h", cage, h] => Ok(Self::H {
                 cage: (*cage).to_owned(),
                 h: number(h)?,
@@ -330,7 +340,7 @@ impl RigOp {
                     .map_or_else(|| format!("{cage}_mirrored"), |n| (*n).to_owned()),
             }),
             _ => Err(syntax(
-                "unknown operation; use add-box, extrude, split, delete, merge, mirror, fit, kind, h, subdivide or 'rest CAGE: …'",
+                "unknown operation; use add-box, extrude, split, delete, merge, mirror, fit, kind, h, subdivide, weld or 'rest CAGE: …'",
             )),
         }
     }
@@ -433,6 +443,9 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
             edited.cages.leaves[c].kind = *kind;
         }
         RigOp::Subdivide => super::subdivide::subdivide_leaf_cages(&mut edited)?,
+        RigOp::Weld { distance } => {
+            super::weld::weld_vertices(&mut edited, *distance, None)?;
+        }
         RigOp::H { cage, h } => {
             if !(*h > 0.0 && *h <= 1.0) {
                 return Err(RigEditError::Value(format!(

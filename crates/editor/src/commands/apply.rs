@@ -142,7 +142,12 @@ pub fn apply(state: &mut EditorState, command: Command) {
             }
         }
         Command::BeginGesture { id, label } => state.begin_gesture(id, &label),
-        Command::EndGesture { keep } => state.end_gesture(keep),
+        Command::EndGesture { keep } => {
+            if keep && state.mode == crate::state::EditMode::Rig {
+                weld_snapped_vertices(state);
+            }
+            state.end_gesture(keep);
+        }
         Command::MoveVertices(moves) if state.mode == crate::state::EditMode::Rig => {
             // Rig mode shows and moves the rest cages.
             move_rest_vertices(state, &moves, false)
@@ -275,6 +280,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
         Command::SetLayers(layers) => state.view.layers = layers,
         Command::SetInfluence(choice) => state.view.influence = choice,
         Command::SetMirrorX(on) => state.view.mirror_x = on,
+        Command::SetSnapToVertices(on) => state.view.snap_to_vertices = on,
         Command::Camera(change) => camera(state, change),
         Command::SetViewport(rect) => state.view.viewport = rect,
         Command::Info(text) => state.info(text),
@@ -321,6 +327,47 @@ fn move_rest_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)], pos
             }
         }
     });
+}
+
+/// At the end of a move in Rig mode: selected vertices that landed on other cage vertices
+/// (snapped; to within rounding, 1e-9 of the rig's size) become those vertices, so the cages
+/// meeting there share their border (part of the move's undo step). The selection follows the
+/// renumbering.
+fn weld_snapped_vertices(state: &mut EditorState) {
+    let moved = state.selection.vertices.clone();
+    let rest = &state.doc.scene.cages.vertices;
+    let (lo, hi) = starcages_core::cage::bounds_of(rest);
+    let tolerance = 1e-9 * (hi - lo).length().max(1.0);
+    let landed = moved.iter().any(|&v| {
+        rest.get(v as usize).is_some_and(|p| {
+            rest.iter()
+                .enumerate()
+                .any(|(u, q)| q.distance(*p) <= tolerance && !moved.contains(&(u as u32)))
+        })
+    });
+    if !landed {
+        return;
+    }
+    let result = state.edit_scene("weld", |scene| {
+        starcages_core::scene::weld_vertices(scene, tolerance, Some(&moved))
+    });
+    match result {
+        Ok(report) => {
+            let selected: Vec<u32> = moved
+                .iter()
+                .filter_map(|&v| report.new_index.get(v as usize).copied())
+                .collect();
+            state.selection.select(selected, SelectMode::Replace);
+            state.info(format!(
+                "merged {} vertex(es) onto the vertices they were snapped to: the cages share \
+                 that border now",
+                report.merged
+            ));
+        }
+        Err(e) => state.error(EditorError::Rig(format!(
+            "the snapped vertices stay separate: {e}"
+        ))),
+    }
 }
 
 /// Rig operations as one undo step, applied whole or not at all; after extrusions the new caps
@@ -408,6 +455,7 @@ fn rig_op_label(op: &starcages_core::scene::RigOp) -> String {
         RigOp::Kind { cage, kind } => format!("'{cage}' to {kind}"),
         RigOp::H { cage, h } => format!("h of '{cage}' to {h}"),
         RigOp::Subdivide => "subdivide the leaf cages".into(),
+        RigOp::Weld { distance } => format!("weld vertices within {distance}"),
     }
 }
 

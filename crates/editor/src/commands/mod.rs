@@ -163,6 +163,8 @@ pub enum Command {
     SetInfluence(InfluenceChoice),
     /// X mirror editing on or off.
     SetMirrorX(bool),
+    /// Snapping to cage vertices while moving on or off.
+    SetSnapToVertices(bool),
     /// Move the camera.
     Camera(CameraChange),
     /// Where the viewport is on screen.

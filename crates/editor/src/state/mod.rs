@@ -240,13 +240,23 @@ impl EditorState {
     /// binding; running jobs of the old document are cancelled. The view's layers and the
     /// app-wide settings stay.
     pub fn install_document(&mut self, doc: Document) {
-        let keep_view = (self.view.layers, self.view.viewport, self.view.mirror_x);
+        let keep_view = (
+            self.view.layers,
+            self.view.viewport,
+            self.view.mirror_x,
+            self.view.snap_to_vertices,
+        );
         let recent = std::mem::take(&mut self.recent);
         let recent_file = self.recent_file.take();
         let waker = self.waker.take();
         // Dropping the old state drops its jobs, which cancels them.
         *self = Self::new(doc, waker);
-        (self.view.layers, self.view.viewport, self.view.mirror_x) = keep_view;
+        (
+            self.view.layers,
+            self.view.viewport,
+            self.view.mirror_x,
+            self.view.snap_to_vertices,
+        ) = keep_view;
         self.recent = recent;
         self.recent_file = recent_file;
     }

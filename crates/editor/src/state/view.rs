@@ -73,6 +73,9 @@ pub struct ViewState {
     pub mirror_x: bool,
     /// Face select mode (Rig mode): clicks pick leaf-cage faces instead of vertices.
     pub face_select: bool,
+    /// G snaps the selection onto the cage vertex under the pointer (Ctrl while moving does
+    /// the opposite, as Blender's snapping toggle).
+    pub snap_to_vertices: bool,
     /// Where the 3D view was drawn last frame.
     pub viewport: ScreenRect,
 }

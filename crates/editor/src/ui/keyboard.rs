@@ -28,13 +28,14 @@ pub fn shortcuts(
     if ctx.egui_wants_keyboard_input() {
         return;
     }
-    let (events, pointer) = ctx.input(|i| {
+    let (events, pointer, ctrl) = ctx.input(|i| {
         let pointer = i.pointer.latest_pos().map(|p| Vec2::new(p.x, p.y));
-        (i.events.clone(), pointer)
+        (i.events.clone(), pointer, i.modifiers.command)
     });
     let pointer = pointer.unwrap_or(state.view.viewport.center());
     if ui_state.tool.is_some() {
-        tool_keys(state, ui_state, &events, pointer, sender);
+        let snapping = state.view.snap_to_vertices != ctrl;
+        tool_keys(state, ui_state, &events, pointer, snapping, sender);
         return;
     }
     if ui_state.loop_cut.is_some() {
@@ -105,10 +106,17 @@ fn tool_keys(
     ui_state: &mut UiState,
     events: &[Event],
     pointer: Vec2,
+    snapping: bool,
     sender: &mut CommandSender,
 ) {
     let Some(tool) = &mut ui_state.tool else {
         return;
+    };
+    tool.snap = if snapping && tool.mode == super::transform_tool::Mode::Grab {
+        let moving: std::collections::BTreeSet<u32> = tool.moving().collect();
+        super::viewport_input::snap_target(state, pointer, &moving)
+    } else {
+        None
     };
     let mut end = None;
     for event in events {

@@ -89,6 +89,18 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
     {
         sender.send(Command::SetMirrorX(mirror));
     }
+    let mut snap = state.view.snap_to_vertices;
+    if ui
+        .checkbox(&mut snap, "Snap to vertices")
+        .on_hover_text(
+            "G puts the selected vertex nearest the pointer's target exactly on the cage vertex \
+             under the pointer (holding Ctrl does the opposite of this box). In Rig mode, \
+             vertices that land on others become one, so the cages share that border",
+        )
+        .changed()
+    {
+        sender.send(Command::SetSnapToVertices(snap));
+    }
     if let Some(values) = state.map.values() {
         ui.label(RichText::new(&values.title).small());
         ui.label(

@@ -75,6 +75,9 @@ pub struct TransformTool {
     pub typed: String,
     /// The state's gesture this tool drives.
     pub gesture: GestureId,
+    /// Grab only: the cage vertex the selection is snapped onto (index, position); the
+    /// selected vertex nearest it lands exactly on it.
+    pub snap: Option<(u32, DVec3)>,
     start_pointer: Vec2,
     centre: DVec3,
     start: Vec<(u32, DVec3)>,
@@ -126,6 +129,7 @@ impl TransformTool {
             axis: None,
             typed: String::new(),
             gesture,
+            snap: None,
             start_pointer: pointer,
             centre,
             start,
@@ -147,9 +151,10 @@ impl TransformTool {
         let pointer_in_viewport = rect.local(pointer) - centre_in_viewport;
         match self.mode {
             Mode::Grab => {
-                let mut delta = match self.typed_value() {
-                    Some(v) => self.axis.unwrap_or(Axis::X).vector() * v,
-                    None => {
+                let mut delta = match (self.typed_value(), self.snap) {
+                    (Some(v), _) => self.axis.unwrap_or(Axis::X).vector() * v,
+                    (None, Some((_, at))) => at - self.nearest_start(at),
+                    (None, None) => {
                         view_plane_delta(camera, size.y, self.centre, pointer - self.start_pointer)
                     }
                 };
@@ -198,6 +203,20 @@ impl TransformTool {
         self.start.iter().map(|&(v, p)| (v, map(p))).collect()
     }
 
+    /// The vertices being moved, by index.
+    pub fn moving(&self) -> impl Iterator<Item = u32> + '_ {
+        self.start.iter().map(|&(v, _)| v)
+    }
+
+    /// Where the moved vertex nearest `at` started (the one a snap puts on `at`).
+    fn nearest_start(&self, at: DVec3) -> DVec3 {
+        self.start
+            .iter()
+            .map(|&(_, p)| p)
+            .min_by(|a, b| a.distance_squared(at).total_cmp(&b.distance_squared(at)))
+            .unwrap_or(self.centre)
+    }
+
     /// The pivot: the centre of the vertices being transformed (world, rest of the gesture).
     pub fn pivot(&self) -> DVec3 {
         self.centre
@@ -229,7 +248,13 @@ impl TransformTool {
         } else {
             format!("  [typed {}]", self.typed)
         };
-        format!("{name}{axis}: {value}{typed}")
+        let snapped = match self.snap {
+            Some((v, _)) if self.typed.is_empty() && self.mode == Mode::Grab => {
+                format!("  snapped to vertex {v}")
+            }
+            _ => String::new(),
+        };
+        format!("{name}{axis}: {value}{typed}{snapped}")
     }
 
     /// A one-line description for the status bar.
@@ -246,7 +271,7 @@ impl TransformTool {
             format!(": {}", self.typed)
         };
         format!(
-            "{name}{axis}{typed} — X/Y/Z lock, type a number, Enter or click to confirm, Esc or right click to cancel"
+            "{name}{axis}{typed} — X/Y/Z lock, type a number, Ctrl snaps to a vertex, Enter or click to confirm, Esc or right click to cancel"
         )
     }
 }

@@ -16,6 +16,8 @@ use crate::state::{EditorState, GestureId, ScreenRect, SelectMode};
 
 /// Pick radius in points.
 const PICK_RADIUS: f32 = 10.0;
+/// How near (points) the pointer must come to a cage vertex for a grab to snap onto it.
+const SNAP_RADIUS: f32 = 16.0;
 
 /// A mouse drag in the viewport.
 #[derive(Debug)]
@@ -97,6 +99,31 @@ fn faces_within(
                 .map(move |(f, _)| (c, f))
         })
         .collect()
+}
+
+/// The cage vertex under `pointer` (screen points) that a grab snaps onto, among those not
+/// being moved: its index and position.
+pub fn snap_target(
+    state: &EditorState,
+    pointer: Vec2,
+    moving: &std::collections::BTreeSet<u32>,
+) -> Option<(u32, glam::DVec3)> {
+    let rect = state.view.viewport;
+    let mut pickable = state.view.pickable(&state.doc.scene.cages);
+    for &v in moving {
+        if let Some(slot) = pickable.get_mut(v as usize) {
+            *slot = false;
+        }
+    }
+    let v = pick_nearest(
+        &state.view.camera,
+        rect.size,
+        &pose_f32(state),
+        &pickable,
+        rect.local(pointer),
+        SNAP_RADIUS,
+    )?;
+    Some((v as u32, *state.shown_positions().get(v)?))
 }
 
 /// The cage vertex under `pointer` (screen points), if any.
@@ -489,6 +516,17 @@ fn tool_overlay(
                 egui::Stroke::new(1.5, egui::Color32::from_rgb(r, g, bl)),
             );
         }
+    }
+    if let Some((_, at)) = tool.snap
+        && let Some((q, _)) = camera.project(at.as_vec3(), view.size)
+    {
+        // The snap target, ringed as Blender's snapping circle.
+        let [r, g, b, _] = colors::to_u8(colors::SELECTED);
+        painter.circle_stroke(
+            rect.min + egui::vec2(q.x, q.y),
+            SNAP_RADIUS * 0.6,
+            egui::Stroke::new(2.0, egui::Color32::from_rgb(r, g, b)),
+        );
     }
     let header = tool.header(tool.amount(camera, view, pointer));
     header_label(painter.ctx(), rect, "transform-header", header);

@@ -1792,3 +1792,105 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     let message = format!("{:?}", state.message);
     assert!(message.contains("shared with a neighbour"), "{message}");
 }
+
+/// G with the pointer 40 points right of `to`, then the pointer moved onto `to`.
+fn grab_from_beside_to(
+    harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+    to: egui::Pos2,
+) {
+    harness.hover_at(to + egui::vec2(40.0, 0.0));
+    harness.run_steps(1);
+    harness.key_press(egui::Key::G);
+    harness.run_steps(1);
+    harness.hover_at(to);
+    harness.run_steps(2);
+}
+
+/// Snapping: with "Snap to vertices" on, G puts the selection's nearest vertex exactly on the
+/// cage vertex under the pointer; confirming in Rig mode merges the vertices that landed on
+/// others, so a box moved against a cage shares its face (one undo step with the move).
+#[test]
+fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
+    let mut harness = crate::common::bar_harness(true);
+    let set = harness.state().state.doc.scene.cages.clone();
+    let right = leaf(harness.state(), "cage_1_0_0");
+    let corners: Vec<DVec3> = set.leaves[right]
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| set.vertices[v as usize])
+        .collect();
+    let (lo, hi) = starcages_core::cage::bounds_of(&corners);
+    // A box a little beyond the right cage's +x face, as tall and deep.
+    let gap = 0.3;
+    harness
+        .state_mut()
+        .run(Command::Rig(starcages_core::scene::RigOp::AddBox {
+            name: "beyond".into(),
+            min: DVec3::new(hi.x + gap, lo.y, lo.z),
+            max: DVec3::new(hi.x + gap + 0.5, hi.y, hi.z),
+            kind: CoordinateKind::MeanValue,
+        }));
+    settle(&mut harness);
+    let rest = harness.state().state.doc.scene.cages.vertices.clone();
+    assert_eq!(rest.len(), 20);
+    let near_face: Vec<u32> = (0..rest.len() as u32)
+        .filter(|&v| rest[v as usize].x == hi.x + gap)
+        .collect();
+    assert_eq!(near_face.len(), 4);
+    // The right cage's corner facing the box's first near corner: the snap target.
+    let first = rest[near_face[0] as usize];
+    let target = (0..rest.len() as u32)
+        .find(|&v| rest[v as usize] == DVec3::new(hi.x, first.y, first.z))
+        .unwrap();
+    let target_on_screen = vertex_on_screen(&harness.state().state, target).unwrap();
+    harness.state_mut().run(Command::Select {
+        vertices: near_face.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    // Snapping off: the pointer over the target moves the box freely (no snap).
+    grab_from_beside_to(&mut harness, target_on_screen);
+    assert!(
+        harness
+            .query_by_label_contains("snapped to vertex")
+            .is_none()
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
+    // Snapping on (the View panel's checkbox): the same move lands on the target.
+    harness.get_by_label("Snap to vertices").click();
+    harness.run_steps(1);
+    grab_from_beside_to(&mut harness, target_on_screen);
+    harness.get_by_label_contains(&format!("snapped to vertex {target}"));
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert_eq!(scene.cages.vertices.len(), 16, "{:?}", state.message);
+    assert_eq!(
+        scene.cages.adjacency().len(),
+        2,
+        "the box shares its face now"
+    );
+    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert_eq!(
+        state.selection.vertices.len(),
+        4,
+        "the selection follows the weld"
+    );
+    assert!(
+        state
+            .selection
+            .vertices
+            .iter()
+            .all(|&v| scene.cages.vertices[v as usize].x == hi.x),
+        "the box's near face is the cage's far face"
+    );
+    // One undo step takes back the move and the weld.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
+}
