@@ -97,6 +97,9 @@ pub struct CageStyle {
     pub warning_vertices: BTreeSet<u32>,
     /// Other points to mark (mesh vertices outside every cage), small warning dots.
     pub warning_points: Vec<glam::Vec3>,
+    /// Selected points that are not cage vertices (mesh vertices), small dots in the
+    /// selection colour.
+    pub selected_points: Vec<glam::Vec3>,
 }
 
 /// Hierarchy level of every cage, leaves then internal cages: 0 for leaves, and for an
@@ -243,7 +246,8 @@ pub fn ghost_lines(
 
 /// Cage vertices of visible cages as dots in `pose`: selected ones orange and larger, the
 /// hovered one light yellow, ones with a problem large and yellow, vertices only on dimmed
-/// levels faded; then the style's warning points as small yellow dots.
+/// levels faded; then the style's warning points as small yellow dots and its selected points
+/// (mesh vertices) as small orange ones.
 pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
     let levels = cage_levels(set);
     let leaves = set.leaves.len();
@@ -292,6 +296,11 @@ pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
         .chain(style.warning_points.iter().map(|p| Dot {
             position: p.to_array(),
             color: colors::to_u8(colors::WARNING),
+            size: 4.0,
+        }))
+        .chain(style.selected_points.iter().map(|p| Dot {
+            position: p.to_array(),
+            color: colors::to_u8(colors::SELECTED),
             size: 4.0,
         }))
         .collect()

@@ -49,6 +49,27 @@ pub fn select_in_rectangle(
     b: Vec2,
 ) -> Vec<usize> {
     let (lo, hi) = (a.min(b), a.max(b));
+    let corners = [lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y)];
+    select_in_lasso(camera, size, points, pickable, &corners)
+}
+
+/// Indices of the points (where `pickable`, or all when it is empty) whose projection lies
+/// inside the screen polygon `lasso` (pixels; closed implicitly, even-odd rule, so a lasso
+/// crossing itself selects what it encloses an odd number of times).
+pub fn select_in_lasso(
+    camera: &OrbitCamera,
+    size: Vec2,
+    points: &[Vec3],
+    pickable: &[bool],
+    lasso: &[Vec2],
+) -> Vec<usize> {
+    if lasso.len() < 3 {
+        return Vec::new();
+    }
+    let (lo, hi) = lasso.iter().fold(
+        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
     let view_projection = camera.view_projection(size);
     points
         .iter()
@@ -56,9 +77,27 @@ pub fn select_in_rectangle(
         .filter(|(i, _)| pickable.is_empty() || pickable.get(*i).copied().unwrap_or(false))
         .filter_map(|(i, p)| {
             let (pixel, _) = project_with(&view_projection, *p, size)?;
-            (pixel.cmpge(lo).all() && pixel.cmple(hi).all()).then_some(i)
+            let in_bounds = pixel.cmpge(lo).all() && pixel.cmple(hi).all();
+            (in_bounds && inside_polygon(lasso, pixel)).then_some(i)
         })
         .collect()
+}
+
+/// Whether `point` is inside the closed polygon `polygon` (even-odd crossings of a ray to +x).
+fn inside_polygon(polygon: &[Vec2], point: Vec2) -> bool {
+    let mut inside = false;
+    let mut previous = polygon[polygon.len() - 1];
+    for &current in polygon {
+        if (current.y > point.y) != (previous.y > point.y) {
+            let x = previous.x
+                + (point.y - previous.y) / (current.y - previous.y) * (current.x - previous.x);
+            if point.x < x {
+                inside = !inside;
+            }
+        }
+        previous = current;
+    }
+    inside
 }
 
 /// The polygon (an index into `polygons`, corners indexing `positions`) the ray through pixel
@@ -93,6 +132,28 @@ pub fn pick_polygon(
     best.map(|(_, i)| i)
 }
 
+/// Distances along the ray (`origin`, unit `direction`) to every triangle of a mesh it
+/// crosses, nearest first: entries and exits alternate on a closed mesh.
+pub fn ray_mesh_hits(
+    origin: Vec3,
+    direction: Vec3,
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+) -> Vec<f32> {
+    let mut hits: Vec<f32> = triangles
+        .iter()
+        .filter_map(|t| {
+            let corners = t.map(|v| positions.get(v as usize).copied());
+            match corners {
+                [Some(a), Some(b), Some(c)] => ray_triangle(origin, direction, [a, b, c]),
+                _ => None,
+            }
+        })
+        .collect();
+    hits.sort_by(f32::total_cmp);
+    hits
+}
+
 /// Distance along the ray to triangle `tri` (Möller–Trumbore), either side facing.
 fn ray_triangle(origin: Vec3, direction: Vec3, tri: [Vec3; 3]) -> Option<f32> {
     let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
@@ -121,6 +182,75 @@ mod tests {
         (0..27)
             .map(|i| Vec3::new((i % 3) as f32, ((i / 3) % 3) as f32, (i / 9) as f32) - 1.0)
             .collect()
+    }
+
+    #[test]
+    fn a_ray_through_a_cube_enters_and_leaves_it() {
+        // The unit cube's 12 triangles.
+        let positions: Vec<Vec3> = (0..8)
+            .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+            .collect();
+        let triangles: Vec<[u32; 3]> = starcages_core::cage::shapes::BOX_FACES
+            .iter()
+            .map(|q| q.map(|v| v as u32))
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect();
+        let hits = ray_mesh_hits(Vec3::new(0.3, 0.4, -2.0), Vec3::Z, &positions, &triangles);
+        assert_eq!(hits.len(), 2, "{hits:?}");
+        assert!((hits[0] - 2.0).abs() < 1e-5 && (hits[1] - 3.0).abs() < 1e-5);
+        // Beside the cube: no hit (negative control).
+        let beside = ray_mesh_hits(Vec3::new(1.5, 0.4, -2.0), Vec3::Z, &positions, &triangles);
+        assert!(beside.is_empty());
+    }
+
+    #[test]
+    fn a_lasso_selects_the_points_it_encloses_and_not_those_in_its_notch() {
+        let camera = OrbitCamera {
+            distance: 8.0,
+            ..OrbitCamera::default()
+        };
+        let points = grid();
+        let pixels: Vec<Vec2> = points
+            .iter()
+            .map(|p| camera.project(*p, SIZE).unwrap().0)
+            .collect();
+        let (lo, hi) = pixels.iter().fold(
+            (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let pad = Vec2::splat(5.0);
+        let (lo, hi) = (lo - pad, hi + pad);
+        // A square around everything: all points.
+        let square = [lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y)];
+        assert_eq!(
+            select_in_lasso(&camera, SIZE, &points, &[], &square).len(),
+            27
+        );
+        // The same square with a rectangular notch cut from its top edge down to its centre:
+        // exactly the points drawn in the notch are outside (the even-odd test's negative
+        // control).
+        let centre = 0.5 * (lo + hi);
+        let w = 0.15 * (hi.x - lo.x);
+        let notched = [
+            lo,
+            Vec2::new(centre.x - w, lo.y),
+            Vec2::new(centre.x - w, centre.y),
+            Vec2::new(centre.x + w, centre.y),
+            Vec2::new(centre.x + w, lo.y),
+            Vec2::new(hi.x, lo.y),
+            hi,
+            Vec2::new(lo.x, hi.y),
+        ];
+        let inside = select_in_lasso(&camera, SIZE, &points, &[], &notched);
+        let in_notch: Vec<usize> = (0..27)
+            .filter(|&i| (pixels[i].x - centre.x).abs() < w && pixels[i].y < centre.y)
+            .collect();
+        assert!(!in_notch.is_empty());
+        for i in 0..27 {
+            assert_eq!(inside.contains(&i), !in_notch.contains(&i), "point {i}");
+        }
+        // Too few corners: nothing.
+        assert!(select_in_lasso(&camera, SIZE, &points, &[], &square[..2]).is_empty());
     }
 
     proptest! {

@@ -177,7 +177,11 @@ pub fn apply(state: &mut EditorState, command: Command) {
             let set = &state.doc.scene.cages;
             state.selection.select_faces(faces, mode, set);
         }
-        Command::SetFaceSelect(on) => state.view.face_select = on,
+        Command::SetSelectElement(element) => state.view.select_element = element,
+        Command::SelectMeshVertices { vertices, mode } => {
+            let count = state.doc.scene.mesh.welded_positions().len();
+            state.selection.select_mesh_vertices(vertices, mode, count);
+        }
         Command::MoveRestVertices(moves) => move_rest_vertices(state, &moves, false),
         Command::SetCageKind(cage, kind) => {
             if cage.kind(&state.doc.scene.cages).is_some_and(|k| k != kind) {
@@ -260,7 +264,10 @@ pub fn apply(state: &mut EditorState, command: Command) {
             let all = (0..pickable.len() as u32).filter(|&v| pickable[v as usize]);
             state.selection.select(all, SelectMode::Replace);
         }
-        Command::SelectNone => state.selection.select([], SelectMode::Replace),
+        Command::SelectNone => {
+            state.selection.select([], SelectMode::Replace);
+            state.selection.mesh_vertices.clear();
+        }
         Command::InspectCage(cage) => {
             let set = &state.doc.scene.cages;
             let cage = cage.filter(|c| c.exists(set));

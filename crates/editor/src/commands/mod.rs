@@ -186,8 +186,15 @@ pub enum Command {
         /// How they combine with the selection.
         mode: crate::state::SelectMode,
     },
-    /// Face select mode (Rig mode): clicks pick cage faces instead of vertices.
-    SetFaceSelect(bool),
+    /// What clicks and region drags select in Rig mode.
+    SetSelectElement(crate::state::SelectElement),
+    /// Select mesh vertices (mesh select mode).
+    SelectMeshVertices {
+        /// Their indices (welded mesh vertices).
+        vertices: Vec<u32>,
+        /// How they combine with the mesh selection.
+        mode: crate::state::SelectMode,
+    },
 }
 
 /// Collects the commands the UI sends during a frame.

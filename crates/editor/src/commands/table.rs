@@ -222,7 +222,8 @@ impl UiCommand {
                  with the mouse (or type a fraction), then click or Enter"
             }
             Self::AddBox => {
-                "Rig mode: a box cage around the selected vertices (or around the mesh)"
+                "Rig mode: a box cage around the selected mesh or cage vertices, around the \
+                 mesh, or in the part of the mesh under the pointer (Shift+A opens the menu)"
             }
             Self::DeleteCage => "Rig mode: delete the inspected leaf cage",
             Self::MergeCages => {

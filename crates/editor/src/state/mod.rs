@@ -30,7 +30,7 @@ pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
 pub use rig::{Rig, rebind_scope};
 pub use selection::{SelectMode, Selection};
-pub use view::{InfluenceChoice, ScreenRect, ViewState};
+pub use view::{InfluenceChoice, ScreenRect, SelectElement, ViewState};
 
 use jobs::{BindResult, LoadResult, Scope};
 use undo::{Snapshot, UndoStack};
@@ -517,6 +517,15 @@ impl EditorState {
             self.document_changed();
         }
         out
+    }
+
+    /// What clicks and region drags select: the view's choice in Rig mode, cage vertices in
+    /// Pose mode.
+    pub fn select_element(&self) -> SelectElement {
+        match self.mode {
+            EditMode::Rig => self.view.select_element,
+            EditMode::Pose => SelectElement::CageVertices,
+        }
     }
 
     /// The cage vertex positions shown, picked and moved: the rest cages in Rig mode, the

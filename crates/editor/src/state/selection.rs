@@ -22,6 +22,9 @@ pub struct Selection {
     /// Selected leaf-cage faces (face select mode), by cage name and face index; their corners
     /// are in `vertices` too. A face goes when one of its corners is deselected.
     pub faces: BTreeSet<(String, usize)>,
+    /// Selected mesh vertices (mesh select mode in Rig mode; indices into the welded mesh
+    /// vertices): the region Shift+A can put a box around.
+    pub mesh_vertices: BTreeSet<u32>,
 }
 
 /// How a picked set of vertices combines with the selection.
@@ -81,6 +84,26 @@ impl Selection {
             } else {
                 self.faces.insert(key);
                 self.vertices.extend(face.iter().copied());
+            }
+        }
+    }
+
+    /// Combines mesh vertices `picked` into the mesh selection; indices of `count` or more are
+    /// ignored.
+    pub fn select_mesh_vertices(
+        &mut self,
+        picked: impl IntoIterator<Item = u32>,
+        mode: SelectMode,
+        count: usize,
+    ) {
+        if mode == SelectMode::Replace {
+            self.mesh_vertices.clear();
+        }
+        for v in picked.into_iter().filter(|&v| (v as usize) < count) {
+            if mode == SelectMode::Toggle && self.mesh_vertices.contains(&v) {
+                self.mesh_vertices.remove(&v);
+            } else {
+                self.mesh_vertices.insert(v);
             }
         }
     }

@@ -27,6 +27,47 @@ pub enum InfluenceChoice {
     Difference(CoordinateKind),
 }
 
+/// What clicks and region drags select in Rig mode (Pose mode always selects cage vertices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SelectElement {
+    /// Cage vertices.
+    #[default]
+    CageVertices,
+    /// Faces of leaf cages (E extrudes them).
+    CageFaces,
+    /// Mesh vertices at rest (Shift+A puts a box around them).
+    MeshVertices,
+}
+
+impl SelectElement {
+    /// All of them, in the order the switch shows them.
+    pub const ALL: [Self; 3] = [Self::CageVertices, Self::CageFaces, Self::MeshVertices];
+
+    /// The switch's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::CageVertices => "Vertex select",
+            Self::CageFaces => "Face select",
+            Self::MeshVertices => "Mesh select",
+        }
+    }
+
+    /// The switch's tooltip.
+    pub fn tooltip(self) -> &'static str {
+        match self {
+            Self::CageVertices => "Clicks and rectangles pick cage vertices",
+            Self::CageFaces => {
+                "Clicks pick faces of leaf cages (Shift adds), rectangles the faces inside them; \
+                 E extrudes every selected face"
+            }
+            Self::MeshVertices => {
+                "Rectangles (Ctrl+drag: lasso) pick mesh vertices at rest; Shift+A ▸ Box around \
+                 the selected mesh vertices cages that region"
+            }
+        }
+    }
+}
+
 /// A rectangle on screen in points (egui's logical pixels), top-left origin.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScreenRect {
@@ -71,8 +112,8 @@ pub struct ViewState {
     pub influence: InfluenceChoice,
     /// Moving a vertex moves its mirror partner across x = 0.
     pub mirror_x: bool,
-    /// Face select mode (Rig mode): clicks pick leaf-cage faces instead of vertices.
-    pub face_select: bool,
+    /// What clicks and region drags select in Rig mode.
+    pub select_element: SelectElement,
     /// G snaps the selection onto the cage vertex under the pointer (Ctrl while moving does
     /// the opposite, as Blender's snapping toggle).
     pub snap_to_vertices: bool,

@@ -86,7 +86,10 @@ pub fn execute(
             }
             Err(why) => Command::Info(why),
         },
-        UiCommand::AddBox => rig(super::rig_keys::add_box(state)),
+        UiCommand::AddBox => {
+            ui_state.add_menu = Some(pointer);
+            return;
+        }
         UiCommand::DeleteCage => rig(super::rig_keys::delete(state)),
         UiCommand::MergeCages => rig(super::rig_keys::merge(state)),
         UiCommand::MirrorCage => rig(super::rig_keys::mirror(state)),

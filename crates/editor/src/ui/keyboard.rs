@@ -25,7 +25,8 @@ pub fn shortcuts(
             }
         });
     }
-    if ctx.egui_wants_keyboard_input() {
+    // A text field, or the open add menu (which answers Esc itself), has the keys.
+    if ctx.egui_wants_keyboard_input() || ui_state.add_menu.is_some() {
         return;
     }
     let (events, pointer, ctrl) = ctx.input(|i| {

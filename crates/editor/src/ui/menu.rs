@@ -113,10 +113,20 @@ pub fn menu_bar(
         });
         ui.menu_button("Rig", |ui| {
             let rig = state.mode == crate::state::EditMode::Rig;
+            for action in [UiCommand::Extrude, UiCommand::LoopCut] {
+                item(ui, action, None, rig, &mut chosen);
+            }
+            ui.add_enabled_ui(rig, |ui| {
+                ui.menu_button(UiCommand::AddBox.label(), |ui| {
+                    let centre = state.view.viewport.center();
+                    if super::add_menu::entries(state, ui, centre, sender) {
+                        ui.close();
+                    }
+                })
+                .response
+                .on_hover_text(UiCommand::AddBox.tooltip());
+            });
             for action in [
-                UiCommand::Extrude,
-                UiCommand::LoopCut,
-                UiCommand::AddBox,
                 UiCommand::DeleteCage,
                 UiCommand::MergeCages,
                 UiCommand::MirrorCage,

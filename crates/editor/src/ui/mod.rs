@@ -4,6 +4,7 @@
 //! [`UiState`].
 
 mod actions;
+mod add_menu;
 pub mod axis_gizmo;
 pub mod file_dialog;
 mod help;
@@ -16,6 +17,7 @@ mod outliner;
 mod panels;
 mod prompts;
 mod rig_keys;
+mod select_modes;
 mod status_bar;
 mod transform_tool;
 mod viewport_input;
@@ -41,6 +43,8 @@ pub struct UiState {
     pub tool: Option<TransformTool>,
     /// Ctrl+R's loop cut while it is being placed.
     pub loop_cut: Option<loop_cut_tool::LoopCutTool>,
+    /// Shift+A's add menu, open at this screen point (points).
+    pub add_menu: Option<glam::Vec2>,
     /// The name typed for a new pose.
     pub new_pose_name: String,
     /// File dialogs: native on a worker, or in-app where no native one can be shown.
@@ -79,6 +83,7 @@ impl UiState {
             drag: None,
             tool: None,
             loop_cut: None,
+            add_menu: None,
             new_pose_name: String::new(),
             files: file_dialog::FileDialogs::from_env(),
             new_mesh_dialog: None,
@@ -184,6 +189,7 @@ pub fn frame_ui(
     prompts::new_mesh_dialog(ui_state, &ctx, sender);
     help::shortcuts_window(ui_state, &ctx);
     panels::pose_prompt(state, ui_state, &ctx, sender);
+    add_menu::popup(state, ui_state, &ctx, sender);
 }
 
 fn dropped_files(ctx: &egui::Context, sender: &mut CommandSender) {

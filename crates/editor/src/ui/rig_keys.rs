@@ -1,5 +1,6 @@
 //! Rig mode's keys turned into rig operations from what is selected and inspected: E extrudes
-//! the selected face, Shift+A adds a box around the selection (or the mesh), X / Delete
+//! the selected face, Shift+A adds a box (`BoxPlacement`: around the selected mesh or cage
+//! vertices, the mesh, or in the part under the pointer), X / Delete
 //! deletes the inspected cage. Each gives the operation, or why there is none. (Ctrl+R's loop
 //! cut is placed with the mouse first: `loop_cut_tool`.)
 
@@ -93,23 +94,67 @@ pub fn extrude(state: &EditorState) -> Result<RigOp, String> {
     Err("E (extrude): select every corner of one face of a leaf cage first".into())
 }
 
-/// Shift+A: a box around the selected vertices (5 % larger), or around the mesh.
-pub fn add_box(state: &EditorState) -> Result<RigOp, String> {
+/// Where Shift+A's box goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BoxPlacement {
+    /// Around the selected mesh vertices (mesh select mode), 5 % of their size larger.
+    AroundMeshSelection,
+    /// Around the selected cage vertices, 5 % larger.
+    AroundCageSelection,
+    /// Around the whole mesh, 5 % larger.
+    AroundMesh,
+    /// A cube in the part of the mesh under this screen point (points): centred between where
+    /// the ray through it enters the mesh and where it leaves, about as wide as that; where the
+    /// ray misses the mesh, a cube of a tenth of its size on the ray, level with its centre.
+    At(glam::Vec2),
+}
+
+impl BoxPlacement {
+    /// The add menu's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::AroundMeshSelection => "Box around the selected mesh vertices",
+            Self::AroundCageSelection => "Box around the selected cage vertices",
+            Self::AroundMesh => "Box around the whole mesh",
+            Self::At(_) => "Box at the pointer",
+        }
+    }
+}
+
+/// Shift+A: a box cage placed as `placement` says.
+pub fn add_box(state: &EditorState, placement: BoxPlacement) -> Result<RigOp, String> {
     let scene = &state.doc.scene;
-    let selected: Vec<DVec3> = state
-        .selection
-        .vertices
-        .iter()
-        .filter_map(|&v| scene.cages.vertices.get(v as usize).copied())
-        .collect();
-    let (lo, hi) = if selected.len() >= 2 {
-        starcages_core::cage::bounds_of(&selected)
-    } else {
-        scene.mesh.bounds()
+    let mesh = scene.mesh.welded_positions();
+    let padded = |points: &[DVec3], what: &str| -> Result<(DVec3, DVec3), String> {
+        if points.len() < 2 {
+            return Err(format!(
+                "Shift+A (add box): select {what} first (at least two, spanning a volume)"
+            ));
+        }
+        let (lo, hi) = starcages_core::cage::bounds_of(points);
+        let pad = 0.05 * (hi - lo).length();
+        Ok((lo - DVec3::splat(pad), hi + DVec3::splat(pad)))
     };
-    let pad = 0.05 * (hi - lo).length();
-    let (lo, hi) = (lo - DVec3::splat(pad), hi + DVec3::splat(pad));
-    if (hi - lo).min_element() <= 0.0 {
+    let (lo, hi) = match placement {
+        BoxPlacement::AroundMeshSelection => {
+            let points: Vec<DVec3> = (state.selection.mesh_vertices.iter())
+                .filter_map(|&v| mesh.get(v as usize).copied())
+                .collect();
+            padded(
+                &points,
+                "mesh vertices (Mesh select, then drag a rectangle or Ctrl+drag a lasso)",
+            )?
+        }
+        BoxPlacement::AroundCageSelection => {
+            let points: Vec<DVec3> = (state.selection.vertices.iter())
+                .filter_map(|&v| scene.cages.vertices.get(v as usize).copied())
+                .collect();
+            padded(&points, "cage vertices")?
+        }
+        BoxPlacement::AroundMesh => padded(mesh, "a mesh with vertices")?,
+        BoxPlacement::At(pointer) => box_at(state, pointer),
+    };
+    if (hi - lo).min_element() <= 0.0 || !(hi - lo).is_finite() {
         return Err(
             "Shift+A (add box): the selection is flat; select vertices spanning a volume".into(),
         );
@@ -120,6 +165,41 @@ pub fn add_box(state: &EditorState) -> Result<RigOp, String> {
         max: hi,
         kind: starcages_core::coords::CoordinateKind::MeanValue,
     })
+}
+
+/// The cube of [`BoxPlacement::At`]: (min, max).
+fn box_at(state: &EditorState, pointer: glam::Vec2) -> (DVec3, DVec3) {
+    let scene = &state.doc.scene;
+    let rect = state.view.viewport;
+    let (origin, direction) = state.view.camera.ray(rect.local(pointer), rect.size);
+    let positions = scene.mesh.welded_positions_f32();
+    let hits = starcages_viewport::picking::ray_mesh_hits(
+        origin,
+        direction,
+        &positions,
+        scene.mesh.welded_triangles(),
+    );
+    let (lo, hi) = scene.mesh.bounds();
+    let diagonal = (hi - lo).length().max(1e-9);
+    let on_ray = |t: f32| (origin + direction * t).as_dvec3();
+    let (centre, edge) = match hits.as_slice() {
+        [enter, leave, ..] => {
+            let depth = f64::from(leave - enter);
+            (
+                0.5 * (on_ray(*enter) + on_ray(*leave)),
+                (1.2 * depth).clamp(0.02 * diagonal, 0.5 * diagonal),
+            )
+        }
+        [surface] => (on_ray(*surface), 0.1 * diagonal),
+        [] => {
+            // Level with the mesh's centre: the point of the ray nearest it.
+            let centre = (0.5 * (lo + hi)).as_vec3();
+            let t = (centre - origin).dot(direction).max(0.0);
+            (on_ray(t), 0.1 * diagonal)
+        }
+    };
+    let half = DVec3::splat(0.5 * edge);
+    (centre - half, centre + half)
 }
 
 /// X / Delete: the inspected leaf cage.

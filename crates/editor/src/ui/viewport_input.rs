@@ -6,7 +6,7 @@
 use egui::{Pos2, Sense};
 use glam::{DVec3, Vec2};
 use starcages_viewport::colors;
-use starcages_viewport::picking::{pick_nearest, select_in_rectangle};
+use starcages_viewport::picking::pick_nearest;
 
 use super::transform_tool::view_plane_delta;
 use super::viewport_paint;
@@ -31,10 +31,13 @@ pub enum Drag {
         /// The selection's positions when it started.
         start: Vec<(u32, DVec3)>,
     },
-    /// A selection rectangle from this corner (screen points).
-    Rectangle {
-        /// The first corner.
+    /// A selection region: a rectangle from `start`, or with Ctrl held a lasso through the
+    /// pointer's path (screen points).
+    Region {
+        /// Where the drag started: the rectangle's first corner, the lasso's first point.
         start: Vec2,
+        /// The lasso's path so far (`None`: a rectangle).
+        lasso: Option<Vec<Vec2>>,
         /// Shift held: add to the selection.
         extend: bool,
     },
@@ -51,53 +54,6 @@ fn pose_f32(state: &EditorState) -> Vec<glam::Vec3> {
         .shown_positions()
         .iter()
         .map(|p| p.as_vec3())
-        .collect()
-}
-
-/// The leaf-cage face under `pointer` (screen points), nearest the eye: (cage, face).
-pub fn pick_face(state: &EditorState, pointer: Vec2) -> Option<(usize, usize)> {
-    let rect = state.view.viewport;
-    let set = &state.doc.scene.cages;
-    let hidden = state.view.cage_style(&state.selection, set).hidden;
-    let keys: Vec<(usize, usize)> = set
-        .leaves
-        .iter()
-        .enumerate()
-        .filter(|(c, _)| !hidden.contains(c))
-        .flat_map(|(c, cage)| (0..cage.faces.len()).map(move |f| (c, f)))
-        .collect();
-    let polygons: Vec<&[u32]> = keys
-        .iter()
-        .map(|&(c, f)| set.leaves[c].faces[f].as_slice())
-        .collect();
-    let hit = starcages_viewport::picking::pick_polygon(
-        &state.view.camera,
-        rect.size,
-        &pose_f32(state),
-        &polygons,
-        rect.local(pointer),
-    )?;
-    keys.get(hit).copied()
-}
-
-/// The shown leaf-cage faces (cage, face) whose corners are all in `inside`.
-fn faces_within(
-    state: &EditorState,
-    inside: &std::collections::BTreeSet<u32>,
-) -> Vec<(usize, usize)> {
-    let set = &state.doc.scene.cages;
-    let hidden = state.view.cage_style(&state.selection, set).hidden;
-    set.leaves
-        .iter()
-        .enumerate()
-        .filter(|(c, _)| !hidden.contains(c))
-        .flat_map(|(c, cage)| {
-            cage.faces
-                .iter()
-                .enumerate()
-                .filter(|(_, face)| face.iter().all(|v| inside.contains(v)))
-                .map(move |(f, _)| (c, f))
-        })
         .collect()
 }
 
@@ -210,7 +166,7 @@ pub fn viewport(
     overlays(state, ui_state, ui, rect, pointer);
     rig_banner(state, ui, rect);
     problem_under_pointer(state, ui);
-    select_mode_switch(state, ui, rect, sender);
+    super::select_modes::switch(state, ui, rect, sender);
     if let Some(cut) = &ui_state.loop_cut {
         loop_cut_overlay(state, cut, ui.painter(), rect);
     }
@@ -259,7 +215,18 @@ fn mouse(
             .input(|i| i.pointer.press_origin().map(vec2))
             .or(pointer)
             .unwrap_or(rect.center());
-        ui_state.drag = Some(start_drag(state, ui_state, origin, modifiers.shift, sender));
+        ui_state.drag = Some(start_drag(state, ui_state, origin, modifiers, sender));
+    }
+    if response.dragged_by(egui::PointerButton::Primary)
+        && let (
+            Some(Drag::Region {
+                lasso: Some(path), ..
+            }),
+            Some(p),
+        ) = (&mut ui_state.drag, pointer)
+        && path.last().is_none_or(|last| last.distance(p) >= 2.0)
+    {
+        path.push(p);
     }
     if response.dragged_by(egui::PointerButton::Primary)
         && let (
@@ -279,76 +246,46 @@ fn mouse(
     if response.drag_stopped() {
         match ui_state.drag.take() {
             Some(Drag::Move { .. }) => sender.send(Command::EndGesture { keep: true }),
-            Some(Drag::Rectangle { start, extend }) => {
-                if let Some(end) = pointer {
-                    let hits = select_in_rectangle(
-                        &state.view.camera,
-                        rect.size,
-                        &pose_f32(state),
-                        &state.view.pickable(&state.doc.scene.cages),
-                        rect.local(start),
-                        rect.local(end),
-                    );
-                    let mode = if extend {
-                        SelectMode::Add
-                    } else {
-                        SelectMode::Replace
-                    };
-                    if state.mode == crate::state::EditMode::Rig && state.view.face_select {
-                        // Face select mode: the faces whose corners are all inside.
-                        let inside: std::collections::BTreeSet<u32> =
-                            hits.iter().map(|&i| i as u32).collect();
-                        let faces = faces_within(state, &inside);
-                        sender.send(Command::SelectFaces { faces, mode });
-                    } else {
-                        let vertices = hits.iter().map(|&i| i as u32).collect();
-                        sender.send(Command::Select { vertices, mode });
-                    }
+            Some(Drag::Region {
+                start,
+                lasso,
+                extend,
+            }) => {
+                let region = match lasso {
+                    Some(points) => Some(super::select_modes::Region::Lasso(points)),
+                    None => pointer.map(|end| super::select_modes::Region::Rectangle(start, end)),
+                };
+                if let Some(region) = region {
+                    super::select_modes::region(state, &region, extend, sender);
                 }
             }
             _ => {}
         }
     }
     if response.clicked() {
-        let mode = if modifiers.shift {
-            SelectMode::Toggle
-        } else {
-            SelectMode::Replace
-        };
-        if state.mode == crate::state::EditMode::Rig && state.view.face_select {
-            match pointer.and_then(|p| pick_face(state, p)) {
-                Some(face) => sender.send(Command::SelectFaces {
-                    faces: vec![face],
-                    mode,
-                }),
-                None if !modifiers.shift => sender.send(Command::SelectNone),
-                None => {}
-            }
-            return;
-        }
-        match pointer.and_then(|p| pick(state, p)) {
-            Some(v) => sender.send(Command::Select {
-                vertices: vec![v],
-                mode,
-            }),
-            None if !modifiers.shift => sender.send(Command::SelectNone),
-            None => {}
-        }
+        super::select_modes::click(state, pointer, modifiers.shift, sender);
     }
 }
 
 /// A primary-button drag from `origin`: on a vertex it moves the selection (the vertex joins
-/// it first), on empty space it draws a selection rectangle.
+/// it first), on empty space (or always in mesh select mode) it draws a selection rectangle,
+/// with Ctrl a lasso.
 fn start_drag(
     state: &EditorState,
     ui_state: &mut UiState,
     origin: Vec2,
-    shift: bool,
+    modifiers: egui::Modifiers,
     sender: &mut CommandSender,
 ) -> Drag {
-    let Some(v) = pick(state, origin) else {
-        return Drag::Rectangle {
+    let shift = modifiers.shift;
+    let on_vertex = (state.select_element() != crate::state::SelectElement::MeshVertices
+        && !modifiers.command)
+        .then(|| pick(state, origin))
+        .flatten();
+    let Some(v) = on_vertex else {
+        return Drag::Region {
             start: origin,
+            lasso: modifiers.command.then(|| vec![origin]),
             extend: shift,
         };
     };
@@ -532,74 +469,6 @@ fn tool_overlay(
     header_label(painter.ctx(), rect, "transform-header", header);
 }
 
-/// The selected faces' outlines, in the selection colour.
-fn selected_faces_overlay(state: &EditorState, painter: &egui::Painter, rect: egui::Rect) {
-    let set = &state.doc.scene.cages;
-    let shown = state.shown_positions();
-    let camera = &state.view.camera;
-    let size = state.view.viewport.size;
-    let [r, g, b, _] = colors::to_u8(colors::SELECTED);
-    for (c, f) in state.selection.face_indices(set) {
-        let Some(face) = set.leaves.get(c).and_then(|cage| cage.faces.get(f)) else {
-            continue;
-        };
-        let mut outline: Vec<egui::Pos2> = face
-            .iter()
-            .filter_map(|&v| camera.project(shown.get(v as usize)?.as_vec3(), size))
-            .map(|(q, _)| rect.min + egui::vec2(q.x, q.y))
-            .collect();
-        if outline.len() == face.len() && outline.len() >= 3 {
-            // A faint fill (Blender tints selected faces), then the outline.
-            painter.add(egui::Shape::convex_polygon(
-                outline.clone(),
-                egui::Color32::from_rgba_unmultiplied(r, g, b, 40),
-                egui::Stroke::NONE,
-            ));
-            outline.push(outline[0]);
-            painter.add(egui::Shape::line(
-                outline,
-                egui::Stroke::new(3.0, egui::Color32::from_rgb(r, g, b)),
-            ));
-        }
-    }
-}
-
-/// In Rig mode, the choice between selecting vertices and faces, at the viewport's top left.
-fn select_mode_switch(
-    state: &EditorState,
-    ui: &egui::Ui,
-    rect: egui::Rect,
-    sender: &mut CommandSender,
-) {
-    if state.mode != crate::state::EditMode::Rig {
-        return;
-    }
-    egui::Area::new(egui::Id::unique("select-mode"))
-        .order(egui::Order::Foreground)
-        .fixed_pos(rect.left_top() + egui::vec2(10.0, 10.0))
-        .show(ui.ctx(), |ui| {
-            ui.horizontal(|ui| {
-                let faces = state.view.face_select;
-                if ui
-                    .selectable_label(!faces, "Vertex select")
-                    .on_hover_text("Clicks pick cage vertices")
-                    .clicked()
-                {
-                    sender.send(Command::SetFaceSelect(false));
-                }
-                if ui
-                    .selectable_label(faces, "Face select")
-                    .on_hover_text(
-                        "Clicks pick faces of leaf cages (Shift adds); E extrudes every selected face",
-                    )
-                    .clicked()
-                {
-                    sender.send(Command::SetFaceSelect(true));
-                }
-            });
-        });
-}
-
 fn overlays(
     state: &EditorState,
     ui_state: &UiState,
@@ -611,15 +480,36 @@ fn overlays(
     if let (Some(tool), Some(pointer)) = (&ui_state.tool, pointer) {
         tool_overlay(state, tool, &painter, rect, pointer);
     }
-    selected_faces_overlay(state, &painter, rect);
-    if let (Some(Drag::Rectangle { start, .. }), Some(end)) = (&ui_state.drag, pointer) {
-        let r = egui::Rect::from_two_pos(egui::pos2(start.x, start.y), egui::pos2(end.x, end.y));
-        painter.rect_stroke(
-            r,
-            0.0,
-            egui::Stroke::new(1.0, egui::Color32::WHITE),
-            egui::StrokeKind::Inside,
-        );
+    super::select_modes::selected_faces_overlay(state, &painter, rect);
+    match (&ui_state.drag, pointer) {
+        (
+            Some(Drag::Region {
+                lasso: Some(path), ..
+            }),
+            _,
+        ) => {
+            let mut outline: Vec<egui::Pos2> = path.iter().map(|p| egui::pos2(p.x, p.y)).collect();
+            if let Some(first) = outline.first().copied() {
+                outline.push(first);
+            }
+            painter.add(egui::Shape::dashed_line(
+                &outline,
+                egui::Stroke::new(1.0, egui::Color32::WHITE),
+                6.0,
+                4.0,
+            ));
+        }
+        (Some(Drag::Region { start, .. }), Some(end)) => {
+            let r =
+                egui::Rect::from_two_pos(egui::pos2(start.x, start.y), egui::pos2(end.x, end.y));
+            painter.rect_stroke(
+                r,
+                0.0,
+                egui::Stroke::new(1.0, egui::Color32::WHITE),
+                egui::StrokeKind::Inside,
+            );
+        }
+        _ => {}
     }
     let font = egui::FontId::proportional(12.0);
     let text = egui::Color32::from_gray(230);

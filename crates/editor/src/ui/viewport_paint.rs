@@ -242,6 +242,13 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     let scene = &state.doc.scene;
     let mut style = state.view.cage_style(&state.selection, &scene.cages);
     state.rig_warnings.mark(scene, &mut style);
+    if state.mode == crate::state::EditMode::Rig {
+        let rest = scene.mesh.welded_positions();
+        style.selected_points = (state.selection.mesh_vertices.iter())
+            .filter_map(|&v| rest.get(v as usize))
+            .map(|p| p.as_vec3())
+            .collect();
+    }
     let shown = state.shown_positions();
     let mut lines = cage_lines(&scene.cages, shown, &style);
     // Rig mode edits the rest cages; the current pose, where it differs, is ghosted over them.

@@ -1284,6 +1284,8 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
     harness.run_steps(1);
     harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
     harness.run_steps(2);
+    harness.get_by_label("Box around the whole mesh").click();
+    harness.run_steps(2);
     settle(&mut harness);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.leaves.len(), 3);
@@ -1530,6 +1532,8 @@ fn an_invalid_rig_draws_its_problem_cages_in_the_warning_colour_with_the_reason_
     let mut harness = crate::common::bar_harness(true);
     harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
     harness.run_steps(2);
+    harness.get_by_label("Box around the whole mesh").click();
+    harness.run_steps(2);
     settle(&mut harness);
     let state = &harness.state().state;
     assert!(!state.rig_problems.is_empty());
@@ -1680,7 +1684,10 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     harness.run_steps(2);
     harness.get_by_label("Face select").click();
     harness.run_steps(2);
-    assert!(harness.state().state.view.face_select);
+    assert_eq!(
+        harness.state().state.view.select_element,
+        starcages_editor::state::SelectElement::CageFaces
+    );
     let (left, right) = {
         let app = harness.state();
         (leaf(app, "cage_0_0_0"), leaf(app, "cage_1_0_0"))
@@ -1893,4 +1900,195 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
     harness.run_steps(2);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
+}
+
+/// Where mesh vertex `v` (welded, at rest) is drawn.
+fn mesh_vertex_on_screen(state: &starcages_editor::state::EditorState, v: usize) -> egui::Pos2 {
+    let rect = state.view.viewport;
+    let p = state.doc.scene.mesh.welded_positions()[v].as_vec3();
+    let (pixel, _) = state.view.camera.project(p, rect.size).unwrap();
+    let at = rect.min + pixel;
+    egui::pos2(at.x, at.y)
+}
+
+/// Drags from `from` to `to` in five steps with `modifiers` held.
+fn drag_with(
+    harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+    from: egui::Pos2,
+    to: egui::Pos2,
+    modifiers: egui::Modifiers,
+    via: &[egui::Pos2],
+) {
+    let press = |harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+                 pos: egui::Pos2,
+                 pressed: bool| {
+        harness.event_modifiers(
+            egui::Event::PointerButton {
+                pos,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers,
+            },
+            modifiers,
+        );
+        harness.run_steps(1);
+    };
+    harness.hover_at(from);
+    harness.run_steps(1);
+    press(harness, from, true);
+    for &p in via.iter().chain([&to]) {
+        harness.event_modifiers(egui::Event::PointerMoved(p), modifiers);
+        harness.run_steps(1);
+    }
+    press(harness, to, false);
+    harness.run_steps(1);
+}
+
+/// Mesh select mode picks a region of the mesh with a rectangle or a Ctrl lasso; Shift+A's
+/// menu puts a box around it (undoable), or a cube in the part of the mesh under the pointer.
+#[test]
+fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.run_steps(2);
+    harness.get_by_label("Mesh select").click();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    let count = state.doc.scene.mesh.welded_positions().len();
+    let on_screen: Vec<egui::Pos2> = (0..count)
+        .map(|v| mesh_vertex_on_screen(state, v))
+        .collect();
+    let (lo, hi) = on_screen.iter().fold(
+        (
+            egui::pos2(f32::INFINITY, f32::INFINITY),
+            egui::pos2(0.0, 0.0),
+        ),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    // A rectangle over the left third of the drawn mesh.
+    let a = lo - egui::vec2(5.0, 5.0);
+    let b = egui::pos2(lo.x + (hi.x - lo.x) / 3.0, hi.y + 5.0);
+    drag_with(&mut harness, a, b, egui::Modifiers::NONE, &[]);
+    let state = &harness.state().state;
+    let inside = |p: &egui::Pos2| p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y;
+    let expected: std::collections::BTreeSet<u32> = (0..count as u32)
+        .filter(|&v| inside(&on_screen[v as usize]))
+        .collect();
+    assert!(!expected.is_empty() && expected.len() < count);
+    assert_eq!(
+        state.selection.mesh_vertices, expected,
+        "the rectangle's vertices"
+    );
+    assert!(
+        state.selection.vertices.is_empty(),
+        "no cage vertex was picked"
+    );
+    harness.get_by_label_contains(&format!("Mesh select ({})", expected.len()));
+    harness.snapshot_options(
+        "rig_mode_mesh_select",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // Shift+A ▸ Box around the selected mesh vertices: a cage holding exactly that region.
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.snapshot_options(
+        "rig_mode_add_menu",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    harness
+        .get_by_label("Box around the selected mesh vertices")
+        .click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert!(harness.state().ui.add_menu.is_none(), "the menu closed");
+    let boxed: Vec<DVec3> = scene.cages.leaves[2]
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    let (box_lo, box_hi) = starcages_core::cage::bounds_of(&boxed);
+    let rest = scene.mesh.welded_positions();
+    for &v in &expected {
+        let p = rest[v as usize];
+        assert!(
+            p.cmpge(box_lo).all() && p.cmple(box_hi).all(),
+            "{p} outside the box"
+        );
+    }
+    let (mesh_lo, mesh_hi) = scene.mesh.bounds();
+    assert!(
+        box_hi.x < mesh_hi.x,
+        "the box holds a region, not the whole mesh"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // A Ctrl lasso (a triangle) replaces the mesh selection with what it encloses.
+    let centre = egui::pos2(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y));
+    let corners = [
+        centre + egui::vec2(-60.0, 40.0),
+        centre + egui::vec2(0.0, -60.0),
+        centre + egui::vec2(60.0, 40.0),
+    ];
+    drag_with(
+        &mut harness,
+        corners[0],
+        corners[0] + egui::vec2(1.0, 0.0),
+        egui::Modifiers::COMMAND,
+        &[corners[1], corners[2]],
+    );
+    let state = &harness.state().state;
+    let lassoed = &state.selection.mesh_vertices;
+    assert!(!lassoed.is_empty());
+    for &v in lassoed {
+        let p = on_screen[v as usize];
+        assert!(
+            p.x >= corners[0].x
+                && p.x <= corners[2].x
+                && p.y >= corners[1].y
+                && p.y <= corners[0].y,
+            "{p:?} outside the lasso's bounds"
+        );
+    }
+    // Shift+A ▸ Box at the pointer, over the middle of the bar: a cube inside its extent.
+    harness.hover_at(centre);
+    harness.run_steps(1);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.get_by_label("Box at the pointer").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3);
+    let cube: Vec<DVec3> = scene.cages.leaves[2]
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    let (cube_lo, cube_hi) = starcages_core::cage::bounds_of(&cube);
+    let middle = 0.5 * (cube_lo + cube_hi);
+    assert!(
+        middle.cmpge(mesh_lo).all() && middle.cmple(mesh_hi).all(),
+        "the cube sits in the mesh: {middle}"
+    );
+    let edge = cube_hi - cube_lo;
+    assert!((edge.x - edge.y).abs() < 1e-9 && (edge.x - edge.z).abs() < 1e-9);
+    assert!(edge.x < (mesh_hi - mesh_lo).length() * 0.5);
+    // Esc closes the menu without adding anything.
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.add_menu.is_none());
+    assert!(harness.query_by_label("Box at the pointer").is_none());
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
 }
