@@ -31,8 +31,8 @@ pub struct EditArgs {
     /// or the scene's default);
     /// "subdivide" (every face of every leaf cage cut into quads through its edge midpoints
     /// and centre);
-    /// "weld [DIST]" (cage vertices within DIST, default 0: exactly equal, become one, so
-    /// cages that meet there share their border).
+    /// "weld DIST" (cage vertices within DIST become one, so cages that meet there share
+    /// their border; without DIST only exactly equal ones).
     #[arg(long = "op", value_name = "OP", required_unless_present = "script")]
     ops: Vec<String>,
     /// A file of operations, one per line as --op takes them (`#` starts a comment), run before
