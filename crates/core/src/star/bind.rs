@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use super::StarError;
 use super::green_dofs::GreenDofs;
+use super::shape_class::{Placement as ShapePlacement, ShapeKey, shape_class};
 use super::topology::{JoinCage, Topology};
 use crate::coords::{BindControl, BindSettings, CageWeights, CoordinateKind, bind};
 use crate::scene::{CageSet, LocalCage, SceneSettings, Smoothing};
@@ -326,28 +327,52 @@ pub(crate) fn bind_rows(
         }
     }
     let points = &all_points[..];
-    // Harmonic join cages that are translated copies of each other share one solve.
-    let mut shared =
-        shared_harmonic_tables(topology, &need_omega, points, &coord_settings, control)?;
-    // Every other join cage's coordinate tables, in parallel.
-    let mut tables: BTreeMap<u32, (Option<Table>, Option<Table>)> = topology
-        .joins
-        .par_iter()
-        .map(|(&v, join)| {
-            let shared_interp = shared.contains_key(&v);
-            join_tables(
-                v,
-                join,
-                shared_interp,
+    // Harmonic join cages congruent up to translation, quarter turns and mirrors share one
+    // solve.
+    let classes = harmonic_classes(topology, &need_omega);
+    let in_a_class: BTreeSet<u32> = classes.iter().flatten().map(|(v, _)| *v).collect();
+    let join_tables_of = |v: u32, join: &JoinCage, shared_interp: bool| {
+        join_tables(
+            v,
+            join,
+            shared_interp,
+            &need_omega,
+            &need_transform,
+            points,
+            &coord_settings,
+            control,
+        )
+        .map(|t| (v, t))
+    };
+    // The class solves and every other join cage's tables, all in one parallel pool (a class
+    // solve alone uses the cores poorly, and classes differ in size).
+    let (shared, tables) = rayon::join(
+        || {
+            solve_harmonic_classes(
+                &classes,
+                topology,
                 &need_omega,
-                &need_transform,
                 points,
                 &coord_settings,
                 control,
             )
-            .map(|t| (v, t))
-        })
-        .collect::<Result<_, StarError>>()?;
+        },
+        || {
+            topology
+                .joins
+                .par_iter()
+                .map(|(&v, join)| join_tables_of(v, join, in_a_class.contains(&v)))
+                .collect::<Result<BTreeMap<u32, (Option<Table>, Option<Table>)>, StarError>>()
+        },
+    );
+    let (mut shared, mut tables) = (shared?, tables?);
+    // Members of a class whose shared solve failed bind alone.
+    for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
+        let (_, (interp, _)) = join_tables_of(v, &topology.joins[&v], false)?;
+        if let Some(entry) = tables.get_mut(&v) {
+            entry.0 = interp;
+        }
+    }
     let mut joins: BTreeMap<u32, JoinData> = BTreeMap::new();
     for (&v, join) in &topology.joins {
         control.check().map_err(|_| StarError::Cancelled)?;
@@ -592,123 +617,95 @@ fn join_tables(
     Ok((interp, transform))
 }
 
-/// A join cage's shape up to translation: its vertices in a canonical order (by quantised
-/// position relative to its bounding box) and its polygons over that order, corners in their
-/// own order (the fan diagonal changes the hat functions). Also the canonical rank of each
-/// local vertex and the bounding box minimum.
-type ShapeKey = (Vec<[i64; 3]>, Vec<Vec<u32>>);
-
-fn shape_of(join: &JoinCage) -> (ShapeKey, Vec<usize>, DVec3) {
-    let local = &join.local;
-    let positions = local.cage.positions();
-    let (lo, _) = local.cage.bounds();
-    let quantum = 1e-9 * local.cage.diagonal();
-    let quantised: Vec<[i64; 3]> = positions
-        .iter()
-        .map(|p| {
-            let q = (*p - lo) / quantum;
-            [q.z.round() as i64, q.y.round() as i64, q.x.round() as i64]
-        })
-        .collect();
-    let mut order: Vec<usize> = (0..positions.len()).collect();
-    order.sort_by_key(|&k| quantised[k]);
-    let mut rank = vec![0usize; order.len()];
-    for (r, &k) in order.iter().enumerate() {
-        rank[k] = r;
+/// Harmonic join cages (those whose interpolating coordinates are HC and that some point
+/// needs) grouped by shape up to translation, turns by multiples of 90° and mirrors
+/// ([`super::shape_class`]); classes of one are left out. Each class is solved once: every
+/// member's points, mapped into the first member's frame, are bound together and the rows are
+/// mapped back through the canonical vertex order.
+fn harmonic_classes(
+    topology: &Topology,
+    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
+) -> Vec<Vec<(u32, ShapePlacement)>> {
+    let mut classes: BTreeMap<ShapeKey, Vec<(u32, ShapePlacement)>> = BTreeMap::new();
+    for (&v, needed) in need_omega {
+        let join = &topology.joins[&v];
+        if interpolating(join.kind) != CoordinateKind::Harmonic || needed.is_empty() {
+            continue;
+        }
+        let (key, placement) = shape_class(&join.local.cage);
+        classes.entry(key).or_default().push((v, placement));
     }
-    let mut faces: Vec<Vec<u32>> = join
-        .polygons
-        .iter()
-        .map(|f| {
-            f.iter()
-                .filter_map(|g| local.global.binary_search(g).ok())
-                .map(|k| rank[k] as u32)
-                .collect()
-        })
-        .collect();
-    faces.sort();
-    let sorted: Vec<[i64; 3]> = order.iter().map(|&k| quantised[k]).collect();
-    ((sorted, faces), rank, lo)
+    classes.into_values().filter(|m| m.len() > 1).collect()
 }
 
-/// Interpolating HC tables of the join cages that share a shape, from one solve per shape:
-/// every member's points, translated into the first member's frame, are bound together and
-/// the rows are mapped back through the canonical vertex order. Join cages alone in their
-/// shape, or whose combined solve fails, are left to the caller.
-fn shared_harmonic_tables(
+/// The tables of [`harmonic_classes`]' classes, one solve each, in parallel.
+fn solve_harmonic_classes(
+    classes: &[Vec<(u32, ShapePlacement)>],
     topology: &Topology,
     need_omega: &BTreeMap<u32, BTreeSet<usize>>,
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
 ) -> Result<BTreeMap<u32, Table>, StarError> {
-    let mut groups: BTreeMap<ShapeKey, Vec<(u32, Vec<usize>, DVec3)>> = BTreeMap::new();
-    for (&v, needed) in need_omega {
-        let join = &topology.joins[&v];
-        if interpolating(join.kind) != CoordinateKind::Harmonic || needed.is_empty() {
-            continue;
-        }
-        let (key, rank, lo) = shape_of(join);
-        groups.entry(key).or_default().push((v, rank, lo));
-    }
-    // Each group is one solve; groups run in parallel (a solve alone uses the cores poorly).
-    let groups: Vec<&Vec<(u32, Vec<usize>, DVec3)>> =
-        groups.values().filter(|m| m.len() > 1).collect();
-    let solved: Vec<Vec<(u32, Table)>> = groups
-        .into_par_iter()
-        .map(|members| shared_group(topology, need_omega, points, settings, control, members))
+    let solved: Vec<Vec<(u32, Table)>> = classes
+        .par_iter()
+        .map(|members| shared_class(topology, need_omega, points, settings, control, members))
         .collect::<Result<_, _>>()?;
-    let tables = solved.into_iter().flatten().collect();
-    Ok(tables)
+    Ok(solved.into_iter().flatten().collect())
 }
 
-/// One solve for a group of translated join cages: each member's table, or none when the
+/// One solve for a class of congruent join cages: each member's table, or none when the
 /// shared bind failed (round-off put a point outside, say: each member then binds alone).
-fn shared_group(
+fn shared_class(
     topology: &Topology,
     need_omega: &BTreeMap<u32, BTreeSet<usize>>,
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
-    members: &[(u32, Vec<usize>, DVec3)],
+    members: &[(u32, ShapePlacement)],
 ) -> Result<Vec<(u32, Table)>, StarError> {
     control.check().map_err(|_| StarError::Cancelled)?;
-    let Some((first, first_rank, first_lo)) = members.first() else {
+    let Some((first, first_placement)) = members.first() else {
         return Ok(Vec::new());
     };
-    let mut by_rank = vec![0usize; first_rank.len()];
-    for (k, &r) in first_rank.iter().enumerate() {
+    let mut by_rank = vec![0usize; first_placement.rank.len()];
+    for (k, &r) in first_placement.rank.iter().enumerate() {
         by_rank[r] = k;
     }
     let canonical = &topology.joins[first].local;
     let lists: Vec<Vec<usize>> = members
         .iter()
-        .map(|(v, _, _)| need_omega[v].iter().copied().collect())
+        .map(|(v, _)| need_omega[v].iter().copied().collect())
         .collect();
-    let translated: Vec<DVec3> = members
+    let mapped: Vec<DVec3> = members
         .iter()
         .zip(&lists)
-        .flat_map(|((_, _, lo), list)| list.iter().map(move |&i| points[i] - *lo + *first_lo))
+        .flat_map(|((_, placement), list)| {
+            list.iter().map(move |&i| {
+                first_placement.join_from_canonical(placement.canonical_from_join(points[i]))
+            })
+        })
         .collect();
-    let Ok(CageWeights::Vertex { weights, .. }) = bind(
+    let result = bind(
         CoordinateKind::Harmonic,
         &canonical.cage,
-        &translated,
+        &mapped,
         settings,
         control,
-    ) else {
+    );
+    let Ok(CageWeights::Vertex { weights, .. }) = result else {
         control.check().map_err(|_| StarError::Cancelled)?;
         return Ok(Vec::new());
     };
     let n = weights.vertex_count;
     let mut row_index = 0;
     let mut tables = Vec::with_capacity(members.len());
-    for ((v, rank, _), list) in members.iter().zip(lists) {
+    for ((v, placement), list) in members.iter().zip(lists) {
         let mut rows = Vec::with_capacity(list.len() * n);
         for _ in &list {
             let row = weights.row(row_index);
             row_index += 1;
-            rows.extend(rank.iter().map(|&r| row[by_rank[r]]));
+            rows.extend(placement.rank.iter().map(|&r| row[by_rank[r]]));
         }
         tables.push((
             *v,
@@ -737,6 +734,44 @@ mod tests {
     fn translated_harmonic_join_cages_share_one_solve_with_the_same_weights() {
         let mut scene = demo_scene("prism", 0.2).unwrap();
         scene.settings.harmonic.resolution = 16;
+        assert!(shared_tables_equal_solving_alone(&scene) >= 4);
+    }
+
+    /// On a box grid around an egg, join cages that are turned or mirrored copies of each
+    /// other share a solve too, and give the same rows as solving each alone.
+    #[test]
+    fn turned_and_mirrored_harmonic_join_cages_share_one_solve_with_the_same_weights() {
+        let mut scene = demo_scene("egg", 0.3).unwrap();
+        scene.cages = crate::scene::autocage(
+            &scene.mesh,
+            &crate::scene::AutocageOptions {
+                grid: [4, 4, 4],
+                ..Default::default()
+            },
+        );
+        scene.settings.harmonic.resolution = 12;
+        let topology = Topology::new(&scene.cages, JoinPolicy::Hc).unwrap();
+        let classes: BTreeMap<ShapeKey, Vec<ShapePlacement>> =
+            topology
+                .joins
+                .values()
+                .fold(BTreeMap::new(), |mut classes, join| {
+                    let (key, placement) = shape_class(&join.local.cage);
+                    classes.entry(key).or_default().push(placement);
+                    classes
+                });
+        let turned = classes.values().any(|members| {
+            members
+                .iter()
+                .any(|m| m.turned_or_mirrored_from(&members[0]))
+        });
+        assert!(turned, "a class holds turned or mirrored copies");
+        assert!(shared_tables_equal_solving_alone(&scene) >= 8);
+    }
+
+    /// Binds every join cage's points through the shared solves and each shared join cage
+    /// alone; asserts their rows agree and returns how many join cages were shared.
+    fn shared_tables_equal_solving_alone(scene: &crate::scene::Scene) -> usize {
         let topology = Topology::new(&scene.cages, JoinPolicy::Hc).unwrap();
         let points = scene.mesh.welded_positions();
         // Every join cage's points: those inside its incident cages.
@@ -761,9 +796,10 @@ mod tests {
             harmonic: scene.settings.harmonic,
         };
         let control = BindControl::default();
-        let shared = shared_harmonic_tables(&topology, &need, points, &settings, &control).unwrap();
-        // The prism's middle rings have translated join cages.
-        assert!(shared.len() >= 4, "only {} shared", shared.len());
+        let classes = harmonic_classes(&topology, &need);
+        let shared =
+            solve_harmonic_classes(&classes, &topology, &need, points, &settings, &control)
+                .unwrap();
         for (v, table) in &shared {
             let alone = Table::compute(
                 CoordinateKind::Harmonic,
@@ -785,5 +821,6 @@ mod tests {
                 assert!(worst < 1e-6, "join {v}, point {i}: {worst}");
             }
         }
+        shared.len()
     }
 }

@@ -13,6 +13,7 @@ mod cache;
 mod green_dofs;
 mod operator;
 mod partial;
+mod shape_class;
 pub mod topology;
 
 use std::time::Instant;

@@ -55,14 +55,17 @@ impl CageGrid {
         (i + self.dims.x * (j + self.dims.y * k)) as usize
     }
 
-    /// Grid with `resolution` cells along the cage's longest side, padded by two cells.
+    /// Grid with `resolution` cells along the cage's longest side, padded by at least two
+    /// cells, centred on the cage's bounding box: a cage turned by a multiple of 90° or
+    /// mirrored about its box's centre gets the same grid turned or mirrored, so congruent
+    /// join cages can share one solve (`star::bind`).
     /// `extra_corners` lists points whose cell corners must carry values (query points).
     pub fn build(cage: &Cage, resolution: u32, extra_points: &[DVec3]) -> Self {
         let (lo, hi) = cage.bounds();
         let extent = hi - lo;
         let spacing = extent.max_element() / resolution.max(2) as f64;
-        let origin = lo - DVec3::splat(2.0 * spacing);
         let cells = (extent / spacing).ceil().as_uvec3() + UVec3::splat(4);
+        let origin = 0.5 * (lo + hi) - 0.5 * cells.as_dvec3() * spacing;
         let dims = cells + UVec3::ONE;
         let lines = [0, 1, 2].map(|axis| axis_crossings(cage, origin, spacing, dims, axis));
         let mut inside = classify_inside(&lines[0], origin, spacing, dims);
