@@ -344,27 +344,22 @@ pub(crate) fn bind_rows(
         )
         .map(|t| (v, t))
     };
-    // The class solves and every other join cage's tables, all in one parallel pool (a class
-    // solve alone uses the cores poorly, and classes differ in size).
-    let (shared, tables) = rayon::join(
-        || {
-            solve_harmonic_classes(
-                &classes,
-                topology,
-                &need_omega,
-                points,
-                &coord_settings,
-                control,
-            )
-        },
-        || {
-            topology
-                .joins
-                .par_iter()
-                .map(|(&v, join)| join_tables_of(v, join, in_a_class.contains(&v)))
-                .collect::<Result<BTreeMap<u32, (Option<Table>, Option<Table>)>, StarError>>()
-        },
+    // The class solves (in parallel with each other), then every other join cage's tables
+    // (in parallel). Running both pools at once was slower: two grid solves at a time fight
+    // over the caches.
+    let shared = solve_harmonic_classes(
+        &classes,
+        topology,
+        &need_omega,
+        points,
+        &coord_settings,
+        control,
     );
+    let tables = topology
+        .joins
+        .par_iter()
+        .map(|(&v, join)| join_tables_of(v, join, in_a_class.contains(&v)))
+        .collect::<Result<BTreeMap<u32, (Option<Table>, Option<Table>)>, StarError>>();
     let (mut shared, mut tables) = (shared?, tables?);
     // Members of a class whose shared solve failed bind alone.
     for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
