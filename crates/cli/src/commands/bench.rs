@@ -95,6 +95,11 @@ struct Row {
     rest_edit_full_s: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     rest_edit_rows: Option<f64>,
+    /// *Cages only: seconds to re-bind after a leaf cage switches to harmonic coordinates (to
+    /// mean value when it is harmonic already), as the editor's coordinates combo does
+    /// (`StarBinding::rebind_leaves`): the slowest leaf (`bench_kind_switch`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kind_switch_s: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -113,6 +118,8 @@ struct Ratios {
     rest_edit_vs_bind: f64,
     /// Share of the rows that edit bound again.
     rest_edit_rows: f64,
+    /// Seconds to re-bind after the largest leaf cage switches to HC (`Row::kind_switch_s`).
+    kind_switch_s: f64,
 }
 
 #[derive(Serialize)]
@@ -198,6 +205,14 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
     } else {
         (None, None, None)
     };
+    let kind_switch_s = if method.starts_with("stars") {
+        Some(
+            bench_kind_switch(scene, &binding)
+                .map_err(|e| anyhow::anyhow!("{name} ({method}), kind switch: {e}"))?,
+        )
+    } else {
+        None
+    };
     Ok(Row {
         scene: name.to_owned(),
         method: method.to_owned(),
@@ -215,7 +230,51 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
         rest_edit_s,
         rest_edit_full_s,
         rest_edit_rows,
+        kind_switch_s,
     })
+}
+
+/// Seconds to re-bind after one leaf cage switches to HC (or to MVC when it is HC), best of
+/// three: the slowest leaf of a scene with at most 16 leaf cages, else the leaf holding the
+/// most mesh vertices.
+fn bench_kind_switch(
+    scene: &Scene,
+    binding: &StarBinding,
+) -> Result<f64, starcages_core::star::StarError> {
+    let leaves: Vec<usize> = if scene.cages.leaves.len() <= 16 {
+        (0..scene.cages.leaves.len()).collect()
+    } else {
+        let mut held = vec![0usize; scene.cages.leaves.len()];
+        for &c in &binding.cage_of {
+            if let Some(count) = held.get_mut(c as usize) {
+                *count += 1;
+            }
+        }
+        (held.iter().enumerate())
+            .max_by_key(|&(_, count)| *count)
+            .map(|(c, _)| c)
+            .into_iter()
+            .collect()
+    };
+    let control = BindControl::default();
+    let mut slowest: f64 = 0.0;
+    for leaf in leaves {
+        let mut switched = scene.clone();
+        let cage = &mut switched.cages.leaves[leaf];
+        cage.kind = if cage.kind == CoordinateKind::Harmonic {
+            CoordinateKind::MeanValue
+        } else {
+            CoordinateKind::Harmonic
+        };
+        let mut best = f64::INFINITY;
+        for _ in 0..3 {
+            let start = Instant::now();
+            binding.rebind_leaves(&switched, &[leaf], &control)?;
+            best = best.min(start.elapsed().as_secs_f64());
+        }
+        slowest = slowest.max(best);
+    }
+    Ok(slowest)
 }
 
 /// Re-binds after moving the cage vertex nearest the centre of all cage vertices by 1 % of the
@@ -384,6 +443,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 rest_edit_vs_bind: star.rest_edit_s.unwrap_or(f64::NAN)
                     / star.rest_edit_full_s.unwrap_or(f64::NAN),
                 rest_edit_rows: star.rest_edit_rows.unwrap_or(f64::NAN),
+                kind_switch_s: star.kind_switch_s.unwrap_or(f64::NAN),
             });
         }
         rows.extend(stars);
@@ -473,7 +533,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     for q in &report.ratios {
         crate::output::line(format_args!(
-            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x; a one-vertex rest edit re-binds {:.0} % of the rows in {:.0} % of a full bind's time",
+            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x; a one-vertex rest edit re-binds {:.0} % of the rows in {:.0} % of a full bind's time; a leaf's switch to HC re-binds in {:.0} ms at most",
             q.scene,
             q.method,
             q.bind_vs_mvc,
@@ -484,7 +544,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             q.move_vs_gc,
             q.memory_vs_gc,
             100.0 * q.rest_edit_rows,
-            100.0 * q.rest_edit_vs_bind
+            100.0 * q.rest_edit_vs_bind,
+            1e3 * q.kind_switch_s
         ))?;
     }
     for t in &report.table2 {
