@@ -445,6 +445,7 @@ fn select_extruded_cap(state: &mut EditorState, leaves_before: usize) {
     state.selection.vertices = cap.into_iter().collect();
     let id = state.grab_request.map_or(1, |(id, _)| id + 1);
     state.grab_request = Some((id, axis));
+    state.gesture_continues = Some(state.undo.depth());
 }
 
 /// A short name of a rig operation for the undo history.

@@ -119,6 +119,9 @@ pub struct Gesture {
     pub label: String,
     /// The editable scene when it began.
     pub before: Snapshot,
+    /// The edit this gesture continues (E's extrusion before its grab), taken off the undo
+    /// stack: kept, the two are one undo step; cancelled, the edit's own step comes back.
+    pub continues: Option<(String, Snapshot)>,
 }
 
 /// Every document installed gets a new id, never reused: GPU uploads and caches key on it.
@@ -150,6 +153,9 @@ pub struct EditorState {
     /// After an extrusion: (a new id, the world axis most along the face's normal). The UI
     /// starts G along it at once on the new cap, as Blender's extrude does.
     pub grab_request: Option<(u64, usize)>,
+    /// The undo depth right after an edit that the next gesture continues (E, then its
+    /// grab): that gesture folds the edit's undo step into its own.
+    pub gesture_continues: Option<usize>,
     /// What is wrong with the rig, found after every change of the document (empty: valid).
     /// The last valid binding stays in use meanwhile; Pose mode waits for a valid rig.
     pub rig_problems: Vec<String>,
@@ -210,6 +216,7 @@ impl EditorState {
             rig_problems: Vec::new(),
             rig_warnings: rig_warnings::RigWarnings::default(),
             grab_request: None,
+            gesture_continues: None,
             undo: UndoStack::default(),
             gesture: None,
             rig: None,
@@ -474,10 +481,20 @@ impl EditorState {
     /// already running is kept (its changes) first.
     pub fn begin_gesture(&mut self, id: GestureId, label: &str) {
         self.end_gesture(true);
+        // The grab E asks for continues the extrusion, as Blender's "extrude and move".
+        let continues = match self.gesture_continues.take() {
+            Some(depth) if depth == self.undo.depth() => self.undo.take_last(),
+            _ => None,
+        };
+        let label = match &continues {
+            Some((edit, _)) => format!("{edit} and {label}"),
+            None => label.to_owned(),
+        };
         self.gesture = Some(Gesture {
             id,
-            label: label.to_owned(),
+            label,
             before: Snapshot::of(&self.doc.scene),
+            continues,
         });
     }
 
@@ -488,14 +505,22 @@ impl EditorState {
             return;
         };
         if keep {
-            if gesture.before != Snapshot::of(&self.doc.scene) {
-                self.undo.push(&gesture.label, gesture.before);
+            match gesture.continues {
+                // One step back to before the edit the gesture continued.
+                Some((_, before_edit)) => self.undo.push(&gesture.label, before_edit),
+                None if gesture.before != Snapshot::of(&self.doc.scene) => {
+                    self.undo.push(&gesture.label, gesture.before);
+                }
+                None => {}
             }
             if self.bind_after_gesture {
                 self.start_bind("binding after the change");
             }
         } else {
             self.bind_after_gesture = false;
+            if let Some((edit, before_edit)) = gesture.continues {
+                self.undo.push(&edit, before_edit);
+            }
             gesture.before.restore(&mut self.doc.scene);
             self.document_changed();
         }

@@ -76,6 +76,16 @@ impl UndoStack {
         Some(label)
     }
 
+    /// How many edits Ctrl+Z can undo.
+    pub fn depth(&self) -> usize {
+        self.undo.len()
+    }
+
+    /// Takes back the last edit's record (to fold it into a gesture that continues it).
+    pub fn take_last(&mut self) -> Option<(String, Snapshot)> {
+        self.undo.pop()
+    }
+
     /// Label of the edit Ctrl+Z would undo.
     pub fn undo_label(&self) -> Option<&str> {
         self.undo.last().map(|(l, _)| l.as_str())

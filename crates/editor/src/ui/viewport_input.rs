@@ -407,7 +407,8 @@ fn header_label(ctx: &egui::Context, rect: egui::Rect, id: &str, text: String) {
     egui::Area::new(egui::Id::unique(id))
         .order(egui::Order::Foreground)
         .pivot(egui::Align2::CENTER_TOP)
-        .fixed_pos(rect.center_top() + egui::vec2(0.0, 10.0))
+        // Below the row of Rig mode's select modes, which it would otherwise cover.
+        .fixed_pos(rect.center_top() + egui::vec2(0.0, 44.0))
         .interactable(false)
         .show(ctx, |ui| {
             egui::Frame::new()
@@ -415,11 +416,11 @@ fn header_label(ctx: &egui::Context, rect: egui::Rect, id: &str, text: String) {
                 .corner_radius(4.0)
                 .inner_margin(egui::Margin::symmetric(8, 4))
                 .show(ui, |ui| {
-                    ui.label(
-                        egui::RichText::new(text)
-                            .size(15.0)
-                            .color(egui::Color32::WHITE),
-                    );
+                    let text = egui::RichText::new(text)
+                        .size(15.0)
+                        .color(egui::Color32::WHITE);
+                    // One line, however narrow the area was when it first appeared.
+                    ui.add(egui::Label::new(text).extend());
                 });
         });
 }

@@ -1223,6 +1223,23 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
         3,
         "the binding follows"
     );
+    // E and its grab are one undo step (Blender's "extrude and move"); redo brings both back.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3);
+    for (&v, before) in cap.iter().zip(&cap_before) {
+        let moved = state.doc.scene.cages.vertices[v as usize] - *before;
+        assert!((moved - DVec3::new(0.25, 0.0, 0.0)).length() < 1e-12);
+    }
     // X deletes the inspected (new) cage; undo brings it back.
     let new_cage = CageId::Leaf(2);
     harness
@@ -1774,6 +1791,23 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
         2,
         "one step"
     );
+    // One face: E goes on as G; Esc keeps the extrusion at its default depth, as its own
+    // undo step.
+    harness.state_mut().run(Command::SelectFaces {
+        faces: vec![(right, right_face)],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    assert!(harness.state().ui.tool.is_some(), "E starts G");
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     // The face the two cages share cannot be extruded.
     let state = &harness.state().state;
     let set = &state.doc.scene.cages;
