@@ -100,6 +100,10 @@ struct Row {
     /// (`StarBinding::rebind_leaves`): the slowest leaf (`bench_kind_switch`).
     #[serde(skip_serializing_if = "Option::is_none")]
     kind_switch_s: Option<f64>,
+    /// The same switch bound at the harmonic preview resolution, as the editor shows it first
+    /// (`HarmonicSettings::preview`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kind_switch_preview_s: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -118,8 +122,10 @@ struct Ratios {
     rest_edit_vs_bind: f64,
     /// Share of the rows that edit bound again.
     rest_edit_rows: f64,
-    /// Seconds to re-bind after the largest leaf cage switches to HC (`Row::kind_switch_s`).
+    /// Seconds to re-bind after a leaf cage switches to HC (`Row::kind_switch_s`).
     kind_switch_s: f64,
+    /// The same at the preview resolution (`Row::kind_switch_preview_s`).
+    kind_switch_preview_s: f64,
 }
 
 #[derive(Serialize)]
@@ -205,13 +211,16 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
     } else {
         (None, None, None)
     };
-    let kind_switch_s = if method.starts_with("stars") {
-        Some(
+    let (kind_switch_s, kind_switch_preview_s) = if method.starts_with("stars") {
+        let switch = |scene: &Scene| {
             bench_kind_switch(scene, &binding)
-                .map_err(|e| anyhow::anyhow!("{name} ({method}), kind switch: {e}"))?,
-        )
+                .map_err(|e| anyhow::anyhow!("{name} ({method}), kind switch: {e}"))
+        };
+        let mut coarse = scene.clone();
+        coarse.settings.harmonic = coarse.settings.harmonic.preview();
+        (Some(switch(scene)?), Some(switch(&coarse)?))
     } else {
-        None
+        (None, None)
     };
     Ok(Row {
         scene: name.to_owned(),
@@ -231,6 +240,7 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
         rest_edit_full_s,
         rest_edit_rows,
         kind_switch_s,
+        kind_switch_preview_s,
     })
 }
 
@@ -444,6 +454,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                     / star.rest_edit_full_s.unwrap_or(f64::NAN),
                 rest_edit_rows: star.rest_edit_rows.unwrap_or(f64::NAN),
                 kind_switch_s: star.kind_switch_s.unwrap_or(f64::NAN),
+                kind_switch_preview_s: star.kind_switch_preview_s.unwrap_or(f64::NAN),
             });
         }
         rows.extend(stars);
@@ -533,7 +544,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     for q in &report.ratios {
         crate::output::line(format_args!(
-            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x; a one-vertex rest edit re-binds {:.0} % of the rows in {:.0} % of a full bind's time; a leaf's switch to HC re-binds in {:.0} ms at most",
+            "{:<16} {} vs single MVC: bind {:.2}x, frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x; a one-vertex rest edit re-binds {:.0} % of the rows in {:.0} % of a full bind's time; a leaf's switch to HC re-binds in {:.0} ms at most, its preview in {:.0} ms",
             q.scene,
             q.method,
             q.bind_vs_mvc,
@@ -545,7 +556,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             q.memory_vs_gc,
             100.0 * q.rest_edit_rows,
             100.0 * q.rest_edit_vs_bind,
-            1e3 * q.kind_switch_s
+            1e3 * q.kind_switch_s,
+            1e3 * q.kind_switch_preview_s
         ))?;
     }
     for t in &report.table2 {

@@ -119,8 +119,10 @@ pub enum Scope {
     /// slow part of a bind), bind with mean value join cages and deliver that as a preview,
     /// to be refined by a [`Scope::Full`] bind; otherwise the same as [`Scope::Full`].
     Preview,
-    /// The mesh rows of these leaf cages (their kind or h changed), and the hierarchy.
-    Leaves(Arc<StarBinding>, Vec<usize>),
+    /// The mesh rows of these leaf cages (their kind or h changed), and the hierarchy. With
+    /// `quick`, leaf cages turned harmonic are bound at the preview resolution first and
+    /// delivered as a preview, to be refined by the same scope without `quick`.
+    Leaves(Arc<StarBinding>, Vec<usize>, bool),
     /// Only the hierarchy (internal cages changed); the mesh binding is kept.
     Hierarchy(Arc<StarBinding>),
     /// The rest positions of these cage vertices moved: the rows they can change, and the
@@ -142,8 +144,12 @@ pub struct Bound {
     /// The cages and settings it was bound for.
     pub bound_for: (CageSet, SceneSettings),
     /// A quick bind with mean value join cages where the scene's settings ask for harmonic
-    /// ones: usable at once, refined by a full bind that follows.
+    /// ones, or with harmonic leaf cages at the preview resolution: usable at once, refined by
+    /// a bind that follows.
     pub preview: bool,
+    /// The leaf cages a quick leaf bind bound coarsely (empty for a join-cage preview): their
+    /// rows are what the refinement binds again.
+    pub coarse_leaves: Vec<usize>,
 }
 
 /// Binds `scene` as far as `scope` says (runs on a worker).
@@ -154,7 +160,8 @@ pub fn bind(
     control: &BindControl,
 ) -> Result<Bound, EditorError> {
     let start = Instant::now();
-    let preview = matches!(scope, Scope::Preview) && has_harmonic_join_cages(scene);
+    let mut preview = matches!(scope, Scope::Preview) && has_harmonic_join_cages(scene);
+    let mut coarse_leaves = Vec::new();
     let binding = match scope {
         Scope::Preview if preview => {
             let mut quick = scene.clone();
@@ -162,7 +169,16 @@ pub fn bind(
             StarBinding::bind_scene(&quick, control).map(Arc::new)
         }
         Scope::Full | Scope::Preview => StarBinding::bind_scene(scene, control).map(Arc::new),
-        Scope::Leaves(old, leaves) => old.rebind_leaves(scene, &leaves, control).map(Arc::new),
+        Scope::Leaves(old, leaves, quick) if quick && turns_harmonic(scene, &leaves) => {
+            // A harmonic leaf at full resolution is one large grid solve: bind it coarsely
+            // first, so the change shows at once.
+            let mut coarse = scene.clone();
+            coarse.settings.harmonic = scene.settings.harmonic.preview();
+            preview = true;
+            coarse_leaves = leaves.clone();
+            old.rebind_leaves(&coarse, &leaves, control).map(Arc::new)
+        }
+        Scope::Leaves(old, leaves, _) => old.rebind_leaves(scene, &leaves, control).map(Arc::new),
         Scope::Hierarchy(old) => Ok(old),
         Scope::RestEdit(old, moved) => old.rebind_rest_edit(scene, &moved, control).map(Arc::new),
     }
@@ -175,7 +191,21 @@ pub fn bind(
         generation,
         bound_for: (scene.cages.clone(), scene.settings),
         preview,
+        coarse_leaves,
     })
+}
+
+/// Whether some of `leaves` use harmonic coordinates at a resolution finer than the preview's.
+fn turns_harmonic(scene: &Scene, leaves: &[usize]) -> bool {
+    let settings = &scene.settings.harmonic;
+    settings.preview() != *settings
+        && leaves.iter().any(|&c| {
+            scene
+                .cages
+                .leaves
+                .get(c)
+                .is_some_and(|cage| cage.kind == CoordinateKind::Harmonic)
+        })
 }
 
 /// Whether binding `scene` solves harmonic coordinates in some join cage (its policy is

@@ -289,8 +289,12 @@ impl EditorState {
 
     /// Starts the full bind that replaces a preview binding, unless a bind is running already.
     pub fn refine_preview(&mut self) {
-        if self.bind_job.is_none() && self.rig.as_ref().is_some_and(|rig| rig.preview) {
-            self.spawn_bind("refining: harmonic join cages", Scope::Full);
+        let Some(rig) = self.rig.as_ref().filter(|rig| rig.preview) else {
+            return;
+        };
+        if self.bind_job.is_none() {
+            let (label, scope) = refinement(rig);
+            self.spawn_bind(label, scope);
         }
     }
 
@@ -351,6 +355,7 @@ impl EditorState {
                     dofs: Arc::new(Vec::new()),
                     bound_for: bound.bound_for,
                     preview,
+                    coarse_leaves: bound.coarse_leaves,
                 };
                 rig.redeform_all(&self.doc.scene);
                 self.rig = Some(rig);
@@ -358,9 +363,10 @@ impl EditorState {
                     self.generations.mesh += 1;
                 }
                 self.generations.deformation += 1;
-                if preview {
-                    // Deformable now; the harmonic join cages follow in the background.
-                    self.spawn_bind("refining: harmonic join cages", Scope::Full);
+                if let Some(rig) = self.rig.as_ref().filter(|rig| rig.preview) {
+                    // Deformable now; the full resolution follows in the background.
+                    let (label, scope) = refinement(rig);
+                    self.spawn_bind(label, scope);
                 }
             }
             Ok(_) => {} // a newer edit superseded it
@@ -646,5 +652,18 @@ impl EditorState {
             }
         }
         Ok(())
+    }
+}
+
+/// The bind that refines the preview `rig`: its coarse leaf cages' rows at full resolution,
+/// or everything with harmonic join cages.
+fn refinement(rig: &Rig) -> (&'static str, Scope) {
+    if rig.coarse_leaves.is_empty() {
+        ("refining: harmonic join cages", Scope::Full)
+    } else {
+        (
+            "refining: harmonic leaf cages",
+            Scope::Leaves(Arc::clone(&rig.binding), rig.coarse_leaves.clone(), false),
+        )
     }
 }

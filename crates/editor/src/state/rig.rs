@@ -23,9 +23,11 @@ pub struct Rig {
     pub dofs: Arc<Vec<Vec3>>,
     /// The cages and settings this binding is for.
     pub bound_for: (CageSet, SceneSettings),
-    /// A preview binding (mean value join cages in place of harmonic ones) while the full
-    /// bind runs.
+    /// A preview binding (mean value join cages in place of harmonic ones, or harmonic leaf
+    /// cages at the preview resolution) while the refinement runs.
     pub preview: bool,
+    /// The leaf cages a leaf preview bound coarsely (empty for a join-cage preview).
+    pub coarse_leaves: Vec<usize>,
 }
 
 impl Rig {
@@ -78,10 +80,34 @@ impl Rig {
 pub fn rebind_scope(rig: &Rig, scene: &Scene) -> Scope {
     let (bound, settings) = &rig.bound_for;
     let now = &scene.cages;
-    if rig.preview {
+    if rig.preview && rig.coarse_leaves.is_empty() {
         // Re-binding part of a preview would keep its join cages: bind it all again.
         return Scope::Preview;
     }
+    if rig.preview {
+        // A leaf preview: its coarse leaves are bound again with whatever else changed.
+        return match exact_scope(rig, scene, bound, settings, now) {
+            Scope::Leaves(binding, mut leaves, quick) => {
+                leaves.extend(&rig.coarse_leaves);
+                leaves.sort_unstable();
+                leaves.dedup();
+                Scope::Leaves(binding, leaves, quick)
+            }
+            Scope::Hierarchy(binding) => Scope::Leaves(binding, rig.coarse_leaves.clone(), true),
+            _ => Scope::Preview,
+        };
+    }
+    exact_scope(rig, scene, bound, settings, now)
+}
+
+/// [`rebind_scope`] for a binding that is not a preview.
+fn exact_scope(
+    rig: &Rig,
+    scene: &Scene,
+    bound: &CageSet,
+    settings: &SceneSettings,
+    now: &CageSet,
+) -> Scope {
     let same_structure = *settings == scene.settings
         && bound.vertices.len() == now.vertices.len()
         && bound.leaves == now.leaves
@@ -112,7 +138,7 @@ pub fn rebind_scope(rig: &Rig, scene: &Scene) -> Scope {
     if leaves.is_empty() {
         Scope::Hierarchy(Arc::clone(&rig.binding))
     } else {
-        Scope::Leaves(Arc::clone(&rig.binding), leaves)
+        Scope::Leaves(Arc::clone(&rig.binding), leaves, true)
     }
 }
 

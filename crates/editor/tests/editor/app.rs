@@ -577,6 +577,57 @@ fn harmonic_join_cages_arrive_after_a_deformable_preview() {
     );
 }
 
+/// A leaf cage switched to harmonic coordinates is bound at the preview resolution first (so
+/// the change shows at once), then refined in the background to what a full bind gives.
+#[test]
+fn a_leaf_switched_to_harmonic_is_previewed_coarsely_then_refined() {
+    use starcages_core::star::StarBinding;
+    let mut app = starcages_editor::EditorApp::new(crate::common::document(), None, false);
+    app.wait_for_jobs();
+    assert!(!app.state.rig.as_ref().unwrap().preview);
+    let before = std::sync::Arc::clone(&app.state.rig.as_ref().unwrap().binding);
+    let head = CageId::by_name(&app.state.doc.scene.cages, "head_0_0_0").unwrap();
+    app.run(Command::SetCageKind(head, CoordinateKind::Harmonic));
+    // The first binding installed after the change is the coarse preview.
+    loop {
+        app.state.poll_jobs(false);
+        let rig = app.state.rig.as_ref().unwrap();
+        if !std::sync::Arc::ptr_eq(&rig.binding, &before) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let scene = app.state.doc.scene.clone();
+    let c = scene.cages.leaf_index("head_0_0_0").unwrap();
+    let rig = app.state.rig.as_ref().unwrap();
+    assert!(rig.preview, "a coarse preview comes first");
+    assert_eq!(rig.coarse_leaves, vec![c]);
+    let mut coarse = scene.clone();
+    coarse.settings.harmonic = coarse.settings.harmonic.preview();
+    let control = starcages_core::BindControl::default();
+    let expected = before.rebind_leaves(&coarse, &[c], &control).unwrap();
+    assert_eq!(rig.binding.operator, expected.operator);
+    // Waiting for every job ends with the full resolution, equal to a full bind's rows.
+    app.wait_for_jobs();
+    let rig = app.state.rig.as_ref().unwrap();
+    assert!(!rig.preview && rig.coarse_leaves.is_empty());
+    let full = StarBinding::bind_scene(&scene, &control).unwrap();
+    let (a, b) = (
+        rig.binding.deform(&scene.cages.vertices, &scene.pose),
+        full.deform(&scene.cages.vertices, &scene.pose),
+    );
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max);
+    assert!(worst < 1e-5, "refined = full bind: {worst}");
+    assert_ne!(
+        expected.operator, full.operator,
+        "negative control: the coarse rows differ"
+    );
+}
+
 /// New from mesh reads an OBJ Y-up (the convention) and stands it up along Z; the dialog's
 /// "Z up" reads it as it is.
 #[test]

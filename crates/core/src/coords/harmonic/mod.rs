@@ -64,6 +64,19 @@ pub mod limits {
 }
 
 impl HarmonicSettings {
+    /// Grid cells along a cage's longest side for a quick preview (an eighth of the default's
+    /// unknowns): what the editor binds first while the full resolution follows.
+    pub const PREVIEW_RESOLUTION: u32 = 24;
+
+    /// These settings at the preview resolution, or unchanged when they are that coarse
+    /// already.
+    pub fn preview(&self) -> Self {
+        Self {
+            resolution: self.resolution.min(Self::PREVIEW_RESOLUTION),
+            ..*self
+        }
+    }
+
     /// Checks the settings against the `limits` below; the error says which value and the range.
     pub fn check(&self) -> Result<(), String> {
         use limits::*;
