@@ -205,9 +205,15 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
     }) / samples.len() as f64;
     let streamed = operator.byte_size() + operator.row_count() * 12 + x.len() * 12;
     let (rest_edit_s, rest_edit_full_s, rest_edit_rows) = if method.starts_with("stars") {
-        let (seconds, full, share) = bench_rest_edit(scene, &binding)
-            .map_err(|e| anyhow::anyhow!("{name} ({method}), rest edit: {e}"))?;
-        (Some(seconds), Some(full), Some(share))
+        match bench_rest_edit(scene, &binding) {
+            Ok((seconds, full, share)) => (Some(seconds), Some(full), Some(share)),
+            Err(e) => {
+                // The small move can push mesh vertices that touch a cage outside it: the
+                // scene's other figures stand, this one is left out.
+                eprintln!("{name} ({method}): no rest-edit figure: {e}");
+                (None, None, None)
+            }
+        }
     } else {
         (None, None, None)
     };
