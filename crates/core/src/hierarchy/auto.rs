@@ -59,6 +59,23 @@ pub enum AutoInternalCageError {
         /// The count.
         count: usize,
     },
+    /// An imported internal cage is not a closed, consistently oriented surface.
+    #[error("the imported cage '{name}' cannot be an internal cage: {reason}")]
+    InvalidCage {
+        /// Its name.
+        name: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// An imported internal cage encloses no cage vertex it could drive.
+    #[error(
+        "the imported cage '{name}' holds no cage vertex without a parent; place it around the \
+         vertices it should drive"
+    )]
+    HoldsNothing {
+        /// Its name.
+        name: String,
+    },
     /// A vertex already has a parent.
     #[error(
         "vertex {vertex} is already owned by internal cage '{parent}'; a vertex has at most one \
@@ -117,15 +134,36 @@ pub fn add_auto_internal_cage(
         hi + DVec3::splat(margin),
         options.cells,
     );
-    let base = count as u32;
-    scene.cages.vertices.extend(&positions);
-    scene.pose.extend(&positions);
+    Ok(attach_internal_cage(
+        scene,
+        &options.name,
+        options.kind,
+        &positions,
+        faces,
+        owned,
+    ))
+}
+
+/// Appends an internal cage (its own new vertices `positions`, `faces` over them, at rest in
+/// every pose) owning `owned`; returns its index among the internal cages. Where a pose already
+/// moved an owned vertex away from rest, that vertex counts as moved by hand in that pose.
+pub(super) fn attach_internal_cage(
+    scene: &mut Scene,
+    name: &str,
+    kind: CoordinateKind,
+    positions: &[DVec3],
+    faces: Vec<Vec<u32>>,
+    owned: Vec<u32>,
+) -> usize {
+    let base = scene.cages.vertices.len() as u32;
+    scene.cages.vertices.extend(positions);
+    scene.pose.extend(positions);
     for pose in scene.poses.values_mut() {
-        pose.extend(&positions);
+        pose.extend(positions);
     }
     scene.cages.internals.push(InternalCage {
-        name: options.name.clone(),
-        kind: options.kind,
+        name: name.to_owned(),
+        kind,
         faces: faces
             .into_iter()
             .map(|f| f.into_iter().map(|v| v + base).collect())
@@ -149,7 +187,7 @@ pub fn add_auto_internal_cage(
             mark_hand_moved(&mut state.hand_moved, moved);
         }
     }
-    Ok(scene.cages.internals.len() - 1)
+    scene.cages.internals.len() - 1
 }
 
 fn mark_hand_moved(list: &mut Vec<u32>, more: Vec<u32>) {

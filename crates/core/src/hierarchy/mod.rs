@@ -9,6 +9,7 @@
 mod auto;
 mod edit;
 mod follow;
+mod import;
 mod remove;
 mod restore;
 
@@ -27,6 +28,7 @@ use crate::scene::{
 pub use auto::{AutoInternalCage, AutoInternalCageError, add_auto_internal_cage};
 pub use edit::{CageEdit, CageTransform, EditError};
 use follow::{Follow, RebindRequest, anchor_points, rebind};
+pub use import::import_internal_cages;
 pub use remove::{RemoveInternalCageError, remove_internal_cage};
 pub(crate) use remove::{forget, renumber};
 

@@ -98,6 +98,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 Err(e) => state.error(EditorError::Rig(e.to_string())),
             }
         }
+        Command::ImportInternalCages(path) => import_internal(state, &path),
         Command::AnswerUnsaved(answer) => answer_unsaved(state, answer),
         Command::RequestClose => {
             if state.doc.dirty {
@@ -506,6 +507,42 @@ fn add_internal_cage(state: &mut EditorState, kind: starcages_core::coords::Coor
             state.info(format!(
                 "added internal cage '{name}' owning {} vertices",
                 vertices.len()
+            ));
+        }
+        Err(e) => state.error(EditorError::AddInternalCage(e)),
+    }
+}
+
+/// File ▸ Import internal cages: every cage of the OBJ becomes an internal cage driving the
+/// free cage vertices inside it (one undo step, all or none).
+fn import_internal(state: &mut EditorState, path: &Path) {
+    let up = state.doc.scene.export_up();
+    let kind = starcages_core::coords::CoordinateKind::MeanValue;
+    let mut set = match starcages_core::io::read_cage_set_obj(path, kind) {
+        Ok(set) => set,
+        Err(e) => return state.error(EditorError::Rig(e.to_string())),
+    };
+    for p in &mut set.vertices {
+        *p = up.to_scene(*p);
+    }
+    let result = state.edit_scene("import internal cages", |scene| {
+        starcages_core::hierarchy::import_internal_cages(scene, &set, kind)
+    });
+    match result {
+        Ok(added) => {
+            let set = &state.doc.scene.cages;
+            let named: Vec<String> = added
+                .iter()
+                .filter_map(|&i| set.internals.get(i))
+                .map(|c| format!("'{}' ({} vertices)", c.name, c.owns.len()))
+                .collect();
+            if let Some(&last) = added.last() {
+                state.selection.inspect(Some(CageId::Internal(last)), set);
+            }
+            state.info(format!(
+                "imported internal cage(s) {} from {}",
+                named.join(", "),
+                path.display()
             ));
         }
         Err(e) => state.error(EditorError::AddInternalCage(e)),

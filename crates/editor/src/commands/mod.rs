@@ -73,6 +73,9 @@ pub enum Command {
     /// Add the cages of an OBJ file (one leaf cage per `o`/`g` group, in the mesh file's axes)
     /// to the rig.
     ImportCages(PathBuf),
+    /// Add the cages of an OBJ file as internal cages (each drives the free cage vertices
+    /// inside it), one undo step.
+    ImportInternalCages(PathBuf),
     /// The answer to the unsaved-changes prompt.
     AnswerUnsaved(UnsavedAnswer),
     /// The window wants to close (asks first over unsaved changes).

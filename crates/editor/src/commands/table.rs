@@ -21,6 +21,8 @@ pub enum UiCommand {
     ExportCages,
     /// File ▸ Import cages…
     ImportCages,
+    /// File ▸ Import internal cages…
+    ImportInternalCages,
     /// Edit ▸ Undo
     Undo,
     /// Edit ▸ Redo
@@ -89,7 +91,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 35] = [
+    pub const ALL: [Self; 36] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -97,6 +99,7 @@ impl UiCommand {
         Self::ExportMesh,
         Self::ExportCages,
         Self::ImportCages,
+        Self::ImportInternalCages,
         Self::Undo,
         Self::Redo,
         Self::ToggleMirrorX,
@@ -137,6 +140,7 @@ impl UiCommand {
             Self::ExportMesh => "Export deformed mesh…",
             Self::ExportCages => "Export cages…",
             Self::ImportCages => "Import cages…",
+            Self::ImportInternalCages => "Import internal cages…",
             Self::Undo => "Undo",
             Self::Redo => "Redo",
             Self::ToggleMirrorX => "X mirror editing",
@@ -180,6 +184,10 @@ impl UiCommand {
             Self::ImportCages => {
                 "Add the cages of an OBJ file (one leaf cage per o/g group) to the rig; corners \
                  at the positions of existing cage vertices are shared"
+            }
+            Self::ImportInternalCages => {
+                "Add the cages of an OBJ file (one per o/g group) as internal cages: each drives \
+                 the cage vertices inside it that have no parent yet"
             }
             Self::Undo => "Undo the last edit (a whole drag is one step)",
             Self::Redo => "Redo the last undone edit",
@@ -249,6 +257,7 @@ impl UiCommand {
             | Self::ExportMesh
             | Self::ExportCages
             | Self::ImportCages
+            | Self::ImportInternalCages
             | Self::ToggleMirrorX => &[],
             Self::Open => &const { [key(CMD, Key::O)] },
             Self::Save => &const { [key(CMD, Key::S)] },

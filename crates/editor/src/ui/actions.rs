@@ -28,6 +28,7 @@ pub fn execute(
         UiCommand::ExportMesh => return choose(FilePurpose::ExportMesh),
         UiCommand::ExportCages => return choose(FilePurpose::ExportCages),
         UiCommand::ImportCages => return choose(FilePurpose::ImportCages),
+        UiCommand::ImportInternalCages => return choose(FilePurpose::ImportInternalCages),
         UiCommand::Undo => Command::Undo,
         UiCommand::Redo => Command::Redo,
         UiCommand::ToggleMirrorX => Command::SetMirrorX(!state.view.mirror_x),
@@ -127,6 +128,7 @@ pub fn file_chosen(
         FilePurpose::ExportMesh => Command::ExportMesh(path),
         FilePurpose::ExportCages => Command::ExportCages(path),
         FilePurpose::ImportCages => Command::ImportCages(path),
+        FilePurpose::ImportInternalCages => Command::ImportInternalCages(path),
     };
     sender.send(command);
 }

@@ -24,6 +24,8 @@ pub enum FilePurpose {
     ExportCages,
     /// File ▸ Import cages.
     ImportCages,
+    /// File ▸ Import internal cages.
+    ImportInternalCages,
 }
 
 impl FilePurpose {
@@ -36,6 +38,7 @@ impl FilePurpose {
             Self::ExportMesh => "Export deformed mesh",
             Self::ExportCages => "Export cages",
             Self::ImportCages => "Import cages",
+            Self::ImportInternalCages => "Import internal cages",
         }
     }
 
@@ -54,7 +57,7 @@ impl FilePurpose {
             Self::NewFromMesh => &["obj", "gltf", "glb"],
             Self::SaveScene | Self::SaveBeforeContinuing => &["json"],
             Self::ExportMesh => &["obj", "glb"],
-            Self::ExportCages | Self::ImportCages => &["obj"],
+            Self::ExportCages | Self::ImportCages | Self::ImportInternalCages => &["obj"],
         }
     }
 
@@ -64,7 +67,7 @@ impl FilePurpose {
             Self::SaveScene | Self::SaveBeforeContinuing => "scene.json",
             Self::ExportMesh => "deformed.obj",
             Self::ExportCages => "cages.obj",
-            Self::Open | Self::NewFromMesh | Self::ImportCages => "",
+            Self::Open | Self::NewFromMesh | Self::ImportCages | Self::ImportInternalCages => "",
         }
     }
 

@@ -52,6 +52,7 @@ pub fn menu_bar(
             );
             item(ui, UiCommand::ExportCages, None, true, &mut chosen);
             item(ui, UiCommand::ImportCages, None, true, &mut chosen);
+            item(ui, UiCommand::ImportInternalCages, None, true, &mut chosen);
         });
         ui.menu_button("Edit", |ui| {
             let undo = state.undo.undo_label();

@@ -1400,27 +1400,12 @@ fn importing_cages_adds_them_to_the_rig_sharing_faces() {
     let mut harness = crate::common::bar_harness(false);
     // A box beside the bar's +x face, written Y-up (OBJ convention); the bar is symmetric in
     // y and z, so the box is the same in both axes.
-    let corners: Vec<String> = (0..8)
-        .map(|c: u32| {
-            let x = if c & 1 == 0 { 1.1 } else { 2.0 };
-            let y = if c & 2 == 0 { -0.35 } else { 0.35 };
-            let z = if c & 4 == 0 { -0.35 } else { 0.35 };
-            format!("v {x} {y} {z}")
-        })
-        .collect();
-    let faces = starcages_core::cage::shapes::box_faces(std::array::from_fn(|c| c as u32 + 1));
-    let mut text = corners.join("\n") + "\no tip\n";
-    for f in faces {
-        text += &format!(
-            "f {}\n",
-            f.iter()
-                .map(|v| v.to_string())
-                .collect::<Vec<_>>()
-                .join(" ")
-        );
-    }
-    let path = scratch("import-cages").join("tip.obj");
-    std::fs::write(&path, text).unwrap();
+    let path = box_obj(
+        "import-cages",
+        "tip",
+        [1.1, -0.35, -0.35],
+        [2.0, 0.35, 0.35],
+    );
     harness.state_mut().run(Command::ImportCages(path));
     settle(&mut harness);
     let state = &harness.state().state;
@@ -1435,6 +1420,86 @@ fn importing_cages_adds_them_to_the_rig_sharing_faces() {
     assert!(state.rig_problems.is_empty(), "{:?}", state.rig_problems);
     harness.state_mut().run(Command::Undo);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+}
+
+/// An OBJ holding one box group called `name` from `lo` to `hi`, in a scratch folder.
+fn box_obj(folder: &str, name: &str, lo: [f64; 3], hi: [f64; 3]) -> std::path::PathBuf {
+    let corners: Vec<String> = (0..8)
+        .map(|c: usize| {
+            let at = |axis: usize| {
+                if c >> axis & 1 == 0 {
+                    lo[axis]
+                } else {
+                    hi[axis]
+                }
+            };
+            format!("v {} {} {}", at(0), at(1), at(2))
+        })
+        .collect();
+    let faces = starcages_core::cage::shapes::box_faces(std::array::from_fn(|c| c as u32 + 1));
+    let mut text = corners.join("\n") + &format!("\no {name}\n");
+    for f in faces {
+        let corners: Vec<String> = f.iter().map(|v| v.to_string()).collect();
+        text += &format!("f {}\n", corners.join(" "));
+    }
+    let path = scratch(folder).join(format!("{name}.obj"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// File ▸ Import internal cages: a box around the bar's right cage becomes its parent (an
+/// internal cage driving its eight corners), in one undo step; one holding nothing free is
+/// refused with the reason.
+#[test]
+fn importing_internal_cages_drives_the_cage_vertices_inside_them() {
+    let mut harness = crate::common::bar_harness(false);
+    // The bar's right cage spans x 0..1.1 and y, z -0.35..0.35 at this detail (symmetric in y
+    // and z, so the same Y-up or Z-up).
+    let path = box_obj(
+        "import-internal",
+        "driver",
+        [-0.1, -0.5, -0.5],
+        [1.3, 0.5, 0.5],
+    );
+    harness
+        .state_mut()
+        .run(Command::ImportInternalCages(path.clone()));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let set = &state.doc.scene.cages;
+    assert_eq!(set.internals.len(), 1, "{:?}", state.message);
+    assert_eq!(set.internals[0].name, "driver");
+    let right = leaf(harness.state(), "cage_1_0_0");
+    let corners: std::collections::BTreeSet<u32> =
+        set.leaves[right].faces.iter().flatten().copied().collect();
+    let owned: std::collections::BTreeSet<u32> = set.internals[0].owns.iter().copied().collect();
+    assert_eq!(owned, corners, "it drives the right cage's corners");
+    assert!(
+        state
+            .rig
+            .as_ref()
+            .unwrap()
+            .hierarchy
+            .parent_of(*corners.first().unwrap())
+            .is_some()
+    );
+    assert_eq!(
+        state.selection.cage(),
+        Some(CageId::Internal(0)),
+        "shown in the inspector"
+    );
+    // Again: nothing inside is free any more.
+    harness.state_mut().run(Command::ImportInternalCages(path));
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.internals.len(), 1);
+    let message = format!("{:?}", state.message);
+    assert!(
+        message.contains("holds no cage vertex without a parent"),
+        "{message}"
+    );
+    harness.state_mut().run(Command::Undo);
+    settle(&mut harness);
+    assert!(harness.state().state.doc.scene.cages.internals.is_empty());
 }
 
 /// Rig mode's merge (M), mirror (Ctrl+M) and Fit to mesh work on the inspected cage.
