@@ -199,7 +199,20 @@ pub fn apply(state: &mut EditorState, command: Command) {
             }
         }
         Command::SetBorderH { leaf, neighbour, h } => {
-            if leaf < state.doc.scene.cages.leaves.len() {
+            let set = &state.doc.scene.cages;
+            let adjacent = set.leaf_index(&neighbour).is_some_and(|other| {
+                set.adjacency().iter().any(|a| {
+                    (a.first, a.second) == (leaf.min(other), leaf.max(other)) && leaf != other
+                })
+            });
+            if h.is_some() && !adjacent {
+                // An override for cages that do not meet would make the rig invalid.
+                let name = set.leaves.get(leaf).map_or("?", |c| c.name.as_str());
+                state.error(EditorError::Rig(format!(
+                    "border h: '{name}' and '{neighbour}' share no face; a border's h applies \
+                     where two cages meet"
+                )));
+            } else if leaf < state.doc.scene.cages.leaves.len() {
                 state.edit_scene("change border h", |scene| {
                     let borders = &mut scene.cages.leaves[leaf].border_h;
                     match h {

@@ -420,7 +420,14 @@ impl EditorState {
         };
         let scene = &mut self.doc.scene;
         let Some(rig) = self.rig.as_mut().filter(|rig| rig.can_pose(scene)) else {
-            return Err(EditorError::NotBound);
+            // An invalid rig is not bound at all: say so rather than "still being bound".
+            return Err(match self.rig_problems.first() {
+                Some(first) => EditorError::Rig(format!(
+                    "the rig has {} problem(s) and is not bound; fix them first: {first}",
+                    self.rig_problems.len()
+                )),
+                None => EditorError::NotBound,
+            });
         };
         let changed = rig
             .hierarchy

@@ -8,14 +8,28 @@ use super::rig_keys::{BoxPlacement, add_box};
 use crate::commands::{Command, CommandSender};
 use crate::state::EditorState;
 
-/// The entries, each enabled when it can apply, with the reason in its tooltip otherwise;
-/// `at`: the screen point (points) "Box at the pointer" uses. True when one was chosen.
+/// Where the add menu was opened: Shift+A at the pointer, or the Rig menu (the view's centre
+/// then stands in for the pointer).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Opened {
+    /// By Shift+A with the pointer here (screen points).
+    AtPointer(Vec2),
+    /// From the menu bar.
+    FromMenu,
+}
+
+/// The entries, each enabled when it can apply, with the reason in its tooltip otherwise.
+/// True when one was chosen.
 pub fn entries(
     state: &EditorState,
     ui: &mut egui::Ui,
-    at: Vec2,
+    opened: Opened,
     sender: &mut CommandSender,
 ) -> bool {
+    let (at, at_label) = match opened {
+        Opened::AtPointer(at) => (at, BoxPlacement::At(at).label()),
+        Opened::FromMenu => (state.view.viewport.center(), "Box at the view's centre"),
+    };
     let mesh_selected = state.selection.mesh_vertices.len();
     let cage_selected = state.selection.vertices.len();
     let choices = [
@@ -45,8 +59,12 @@ pub fn entries(
         ),
     ];
     for (placement, enabled, tooltip) in choices {
+        let label = match placement {
+            BoxPlacement::At(_) => at_label,
+            other => other.label(),
+        };
         if ui
-            .add_enabled(enabled, egui::Button::new(placement.label()))
+            .add_enabled(enabled, egui::Button::new(label))
             .on_hover_text(&tooltip)
             .on_disabled_hover_text(&tooltip)
             .clicked()
@@ -85,7 +103,7 @@ pub fn popup(
                 .show(ui, |ui| {
                     ui.label(egui::RichText::new("Add").strong());
                     ui.separator();
-                    entries(state, ui, at, sender)
+                    entries(state, ui, Opened::AtPointer(at), sender)
                 })
                 .inner
         });

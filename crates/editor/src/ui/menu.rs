@@ -119,8 +119,8 @@ pub fn menu_bar(
             }
             ui.add_enabled_ui(rig, |ui| {
                 ui.menu_button(UiCommand::AddBox.label(), |ui| {
-                    let centre = state.view.viewport.center();
-                    if super::add_menu::entries(state, ui, centre, sender) {
+                    let opened = super::add_menu::Opened::FromMenu;
+                    if super::add_menu::entries(state, ui, opened, sender) {
                         ui.close();
                     }
                 })

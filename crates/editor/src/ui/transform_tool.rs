@@ -94,6 +94,16 @@ pub enum Amount {
     Factor(f64),
 }
 
+/// The move that puts the vertex of `start` (index, position) nearest `at` exactly on `at`:
+/// a snap onto the cage vertex there.
+pub fn snap_delta(start: &[(u32, DVec3)], at: DVec3) -> DVec3 {
+    start
+        .iter()
+        .map(|&(_, p)| p)
+        .min_by(|a, b| a.distance_squared(at).total_cmp(&b.distance_squared(at)))
+        .map_or(DVec3::ZERO, |nearest| at - nearest)
+}
+
 /// World displacement for a pointer move of `delta` points, in the view plane through `at`.
 pub fn view_plane_delta(camera: &OrbitCamera, height: f32, at: DVec3, delta: Vec2) -> DVec3 {
     let (right, up) = camera.right_up();
@@ -153,7 +163,7 @@ impl TransformTool {
             Mode::Grab => {
                 let mut delta = match (self.typed_value(), self.snap) {
                     (Some(v), _) => self.axis.unwrap_or(Axis::X).vector() * v,
-                    (None, Some((_, at))) => at - self.nearest_start(at),
+                    (None, Some((_, at))) => snap_delta(&self.start, at),
                     (None, None) => {
                         view_plane_delta(camera, size.y, self.centre, pointer - self.start_pointer)
                     }
@@ -206,15 +216,6 @@ impl TransformTool {
     /// The vertices being moved, by index.
     pub fn moving(&self) -> impl Iterator<Item = u32> + '_ {
         self.start.iter().map(|&(v, _)| v)
-    }
-
-    /// Where the moved vertex nearest `at` started (the one a snap puts on `at`).
-    fn nearest_start(&self, at: DVec3) -> DVec3 {
-        self.start
-            .iter()
-            .map(|&(_, p)| p)
-            .min_by(|a, b| a.distance_squared(at).total_cmp(&b.distance_squared(at)))
-            .unwrap_or(self.centre)
     }
 
     /// The pivot: the centre of the vertices being transformed (world, rest of the gesture).

@@ -30,6 +30,9 @@ pub enum Drag {
         start_pointer: Vec2,
         /// The selection's positions when it started.
         start: Vec<(u32, DVec3)>,
+        /// The cage vertex the selection is snapped onto (snapping on, or Ctrl held once the
+        /// drag has begun): index and position.
+        snap: Option<(u32, DVec3)>,
     },
     /// A selection region: a rectangle from `start`, or with Ctrl held a lasso through the
     /// pointer's path (screen points).
@@ -233,13 +236,25 @@ fn mouse(
             Some(Drag::Move {
                 start_pointer,
                 start,
+                snap,
                 ..
             }),
             Some(p),
-        ) = (&ui_state.drag, pointer)
+        ) = (&mut ui_state.drag, pointer)
     {
-        let centre = start.iter().map(|s| s.1).sum::<DVec3>() / start.len().max(1) as f64;
-        let delta = view_plane_delta(&state.view.camera, rect.size.y, centre, p - *start_pointer);
+        // Snapping as G's: onto the cage vertex under the pointer (Ctrl inverts the View
+        // panel's switch; pressed at the start, Ctrl draws a lasso instead).
+        let moving: std::collections::BTreeSet<u32> = start.iter().map(|s| s.0).collect();
+        *snap = (state.view.snap_to_vertices != modifiers.command)
+            .then(|| snap_target(state, p, &moving))
+            .flatten();
+        let delta = match snap {
+            Some((_, at)) => super::transform_tool::snap_delta(start, *at),
+            None => {
+                let centre = start.iter().map(|s| s.1).sum::<DVec3>() / start.len().max(1) as f64;
+                view_plane_delta(&state.view.camera, rect.size.y, centre, p - *start_pointer)
+            }
+        };
         let moves: Vec<(u32, DVec3)> = start.iter().map(|&(v, q)| (v, q + delta)).collect();
         sender.send(Command::MoveVertices(moves));
     }
@@ -319,6 +334,7 @@ fn start_drag(
         gesture,
         start_pointer: origin,
         start,
+        snap: None,
     }
 }
 
@@ -425,6 +441,19 @@ fn header_label(ctx: &egui::Context, rect: egui::Rect, id: &str, text: String) {
         });
 }
 
+/// The snap target `at`, ringed as Blender's snapping circle.
+fn snap_ring(state: &EditorState, painter: &egui::Painter, rect: egui::Rect, at: DVec3) {
+    let view = state.view.viewport;
+    if let Some((q, _)) = state.view.camera.project(at.as_vec3(), view.size) {
+        let [r, g, b, _] = colors::to_u8(colors::SELECTED);
+        painter.circle_stroke(
+            rect.min + egui::vec2(q.x, q.y),
+            SNAP_RADIUS * 0.6,
+            egui::Stroke::new(2.0, egui::Color32::from_rgb(r, g, b)),
+        );
+    }
+}
+
 /// While G / R / S runs: the locked axis as a line through the pivot, in the axis colour, and a
 /// header with the live amount at the top of the viewport.
 fn tool_overlay(
@@ -455,16 +484,8 @@ fn tool_overlay(
             );
         }
     }
-    if let Some((_, at)) = tool.snap
-        && let Some((q, _)) = camera.project(at.as_vec3(), view.size)
-    {
-        // The snap target, ringed as Blender's snapping circle.
-        let [r, g, b, _] = colors::to_u8(colors::SELECTED);
-        painter.circle_stroke(
-            rect.min + egui::vec2(q.x, q.y),
-            SNAP_RADIUS * 0.6,
-            egui::Stroke::new(2.0, egui::Color32::from_rgb(r, g, b)),
-        );
+    if let Some((_, at)) = tool.snap {
+        snap_ring(state, painter, rect, at);
     }
     let header = tool.header(tool.amount(camera, view, pointer));
     header_label(painter.ctx(), rect, "transform-header", header);
@@ -483,6 +504,13 @@ fn overlays(
     }
     super::select_modes::selected_faces_overlay(state, &painter, rect);
     match (&ui_state.drag, pointer) {
+        (
+            Some(Drag::Move {
+                snap: Some((_, at)),
+                ..
+            }),
+            _,
+        ) => snap_ring(state, &painter, rect, *at),
         (
             Some(Drag::Region {
                 lasso: Some(path), ..

@@ -1618,12 +1618,16 @@ fn file_open_demo_lists_the_demos_and_opens_one() {
     for (name, _) in starcages_core::scene::demo::DEMOS {
         harness.get_by_label(name);
     }
-    harness.get_by_label("bumpy").click();
-    harness.run_steps(1);
+    // The command starts a worker and returns: the document is not replaced yet (checked on
+    // the command itself; a frame later the worker may have finished already).
+    let mut probe = starcages_editor::EditorState::new(crate::common::document(), None);
+    starcages_editor::commands::apply(&mut probe, Command::OpenDemo("bumpy".into()));
     assert!(
-        harness.state().state.load_job.is_some(),
+        probe.load_job.is_some() && probe.doc.scene.cages.leaves.len() == 10,
         "the demo is generated in the background"
     );
+    harness.get_by_label("bumpy").click();
+    harness.run_steps(1);
     settle(&mut harness);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.leaves.len(), 3);
@@ -2000,6 +2004,11 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
     let target = (0..rest.len() as u32)
         .find(|&v| rest[v as usize] == DVec3::new(hi.x, first.y, first.z))
         .unwrap();
+    // Everything in view (the box reaches past the bar).
+    harness.state_mut().run(Command::Camera(
+        starcages_editor::commands::CameraChange::FrameAll,
+    ));
+    harness.run_steps(2);
     let target_on_screen = vertex_on_screen(&harness.state().state, target).unwrap();
     harness.state_mut().run(Command::Select {
         vertices: near_face.clone(),
@@ -2050,6 +2059,27 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
     harness.run_steps(2);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
+    // A mouse drag of the selection snaps and welds the same way.
+    harness.state_mut().run(Command::Select {
+        vertices: near_face.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    let grabbed = vertex_on_screen(&harness.state().state, near_face[0]).unwrap();
+    harness.hover_at(grabbed);
+    harness.run_steps(2);
+    harness.drag_at(grabbed);
+    harness.run_steps(1);
+    for step in 1..=4 {
+        let t = step as f32 / 4.0;
+        harness.hover_at(grabbed + (target_on_screen - grabbed) * t);
+        harness.run_steps(1);
+    }
+    harness.drop_at(target_on_screen);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.cages.vertices.len(), 16);
+    assert_eq!(scene.cages.adjacency().len(), 2);
 }
 
 /// Where mesh vertex `v` (welded, at rest) is drawn.

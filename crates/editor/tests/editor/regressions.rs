@@ -181,3 +181,38 @@ fn replacing_the_document_cancels_its_running_bind() {
     assert!(control.is_cancelled(), "the old document's bind still runs");
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
 }
+
+/// A border h for two cages that share no face was accepted, left the rig invalid (the last
+/// binding frozen) and every later move refused as "still being bound". Found by the model
+/// test: removing an internal cage then re-checked the rig. The command now refuses it.
+#[test]
+fn a_border_h_for_cages_that_do_not_meet_is_refused_and_moves_still_land() {
+    let doc = crate::common::document();
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    app.wait_for_jobs();
+    let set = &app.state.doc.scene.cages;
+    // head_1_1_0 and head_0_0_0 meet at an edge only.
+    let leaf = set.leaf_index("head_1_1_0").unwrap();
+    app.run(Command::SetBorderH {
+        leaf,
+        neighbour: "head_0_0_0".into(),
+        h: Some(0.9),
+    });
+    let message = format!("{:?}", app.state.message);
+    assert!(message.contains("share no face"), "{message}");
+    assert!(app.state.rig_problems.is_empty());
+    assert!(app.state.doc.scene.cages.leaves[leaf].border_h.is_empty());
+    // Cages that do meet take it.
+    app.run(Command::SetBorderH {
+        leaf,
+        neighbour: "head_0_1_0".into(),
+        h: Some(0.9),
+    });
+    assert_eq!(app.state.doc.scene.cages.leaves[leaf].border_h.len(), 1);
+    app.wait_for_jobs();
+    assert!(app.state.rig_problems.is_empty());
+    let v = app.state.doc.scene.cages.leaves[leaf].faces[0][0];
+    let to = app.state.doc.scene.pose[v as usize] + glam::DVec3::splat(0.05);
+    app.run(Command::MoveVertices(vec![(v, to)]));
+    assert_eq!(app.state.doc.scene.pose[v as usize], to, "the move lands");
+}
