@@ -227,3 +227,53 @@ fn apply_edits_and_internal_cages() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("already owned"), "{}", stderr(&out));
 }
+
+/// `internal-cage --from CAGES.obj`: each cage of the file becomes an internal cage owning the
+/// free cage vertices inside it; one holding nothing free is an input error naming the file.
+#[test]
+fn internal_cages_imported_from_an_obj() {
+    let d = dir("internal-from");
+    ok(&cli(&["demo", "bar", "--detail", "0.3", "--out", s(&d)]));
+    let bar = d.join("bar.json");
+    // A box around the whole bar (symmetric in y and z, so the same in either up axis).
+    let (lo, hi) = ([-1.5, -0.6, -0.6], [1.5, 0.6, 0.6]);
+    let mut text = String::from("o whole\n");
+    for c in 0..8usize {
+        let at = |axis: usize| if c >> axis & 1 == 0 { lo[axis] } else { hi[axis] };
+        text += &format!("v {} {} {}\n", at(0), at(1), at(2));
+    }
+    for f in starcages_core::cage::shapes::BOX_FACES {
+        let corners: Vec<String> = f.iter().map(|v| (v + 1).to_string()).collect();
+        text += &format!("f {}\n", corners.join(" "));
+    }
+    let cages = d.join("whole.obj");
+    std::fs::write(&cages, text).unwrap();
+    let out_path = d.join("driven.json");
+    let args = [
+        "internal-cage",
+        s(&bar),
+        "--from",
+        s(&cages),
+        "--kind",
+        "hc",
+        "--out",
+        s(&out_path),
+    ];
+    let out = cli(&args);
+    ok(&out);
+    assert!(stdout(&out).contains("'whole' owns 12 vertices"), "{}", stdout(&out));
+    ok(&cli(&["validate", s(&out_path)]));
+    // Again on the result: nothing inside is free any more.
+    let again = d.join("again.json");
+    let out = cli(&[
+        "internal-cage",
+        s(&out_path),
+        "--from",
+        s(&cages),
+        "--out",
+        s(&again),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("whole.obj") && stderr(&out).contains("no cage vertex"));
+    assert!(!again.exists(), "nothing is written");
+}
