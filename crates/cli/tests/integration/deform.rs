@@ -239,7 +239,13 @@ fn internal_cages_imported_from_an_obj() {
     let (lo, hi) = ([-1.5, -0.6, -0.6], [1.5, 0.6, 0.6]);
     let mut text = String::from("o whole\n");
     for c in 0..8usize {
-        let at = |axis: usize| if c >> axis & 1 == 0 { lo[axis] } else { hi[axis] };
+        let at = |axis: usize| {
+            if c >> axis & 1 == 0 {
+                lo[axis]
+            } else {
+                hi[axis]
+            }
+        };
         text += &format!("v {} {} {}\n", at(0), at(1), at(2));
     }
     for f in starcages_core::cage::shapes::BOX_FACES {
@@ -261,7 +267,11 @@ fn internal_cages_imported_from_an_obj() {
     ];
     let out = cli(&args);
     ok(&out);
-    assert!(stdout(&out).contains("'whole' owns 12 vertices"), "{}", stdout(&out));
+    assert!(
+        stdout(&out).contains("'whole' owns 12 vertices"),
+        "{}",
+        stdout(&out)
+    );
     ok(&cli(&["validate", s(&out_path)]));
     // Again on the result: nothing inside is free any more.
     let again = d.join("again.json");
