@@ -100,17 +100,21 @@ fn add_row(
     }
 }
 
-/// Sorts a row by column and sums duplicates.
+/// Sorts a row by column and sums duplicates, in place (no second allocation per row).
 pub(super) fn merge(mut row: Row) -> Row {
     row.sort_unstable_by_key(|&(c, _)| c);
-    let mut out: Row = Vec::with_capacity(row.len());
-    for (c, w) in row {
-        match out.last_mut() {
-            Some((last, acc)) if *last == c => *acc += w,
-            _ => out.push((c, w)),
+    let mut kept = 0;
+    for read in 0..row.len() {
+        let (c, w) = row[read];
+        if kept > 0 && row[kept - 1].0 == c {
+            row[kept - 1].1 += w;
+        } else {
+            row[kept] = (c, w);
+            kept += 1;
         }
     }
-    out
+    row.truncate(kept);
+    row
 }
 
 /// Per join cage: Ω's faces and normalisers, and the special points' coordinates.
