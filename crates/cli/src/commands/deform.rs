@@ -66,11 +66,13 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     if args.stats {
         let s = binding.stats;
         eprintln!(
-            "bind: {:.3} s (cage coordinates {:.3} s, join cages {:.3} s); weights: {:.2} MB in {} non-zeros \
-             (+{:.2} MB transpose); frame: {:.4} s",
+            "bind: {:.3} s (cage coordinates {:.3} s, join cages {:.3} s; the MVC/GC kernels \
+             evaluated {:.2} million point·triangle pairs, the bind's floor); weights: {:.2} MB in \
+             {} non-zeros (+{:.2} MB transpose); frame: {:.4} s",
             s.seconds_total,
             s.seconds_cage_coordinates,
             s.seconds_join_cages,
+            s.kernel_pairs as f64 / 1e6,
             s.operator_bytes as f64 / 1e6,
             s.nonzeros,
             s.transpose_bytes as f64 / 1e6,

@@ -1,6 +1,6 @@
 //! Progress reporting and cancellation of long binds, shared across threads.
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 use super::CoordError;
 
@@ -11,6 +11,7 @@ pub struct BindControl {
     cancelled: AtomicBool,
     done: AtomicUsize,
     total: AtomicUsize,
+    kernel_pairs: AtomicU64,
 }
 
 impl BindControl {
@@ -32,6 +33,17 @@ impl BindControl {
         } else {
             (self.done.load(Ordering::Relaxed) as f64 / total as f64).min(1.0)
         }
+    }
+
+    /// Point·triangle pairs the closed-form kernels (MVC, GC) have evaluated under this
+    /// control: the work of the coordinates alone, whatever else a bind does (the physical
+    /// floor of a bind, in kernel evaluations).
+    pub fn kernel_pairs(&self) -> u64 {
+        self.kernel_pairs.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn add_kernel_pairs(&self, pairs: u64) {
+        self.kernel_pairs.fetch_add(pairs, Ordering::Relaxed);
     }
 
     pub(crate) fn set_total(&self, total: usize) {

@@ -359,6 +359,7 @@ pub fn bind(
     Ok(match kind {
         CoordinateKind::MeanValue => {
             check_mean_value_range(cage, points)?;
+            control.add_kernel_pairs(points.len() as u64 * cage.triangles().len() as u64);
             let mut weights = vec![0.0; points.len() * n];
             control.set_total(points.len().div_ceil(CHUNK));
             weights
@@ -388,6 +389,7 @@ pub fn bind(
         CoordinateKind::Green => {
             let gc = green::GreenCage::new(cage);
             let f = cage.triangles().len();
+            control.add_kernel_pairs(points.len() as u64 * f as u64);
             let mut phi = vec![0.0; points.len() * n];
             let mut psi = vec![0.0; points.len() * f];
             control.set_total(points.len().div_ceil(CHUNK));

@@ -87,6 +87,10 @@ pub struct BindStats {
     pub transpose_bytes: usize,
     /// Stored non-zero weights.
     pub nonzeros: usize,
+    /// Point·triangle pairs the MVC and GC kernels evaluated for this bind
+    /// ([`BindControl::kernel_pairs`]): its physical floor, the time the coordinates alone
+    /// need, in kernel evaluations (harmonic solves not counted). 0 when read from a cache.
+    pub kernel_pairs: u64,
 }
 
 /// A bound scene (or point set): the compiled operator and per-point data.
@@ -163,6 +167,7 @@ impl StarBinding {
         control: &BindControl,
     ) -> Result<Self, StarError> {
         let start = Instant::now();
+        let pairs_before = control.kernel_pairs();
         let (placement, rows) = bound_rows(scene, points, control)?;
         let operator = StarOperator::from_rows(&rows.rows, scene.cages.vertices.len(), rows.green);
         let stats = BindStats {
@@ -172,6 +177,7 @@ impl StarBinding {
             operator_bytes: operator.byte_size(),
             transpose_bytes: operator.transpose_byte_size(),
             nonzeros: operator.nonzeros(),
+            kernel_pairs: control.kernel_pairs() - pairs_before,
         };
         Ok(Self {
             operator,

@@ -192,6 +192,7 @@ impl StarBinding {
         let mut stats = self.stats;
         stats.seconds_cage_coordinates = part.stats.seconds_cage_coordinates;
         stats.seconds_join_cages = part.stats.seconds_join_cages;
+        stats.kernel_pairs = part.stats.kernel_pairs;
         stats.seconds_total = start.elapsed().as_secs_f64();
         stats.operator_bytes = operator.byte_size();
         stats.transpose_bytes = operator.transpose_byte_size();

@@ -621,3 +621,32 @@ fn borders_made_by_extrude_and_loop_cut_are_c1() {
         assert!(j2 < 0.1 * p2, "x = {x0}: *Cages jump {j2} vs plain {p2}");
     }
 }
+
+/// `BindStats::kernel_pairs` counts the closed-form kernels' work: for one MVC cage it is
+/// exactly points × triangles; *Cages add the join cages of the blended points on top of each
+/// point's own cage, and a partial re-bind counts only what it evaluates again.
+#[test]
+fn kernel_pairs_count_the_coordinate_work() {
+    let scene = demo_scene("bar", 0.3).unwrap();
+    let points = scene.mesh.welded_positions().len() as u64;
+    let single = starcages_core::star::single_cage_scene(&scene, CoordinateKind::MeanValue);
+    let triangles: u64 = single.cages.leaves[0]
+        .faces
+        .iter()
+        .map(|f| f.len() as u64 - 2)
+        .sum();
+    let one = StarBinding::bind_scene(&single, &control()).unwrap();
+    assert_eq!(one.stats.kernel_pairs, points * triangles);
+    let star = StarBinding::bind_scene(&scene, &control()).unwrap();
+    // Each point in its own box (12 triangles), and more for the blended ones.
+    assert!(
+        star.stats.kernel_pairs > points * 12,
+        "{}",
+        star.stats.kernel_pairs
+    );
+    let mut changed = scene.clone();
+    changed.cages.leaves[0].h = Some(0.3);
+    let partial = star.rebind_leaves(&changed, &[0], &control()).unwrap();
+    assert!(partial.stats.kernel_pairs > 0);
+    assert!(partial.stats.kernel_pairs < star.stats.kernel_pairs);
+}
