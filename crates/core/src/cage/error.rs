@@ -73,7 +73,10 @@ pub enum CageError {
         area: f64,
     },
     /// Two vertices sit at the same position.
-    #[error("vertices {first} and {second} sit at the same position; weld them into one")]
+    #[error(
+        "vertices {first} and {second} sit at the same position; move one away, or weld them \
+         into one if they are the same corner"
+    )]
     DuplicateVertex {
         /// Lower index.
         first: usize,

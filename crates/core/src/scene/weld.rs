@@ -82,8 +82,8 @@ pub fn weld_vertices(
                 .collect();
             if welded.iter().collect::<BTreeSet<_>>().len() < welded.len() {
                 return Err(RigEditError::Value(format!(
-                    "weld: face {f} of '{}' would lose a corner (two of its corners are within \
-                     {distance} of each other); move them apart first",
+                    "weld: face {f} of '{}' would lose a corner (two of its corners would become \
+                     one); move them apart first",
                     cage.name
                 )));
             }
