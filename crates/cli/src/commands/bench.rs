@@ -99,7 +99,8 @@ struct Row {
     rest_edit_rows: Option<f64>,
     /// *Cages only: seconds to re-bind after a leaf cage switches to harmonic coordinates (to
     /// mean value when it is harmonic already), as the editor's coordinates combo does
-    /// (`StarBinding::rebind_leaves`): the slowest leaf (`bench_kind_switch`).
+    /// (`StarBinding::rebind_leaves`): the slowest leaf of a small rig, else the largest
+    /// (`bench_kind_switch`).
     #[serde(skip_serializing_if = "Option::is_none")]
     kind_switch_s: Option<f64>,
     /// The same switch bound at the harmonic preview resolution, as the editor shows it first
@@ -257,13 +258,21 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
 }
 
 /// Seconds to re-bind after one leaf cage switches to HC (or to MVC when it is HC), best of
-/// three: the slowest leaf of a scene with at most 16 leaf cages, else the leaf holding the
-/// most mesh vertices.
+/// three: the slowest leaf of a rig of at most 16 leaf cages of at most 16 vertices each, else
+/// the leaf holding the most mesh vertices.
 fn bench_kind_switch(
     scene: &Scene,
     binding: &StarBinding,
 ) -> Result<f64, starcages_core::star::StarError> {
-    let leaves: Vec<usize> = if scene.cages.leaves.len() <= 16 {
+    // Every leaf of a small rig (each switch is one grid solve per eight cage vertices, so a
+    // large rig would take minutes); else the leaf holding the most mesh vertices.
+    let small = scene.cages.leaves.len() <= 16
+        && scene.cages.leaves.iter().all(|cage| {
+            let corners: std::collections::BTreeSet<u32> =
+                cage.faces.iter().flatten().copied().collect();
+            corners.len() <= 16
+        });
+    let leaves: Vec<usize> = if small {
         (0..scene.cages.leaves.len()).collect()
     } else {
         let mut held = vec![0usize; scene.cages.leaves.len()];
