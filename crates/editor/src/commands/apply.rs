@@ -273,11 +273,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
             // Faces that lost a corner are no longer selected.
             state.selection.revalidate(&state.doc.scene.cages);
         }
-        Command::SelectAll => {
-            let pickable = state.view.pickable(&state.doc.scene.cages);
-            let all = (0..pickable.len() as u32).filter(|&v| pickable[v as usize]);
-            state.selection.select(all, SelectMode::Replace);
-        }
+        Command::SelectAll => select_all(state),
         Command::SelectNone => {
             state.selection.select([], SelectMode::Replace);
             state.selection.mesh_vertices.clear();
@@ -348,6 +344,36 @@ fn move_rest_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)], pos
             }
         }
     });
+}
+
+/// A: everything the current select mode picks (Blender's select all): the shown cage
+/// vertices, the shown leaf cages' faces, or every mesh vertex.
+fn select_all(state: &mut EditorState) {
+    let set = &state.doc.scene.cages;
+    match state.select_element() {
+        crate::state::SelectElement::CageVertices => {
+            let pickable = state.view.pickable(set);
+            let all = (0..pickable.len() as u32).filter(|&v| pickable[v as usize]);
+            state.selection.select(all, SelectMode::Replace);
+        }
+        crate::state::SelectElement::CageFaces => {
+            let hidden = state.view.cage_style(&state.selection, set).hidden;
+            let faces: Vec<(usize, usize)> = (set.leaves.iter().enumerate())
+                .filter(|(c, _)| !hidden.contains(c))
+                .flat_map(|(c, cage)| (0..cage.faces.len()).map(move |f| (c, f)))
+                .collect();
+            state
+                .selection
+                .select_faces(faces, SelectMode::Replace, set);
+        }
+        crate::state::SelectElement::MeshVertices => {
+            let count = state.doc.scene.mesh.welded_positions().len();
+            let all = 0..count as u32;
+            state
+                .selection
+                .select_mesh_vertices(all, SelectMode::Replace, count);
+        }
+    }
 }
 
 /// At the end of a move in Rig mode: selected vertices that landed on other cage vertices

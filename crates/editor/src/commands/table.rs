@@ -192,7 +192,9 @@ impl UiCommand {
             Self::Undo => "Undo the last edit (a whole drag is one step)",
             Self::Redo => "Redo the last undone edit",
             Self::ToggleMirrorX => "Moving a vertex also moves its mirror image across x = 0",
-            Self::SelectAll => "Select every vertex of the drawn cages",
+            Self::SelectAll => {
+                "Select everything the select mode picks: every vertex of the drawn cages, or in Rig mode every face or mesh vertex"
+            }
             Self::SelectNone => "Clear the selection",
             Self::Grab => {
                 "Move the selection with the mouse; X/Y/Z lock an axis, type a distance, Enter confirms, Esc cancels"

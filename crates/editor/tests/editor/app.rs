@@ -1952,6 +1952,22 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     assert_eq!(state.doc.scene.cages.leaves.len(), 2);
     let message = format!("{:?}", state.message);
     assert!(message.contains("shared with a neighbour"), "{message}");
+    // A selects every face in face select mode.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    let total: usize = state
+        .doc
+        .scene
+        .cages
+        .leaves
+        .iter()
+        .map(|c| c.faces.len())
+        .sum();
+    assert_eq!(
+        state.selection.face_indices(&state.doc.scene.cages).len(),
+        total
+    );
 }
 
 /// G with the pointer 40 points right of `to`, then the pointer moved onto `to`.
@@ -2263,6 +2279,11 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
     let edge = cube_hi - cube_lo;
     assert!((edge.x - edge.y).abs() < 1e-9 && (edge.x - edge.z).abs() < 1e-9);
     assert!(edge.x < (mesh_hi - mesh_lo).length() * 0.5);
+    // A selects every mesh vertex in mesh select mode.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.selection.mesh_vertices.len(), count);
     // Esc closes the menu without adding anything.
     harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
     harness.run_steps(2);
