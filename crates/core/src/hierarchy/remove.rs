@@ -60,14 +60,7 @@ pub fn remove_internal_cage(
     }
     let freed: BTreeSet<u32> = cage.owns.iter().copied().collect();
     let cage = scene.cages.internals.remove(index);
-    let set = &scene.cages;
-    let used_elsewhere: BTreeSet<u32> = set
-        .leaves
-        .iter()
-        .flat_map(|c| c.faces.iter().flatten())
-        .chain(set.internals.iter().flat_map(|c| c.faces.iter().flatten()))
-        .copied()
-        .collect();
+    let used_elsewhere = scene.cages.used_vertices();
     let removed: BTreeSet<u32> = cage
         .faces
         .iter()

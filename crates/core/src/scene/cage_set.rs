@@ -1,7 +1,7 @@
 //! The cage set: one array of cage vertices shared by every cage; leaf cages (which bind the
 //! mesh) and internal cages (which own lower-level cage vertices) as polygon faces over it.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -172,6 +172,16 @@ impl CageSet {
         vertices.sort_unstable();
         vertices.dedup();
         Some(vertices)
+    }
+
+    /// The vertices some cage (leaf or internal) uses in a face.
+    pub fn used_vertices(&self) -> BTreeSet<u32> {
+        self.leaves
+            .iter()
+            .flat_map(|c| c.faces.iter().flatten())
+            .chain(self.internals.iter().flat_map(|c| c.faces.iter().flatten()))
+            .copied()
+            .collect()
     }
 
     /// Names of every cage, leaves first.

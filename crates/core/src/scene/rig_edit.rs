@@ -679,14 +679,7 @@ fn extrude(
 /// Removes the vertices of `gone` (a removed cage's faces) that no cage uses any more, with
 /// their ownership and hierarchy records, renumbering every index.
 fn drop_unused_vertices(scene: &mut Scene, gone: &[Vec<u32>]) {
-    let set = &scene.cages;
-    let used: BTreeSet<u32> = set
-        .leaves
-        .iter()
-        .flat_map(|l| l.faces.iter().flatten())
-        .chain(set.internals.iter().flat_map(|i| i.faces.iter().flatten()))
-        .copied()
-        .collect();
+    let used = scene.cages.used_vertices();
     let removed: BTreeSet<u32> = gone
         .iter()
         .flatten()

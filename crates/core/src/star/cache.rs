@@ -10,7 +10,9 @@ use crate::coords::BindControl;
 use crate::io::write_atomic;
 use crate::scene::Scene;
 
-const MAGIC: &[u8; 8] = b"SCBIND02";
+/// 03: harmonic coordinates on grids centred on the cage (session 8); older caches hold weights
+/// from the previous grid and are rebuilt.
+const MAGIC: &[u8; 8] = b"SCBIND03";
 
 /// How far from 1 the stored (f32) weights of a row may sum: rounding of a few hundred f32
 /// weights stays orders of magnitude below it.
@@ -77,7 +79,7 @@ pub fn binding_key(scene: &Scene) -> u64 {
     h.bytes(cages.as_bytes()).bytes(settings.as_bytes()).0
 }
 
-/// The cache file's bytes for `binding` of `scene`: the magic `SCBIND02`, the scene's
+/// The cache file's bytes for `binding` of `scene`: the magic `SCBIND03`, the scene's
 /// [`binding_key`], an FNV-1a checksum of the payload, then the payload in little-endian 32-bit
 /// words (counts, row starts, columns, f32 values, Green triangles, boundary weights, cage of
 /// each row, join rows, join vertices, join weights).
