@@ -22,6 +22,9 @@ pub struct EditArgs {
     /// "extrude CAGE FACE DIST NAME" (FACE 0-based in the cage's face list, or the direction it
     /// faces: +x, -x, +y, -y, +z, -z; pushed out DIST along its outward normal; the new cage
     /// shares that face);
+    /// "inset CAGE FACE THICKNESS" (a free face becomes a smaller face THICKNESS inside its
+    /// edges and a ring of quads; extrude the inner face, which keeps FACE, to grow a cage
+    /// that touches no other);
     /// "split CAGE x|y|z T NAME" (loop cut across the ring of quads at fraction T);
     /// "delete CAGE"; "merge A B"; "mirror CAGE NAME" (across x = 0);
     /// "fit CAGE MARGIN" (pull free vertices in to the mesh, MARGIN × its diagonal away);

@@ -9,6 +9,7 @@ pub mod creature;
 pub mod demo;
 mod export;
 mod file;
+mod inset;
 mod pose_state;
 mod pretty_json;
 mod rig_edit;

@@ -39,6 +39,18 @@ pub enum RigOp {
         /// The new cage's name.
         name: String,
     },
+    /// Inset a face no other cage shares (Blender's Inset Faces): a smaller copy of it,
+    /// `thickness` inside each of its edges in its plane, joined to its edges by a ring of
+    /// quads. The cage keeps its shape; the inner face can then be extruded, so the new cage
+    /// touches no vertex of the face's edges (and no cage beyond them).
+    Inset {
+        /// The cage.
+        cage: String,
+        /// The face: by index or by the direction it faces.
+        face: FaceRef,
+        /// Distance from each edge to the inner face's edge, in scene units.
+        thickness: f64,
+    },
     /// Remove a leaf cage; vertices no other cage uses go.
     Delete {
         /// The cage.
@@ -119,7 +131,8 @@ pub enum RigOp {
 
 /// A face of a cage, named by its index in the cage's face list (0-based, as in the scene
 /// file) or by the direction it faces (`+x`, `-z`, …: the face whose outward normal is most
-/// aligned with that axis, so a script reads as what it builds).
+/// aligned with that axis, so a script reads as what it builds; among coplanar faces the one
+/// listed first, which after an inset is the inner face).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FaceRef {
     /// By index.
@@ -131,6 +144,35 @@ pub enum FaceRef {
         /// Towards +axis (true) or −axis.
         positive: bool,
     },
+}
+
+impl FaceRef {
+    /// Reads a face number or a direction (`+x`, `-z`, …).
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let direction = |axis: usize| match text.as_bytes().first() {
+            Some(b'+') => Some(Self::Facing {
+                axis,
+                positive: true,
+            }),
+            Some(b'-') => Some(Self::Facing {
+                axis,
+                positive: false,
+            }),
+            _ => None,
+        };
+        match text.get(1..) {
+            Some("x" | "X") => direction(0),
+            Some("y" | "Y") => direction(1),
+            Some("z" | "Z") => direction(2),
+            _ => None,
+        }
+        .or_else(|| text.parse().ok().map(Self::Index))
+        .ok_or_else(|| {
+            format!(
+                "face '{text}' is neither a face number nor a direction (+x, -x, +y, -y, +z, -z)"
+            )
+        })
+    }
 }
 
 impl std::fmt::Display for FaceRef {
@@ -178,7 +220,9 @@ pub enum RigEditError {
         count: usize,
     },
     /// The face already borders another cage.
-    #[error("face {face} of '{cage}' is shared with another cage already; extrude a free face")]
+    #[error(
+        "face {face} of '{cage}' is shared with another cage already; extrude or inset a free face"
+    )]
     FaceShared {
         /// The cage.
         cage: String,
@@ -261,29 +305,7 @@ impl RigOp {
                 })
             }
             ["extrude", cage, face, distance, rest @ ..] if rest.len() <= 1 => {
-                let direction = |axis: usize| match face.as_bytes().first() {
-                    Some(b'+') => Some(FaceRef::Facing {
-                        axis,
-                        positive: true,
-                    }),
-                    Some(b'-') => Some(FaceRef::Facing {
-                        axis,
-                        positive: false,
-                    }),
-                    _ => None,
-                };
-                let face = match face.get(1..) {
-                    Some("x" | "X") => direction(0),
-                    Some("y" | "Y") => direction(1),
-                    Some("z" | "Z") => direction(2),
-                    _ => None,
-                }
-                .or_else(|| face.parse().ok().map(FaceRef::Index))
-                .ok_or_else(|| {
-                    syntax(&format!(
-                        "face '{face}' is neither a face number nor a direction (+x, -x, +y, -y, +z, -z)"
-                    ))
-                })?;
+                let face = FaceRef::parse(face).map_err(|why| syntax(&why))?;
                 Ok(Self::Extrude {
                     cage: (*cage).to_owned(),
                     face,
@@ -293,6 +315,11 @@ impl RigOp {
                         .map_or_else(|| format!("{cage}_extruded"), |n| (*n).to_owned()),
                 })
             }
+            ["inset", cage, face, thickness] => Ok(Self::Inset {
+                cage: (*cage).to_owned(),
+                face: FaceRef::parse(face).map_err(|why| syntax(&why))?,
+                thickness: number(thickness)?,
+            }),
             ["kind", cage, kind] => Ok(Self::Kind {
                 cage: (*cage).to_owned(),
                 kind: kind.parse().map_err(|e: String| syntax(&e))?,
@@ -340,7 +367,7 @@ impl RigOp {
                     .map_or_else(|| format!("{cage}_mirrored"), |n| (*n).to_owned()),
             }),
             _ => Err(syntax(
-                "unknown operation; use add-box, extrude, split, delete, merge, mirror, fit, kind, h, subdivide, weld or 'rest CAGE: …'",
+                "unknown operation; use add-box, extrude, inset, split, delete, merge, mirror, fit, kind, h, subdivide, weld or 'rest CAGE: …'",
             )),
         }
     }
@@ -427,6 +454,15 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
             distance,
             name,
         } => extrude(&mut edited, cage, *face, *distance, name)?,
+        RigOp::Inset {
+            cage,
+            face,
+            thickness,
+        } => {
+            let c = leaf(&edited, cage)?;
+            let f = free_face(&edited, c, *face)?;
+            super::inset::inset_face(&mut edited, c, f, *thickness)?;
+        }
         RigOp::Delete { cage } => delete(&mut edited, cage)?,
         RigOp::Merge { first, second } => merge(&mut edited, first, second)?,
         RigOp::Split {
@@ -570,7 +606,15 @@ fn face_index(scene: &Scene, c: usize, face: FaceRef) -> Result<usize, RigEditEr
                 .enumerate()
                 .map(|(i, f)| (i, face_normal(scene, f).dot(toward)))
                 .filter(|(_, alignment)| *alignment > 0.5)
-                .max_by(|a, b| a.1.total_cmp(&b.1))
+                // Coplanar faces tie (an inset's ring around its inner face, a subdivided
+                // face's quads): the lowest index wins, which after an inset is the inner face.
+                .fold(
+                    None,
+                    |best: Option<(usize, f64)>, (i, alignment)| match best {
+                        Some((_, b)) if alignment <= b + 1e-9 => best,
+                        _ => Some((i, alignment)),
+                    },
+                )
                 .map(|(i, _)| i)
                 .ok_or_else(|| {
                     RigEditError::Value(format!(
@@ -582,9 +626,39 @@ fn face_index(scene: &Scene, c: usize, face: FaceRef) -> Result<usize, RigEditEr
     }
 }
 
+/// The index of the face `face` names in leaf cage `c`, checked to exist and to be shared
+/// with no other leaf cage (extrude and inset work on the rig's outer surface).
+fn free_face(scene: &Scene, c: usize, face: FaceRef) -> Result<usize, RigEditError> {
+    let face = face_index(scene, c, face)?;
+    let cage = &scene.cages.leaves[c];
+    let Some(corners) = cage.faces.get(face) else {
+        return Err(RigEditError::NoSuchFace {
+            cage: cage.name.clone(),
+            face,
+            count: cage.faces.len(),
+        });
+    };
+    let key = face_key(corners);
+    let shared = scene
+        .cages
+        .leaves
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != c)
+        .flat_map(|(_, l)| &l.faces)
+        .any(|f| face_key(f) == key);
+    if shared {
+        return Err(RigEditError::FaceShared {
+            cage: cage.name.clone(),
+            face,
+        });
+    }
+    Ok(face)
+}
+
 /// A face's unit outward normal (Newell's method: counter-clockwise seen from outside), zero
 /// for a face without area.
-fn face_normal(scene: &Scene, face: &[u32]) -> DVec3 {
+pub(super) fn face_normal(scene: &Scene, face: &[u32]) -> DVec3 {
     let points: Vec<DVec3> = face
         .iter()
         .filter_map(|&v| scene.cages.vertices.get(v as usize).copied())
@@ -606,35 +680,8 @@ fn extrude(
 ) -> Result<(), RigEditError> {
     free_name(scene, name)?;
     let c = leaf(scene, cage)?;
-    let face = face_index(scene, c, face)?;
-    let faces = &scene.cages.leaves[c].faces;
-    let Some(corners) = faces.get(face).cloned() else {
-        return Err(RigEditError::NoSuchFace {
-            cage: cage.to_owned(),
-            face,
-            count: faces.len(),
-        });
-    };
-    let mut key = corners.clone();
-    key.sort_unstable();
-    let shared = scene
-        .cages
-        .leaves
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| *i != c)
-        .flat_map(|(_, l)| &l.faces)
-        .any(|f| {
-            let mut k = f.clone();
-            k.sort_unstable();
-            k == key
-        });
-    if shared {
-        return Err(RigEditError::FaceShared {
-            cage: cage.to_owned(),
-            face,
-        });
-    }
+    let face = free_face(scene, c, face)?;
+    let corners = scene.cages.leaves[c].faces[face].clone();
     if distance.is_nan() || distance <= 0.0 {
         return Err(RigEditError::Value(format!(
             "extrude {cage} {face}: the distance {distance} must be positive"

@@ -12,6 +12,7 @@ mod hierarchy;
 mod lanes;
 mod mean_value;
 mod rig_edit;
+mod rig_inset;
 mod rig_script;
 mod scenes;
 mod star;

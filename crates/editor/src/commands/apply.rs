@@ -418,7 +418,7 @@ fn weld_snapped_vertices(state: &mut EditorState) {
 }
 
 /// Rig operations as one undo step, applied whole or not at all; after extrusions the new caps
-/// are selected (and one cap starts G along its normal).
+/// are selected (and one cap starts G along its normal), after insets the inner faces.
 fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::scene::RigOp>) {
     let label = match ops.as_slice() {
         [op] => format!("rig: {}", rig_op_label(op)),
@@ -440,7 +440,24 @@ fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::scene::RigOp>
                 .iter()
                 .filter(|op| matches!(op, starcages_core::scene::RigOp::Extrude { .. }))
                 .count();
-            if extruded == 1 && ops.len() == 1 {
+            let inset: Vec<(usize, usize)> = ops
+                .iter()
+                .filter_map(|op| match op {
+                    starcages_core::scene::RigOp::Inset {
+                        cage,
+                        face: starcages_core::scene::FaceRef::Index(f),
+                        ..
+                    } => Some((state.doc.scene.cages.leaf_index(cage)?, *f)),
+                    _ => None,
+                })
+                .collect();
+            if !inset.is_empty() {
+                // The inner faces stay selected, as Blender's inset leaves them: E goes on.
+                let set = &state.doc.scene.cages;
+                state
+                    .selection
+                    .select_faces(inset, SelectMode::Replace, set);
+            } else if extruded == 1 && ops.len() == 1 {
                 select_extruded_cap(state, leaves_before);
             } else if extruded > 0 {
                 let caps: Vec<u32> = state.doc.scene.cages.leaves[leaves_before..]
@@ -494,6 +511,7 @@ fn rig_op_label(op: &starcages_core::scene::RigOp) -> String {
     match op {
         RigOp::AddBox { name, .. } => format!("add box '{name}'"),
         RigOp::Extrude { cage, name, .. } => format!("extrude '{cage}' into '{name}'"),
+        RigOp::Inset { cage, face, .. } => format!("inset face {face} of '{cage}'"),
         RigOp::Delete { cage } => format!("delete '{cage}'"),
         RigOp::Merge { first, second } => format!("merge '{second}' into '{first}'"),
         RigOp::Split { cage, name, .. } => format!("loop cut '{cage}' ('{name}')"),

@@ -65,6 +65,8 @@ pub enum UiCommand {
     ToggleMode,
     /// Rig ▸ Extrude face
     Extrude,
+    /// Rig ▸ Inset faces
+    InsetFaces,
     /// Rig ▸ Loop cut
     LoopCut,
     /// Rig ▸ Add box cage
@@ -91,7 +93,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 36] = [
+    pub const ALL: [Self; 37] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -121,6 +123,7 @@ impl UiCommand {
         Self::ShowShortcuts,
         Self::ToggleMode,
         Self::Extrude,
+        Self::InsetFaces,
         Self::LoopCut,
         Self::AddBox,
         Self::DeleteCage,
@@ -162,6 +165,7 @@ impl UiCommand {
             Self::ShowShortcuts => "Keyboard shortcuts",
             Self::ToggleMode => "Pose / Rig mode",
             Self::Extrude => "Extrude face",
+            Self::InsetFaces => "Inset faces",
             Self::LoopCut => "Loop cut",
             Self::AddBox => "Add box cage",
             Self::DeleteCage => "Delete cage",
@@ -227,6 +231,11 @@ impl UiCommand {
                  then move its cap along the face's normal (type a distance, Enter, or Esc to \
                  keep the default depth)"
             }
+            Self::InsetFaces => {
+                "Rig mode: each selected free face becomes a smaller face inside it (a fifth of \
+                 its shortest side from every edge) joined to it by a ring of quads; a cage \
+                 extruded from the inner face touches no other cage"
+            }
             Self::LoopCut => {
                 "Rig mode: cut the inspected cage in two across its longest side; slide the cut \
                  with the mouse (or type a fraction), then click or Enter"
@@ -283,6 +292,7 @@ impl UiCommand {
             Self::ToggleItemPanel => &const { [key(NONE, Key::N)] },
             Self::ToggleMode => &const { [key(NONE, Key::Tab)] },
             Self::Extrude => &const { [key(NONE, Key::E)] },
+            Self::InsetFaces => &const { [key(NONE, Key::I)] },
             Self::LoopCut => &const { [key(CMD, Key::R)] },
             Self::AddBox => &const { [key(Modifiers::SHIFT, Key::A)] },
             Self::DeleteCage => &const { [key(NONE, Key::X), key(NONE, Key::Delete)] },

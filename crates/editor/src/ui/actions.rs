@@ -59,6 +59,7 @@ pub fn execute(
             EditMode::Rig => EditMode::Pose,
         }),
         UiCommand::Extrude
+        | UiCommand::InsetFaces
         | UiCommand::LoopCut
         | UiCommand::AddBox
         | UiCommand::DeleteCage
@@ -80,6 +81,10 @@ pub fn execute(
             }
         }
         UiCommand::Extrude => rig(super::rig_keys::extrude(state)),
+        UiCommand::InsetFaces => match super::rig_keys::inset_faces(state) {
+            Ok(ops) => Command::RigOps(ops),
+            Err(why) => Command::Info(why),
+        },
         UiCommand::LoopCut => match super::loop_cut_tool::LoopCutTool::begin(state) {
             Ok(cut) => {
                 ui_state.loop_cut = Some(cut);

@@ -114,7 +114,11 @@ pub fn menu_bar(
         });
         ui.menu_button("Rig", |ui| {
             let rig = state.mode == crate::state::EditMode::Rig;
-            for action in [UiCommand::Extrude, UiCommand::LoopCut] {
+            for action in [
+                UiCommand::Extrude,
+                UiCommand::InsetFaces,
+                UiCommand::LoopCut,
+            ] {
                 item(ui, action, None, rig, &mut chosen);
             }
             ui.add_enabled_ui(rig, |ui| {

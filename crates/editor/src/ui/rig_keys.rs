@@ -1,5 +1,5 @@
 //! Rig mode's keys turned into rig operations from what is selected and inspected: E extrudes
-//! the selected face, Shift+A adds a box (`BoxPlacement`: around the selected mesh or cage
+//! the selected face, I insets the selected faces, Shift+A adds a box (`BoxPlacement`: around the selected mesh or cage
 //! vertices, the mesh, or in the part under the pointer), X / Delete
 //! deletes the inspected cage. Each gives the operation, or why there is none. (Ctrl+R's loop
 //! cut is placed with the mouse first: `loop_cut_tool`.)
@@ -18,27 +18,50 @@ fn fresh_name(state: &EditorState, stem: &str) -> String {
         .unwrap_or_default()
 }
 
-/// E in face select mode: every selected face pushed out by half its longest edge into a new
-/// cage (one undo step); a face shared with a neighbour already cannot be extruded.
-pub fn extrude_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
-    let scene = &state.doc.scene;
-    let set = &scene.cages;
+/// A selected leaf-cage face: its cage, its index there and its corners.
+type SelectedFace<'a> = (usize, usize, &'a [u32]);
+
+/// The selected leaf-cage faces, or why `key` cannot take them: none selected, or one shared
+/// with a neighbour (only the rig's outer faces can grow).
+fn free_selected_faces<'a>(
+    state: &'a EditorState,
+    key: &str,
+) -> Result<Vec<SelectedFace<'a>>, String> {
+    let set = &state.doc.scene.cages;
     let shared = set.faces_by_vertex_set();
-    let mut taken: Vec<String> = set.cage_names().iter().map(|n| (*n).to_owned()).collect();
-    let mut ops = Vec::new();
+    let mut faces = Vec::new();
     for (c, f) in state.selection.face_indices(set) {
         let cage = &set.leaves[c];
         let Some(face) = cage.faces.get(f) else {
             continue;
         };
-        let mut key = face.clone();
-        key.sort_unstable();
-        if shared.get(&key).is_some_and(|s| s.len() > 1) {
+        let mut corners = face.clone();
+        corners.sort_unstable();
+        if shared.get(&corners).is_some_and(|s| s.len() > 1) {
             return Err(format!(
-                "E (extrude): face {f} of '{}' is shared with a neighbour already; select free faces",
+                "{key}: face {f} of '{}' is shared with a neighbour already; select free faces",
                 cage.name
             ));
         }
+        faces.push((c, f, face.as_slice()));
+    }
+    if faces.is_empty() {
+        return Err(format!(
+            "{key}: select faces first (click them in face select mode)"
+        ));
+    }
+    Ok(faces)
+}
+
+/// E in face select mode: every selected face pushed out by half its longest edge into a new
+/// cage (one undo step); a face shared with a neighbour already cannot be extruded.
+pub fn extrude_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
+    let scene = &state.doc.scene;
+    let set = &scene.cages;
+    let mut taken: Vec<String> = set.cage_names().iter().map(|n| (*n).to_owned()).collect();
+    let mut ops = Vec::new();
+    for (c, f, face) in free_selected_faces(state, "E (extrude)")? {
+        let cage = &set.leaves[c];
         let name = (1..)
             .map(|i| format!("{}_{i}", cage.name))
             .find(|n| !taken.contains(n))
@@ -51,10 +74,34 @@ pub fn extrude_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
             name,
         });
     }
-    if ops.is_empty() {
-        return Err("E (extrude): select faces first (click them in face select mode)".into());
-    }
     Ok(ops)
+}
+
+/// The share of a face's shortest side that I insets it by.
+const INSET_SHARE: f64 = 0.2;
+
+/// I in face select mode: every selected face inset by a fifth of its shortest side (one undo
+/// step); a face shared with a neighbour cannot be inset.
+pub fn inset_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
+    let scene = &state.doc.scene;
+    Ok(free_selected_faces(state, "I (inset)")?
+        .into_iter()
+        .map(|(c, f, face)| RigOp::Inset {
+            cage: scene.cages.leaves[c].name.clone(),
+            face: starcages_core::scene::FaceRef::Index(f),
+            thickness: INSET_SHARE * shortest_edge(scene, face),
+        })
+        .collect())
+}
+
+/// The shortest edge of a polygon face (rest positions).
+fn shortest_edge(scene: &starcages_core::scene::Scene, face: &[u32]) -> f64 {
+    (0..face.len())
+        .map(|k| {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            scene.cages.vertices[a as usize].distance(scene.cages.vertices[b as usize])
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The longest edge of a polygon face (rest positions).

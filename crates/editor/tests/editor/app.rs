@@ -1970,6 +1970,87 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     );
 }
 
+/// I insets the selected faces (one undo step); the inner face stays selected, so E then grows a
+/// cage that shares only the inner face's corners with its parent (Blender's I then E).
+#[test]
+fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.run_steps(2);
+    let left = leaf(harness.state(), "cage_0_0_0");
+    let (face, _) = front_face_on_screen(&harness.state().state, left);
+    let before = harness.state().state.doc.scene.clone();
+    harness.state_mut().run(Command::SetSelectElement(
+        starcages_editor::state::SelectElement::CageFaces,
+    ));
+    harness.state_mut().run(Command::SelectFaces {
+        faces: vec![(left, face)],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves[left].faces.len(),
+        before.cages.leaves[left].faces.len() + 4,
+        "{:?}",
+        harness.state().state.message
+    );
+    assert_eq!(scene.cages.vertices.len(), before.cages.vertices.len() + 4);
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    let inner: std::collections::BTreeSet<u32> = scene.cages.leaves[left].faces[face]
+        .iter()
+        .copied()
+        .collect();
+    assert!(
+        inner
+            .iter()
+            .all(|&v| v as usize >= before.cages.vertices.len())
+    );
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves.len(),
+        before.cages.leaves.len() + 1,
+        "{:?}",
+        harness.state().state.message
+    );
+    let grown: std::collections::BTreeSet<u32> = scene
+        .cages
+        .leaves
+        .last()
+        .unwrap()
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let others: std::collections::BTreeSet<u32> = scene.cages.leaves
+        [..scene.cages.leaves.len() - 1]
+        .iter()
+        .flat_map(|c| c.faces.iter().flatten().copied())
+        .collect();
+    assert_eq!(
+        grown
+            .intersection(&others)
+            .copied()
+            .collect::<std::collections::BTreeSet<u32>>(),
+        inner,
+        "the new cage touches its parent at the inner face only"
+    );
+    // Two undo steps: the extrusion, then the inset.
+    for _ in 0..2 {
+        harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+        harness.run_steps(2);
+        settle(&mut harness);
+    }
+    assert_eq!(harness.state().state.doc.scene.cages, before.cages);
+}
+
 /// G with the pointer 40 points right of `to`, then the pointer moved onto `to`.
 fn grab_from_beside_to(
     harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,

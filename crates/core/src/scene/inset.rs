@@ -1,0 +1,120 @@
+//! Inset of one face of a leaf cage (Blender's Inset Faces): the face becomes a smaller copy of
+//! itself, a fixed distance inside each of its edges, joined to its edges by a ring of quads.
+//! The cage's shape does not change. Extruding the inner face then gives a neighbour that
+//! shares none of the face's edge vertices, so it joins no other cage's join cages.
+
+use glam::DVec3;
+
+use super::Scene;
+use super::rig_edit::{RigEditError, face_normal};
+
+/// Insets face `face` of leaf cage `c` by `thickness` (scene units, measured in the face's
+/// plane from each edge). Each inner corner is an affine combination of its corner and the
+/// two corners beside it, so every pose gets the same combination of its own positions: a
+/// pose that moves the face rigidly or affinely moves the inset with it. Refused for a face
+/// another cage shares (checked by the caller), a thickness that would fold the inner face,
+/// and while internal cages exist (the new vertices would have no driver).
+pub fn inset_face(
+    scene: &mut Scene,
+    c: usize,
+    face: usize,
+    thickness: f64,
+) -> Result<(), RigEditError> {
+    let name = scene.cages.leaves[c].name.clone();
+    if !scene.cages.internals.is_empty() {
+        return Err(RigEditError::Value(format!(
+            "inset {name} {face}: internal cages drive leaf vertices, and the new vertices would \
+             have no driver; inset before adding internal cages"
+        )));
+    }
+    if thickness.is_nan() || thickness <= 0.0 {
+        return Err(RigEditError::Value(format!(
+            "inset {name} {face}: the thickness {thickness} must be positive"
+        )));
+    }
+    let corners = scene.cages.leaves[c].faces[face].clone();
+    let normal = face_normal(scene, &corners);
+    let rest: Vec<DVec3> = corners
+        .iter()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    if normal == DVec3::ZERO || corners.len() < 3 {
+        return Err(RigEditError::Value(format!(
+            "inset {name} {face}: the face has no area"
+        )));
+    }
+    let k = corners.len();
+    // Per corner i: (α, β) with inner_i = p_i + α (p_{i−1} − p_i) + β (p_{i+1} − p_i).
+    let mut combinations = Vec::with_capacity(k);
+    for i in 0..k {
+        let (previous, here, next) = (rest[(i + k - 1) % k], rest[i], rest[(i + 1) % k]);
+        // Inward normals of the edges into and out of the corner, in the face's plane (the
+        // face runs counter-clockwise seen from outside, so normal × edge points inside).
+        let inward_in = normal.cross(here - previous).normalize_or_zero();
+        let inward_out = normal.cross(next - here).normalize_or_zero();
+        let denominator = 1.0 + inward_in.dot(inward_out);
+        if inward_in == DVec3::ZERO || inward_out == DVec3::ZERO || denominator < 1e-6 {
+            return Err(RigEditError::Value(format!(
+                "inset {name} {face}: corner {i} has a zero-length edge or folds back; fix the \
+                 face first"
+            )));
+        }
+        // The point `thickness` inside both edges' lines.
+        let offset = (inward_in + inward_out) * (thickness / denominator);
+        let (a, b) = (previous - here, next - here);
+        let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+        let determinant = aa * bb - ab * ab;
+        if determinant <= 1e-12 * aa * bb {
+            return Err(RigEditError::Value(format!(
+                "inset {name} {face}: the edges at corner {i} are in line; dissolve that corner \
+                 first"
+            )));
+        }
+        let (oa, ob) = (offset.dot(a), offset.dot(b));
+        combinations.push((
+            (oa * bb - ob * ab) / determinant,
+            (ob * aa - oa * ab) / determinant,
+        ));
+    }
+    let place = |positions: &[DVec3], i: usize| -> DVec3 {
+        let at = |j: usize| positions[corners[j] as usize];
+        let (alpha, beta) = combinations[i];
+        at(i) + (at((i + k - 1) % k) - at(i)) * alpha + (at((i + 1) % k) - at(i)) * beta
+    };
+    let inner_rest: Vec<DVec3> = (0..k).map(|i| place(&scene.cages.vertices, i)).collect();
+    // The inner face must run the same way as the face, edge by edge, with room to spare.
+    let smallest_side = (0..k)
+        .map(|i| rest[i].distance(rest[(i + 1) % k]))
+        .fold(f64::INFINITY, f64::min);
+    for i in 0..k {
+        let (outer, inner) = (
+            rest[(i + 1) % k] - rest[i],
+            inner_rest[(i + 1) % k] - inner_rest[i],
+        );
+        if inner.dot(outer) <= 1e-3 * smallest_side * outer.length() {
+            return Err(RigEditError::Value(format!(
+                "inset {name} {face}: a thickness of {thickness} folds the inner face (its \
+                 shortest side is {smallest_side:.4}); use less than half of it"
+            )));
+        }
+    }
+    let first_new = scene.cages.vertices.len() as u32;
+    let inner: Vec<u32> = (0..k as u32).map(|i| first_new + i).collect();
+    let posed: Vec<DVec3> = (0..k).map(|i| place(&scene.pose, i)).collect();
+    scene.pose.extend(posed);
+    for pose in scene.poses.values_mut() {
+        let moved: Vec<DVec3> = (0..k).map(|i| place(pose, i)).collect();
+        pose.extend(moved);
+    }
+    scene.cages.vertices.extend(inner_rest);
+    // The inner face keeps the face's orientation; each ring quad runs along its outer edge
+    // the same way and back along the inner one.
+    let cage = &mut scene.cages.leaves[c];
+    cage.faces[face] = inner.clone();
+    for i in 0..k {
+        let j = (i + 1) % k;
+        cage.faces
+            .push(vec![corners[i], corners[j], inner[j], inner[i]]);
+    }
+    Ok(())
+}
