@@ -296,7 +296,16 @@ fn edit_builds_a_rig_from_nothing_and_refuses_a_bad_op_writing_nothing() {
     assert_eq!(names, ["body", "top"], "the extrusion took the name given");
     ok(&cli(&["validate", s(&scene)]));
     let out = d.join("deformed.obj");
-    ok(&cli(&["deform", s(&scene), "--out", s(&out)]));
+    let stats = cli(&["deform", s(&scene), "--out", s(&out), "--stats"]);
+    ok(&stats);
+    // --stats breaks the weights down per leaf cage.
+    let per_leaf: Vec<String> = stderr(&stats)
+        .lines()
+        .skip_while(|l| !l.starts_with("leaf cage"))
+        .skip(1)
+        .map(|l| l.split_whitespace().next().unwrap_or_default().to_owned())
+        .collect();
+    assert_eq!(per_leaf, ["body", "top"], "{}", stderr(&stats));
     // A bad op: named, status 2, nothing written.
     let other = d.join("other.json");
     let refused = cli(&[
@@ -329,7 +338,7 @@ fn edit_runs_a_script_file_and_bench_measures_the_result_as_table_two() {
     let script = d.join("rig.ops");
     std::fs::write(
         &script,
-        "# a tower in two cages\nadd-box body 0 0 0 1 1 1\n\nextrude body +z 1 top # up\nkind top gc\n",
+        "# a tower in two cages\nadd-box body 0 0 0 1 1 1\ninset body +z 0.05\n\nextrude body +z 1 top # up\nkind top gc\n",
     )
     .unwrap();
     let scene = d.join("rig.json");
@@ -351,6 +360,10 @@ fn edit_runs_a_script_file_and_bench_measures_the_result_as_table_two() {
     assert_eq!(cages.len(), 2);
     assert_eq!(cages[1]["kind"], "gc");
     assert_eq!(cages[1]["faces"], 24, "subdivided after the script");
+    assert_eq!(
+        cages[0]["faces"], 40,
+        "the inset's ten faces, subdivided: the top grew from its inner face"
+    );
     let bench = cli(&[
         "bench",
         "--scene",
@@ -365,11 +378,11 @@ fn edit_runs_a_script_file_and_bench_measures_the_result_as_table_two() {
     let report: serde_json::Value = serde_json::from_slice(&bench.stdout).unwrap();
     let pairs = report["table2"].as_array().unwrap();
     assert_eq!(pairs.len(), 2);
-    assert!(
-        pairs
+    assert!(pairs.iter().all(|p| {
+        ["memory_ratio", "move_work_ratio"]
             .iter()
-            .all(|p| p["memory_ratio"].as_f64().unwrap() > 0.0)
-    );
+            .all(|k| p[k].as_f64().is_some_and(|r| r.is_finite() && r > 0.0))
+    }));
     // A bad line: named by file and line; nothing written.
     std::fs::write(
         &script,

@@ -60,14 +60,16 @@ impl GreenDofs {
     /// s_t n'_t per DOF for the posed vertices (Lipman et al. eq. 13 in 3D; see
     /// [`crate::coords::green_stretch`]).
     pub fn values(&self, rest: &[DVec3], posed: &[DVec3]) -> Vec<DVec3> {
-        self.triangles
-            .iter()
-            .map(|t| {
-                let t = t.map(|v| v as usize);
-                let p = t.map(|v| posed[v]);
-                let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-                normal * crate::coords::triangle_stretch(t.map(|v| rest[v]), p)
-            })
+        (0..self.triangles.len())
+            .map(|d| self.value(d, rest, posed))
             .collect()
+    }
+
+    /// s_t n'_t of DOF `d` alone (see [`GreenDofs::values`]).
+    pub fn value(&self, d: usize, rest: &[DVec3], posed: &[DVec3]) -> DVec3 {
+        let t = self.triangles[d].map(|v| v as usize);
+        let p = t.map(|v| posed[v]);
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        normal * crate::coords::triangle_stretch(t.map(|v| rest[v]), p)
     }
 }

@@ -19,6 +19,36 @@ pub struct StarOperator {
     /// Transpose: for each column, the rows that reference it.
     column_start: Vec<u32>,
     column_rows: Vec<u32>,
+    /// For each cage vertex, the Green DOFs whose triangle uses it (what a move of it changes
+    /// besides its own column).
+    green_of_vertex_start: Vec<u32>,
+    green_of_vertex: Vec<u32>,
+}
+
+/// CSR lists of the Green DOFs each of `vertex_count` vertices belongs to, in DOF order.
+fn green_of_vertex(green: &GreenDofs, vertex_count: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; vertex_count + 1];
+    for t in green.triangles() {
+        for &v in t {
+            if let Some(count) = start.get_mut(v as usize + 1) {
+                *count += 1;
+            }
+        }
+    }
+    for k in 1..start.len() {
+        start[k] += start[k - 1];
+    }
+    let mut fill = start.clone();
+    let mut dofs = vec![0u32; start.last().copied().unwrap_or(0) as usize];
+    for (d, t) in green.triangles().iter().enumerate() {
+        for &v in t {
+            if let Some(at) = fill.get_mut(v as usize) {
+                dofs[*at as usize] = d as u32;
+                *at += 1;
+            }
+        }
+    }
+    (start, dofs)
 }
 
 impl StarOperator {
@@ -51,6 +81,7 @@ impl StarOperator {
                 fill[c as usize] += 1;
             }
         }
+        let (green_of_vertex_start, green_of_vertex) = green_of_vertex(&green, vertex_count);
         Self {
             vertex_count,
             green,
@@ -59,6 +90,8 @@ impl StarOperator {
             values,
             column_start,
             column_rows,
+            green_of_vertex_start,
+            green_of_vertex,
         }
     }
 
@@ -230,17 +263,49 @@ impl StarOperator {
         rows
     }
 
+    /// The Green DOFs whose triangle uses one of `moved`, ascending, each once.
+    fn green_dofs_of(&self, moved: &[u32]) -> Vec<u32> {
+        let mut dofs: Vec<u32> = moved
+            .iter()
+            .filter_map(|&v| {
+                let a = *self.green_of_vertex_start.get(v as usize)? as usize;
+                let b = *self.green_of_vertex_start.get(v as usize + 1)? as usize;
+                self.green_of_vertex.get(a..b)
+            })
+            .flatten()
+            .copied()
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        dofs
+    }
+
     /// Columns affected when the given cage vertices move: those vertices and every Green DOF
-    /// whose triangle uses one of them.
+    /// whose triangle uses one of them (ascending after the vertices).
     pub fn columns_of_moved_vertices(&self, moved: &[u32]) -> Vec<u32> {
-        let moved_set: std::collections::BTreeSet<u32> = moved.iter().copied().collect();
         let mut columns: Vec<u32> = moved.to_vec();
-        for (d, tri) in self.green.triangles().iter().enumerate() {
-            if tri.iter().any(|v| moved_set.contains(v)) {
-                columns.push((self.vertex_count + d) as u32);
+        columns.extend(
+            self.green_dofs_of(moved)
+                .into_iter()
+                .map(|d| self.vertex_count as u32 + d),
+        );
+        columns
+    }
+
+    /// Brings the DOFs `x` of a pose (from [`StarOperator::dofs`]) up to date after the cage
+    /// vertices `moved` took their positions in `posed`: their columns and the Green DOFs of
+    /// their triangles, nothing else (equal to calling `dofs` again).
+    pub fn update_dofs(&self, rest: &[DVec3], posed: &[DVec3], moved: &[u32], x: &mut [Vec3]) {
+        for &v in moved {
+            if let (Some(column), Some(p)) = (x.get_mut(v as usize), posed.get(v as usize)) {
+                *column = p.as_vec3();
             }
         }
-        columns
+        for d in self.green_dofs_of(moved) {
+            if let Some(column) = x.get_mut(self.vertex_count + d as usize) {
+                *column = self.green.value(d as usize, rest, posed).as_vec3();
+            }
+        }
     }
 
     /// Updates only the rows in `rows` (from [`StarOperator::rows_touched`]).

@@ -300,6 +300,50 @@ fn moving_an_outer_vertex_of_the_first_cage_moves_nothing_in_the_third_and_fourt
     }
 }
 
+/// Following moves one vertex at a time (`update_dofs`, the touched rows only) gives what a
+/// full frame gives, Green face DOFs included, and the columns a move touches are its vertex
+/// and exactly the Green triangles that use it.
+#[test]
+fn moves_followed_incrementally_equal_full_frames_with_green_cages() {
+    let scene = demo_scene("bumpy", 0.3).unwrap();
+    let binding = StarBinding::bind_scene(&scene, &control()).unwrap();
+    let operator = &binding.operator;
+    assert!(
+        !operator.green_dofs().is_empty(),
+        "the bumpy demo has a GC cage"
+    );
+    let rest = &scene.cages.vertices;
+    let mut posed = rest.clone();
+    let mut x = operator.dofs(rest, &posed);
+    let mut followed = binding.deform(rest, &posed);
+    for v in (0..rest.len() as u32).step_by(3) {
+        posed[v as usize] += DVec3::new(0.03, -0.02, 0.05) * f64::from(v % 5 + 1);
+        operator.update_dofs(rest, &posed, &[v], &mut x);
+        assert_eq!(x, operator.dofs(rest, &posed), "DOFs after moving {v}");
+        let columns = operator.columns_of_moved_vertices(&[v]);
+        let expected: Vec<u32> = std::iter::once(v)
+            .chain(
+                operator
+                    .green_dofs()
+                    .triangles()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, t)| t.contains(&v))
+                    .map(|(d, _)| (rest.len() + d) as u32),
+            )
+            .collect();
+        assert_eq!(columns, expected, "columns of {v}");
+        operator.apply_rows(&operator.rows_touched(&columns), &x, &mut followed);
+    }
+    let full = binding.deform(rest, &posed);
+    let worst = followed
+        .iter()
+        .zip(&full)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f32::max);
+    assert!(worst < 1e-6, "{worst}");
+}
+
 #[test]
 fn f32_operator_matches_f64_evaluation() {
     for name in ["bumpy", "egg"] {
