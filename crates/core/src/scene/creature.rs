@@ -1,4 +1,4 @@
-//! The `creature` demo: a four-legged animal of about 65k triangles (the size of the paper's
+//! The `creature` demo: a four-legged animal of about 64k triangles (the size of the paper's
 //! Sintel, Fig. 16) rigged by a script of rig operations (`assets/creature/rig.ops`, the same
 //! text `starcages-cli edit --script` runs) into chains of leaf cages along the limbs with few
 //! neighbours each, with mixed coordinates: the paper's setup for Table II.
@@ -39,40 +39,40 @@ fn ellipsoid(p: DVec3, c: DVec3, r: DVec3) -> f64 {
 }
 
 /// The creature's implicit surface (negative inside), z up, looking along +x: a body, a neck
-/// rising from the front of the back with a head and snout, four legs standing beside the body
-/// in two segments each (thigh and shin), and a tail rising backwards.
+/// rising from the front of the back with a head and snout, four legs that leave the body's
+/// sides and bend down at the knee (thigh and shin), and a tail rising backwards.
 pub fn creature_field(p: DVec3) -> f64 {
-    let body = ellipsoid(p, DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.8, 0.26, 0.28));
+    let body = ellipsoid(p, DVec3::new(0.0, 0.0, 1.05), DVec3::new(0.75, 0.21, 0.23));
     let neck = tube(
         p,
-        DVec3::new(0.55, 0.0, 1.15),
-        DVec3::new(0.68, 0.0, 1.62),
-        0.14,
-        0.1,
+        DVec3::new(0.72, 0.0, 1.12),
+        DVec3::new(0.84, 0.0, 1.66),
+        0.12,
+        0.09,
     );
-    let head = ellipsoid(p, DVec3::new(0.86, 0.0, 1.64), DVec3::new(0.24, 0.15, 0.13));
+    let head = ellipsoid(p, DVec3::new(1.04, 0.0, 1.76), DVec3::new(0.23, 0.14, 0.12));
     let snout = tube(
         p,
-        DVec3::new(0.95, 0.0, 1.62),
-        DVec3::new(1.22, 0.0, 1.56),
-        0.1,
-        0.06,
+        DVec3::new(1.15, 0.0, 1.76),
+        DVec3::new(1.42, 0.0, 1.71),
+        0.09,
+        0.055,
     );
     let ears = [-1.0, 1.0].map(|side| {
         tube(
             p,
-            DVec3::new(0.78, 0.07 * side, 1.72),
-            DVec3::new(0.7, 0.13 * side, 1.84),
+            DVec3::new(0.98, 0.07 * side, 1.84),
+            DVec3::new(0.9, 0.13 * side, 1.95),
             0.04,
             0.015,
         )
     });
     let tail = tube(
         p,
-        DVec3::new(-0.7, 0.0, 1.08),
-        DVec3::new(-1.36, 0.0, 1.3),
-        0.07,
-        0.025,
+        DVec3::new(-0.65, 0.0, 1.1),
+        DVec3::new(-1.45, 0.0, 1.25),
+        0.08,
+        0.03,
     );
     let mut shape = smooth_min(body, neck, 0.08);
     shape = smooth_min(shape, head, 0.06);
@@ -81,26 +81,26 @@ pub fn creature_field(p: DVec3) -> f64 {
         shape = smooth_min(shape, ear, 0.03);
     }
     shape = smooth_min(shape, tail, 0.06);
-    for x in [-0.55, 0.58] {
+    for x in [-0.48, 0.42] {
         for side in [-1.0, 1.0] {
-            let hip = DVec3::new(x, 0.3 * side, 1.0);
-            let knee = DVec3::new(x + 0.04, 0.43 * side, 0.45);
-            let foot = DVec3::new(x - 0.02, 0.43 * side, 0.08);
-            let thigh = tube(p, hip, knee, 0.1, 0.07);
-            let shin = tube(p, knee, foot, 0.07, 0.05);
+            let hip = DVec3::new(x, 0.12 * side, 1.02);
+            let knee = DVec3::new(x, 0.44 * side, 0.95);
+            let foot = DVec3::new(x, 0.44 * side, 0.1);
+            let thigh = tube(p, hip, knee, 0.085, 0.075);
+            let shin = tube(p, knee, foot, 0.075, 0.055);
             shape = smooth_min(shape, smooth_min(thigh, shin, 0.03), 0.07);
         }
     }
     shape
 }
 
-/// The creature's mesh; `detail` 1 gives about 65k triangles (the count grows as its square).
+/// The creature's mesh; `detail` 1 gives about 64k triangles (the count grows as its square).
 pub fn creature_mesh(detail: f64) -> Mesh {
-    let spacing = 0.015 / detail.clamp(0.05, 8.0);
+    let spacing = 0.0143 / detail.clamp(0.05, 8.0);
     let (positions, triangles) = surface_nets(
         creature_field,
-        DVec3::new(-1.5, -0.65, -0.1),
-        DVec3::new(1.4, 0.65, 2.1),
+        DVec3::new(-1.55, -0.65, -0.1),
+        DVec3::new(1.6, 0.65, 2.1),
         spacing,
     );
     Mesh::new(positions, triangles, None, None)

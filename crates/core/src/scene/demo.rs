@@ -32,7 +32,7 @@ pub const DEMOS: [(&str, &str); 6] = [
     ),
     (
         "creature",
-        "a four-legged animal of about 65k triangles in 14 leaf cages chained along its limbs, built by a rig script (Fig. 16's setup)",
+        "a four-legged animal of about 64k triangles in 18 leaf cages chained along its limbs, built by a rig script (Fig. 16's setup)",
     ),
 ];
 

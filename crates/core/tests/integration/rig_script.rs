@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::creature::{CREATURE_RIG, apply_rig_script, creature, creature_mesh};
+use starcages_core::scene::creature::{CREATURE_RIG, apply_rig_script, creature};
 use starcages_core::scene::{RigEditError, RigOp, apply_rig_op, parse_rig_script, validate_scene};
 use starcages_core::star::StarBinding;
 use starcages_core::surface_nets::surface_nets;
@@ -241,7 +241,7 @@ fn surface_nets_close_a_sphere_facing_outwards() {
 }
 
 #[test]
-fn the_creature_is_a_valid_rig_of_fourteen_chained_cages_around_65k_triangles() {
+fn the_creature_is_a_valid_rig_of_eighteen_chained_cages_around_65k_triangles() {
     let scene = creature(1.0);
     let triangles = scene.mesh.triangles().len();
     assert!(
@@ -251,7 +251,7 @@ fn the_creature_is_a_valid_rig_of_fourteen_chained_cages_around_65k_triangles() 
     let report = validate_scene(&scene);
     assert!(report.is_valid(), "{:?}", report.errors);
     let leaves = &scene.cages.leaves;
-    assert_eq!(leaves.len(), 14);
+    assert_eq!(leaves.len(), 18);
     let kinds: Vec<CoordinateKind> = leaves.iter().map(|c| c.kind).collect();
     for kind in [
         CoordinateKind::MeanValue,
@@ -270,13 +270,35 @@ fn the_creature_is_a_valid_rig_of_fourteen_chained_cages_around_65k_triangles() 
         neighbours.iter().all(|&n| (1..=4).contains(&n)),
         "{neighbours:?}"
     );
+    // Limbs leave the body through inset faces: a thigh shares vertices with its body box
+    // and its shin only, so it joins no other cage's join cages.
+    let vertices_of = |c: usize| -> std::collections::BTreeSet<u32> {
+        leaves[c].faces.iter().flatten().copied().collect()
+    };
+    for (c, cage) in leaves.iter().enumerate() {
+        if !cage.name.starts_with("thigh_") {
+            continue;
+        }
+        let mine = vertices_of(c);
+        let touching: Vec<&str> = (0..leaves.len())
+            .filter(|&o| o != c && !vertices_of(o).is_disjoint(&mine))
+            .map(|o| leaves[o].name.as_str())
+            .collect();
+        assert_eq!(touching.len(), 2, "{}: {touching:?}", cage.name);
+        assert!(
+            touching.iter().any(|n| n.starts_with("body_"))
+                && touching.iter().any(|n| n.starts_with("shin_")),
+            "{}: {touching:?}",
+            cage.name
+        );
+    }
     let shins = leaves
         .iter()
         .filter(|c| c.name.starts_with("shin_"))
         .count();
     assert_eq!(shins, 4, "four legs in two segments");
     // The mesh is closed (a surface-nets mesh of the creature's field).
-    let closed = creature_mesh(0.3);
+    let closed = &scene.mesh;
     let mut edges: BTreeMap<(u32, u32), i32> = BTreeMap::new();
     for t in closed.triangles() {
         for k in 0..3 {
@@ -286,7 +308,7 @@ fn the_creature_is_a_valid_rig_of_fourteen_chained_cages_around_65k_triangles() 
     }
     assert!(edges.values().all(|&n| n == 2));
     // The script in the repository is the one the demo ran.
-    assert!(CREATURE_RIG.contains("extrude body_front +z"));
+    assert!(CREATURE_RIG.contains("inset chest +z"));
 }
 
 #[test]
