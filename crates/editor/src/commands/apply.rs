@@ -166,8 +166,8 @@ pub fn apply(state: &mut EditorState, command: Command) {
             state.info(match mode {
                 crate::state::EditMode::Rig => {
                     "Rig mode: moving vertices edits the rest cages (poses follow); E extrudes \
-                     the selected face, Ctrl+R loop-cuts the inspected cage, Shift+A adds a box, X \
-                     deletes the inspected cage; Tab: back to Pose mode"
+                     and I insets the selected faces, Ctrl+R loop-cuts and X deletes the \
+                     inspected cage, Shift+A adds a box; Tab: back to Pose mode"
                 }
                 crate::state::EditMode::Pose => "Pose mode: moving vertices poses the mesh",
             });
