@@ -84,9 +84,10 @@ pub enum RigOp {
         /// The new part's name (the part beyond the cut).
         name: String,
     },
-    /// Fit to mesh: pull the cage's vertices that no other leaf cage shares toward its centre,
-    /// as far as keeps every mesh vertex it holds inside with `margin` (a fraction of the
-    /// mesh's bounding box diagonal) between them and the cage.
+    /// Fit to mesh (a shrink-wrap): pull each of the cage's vertices that no other leaf cage
+    /// shares toward the mesh vertex nearest to it, as far as keeps every mesh vertex it holds
+    /// inside with `margin` (a fraction of the mesh's bounding box diagonal) between them and
+    /// the cage; a mesh vertex already closer than that keeps the distance it has.
     Fit {
         /// The cage.
         cage: String,
@@ -1000,6 +1001,14 @@ fn mirror(scene: &mut Scene, cage: &str, name: &str) -> Result<(), RigEditError>
     Ok(())
 }
 
+/// The furthest a fit moves a vertex: this fraction of the way to the mesh vertex nearest to it
+/// (the margin stops it sooner wherever the mesh is in the way).
+const FIT_FURTHEST: f64 = 0.9;
+
+/// The least distance a fit leaves between two vertices of the cage, as a fraction of the
+/// cage's diagonal.
+const FIT_SEPARATION: f64 = 0.02;
+
 fn fit(scene: &mut Scene, cage: &str, margin: f64) -> Result<(), RigEditError> {
     use super::{LocalCage, leaf_containment};
     let c = leaf(scene, cage)?;
@@ -1043,7 +1052,6 @@ fn fit(scene: &mut Scene, cage: &str, margin: f64) -> Result<(), RigEditError> {
         .copied()
         .filter(|v| !shared.contains(v))
         .collect();
-    let centre = cage_now.cage.positions().iter().sum::<DVec3>() / cage_now.global.len() as f64;
     // The margin is kept from the faces that are not shared: mesh vertices may lie on a border.
     let shared_face: Vec<bool> = scene.cages.leaves[c]
         .faces
@@ -1058,43 +1066,72 @@ fn fit(scene: &mut Scene, cage: &str, margin: f64) -> Result<(), RigEditError> {
                 .any(|(i, l)| i != c && l.faces.iter().any(|g| face_key(g) == key))
         })
         .collect();
+    // Distance from `p` to the faces of `l` that are not shared.
+    let free_distance = |l: &LocalCage, p: DVec3| {
+        let positions = l.cage.positions();
+        l.cage
+            .triangles()
+            .iter()
+            .zip(l.cage.triangle_polygon())
+            .filter(|(_, poly)| !shared_face[**poly as usize])
+            .map(|(t, _)| {
+                let [a, b, c] = t.map(|v| positions[v as usize]);
+                crate::geometry::closest_point_on_triangle(p, a, b, c)
+                    .0
+                    .distance(p)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    // Each held vertex keeps the margin, or, where it starts closer than the margin (a tip
+    // against an end face), at least the distance it has: it must not freeze every other
+    // vertex of the cage.
+    let clearance: Vec<f64> = held
+        .iter()
+        .map(|&p| gap.min(free_distance(&cage_now, p) * (1.0 - 1e-9)))
+        .collect();
+    // Vertices may not crowd each other (a cage folded onto its centre is valid on its own
+    // but not inside a join cage); the separation is relative to the cage before the fit.
+    let separation = FIT_SEPARATION * cage_now.cage.diagonal();
     let fits = |s: &Scene| {
         local(s).is_ok_and(|l| {
             let positions = l.cage.positions();
-            let free_distance = |p: DVec3| {
-                l.cage
-                    .triangles()
+            let crowded = positions.iter().enumerate().any(|(i, p)| {
+                positions[i + 1..]
                     .iter()
-                    .zip(l.cage.triangle_polygon())
-                    .filter(|(_, poly)| !shared_face[**poly as usize])
-                    .map(|(t, _)| {
-                        let [a, b, c] = t.map(|v| positions[v as usize]);
-                        crate::geometry::closest_point_on_triangle(p, a, b, c)
-                            .0
-                            .distance(p)
-                    })
-                    .fold(f64::INFINITY, f64::min)
-            };
-            held.iter()
-                .all(|&p| l.cage.winding_number(p) > 0.5 && free_distance(p) >= gap)
+                    .any(|q| p.distance(*q) < separation)
+            });
+            !crowded
+                && held.iter().zip(&clearance).all(|(&p, &least)| {
+                    l.cage.winding_number(p) > 0.5 && free_distance(&l, p) >= least
+                })
         })
     };
-    // Each free vertex in turn, as far toward the centre as still fits (bisection on the
-    // fraction of the way), three rounds so that later moves let earlier vertices go further.
+    // Each free vertex in turn, toward the held mesh vertex nearest to it (a shrink-wrap: a
+    // box's corner goes toward the limb, not toward the box's centre), as far as still fits
+    // (bisection on the fraction of the way); three rounds, so that later moves let earlier
+    // vertices go further.
     for _ in 0..3 {
         for &v in &free {
             let start = scene.cages.vertices[v as usize];
-            let (mut ok, mut bad) = (0.0f64, 1.0f64);
+            let target = held
+                .iter()
+                .copied()
+                .min_by(|a, b| {
+                    a.distance_squared(start)
+                        .total_cmp(&b.distance_squared(start))
+                })
+                .unwrap_or(start);
+            let (mut ok, mut bad) = (0.0f64, FIT_FURTHEST);
             for _ in 0..20 {
                 let t = 0.5 * (ok + bad);
-                scene.cages.vertices[v as usize] = start + (centre - start) * t;
+                scene.cages.vertices[v as usize] = start + (target - start) * t;
                 if fits(scene) {
                     ok = t;
                 } else {
                     bad = t;
                 }
             }
-            let to = start + (centre - start) * ok;
+            let to = start + (target - start) * ok;
             scene.cages.vertices[v as usize] = start;
             move_rest_vertex(scene, v, to);
         }

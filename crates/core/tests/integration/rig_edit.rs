@@ -240,6 +240,33 @@ fn fit_pulls_a_cage_to_the_mesh_keeping_the_margin_and_shared_vertices() {
     );
 }
 
+/// A mesh vertex that starts closer to a face than the margin keeps its distance but does not
+/// freeze the fit: the cage's other vertices still close in on the mesh, and the rig stays
+/// valid (no vertices crowded together).
+#[test]
+fn fit_works_around_a_vertex_already_inside_the_margin() {
+    let mut scene = empty_scene();
+    // The mesh's x = 0.1 side is 0.01 from this box's x = 0.09 face: inside the 2 % margin.
+    apply_rig_op(&mut scene, &op("add-box low 0.09 -0.5 -0.5 1.5 1.5 1")).unwrap();
+    apply_rig_op(&mut scene, &op("add-box high 0.09 -0.5 1 1.5 1.5 2.5")).unwrap();
+    let volume = |s: &Scene| {
+        starcages_core::scene::LocalCage::new(&s.cages.vertices, &s.cages.leaves[0].faces)
+            .unwrap()
+            .cage
+            .volume()
+    };
+    let before = scene.clone();
+    apply_rig_op(&mut scene, &op("fit low 0.02")).unwrap();
+    assert!(
+        volume(&scene) < 0.8 * volume(&before),
+        "{} against {}",
+        volume(&scene),
+        volume(&before)
+    );
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{:?}", report.errors);
+}
+
 /// A scene whose faces name missing vertices (read from a broken file) is refused, not
 /// indexed.
 #[test]
