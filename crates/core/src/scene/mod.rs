@@ -9,6 +9,7 @@ pub mod creature;
 pub mod demo;
 mod export;
 mod file;
+mod fit;
 mod inset;
 mod pose_state;
 mod pretty_json;

@@ -473,7 +473,10 @@ pub fn apply_rig_op(scene: &mut Scene, op: &RigOp) -> Result<(), RigEditError> {
             name,
         } => split(&mut edited, cage, *axis, *t, name)?,
         RigOp::Mirror { cage, name } => mirror(&mut edited, cage, name)?,
-        RigOp::Fit { cage, margin } => fit(&mut edited, cage, *margin)?,
+        RigOp::Fit { cage, margin } => {
+            let c = leaf(&edited, cage)?;
+            super::fit::fit(&mut edited, c, *margin)?;
+        }
         RigOp::Rest { cage, transform } => rest(&mut edited, cage, *transform)?,
         RigOp::Kind { cage, kind } => {
             let c = leaf(&edited, cage)?;
@@ -755,7 +758,7 @@ fn delete(scene: &mut Scene, cage: &str) -> Result<(), RigEditError> {
 }
 
 /// A face's key: its vertices sorted (the same face in two cages has the same key).
-fn face_key(face: &[u32]) -> Vec<u32> {
+pub(super) fn face_key(face: &[u32]) -> Vec<u32> {
     let mut key = face.to_vec();
     key.sort_unstable();
     key
@@ -1001,146 +1004,7 @@ fn mirror(scene: &mut Scene, cage: &str, name: &str) -> Result<(), RigEditError>
     Ok(())
 }
 
-/// The furthest a fit moves a vertex: this fraction of the way to the mesh vertex nearest to it
-/// (the margin stops it sooner wherever the mesh is in the way).
-const FIT_FURTHEST: f64 = 0.9;
-
-/// The least distance a fit leaves between two vertices of the cage, as a fraction of the
-/// cage's diagonal.
-const FIT_SEPARATION: f64 = 0.02;
-
-fn fit(scene: &mut Scene, cage: &str, margin: f64) -> Result<(), RigEditError> {
-    use super::{LocalCage, leaf_containment};
-    let c = leaf(scene, cage)?;
-    if !(0.0..=0.5).contains(&margin) {
-        return Err(RigEditError::Value(format!(
-            "fit {cage}: margin {margin} must be in [0, 0.5] (a fraction of the mesh's diagonal)"
-        )));
-    }
-    let (lo, hi) = scene.mesh.bounds();
-    let gap = margin * (hi - lo).length();
-    let local = |s: &Scene| LocalCage::new(&s.cages.vertices, &s.cages.leaves[c].faces);
-    let cage_now = local(scene).map_err(|e| {
-        RigEditError::Value(format!(
-            "fit {cage}: the cage is not valid to start with: {e}"
-        ))
-    })?;
-    // The mesh vertices this cage holds now: they must stay inside, `gap` from its surface.
-    let points = scene.mesh.welded_positions();
-    let held: Vec<DVec3> = leaf_containment(std::slice::from_ref(&cage_now), points)
-        .iter()
-        .zip(points)
-        .filter(|(c, _)| c.is_covered())
-        .map(|(_, p)| *p)
-        .collect();
-    if held.is_empty() {
-        return Err(RigEditError::Value(format!(
-            "fit {cage}: it holds no mesh vertex to fit to"
-        )));
-    }
-    let shared: BTreeSet<u32> = scene
-        .cages
-        .leaves
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| *i != c)
-        .flat_map(|(_, l)| l.faces.iter().flatten().copied())
-        .collect();
-    let free: Vec<u32> = cage_now
-        .global
-        .iter()
-        .copied()
-        .filter(|v| !shared.contains(v))
-        .collect();
-    // The margin is kept from the faces that are not shared: mesh vertices may lie on a border.
-    let shared_face: Vec<bool> = scene.cages.leaves[c]
-        .faces
-        .iter()
-        .map(|f| {
-            let key = face_key(f);
-            scene
-                .cages
-                .leaves
-                .iter()
-                .enumerate()
-                .any(|(i, l)| i != c && l.faces.iter().any(|g| face_key(g) == key))
-        })
-        .collect();
-    // Distance from `p` to the faces of `l` that are not shared.
-    let free_distance = |l: &LocalCage, p: DVec3| {
-        let positions = l.cage.positions();
-        l.cage
-            .triangles()
-            .iter()
-            .zip(l.cage.triangle_polygon())
-            .filter(|(_, poly)| !shared_face[**poly as usize])
-            .map(|(t, _)| {
-                let [a, b, c] = t.map(|v| positions[v as usize]);
-                crate::geometry::closest_point_on_triangle(p, a, b, c)
-                    .0
-                    .distance(p)
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
-    // Each held vertex keeps the margin, or, where it starts closer than the margin (a tip
-    // against an end face), at least the distance it has: it must not freeze every other
-    // vertex of the cage.
-    let clearance: Vec<f64> = held
-        .iter()
-        .map(|&p| gap.min(free_distance(&cage_now, p) * (1.0 - 1e-9)))
-        .collect();
-    // Vertices may not crowd each other (a cage folded onto its centre is valid on its own
-    // but not inside a join cage); the separation is relative to the cage before the fit.
-    let separation = FIT_SEPARATION * cage_now.cage.diagonal();
-    let fits = |s: &Scene| {
-        local(s).is_ok_and(|l| {
-            let positions = l.cage.positions();
-            let crowded = positions.iter().enumerate().any(|(i, p)| {
-                positions[i + 1..]
-                    .iter()
-                    .any(|q| p.distance(*q) < separation)
-            });
-            !crowded
-                && held.iter().zip(&clearance).all(|(&p, &least)| {
-                    l.cage.winding_number(p) > 0.5 && free_distance(&l, p) >= least
-                })
-        })
-    };
-    // Each free vertex in turn, toward the held mesh vertex nearest to it (a shrink-wrap: a
-    // box's corner goes toward the limb, not toward the box's centre), as far as still fits
-    // (bisection on the fraction of the way); three rounds, so that later moves let earlier
-    // vertices go further.
-    for _ in 0..3 {
-        for &v in &free {
-            let start = scene.cages.vertices[v as usize];
-            let target = held
-                .iter()
-                .copied()
-                .min_by(|a, b| {
-                    a.distance_squared(start)
-                        .total_cmp(&b.distance_squared(start))
-                })
-                .unwrap_or(start);
-            let (mut ok, mut bad) = (0.0f64, FIT_FURTHEST);
-            for _ in 0..20 {
-                let t = 0.5 * (ok + bad);
-                scene.cages.vertices[v as usize] = start + (target - start) * t;
-                if fits(scene) {
-                    ok = t;
-                } else {
-                    bad = t;
-                }
-            }
-            let to = start + (target - start) * ok;
-            scene.cages.vertices[v as usize] = start;
-            move_rest_vertex(scene, v, to);
-        }
-    }
-    Ok(())
-}
-
-/// Moves rest vertex `v` to `to`, and every pose by the same amount.
-fn move_rest_vertex(scene: &mut Scene, v: u32, to: DVec3) {
+pub(super) fn move_rest_vertex(scene: &mut Scene, v: u32, to: DVec3) {
     let delta = to - scene.cages.vertices[v as usize];
     scene.cages.vertices[v as usize] = to;
     for pose in std::iter::once(&mut scene.pose).chain(scene.poses.values_mut()) {
