@@ -8,6 +8,10 @@ use glam::DVec3;
 use super::Scene;
 use super::rig_edit::{RigEditError, face_normal};
 
+/// The thinnest inset, as a fraction of the face's shortest side: thinner, the ring's quads
+/// would be slivers and the inner corners all but on the face's.
+const MIN_THICKNESS: f64 = 1e-4;
+
 /// Insets face `face` of leaf cage `c` by `thickness` (scene units, measured in the face's
 /// plane from each edge). Each inner corner is an affine combination of its corner and the
 /// two corners beside it, so every pose gets the same combination of its own positions: a
@@ -44,6 +48,18 @@ pub fn inset_face(
         )));
     }
     let k = corners.len();
+    let smallest_side = (0..k)
+        .map(|i| rest[i].distance(rest[(i + 1) % k]))
+        .fold(f64::INFINITY, f64::min);
+    // Less than half the shortest side (more folds a rectangle's inner face), and enough to
+    // keep the inner corners apart from the face's corners.
+    if thickness >= 0.5 * smallest_side || thickness < MIN_THICKNESS * smallest_side {
+        return Err(RigEditError::Value(format!(
+            "inset {name} {face}: a thickness of {thickness:?} does not fit the face (its \
+             shortest side is {smallest_side:.4}); use between {:.2e} and half of that",
+            MIN_THICKNESS * smallest_side
+        )));
+    }
     // Per corner i: (α, β) with inner_i = p_i + α (p_{i−1} − p_i) + β (p_{i+1} − p_i).
     let mut combinations = Vec::with_capacity(k);
     for i in 0..k {
@@ -82,10 +98,14 @@ pub fn inset_face(
         at(i) + (at((i + k - 1) % k) - at(i)) * alpha + (at((i + 1) % k) - at(i)) * beta
     };
     let inner_rest: Vec<DVec3> = (0..k).map(|i| place(&scene.cages.vertices, i)).collect();
-    // The inner face must run the same way as the face, edge by edge, with room to spare.
-    let smallest_side = (0..k)
-        .map(|i| rest[i].distance(rest[(i + 1) % k]))
-        .fold(f64::INFINITY, f64::min);
+    // The inner face must run the same way as the face, edge by edge, with room to spare (a
+    // sharp corner folds it sooner than half the shortest side).
+    if inner_rest.iter().any(|p| !p.is_finite()) {
+        return Err(RigEditError::Value(format!(
+            "inset {name} {face}: the inner face's corners would not be finite numbers; use \
+             a smaller thickness"
+        )));
+    }
     for i in 0..k {
         let (outer, inner) = (
             rest[(i + 1) % k] - rest[i],
@@ -93,8 +113,8 @@ pub fn inset_face(
         );
         if inner.dot(outer) <= 1e-3 * smallest_side * outer.length() {
             return Err(RigEditError::Value(format!(
-                "inset {name} {face}: a thickness of {thickness} folds the inner face (its \
-                 shortest side is {smallest_side:.4}); use less than half of it"
+                "inset {name} {face}: a thickness of {thickness:?} folds the inner face (its \
+                 shortest side is {smallest_side:.4}); use less"
             )));
         }
     }

@@ -85,8 +85,10 @@ fn an_inset_that_cannot_apply_is_refused_and_changes_nothing() {
     let before = scene.clone();
     for (text, expected) in [
         ("inset body +z 0.1", "shared with another cage"),
-        ("inset body -z 0.5", "folds the inner face"),
-        ("inset body -z 0.7", "folds the inner face"),
+        ("inset body -z 0.5", "does not fit the face"),
+        ("inset body -z 0.7", "does not fit the face"),
+        ("inset body -z 1e308", "does not fit the face"),
+        ("inset body -z 1e-300", "does not fit the face"),
         ("inset body -z 0", "must be positive"),
         ("inset body -z -0.1", "must be positive"),
         ("inset nobody -z 0.1", "no leaf cage 'nobody'"),
