@@ -37,6 +37,7 @@ pub use export::write_deformed_mesh;
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
 };
+pub use inset::InsetCorners;
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub use rig_edit::{

@@ -232,9 +232,9 @@ impl UiCommand {
                  keep the default depth)"
             }
             Self::InsetFaces => {
-                "Rig mode: each selected free face becomes a smaller face inside it (a fifth of \
-                 its shortest side from every edge) joined to it by a ring of quads; a cage \
-                 extruded from the inner face touches no other cage"
+                "Rig mode: each selected free face becomes a smaller face inside it, joined to it \
+                 by a ring of quads; move the mouse to size it (or type a thickness), then click \
+                 or Enter. A cage extruded from the inner face touches no other cage"
             }
             Self::LoopCut => {
                 "Rig mode: cut the inspected cage in two across its longest side; slide the cut \

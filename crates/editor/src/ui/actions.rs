@@ -81,10 +81,15 @@ pub fn execute(
             }
         }
         UiCommand::Extrude => rig(super::rig_keys::extrude(state)),
-        UiCommand::InsetFaces => match super::rig_keys::inset_faces(state) {
-            Ok(ops) => Command::RigOps(ops),
-            Err(why) => Command::Info(why),
-        },
+        UiCommand::InsetFaces => {
+            match super::inset_tool::InsetTool::begin(state, pointer - state.view.viewport.min) {
+                Ok(inset) => {
+                    ui_state.inset = Some(inset);
+                    return;
+                }
+                Err(why) => Command::Info(why),
+            }
+        }
         UiCommand::LoopCut => match super::loop_cut_tool::LoopCutTool::begin(state) {
             Ok(cut) => {
                 ui_state.loop_cut = Some(cut);

@@ -43,6 +43,10 @@ pub fn shortcuts(
         loop_cut_keys(state, ui_state, &events, sender);
         return;
     }
+    if ui_state.inset.is_some() {
+        inset_keys(ui_state, &events, sender);
+        return;
+    }
     for event in events {
         if let Event::Key {
             key,
@@ -61,6 +65,44 @@ pub fn shortcuts(
     }
 }
 
+/// What the keys of a tool sized by the mouse or a typed number ended with.
+enum Typed {
+    /// Enter: make it.
+    Confirm,
+    /// Esc: drop it.
+    Cancel,
+}
+
+/// Digits and '.' go into `typed`, Backspace takes one back; Enter confirms, Esc cancels.
+fn typed_number_keys(typed: &mut String, events: &[Event]) -> Option<Typed> {
+    for event in events {
+        match event {
+            Event::Text(text) => {
+                typed.extend(text.chars().filter(|c| c.is_ascii_digit() || *c == '.'));
+            }
+            Event::Key {
+                key: Key::Backspace,
+                pressed: true,
+                ..
+            } => {
+                typed.pop();
+            }
+            Event::Key {
+                key: Key::Enter,
+                pressed: true,
+                ..
+            } => return Some(Typed::Confirm),
+            Event::Key {
+                key: Key::Escape,
+                pressed: true,
+                ..
+            } => return Some(Typed::Cancel),
+            _ => {}
+        }
+    }
+    None
+}
+
 /// Keys of the loop cut being placed: digits type the fraction, Enter cuts, Esc drops it.
 fn loop_cut_keys(
     state: &EditorState,
@@ -71,33 +113,31 @@ fn loop_cut_keys(
     let Some(cut) = &mut ui_state.loop_cut else {
         return;
     };
-    for event in events {
-        match event {
-            Event::Text(text) => cut
-                .typed
-                .extend(text.chars().filter(|c| c.is_ascii_digit() || *c == '.')),
-            Event::Key {
-                key, pressed: true, ..
-            } => match key {
-                Key::Backspace => {
-                    cut.typed.pop();
-                }
-                Key::Enter => {
-                    if let Ok(t) = cut.typed.parse::<f64>() {
-                        cut.t = t.clamp(0.02, 0.98);
-                    }
-                    sender.send(Command::Rig(cut.operation(state)));
-                    ui_state.loop_cut = None;
-                    return;
-                }
-                Key::Escape => {
-                    ui_state.loop_cut = None;
-                    return;
-                }
-                _ => {}
-            },
-            _ => {}
+    match typed_number_keys(&mut cut.typed, events) {
+        Some(Typed::Confirm) => {
+            if let Ok(t) = cut.typed.parse::<f64>() {
+                cut.t = t.clamp(0.02, 0.98);
+            }
+            sender.send(Command::Rig(cut.operation(state)));
+            ui_state.loop_cut = None;
         }
+        Some(Typed::Cancel) => ui_state.loop_cut = None,
+        None => {}
+    }
+}
+
+/// Keys of the inset being sized: digits type the thickness, Enter insets, Esc drops it.
+fn inset_keys(ui_state: &mut UiState, events: &[Event], sender: &mut CommandSender) {
+    let Some(inset) = &mut ui_state.inset else {
+        return;
+    };
+    match typed_number_keys(&mut inset.typed, events) {
+        Some(Typed::Confirm) => {
+            sender.send(Command::RigOps(inset.operations()));
+            ui_state.inset = None;
+        }
+        Some(Typed::Cancel) => ui_state.inset = None,
+        None => {}
     }
 }
 

@@ -8,6 +8,7 @@ mod add_menu;
 pub mod axis_gizmo;
 pub mod file_dialog;
 mod help;
+mod inset_tool;
 mod inspector;
 mod item_panel;
 mod keyboard;
@@ -43,6 +44,8 @@ pub struct UiState {
     pub tool: Option<TransformTool>,
     /// Ctrl+R's loop cut while it is being placed.
     pub loop_cut: Option<loop_cut_tool::LoopCutTool>,
+    /// I's inset being sized, if any.
+    pub inset: Option<inset_tool::InsetTool>,
     /// Shift+A's add menu, open at this screen point (points).
     pub add_menu: Option<glam::Vec2>,
     /// The name typed for a new pose.
@@ -83,6 +86,7 @@ impl UiState {
             drag: None,
             tool: None,
             loop_cut: None,
+            inset: None,
             add_menu: None,
             new_pose_name: String::new(),
             files: file_dialog::FileDialogs::from_env(),
@@ -119,6 +123,12 @@ impl UiState {
                 || state.doc.scene.cages.leaf_index(&cut.cage).is_none()
         }) {
             self.loop_cut = None;
+        }
+        // So is an inset; an undo may also have taken its faces away.
+        if self.inset.as_ref().is_some_and(|inset| {
+            state.mode != crate::state::EditMode::Rig || !inset.is_valid_for(state)
+        }) {
+            self.inset = None;
         }
         if self.tool.as_ref().is_some_and(|t| Some(t.gesture) != live) {
             self.tool = None;

@@ -1,8 +1,8 @@
 //! Rig mode's keys turned into rig operations from what is selected and inspected: E extrudes
-//! the selected face, I insets the selected faces, Shift+A adds a box (`BoxPlacement`: around the selected mesh or cage
+//! the selected face, Shift+A adds a box (`BoxPlacement`: around the selected mesh or cage
 //! vertices, the mesh, or in the part under the pointer), X / Delete
 //! deletes the inspected cage. Each gives the operation, or why there is none. (Ctrl+R's loop
-//! cut is placed with the mouse first: `loop_cut_tool`.)
+//! cut and I's inset are sized with the mouse first: `loop_cut_tool`, `inset_tool`.)
 
 use glam::DVec3;
 use starcages_core::scene::RigOp;
@@ -19,11 +19,11 @@ fn fresh_name(state: &EditorState, stem: &str) -> String {
 }
 
 /// A selected leaf-cage face: its cage, its index there and its corners.
-type SelectedFace<'a> = (usize, usize, &'a [u32]);
+pub(super) type SelectedFace<'a> = (usize, usize, &'a [u32]);
 
 /// The selected leaf-cage faces, or why `key` cannot take them: none selected, or one shared
 /// with a neighbour (only the rig's outer faces can grow).
-fn free_selected_faces<'a>(
+pub(super) fn free_selected_faces<'a>(
     state: &'a EditorState,
     key: &str,
 ) -> Result<Vec<SelectedFace<'a>>, String> {
@@ -75,33 +75,6 @@ pub fn extrude_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
         });
     }
     Ok(ops)
-}
-
-/// The share of a face's shortest side that I insets it by.
-const INSET_SHARE: f64 = 0.2;
-
-/// I in face select mode: every selected face inset by a fifth of its shortest side (one undo
-/// step); a face shared with a neighbour cannot be inset.
-pub fn inset_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
-    let scene = &state.doc.scene;
-    Ok(free_selected_faces(state, "I (inset)")?
-        .into_iter()
-        .map(|(c, f, face)| RigOp::Inset {
-            cage: scene.cages.leaves[c].name.clone(),
-            face: starcages_core::scene::FaceRef::Index(f),
-            thickness: INSET_SHARE * shortest_edge(scene, face),
-        })
-        .collect())
-}
-
-/// The shortest edge of a polygon face (rest positions).
-fn shortest_edge(scene: &starcages_core::scene::Scene, face: &[u32]) -> f64 {
-    (0..face.len())
-        .map(|k| {
-            let (a, b) = (face[k], face[(k + 1) % face.len()]);
-            scene.cages.vertices[a as usize].distance(scene.cages.vertices[b as usize])
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The longest edge of a polygon face (rest positions).

@@ -52,6 +52,8 @@ pub fn status_bar(
             ui.label(tool.describe());
         } else if let Some(cut) = &ui_state.loop_cut {
             ui.label(cut.describe());
+        } else if let Some(inset) = &ui_state.inset {
+            ui.label(inset.describe());
         } else if let Some(message) = state.message.as_ref().filter(|m| m.opacity() > 0.0) {
             let colour = if message.error {
                 egui::Color32::from_rgb(255, 110, 100)

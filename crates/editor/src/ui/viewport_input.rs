@@ -145,6 +145,17 @@ pub fn viewport(
         } else if secondary {
             ui_state.loop_cut = None;
         }
+    } else if let Some(inset) = &mut ui_state.inset {
+        // The inset follows the pointer; a click makes it, a right click drops it.
+        if let Some(p) = pointer {
+            inset.follow(state, p - state.view.viewport.min);
+        }
+        if response.clicked() {
+            sender.send(Command::RigOps(inset.operations()));
+            ui_state.inset = None;
+        } else if secondary {
+            ui_state.inset = None;
+        }
     } else if ui_state.tool.is_some() {
         // The tool follows the pointer in `keyboard`; here only its mouse confirm / cancel.
         if response.clicked() {
@@ -172,6 +183,9 @@ pub fn viewport(
     super::select_modes::switch(state, ui, rect, sender);
     if let Some(cut) = &ui_state.loop_cut {
         loop_cut_overlay(state, cut, ui.painter(), rect);
+    }
+    if let Some(inset) = &ui_state.inset {
+        inset_overlay(state, inset, ui.painter(), rect);
     }
     let click = pointer
         .filter(|_| response.clicked() && on_gizmo && ui_state.tool.is_none())
@@ -397,24 +411,51 @@ fn loop_cut_overlay(
     painter: &egui::Painter,
     rect: egui::Rect,
 ) {
+    let ring = on_screen(state, rect, &cut.ring_points(state));
+    if ring.len() >= 2 {
+        closed_outline(painter, ring);
+    }
+    header_label(painter.ctx(), rect, "loop-cut-header", cut.header());
+}
+
+/// Rest points on screen (those in front of the camera).
+fn on_screen(state: &EditorState, rect: egui::Rect, points: &[glam::DVec3]) -> Vec<egui::Pos2> {
     let camera = &state.view.camera;
     let size = state.view.viewport.size;
-    let ring: Vec<egui::Pos2> = cut
-        .ring_points(state)
+    points
         .iter()
         .filter_map(|p| camera.project(p.as_vec3(), size))
         .map(|(q, _)| rect.min + egui::vec2(q.x, q.y))
-        .collect();
-    if ring.len() >= 2 {
-        let [r, g, b, _] = colors::to_u8(colors::SELECTED);
-        let mut closed = ring.clone();
-        closed.push(ring[0]);
-        painter.add(egui::Shape::line(
-            closed,
-            egui::Stroke::new(2.5, egui::Color32::from_rgb(r, g, b)),
-        ));
+        .collect()
+}
+
+/// A closed polyline through `points` (screen) in the selection colour: a preview of what a
+/// tool would make.
+fn closed_outline(painter: &egui::Painter, mut points: Vec<egui::Pos2>) {
+    let [r, g, b, _] = colors::to_u8(colors::SELECTED);
+    if let Some(&first) = points.first() {
+        points.push(first);
     }
-    header_label(painter.ctx(), rect, "loop-cut-header", cut.header());
+    painter.add(egui::Shape::line(
+        points,
+        egui::Stroke::new(2.5, egui::Color32::from_rgb(r, g, b)),
+    ));
+}
+
+/// The inner faces the inset would make, outlined in the selection colour, and its header.
+fn inset_overlay(
+    state: &EditorState,
+    inset: &super::inset_tool::InsetTool,
+    painter: &egui::Painter,
+    rect: egui::Rect,
+) {
+    for face in inset.inner_faces() {
+        let outline = on_screen(state, rect, &face);
+        if outline.len() == face.len() && outline.len() >= 3 {
+            closed_outline(painter, outline);
+        }
+    }
+    header_label(painter.ctx(), rect, "inset-header", inset.header());
 }
 
 /// A header at the top of the viewport: a label in an area (not painted text), so it is in

@@ -1970,8 +1970,10 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     );
 }
 
-/// I insets the selected faces (one undo step); the inner face stays selected, so E then grows a
-/// cage that shares only the inner face's corners with its parent (Blender's I then E).
+/// I starts sizing an inset of the selected faces: the header says how thick, Esc drops it, a
+/// typed thickness sets it exactly, Enter makes it (one undo step); the inner face stays
+/// selected, so E then grows a cage that shares only the inner face's corners with its parent
+/// (Blender's I then E).
 #[test]
 fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
     let mut harness = crate::common::bar_harness(true);
@@ -1987,6 +1989,29 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
         mode: starcages_editor::state::SelectMode::Replace,
     });
     harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    assert!(harness.state().ui.inset.is_some(), "I starts sizing");
+    harness.get_by_label_contains("Inset 1 face");
+    harness.snapshot_options(
+        "rig_mode_inset",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.inset.is_none());
+    assert_eq!(
+        harness.state().state.doc.scene.cages,
+        before.cages,
+        "Esc drops it"
+    );
+    harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    harness.event(egui::Event::Text("0.05".into()));
+    harness.run_steps(1);
+    harness.get_by_label_contains("thickness 0.05");
+    harness.key_press(egui::Key::Enter);
     harness.run_steps(2);
     settle(&mut harness);
     let scene = harness.state().state.doc.scene.clone();
@@ -2007,6 +2032,17 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
             .iter()
             .all(|&v| v as usize >= before.cages.vertices.len())
     );
+    // Each inner corner lies 0.05 inside both edges at its corner: 0.05·√2 from it on a
+    // rectangle.
+    let outer = &before.cages.leaves[left].faces[face];
+    for (k, &v) in scene.cages.leaves[left].faces[face].iter().enumerate() {
+        let from = before.cages.vertices[outer[k] as usize];
+        let distance = scene.cages.vertices[v as usize].distance(from);
+        assert!(
+            (distance - 0.05 * 2f64.sqrt()).abs() < 1e-9,
+            "corner {k}: {distance}"
+        );
+    }
     harness.key_press(egui::Key::E);
     harness.run_steps(2);
     harness.key_press(egui::Key::Escape);
