@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use super::Scene;
-use super::rig_edit::{RigEditError, face_normal};
+use super::rig_edit::RigEditError;
 
 /// The thinnest inset, as a fraction of the face's shortest side: thinner, the ring's quads
 /// would be slivers and the inner corners all but on the face's.
@@ -148,11 +148,6 @@ pub fn inset_face(
             .collect()
     };
     let rest = positions_of(&scene.cages.vertices);
-    if face_normal(scene, &corners) == DVec3::ZERO {
-        return Err(RigEditError::Value(format!(
-            "inset {name} {face}: the face has no area"
-        )));
-    }
     let inset = InsetCorners::new(&rest, thickness)
         .map_err(|why| RigEditError::Value(format!("inset {name} {face}: {why}")))?;
     let k = corners.len();

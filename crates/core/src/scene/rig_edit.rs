@@ -662,7 +662,7 @@ fn free_face(scene: &Scene, c: usize, face: FaceRef) -> Result<usize, RigEditErr
 
 /// A face's unit outward normal (Newell's method: counter-clockwise seen from outside), zero
 /// for a face without area.
-pub(super) fn face_normal(scene: &Scene, face: &[u32]) -> DVec3 {
+fn face_normal(scene: &Scene, face: &[u32]) -> DVec3 {
     let points: Vec<DVec3> = face
         .iter()
         .filter_map(|&v| scene.cages.vertices.get(v as usize).copied())

@@ -15,6 +15,14 @@ fn op(text: &str) -> RigOp {
     RigOp::parse(text).unwrap()
 }
 
+/// The volume of leaf cage `c` of `scene`.
+fn leaf_volume(scene: &Scene, c: usize) -> f64 {
+    starcages_core::scene::LocalCage::new(&scene.cages.vertices, &scene.cages.leaves[c].faces)
+        .unwrap()
+        .cage
+        .volume()
+}
+
 #[test]
 fn a_box_and_an_extrusion_build_a_valid_two_cage_rig_sharing_one_face() {
     let mut scene = empty_scene();
@@ -161,13 +169,7 @@ fn a_loop_cut_gives_two_cages_sharing_the_new_face_and_merge_dissolves_it() {
     assert_eq!(scene.cages.leaves.len(), 1);
     let report = validate_scene(&scene);
     assert!(report.is_valid(), "{:?}", report.errors);
-    let volume = |s: &Scene| {
-        starcages_core::scene::LocalCage::new(&s.cages.vertices, &s.cages.leaves[0].faces)
-            .unwrap()
-            .cage
-            .volume()
-    };
-    assert!((volume(&scene) - volume(&before)).abs() < 1e-12);
+    assert!((leaf_volume(&scene, 0) - leaf_volume(&before, 0)).abs() < 1e-12);
     // Refusals: not neighbours, a cut out of range, a ring face shared with a neighbour.
     apply_rig_op(&mut scene, &op("add-box far 3 0 0 4 1 1")).unwrap();
     let error = apply_rig_op(&mut scene, &op("merge tall far"))
@@ -199,16 +201,10 @@ fn fit_pulls_a_cage_to_the_mesh_keeping_the_margin_and_shared_vertices() {
     // and a neighbour above.
     apply_rig_op(&mut scene, &op("add-box low -0.5 -0.5 -0.5 1.5 1.5 1")).unwrap();
     apply_rig_op(&mut scene, &op("add-box high -0.5 -0.5 1 1.5 1.5 2.5")).unwrap();
-    let volume = |s: &Scene, c: usize| {
-        starcages_core::scene::LocalCage::new(&s.cages.vertices, &s.cages.leaves[c].faces)
-            .unwrap()
-            .cage
-            .volume()
-    };
     let before = scene.clone();
     apply_rig_op(&mut scene, &op("fit low 0.01")).unwrap();
     assert!(
-        volume(&scene, 0) < 0.8 * volume(&before, 0),
+        leaf_volume(&scene, 0) < 0.8 * leaf_volume(&before, 0),
         "the cage did not shrink"
     );
     // The shared face (z = 1) did not move.
@@ -249,19 +245,13 @@ fn fit_works_around_a_vertex_already_inside_the_margin() {
     // The mesh's x = 0.1 side is 0.01 from this box's x = 0.09 face: inside the 2 % margin.
     apply_rig_op(&mut scene, &op("add-box low 0.09 -0.5 -0.5 1.5 1.5 1")).unwrap();
     apply_rig_op(&mut scene, &op("add-box high 0.09 -0.5 1 1.5 1.5 2.5")).unwrap();
-    let volume = |s: &Scene| {
-        starcages_core::scene::LocalCage::new(&s.cages.vertices, &s.cages.leaves[0].faces)
-            .unwrap()
-            .cage
-            .volume()
-    };
     let before = scene.clone();
     apply_rig_op(&mut scene, &op("fit low 0.02")).unwrap();
     assert!(
-        volume(&scene) < 0.8 * volume(&before),
+        leaf_volume(&scene, 0) < 0.8 * leaf_volume(&before, 0),
         "{} against {}",
-        volume(&scene),
-        volume(&before)
+        leaf_volume(&scene, 0),
+        leaf_volume(&before, 0)
     );
     let report = validate_scene(&scene);
     assert!(report.is_valid(), "{:?}", report.errors);
