@@ -31,6 +31,8 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// A grid of box cages around a mesh, written as a scene.
     Autocage(commands::autocage::AutocageArgs),
+    /// A shape-following rig around a mesh: chains of cages along its limbs, written as a scene.
+    Autorig(commands::autorig::AutorigArgs),
     /// Add a box internal cage around chosen cage vertices, as their parent.
     InternalCage(commands::internal_cage::InternalCageArgs),
     /// Assemble a scene from a mesh and a cage OBJ file.
@@ -91,6 +93,7 @@ fn main() -> ExitCode {
         Command::Validate(args) => commands::validate::run(&args),
         Command::Info(args) => commands::info::run(&args),
         Command::Autocage(args) => commands::autocage::run(&args),
+        Command::Autorig(args) => commands::autorig::run(&args),
         Command::InternalCage(args) => commands::internal_cage::run(&args),
         Command::New(args) => commands::new::run(&args),
         Command::Edit(args) => commands::edit::run(&args),

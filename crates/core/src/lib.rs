@@ -3,6 +3,7 @@
 //!
 //! * [`cage`]: validated closed triangle cages (polygon faces kept for eq. 7 of *Cages).
 //! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
+//! * [`generate`]: rigs made from a mesh (the auto rig).
 //! * [`io`]: cage OBJ files and point lists, with errors naming file and line.
 //! * [`geometry`]: small geometric primitives.
 //! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
@@ -12,6 +13,7 @@
 
 pub mod cage;
 pub mod coords;
+pub mod generate;
 pub mod geometry;
 pub mod hierarchy;
 pub mod io;

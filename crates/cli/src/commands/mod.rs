@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod autocage;
+pub mod autorig;
 pub mod bench;
 pub mod bench_gpu;
 pub mod cages;

@@ -25,7 +25,7 @@ use crate::scene::{
     HierarchyState, LocalCage, ReboundVertex, Scene, SceneProblem, check_hierarchy,
 };
 
-pub use auto::{AutoInternalCage, AutoInternalCageError, add_auto_internal_cage};
+pub use auto::{AutoInternalCage, AutoInternalCageError, add_auto_internal_cage, box_grid};
 pub use edit::{CageEdit, CageTransform, EditError};
 use follow::{Follow, RebindRequest, anchor_points, rebind};
 pub use import::import_internal_cages;

@@ -1,0 +1,133 @@
+//! `starcages-cli autorig`: a shape-following rig of leaf cages around any mesh (chains of
+//! cages along limbs, a few across each body), written as a scene.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use clap::Args;
+use starcages_core::BindControl;
+use starcages_core::generate::{
+    AutorigError, AutorigSettings, Mirror, autorig, surface_pieces_per_leaf,
+};
+use starcages_core::scene::{Scene, SceneSettings, UpAxis};
+
+use crate::InputError;
+use crate::progress::with_progress;
+
+/// Arguments of `autorig`.
+#[derive(Debug, Args)]
+pub struct AutorigArgs {
+    /// Mesh file (OBJ, glTF or GLB).
+    mesh: PathBuf,
+    /// How fine the rig is: 1 (few, coarse cages) to 5 (many, tight ones).
+    #[arg(long, default_value_t = 3)]
+    detail: u32,
+    /// Least distance from the mesh to the cages' outer surface, as a fraction of the mesh's
+    /// bounding-box diagonal (0: as tight as the detail's grid allows).
+    #[arg(long, default_value_t = 0.0)]
+    margin: f64,
+    /// Make the grid symmetric across the plane through the mesh's centre across this axis of
+    /// the mesh file (x, y or z), or find the most symmetric one (auto).
+    #[arg(long, value_name = "x|y|z|auto")]
+    mirror: Option<String>,
+    /// Leaf cages whose name starts with one of these (comma-separated, e.g. body_3,limb2) get
+    /// Green coordinates: they keep their shape.
+    #[arg(long, value_delimiter = ',')]
+    keep_shape: Vec<String>,
+    /// Also make internal cages: one box per limb driving its chain, one over the whole rig.
+    #[arg(long)]
+    internal: bool,
+    /// Up axis of an OBJ mesh file: y (the OBJ convention, turned to StarCages' Z-up) or z (read
+    /// as is). glTF files are always Y-up.
+    #[arg(long, value_parser = |s: &str| s.parse::<UpAxis>())]
+    up: Option<UpAxis>,
+    /// Scene file to write.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Runs the command.
+pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
+    super::check_output("--out", &args.out, &[&args.mesh], &["json"])?;
+    let (mesh, up) = super::read_new_scene_mesh(&args.mesh, args.up)?;
+    let mirror = match args.mirror.as_deref() {
+        None => Mirror::None,
+        Some("auto") => Mirror::Auto,
+        Some(axis) => {
+            let file_axis = match axis {
+                "x" => 0,
+                "y" => 1,
+                "z" => 2,
+                other => {
+                    return Err(
+                        InputError(format!("--mirror {other}: expected x, y, z or auto")).into(),
+                    );
+                }
+            };
+            Mirror::Axis(scene_axis(file_axis, up))
+        }
+    };
+    let settings = AutorigSettings {
+        detail: args.detail,
+        margin: args.margin,
+        mirror,
+        keep_shape: args.keep_shape.clone(),
+        internal: args.internal,
+        ..AutorigSettings::default()
+    };
+    let control = BindControl::default();
+    let rig = with_progress("auto rig", &control, || autorig(&mesh, &settings, &control));
+    let rig = match rig {
+        Ok(rig) => rig,
+        Err(e @ (AutorigError::Setting(_) | AutorigError::NoVolume | AutorigError::Invalid(_))) => {
+            return Err(InputError(format!("{}: {e}", args.mesh.display())).into());
+        }
+        Err(e) => return Err(e).context("auto rig"),
+    };
+    let source = std::path::absolute(&args.mesh).unwrap_or_else(|_| args.mesh.clone());
+    let report = rig.report.clone();
+    let scene = Scene::from_mesh_file(source, up, mesh, rig.cages, SceneSettings::default());
+    let summary = format!(
+        "{} leaf cages ({} vertices) along {} limbs{}{}",
+        report.leaf_cages,
+        report.leaf_vertices,
+        report.limbs,
+        if scene.cages.internals.is_empty() {
+            String::new()
+        } else {
+            format!(", {} internal cages", scene.cages.internals.len())
+        },
+        report
+            .mirror_axis
+            .map(|a| format!(", symmetric across {}", ["x", "y", "z"][a]))
+            .unwrap_or_default(),
+    );
+    let pieces = surface_pieces_per_leaf(&scene);
+    let shared: Vec<&str> = scene
+        .cages
+        .leaves
+        .iter()
+        .zip(&pieces)
+        .filter(|(_, n)| **n > 1)
+        .map(|(l, _)| l.name.as_str())
+        .collect();
+    if !shared.is_empty() {
+        eprintln!(
+            "note: {} cages hold more than one piece of the surface ({}); a higher --detail \
+             separates parts that lie close together",
+            shared.len(),
+            shared.join(", ")
+        );
+    }
+    super::save_new_scene(&scene, &args.out, &summary)
+}
+
+/// The scene axis (Z-up) of an axis of the mesh file: a Y-up file's y is the scene's z and its
+/// z the scene's -y.
+fn scene_axis(file_axis: usize, up: UpAxis) -> usize {
+    match (up, file_axis) {
+        (UpAxis::Y, 1) => 2,
+        (UpAxis::Y, 2) => 1,
+        (_, a) => a,
+    }
+}

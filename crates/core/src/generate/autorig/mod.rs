@@ -1,0 +1,571 @@
+//! The auto rig: leaf cages that follow a mesh's shape, one chain of cages per limb and a few
+//! for each body, sharing faces exactly where they meet, with optional internal cages (one per
+//! limb, one over everything) to pose a limb with one cage.
+//!
+//! The method (docs/autorig.md):
+//! 1. the mesh's solid as cells of a regular grid (`voxels`): cells the surface passes
+//!    through, and enclosed regions whose generalised winding number is above ½;
+//! 2. parts (`parts`): in each connected piece, the body is the union of the balls inscribed
+//!    at its thickest cells, cut into slabs across its longest axis; the rest are limbs, each
+//!    cut into a chain of segments by geodesic distance from the body;
+//! 3. repairs (`repair`) until every part and every union of parts meeting at a grid vertex is
+//!    a manifold solid (so each cage and each *Cages join cage is valid);
+//! 4. cages (`polycube`): each part's surface as merged rectangles, shared rectangles run in
+//!    opposite directions by the two parts;
+//! 5. validation of the scene; parts named by a problem are merged and the cages rebuilt.
+
+mod parts;
+mod polycube;
+mod repair;
+mod voxels;
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::DVec3;
+use thiserror::Error;
+
+use crate::coords::{BindControl, CoordinateKind};
+use crate::hierarchy::box_grid;
+use crate::mesh::Mesh;
+use crate::scene::{
+    CageSet, InternalCage, LeafCage, MeshSource, Scene, SceneSettings, validate_scene,
+};
+use parts::{Parts, Role};
+use voxels::Grid;
+
+/// The mirror plane the rig is made symmetric across.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Mirror {
+    /// No symmetry.
+    #[default]
+    None,
+    /// The axis (0 = x, 1 = y, 2 = z) across whose centre plane the mesh is most symmetric,
+    /// if it is symmetric enough (otherwise none).
+    Auto,
+    /// The plane through the mesh's centre across this axis (0 = x, 1 = y, 2 = z, in the
+    /// scene's Z-up frame).
+    Axis(usize),
+}
+
+/// Settings of [`autorig`], in the words an artist uses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AutorigSettings {
+    /// How fine the rig is, 1 (few, coarse cages) to 5 (many, tight ones).
+    pub detail: u32,
+    /// Least distance from every mesh vertex to the cages' outer surface, as a fraction of the
+    /// mesh's bounding-box diagonal (0: the cells the surface passes through are enough).
+    pub margin: f64,
+    /// Symmetry of the grid the cages are made on.
+    pub mirror: Mirror,
+    /// Coordinates of every leaf cage.
+    pub kind: CoordinateKind,
+    /// Leaf cages whose name starts with one of these get Green coordinates ("keep shape").
+    pub keep_shape: Vec<String>,
+    /// Also make internal cages: one per limb driving its chain, one over the whole rig.
+    pub internal: bool,
+}
+
+impl Default for AutorigSettings {
+    fn default() -> Self {
+        Self {
+            detail: 3,
+            margin: 0.0,
+            mirror: Mirror::None,
+            kind: CoordinateKind::MeanValue,
+            keep_shape: Vec::new(),
+            internal: false,
+        }
+    }
+}
+
+/// Largest accepted [`AutorigSettings::detail`].
+pub const MAX_DETAIL: u32 = 5;
+
+/// Why no rig could be made.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AutorigError {
+    /// A setting is out of range.
+    #[error("auto rig: {0}")]
+    Setting(String),
+    /// The mesh has no extent to rig.
+    #[error(
+        "auto rig: the mesh has no volume to put cages around (its vertices lie in one plane, line \
+         or point); open a mesh with a body, or give a flat one some thickness"
+    )]
+    NoVolume,
+    /// The cages made are not a valid rig even after merging (a bug or a pathological mesh).
+    #[error(
+        "auto rig: no valid rig could be made for this mesh ({0}); try another detail, or build \
+         the rig in Rig mode"
+    )]
+    Invalid(String),
+    /// Cancelled through the control.
+    #[error("auto rig cancelled")]
+    Cancelled,
+}
+
+/// What the auto rig made, for a report.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct AutorigReport {
+    /// Grid cells along x, y and z.
+    pub grid: [i32; 3],
+    /// Cells of the solid.
+    pub solid_cells: usize,
+    /// Limbs found.
+    pub limbs: usize,
+    /// Leaf cages made.
+    pub leaf_cages: usize,
+    /// Cage vertices (leaf cages only).
+    pub leaf_vertices: usize,
+    /// Parts merged to repair pinches or problems.
+    pub merges: usize,
+    /// The mirror axis used, if any.
+    pub mirror_axis: Option<usize>,
+}
+
+/// The rig and its report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Autorig {
+    /// Leaf cages (and internal cages where asked) around the mesh.
+    pub cages: CageSet,
+    /// What was made.
+    pub report: AutorigReport,
+}
+
+/// Grid resolution (cells along the longest side) and segment length per detail level.
+fn resolution(detail: u32) -> (u32, f64) {
+    match detail {
+        1 => (20, 2.0),
+        2 => (26, 1.6),
+        3 => (32, 1.3),
+        4 => (40, 1.1),
+        _ => (52, 0.9),
+    }
+}
+
+/// Steps reported through the control's progress.
+const STEPS: usize = 6;
+
+/// Builds a shape-following rig around `mesh` (in the scene's Z-up frame). Deterministic: the
+/// same mesh and settings give the same cages on any number of threads.
+pub fn autorig(
+    mesh: &Mesh,
+    settings: &AutorigSettings,
+    control: &BindControl,
+) -> Result<Autorig, AutorigError> {
+    if !(1..=MAX_DETAIL).contains(&settings.detail) {
+        return Err(AutorigError::Setting(format!(
+            "detail {} is outside 1..={MAX_DETAIL}",
+            settings.detail
+        )));
+    }
+    if !(0.0..=0.25).contains(&settings.margin) {
+        return Err(AutorigError::Setting(format!(
+            "margin {} is outside [0, 0.25] (a fraction of the mesh's diagonal)",
+            settings.margin
+        )));
+    }
+    if let Mirror::Axis(a) = settings.mirror
+        && a > 2
+    {
+        return Err(AutorigError::Setting(format!(
+            "mirror axis {a} is not 0, 1 or 2"
+        )));
+    }
+    let (lo, hi) = mesh.bounds();
+    let extent = hi - lo;
+    let mut sorted = extent.to_array();
+    sorted.sort_by(f64::total_cmp);
+    let has_volume = sorted[0] > 1e-6 * sorted[2];
+    if !has_volume || mesh.welded_positions().is_empty() {
+        return Err(AutorigError::NoVolume);
+    }
+    control.set_total(STEPS);
+
+    let check = || {
+        if control.is_cancelled() {
+            Err(AutorigError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
+    let (cells, segment_length) = resolution(settings.detail);
+    let mirror_axis = match settings.mirror {
+        Mirror::None => None,
+        Mirror::Axis(a) => Some(a),
+        Mirror::Auto => most_symmetric_axis(mesh),
+    };
+    let grid = Grid::around(lo, hi, cells, mirror_axis);
+    let mut occupied = voxels::solid_cells(&grid, mesh);
+    if settings.margin > 0.0 {
+        widen(
+            &grid,
+            &mut occupied,
+            mesh,
+            settings.margin * extent.length(),
+        );
+    }
+    control.advance();
+    check()?;
+    let depth = voxels::distance_to_outside(&grid, &occupied);
+    let cutting = parts::Cutting {
+        body_fraction: 0.55,
+        segment_length,
+        slab_length: segment_length,
+    };
+    let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
+    control.advance();
+    check()?;
+    let mut merges = repair::make_manifold(&grid, &mut parts);
+    control.advance();
+    check()?;
+    // Build, validate, merge what a problem names, again.
+    let mut rounds = 0;
+    let cages = loop {
+        let set = leaf_cages(&grid, &parts, settings);
+        let scene = Scene::new(
+            MeshSource::Embedded,
+            mesh.clone(),
+            set.clone(),
+            SceneSettings::default(),
+        );
+        let report = validate_scene(&scene);
+        let Some(problem) = report.errors.first() else {
+            break set;
+        };
+        rounds += 1;
+        let named = problem.elements(&set).leaf_cages;
+        if rounds > 32 || named.len() < 2 {
+            return Err(AutorigError::Invalid(problem.to_string()));
+        }
+        let into = named[0] as u32;
+        for l in parts.label.iter_mut().flatten() {
+            if named.contains(&(*l as usize)) {
+                *l = into;
+            }
+        }
+        parts::compact(&mut parts);
+        merges += repair::make_manifold(&grid, &mut parts) + 1;
+        check()?;
+    };
+    control.advance();
+    let mut cages = cages;
+    if settings.internal {
+        let roles = parts_of_leaves(&parts, &cages);
+        add_internal_cages(&mut cages, &roles);
+    }
+    control.advance();
+    let report = AutorigReport {
+        grid: grid.dims.to_array(),
+        solid_cells: occupied.iter().filter(|&&o| o).count(),
+        limbs: parts
+            .roles
+            .iter()
+            .filter_map(|r| match r {
+                Role::Limb { limb, .. } => Some(*limb),
+                Role::Body { .. } => None,
+            })
+            .collect::<BTreeSet<_>>()
+            .len(),
+        leaf_cages: cages.leaves.len(),
+        leaf_vertices: cages
+            .leaves
+            .iter()
+            .flat_map(|l| l.faces.iter().flatten())
+            .collect::<BTreeSet<_>>()
+            .len(),
+        merges,
+        mirror_axis,
+    };
+    control.advance();
+    Ok(Autorig { cages, report })
+}
+
+/// The leaf cages of the parts, named by role.
+fn leaf_cages(grid: &Grid, parts: &Parts, settings: &AutorigSettings) -> CageSet {
+    let faces = polycube::boundary_faces(grid, parts);
+    let (vertices, per_part) = polycube::part_polygons(&faces, parts.roles.len());
+    let names = part_names(&parts.roles);
+    let leaves = per_part
+        .into_iter()
+        .zip(names)
+        .map(|(faces, name)| {
+            let keep = settings
+                .keep_shape
+                .iter()
+                .any(|k| name.starts_with(k.as_str()));
+            LeafCage {
+                kind: if keep {
+                    CoordinateKind::Green
+                } else {
+                    settings.kind
+                },
+                name,
+                h: None,
+                border_h: BTreeMap::new(),
+                faces,
+            }
+        })
+        .collect();
+    CageSet {
+        vertices: vertices.iter().map(|&v| grid.vertex(v)).collect(),
+        leaves,
+        internals: Vec::new(),
+    }
+}
+
+/// Names by role: `body_K` along each body (`body2_K` for a second body), `limbL_K` from the
+/// root of limb L; a part split into pieces gets a letter.
+fn part_names(roles: &[Role]) -> Vec<String> {
+    // Number bodies and limbs in order of appearance, segments in order along them.
+    let mut bodies: BTreeMap<usize, usize> = BTreeMap::new();
+    let mut limbs: BTreeMap<usize, usize> = BTreeMap::new();
+    for role in roles {
+        match *role {
+            Role::Body { body, .. } => {
+                let n = bodies.len();
+                bodies.entry(body).or_insert(n);
+            }
+            Role::Limb { limb, .. } => {
+                let n = limbs.len();
+                limbs.entry(limb).or_insert(n);
+            }
+        }
+    }
+    let mut taken: BTreeMap<String, usize> = BTreeMap::new();
+    roles
+        .iter()
+        .map(|role| {
+            let base = match *role {
+                Role::Body { body, slab } if bodies[&body] == 0 => format!("body_{}", slab + 1),
+                Role::Body { body, slab } => format!("body{}_{}", bodies[&body] + 1, slab + 1),
+                Role::Limb { limb, segment } => format!("limb{}_{}", limbs[&limb] + 1, segment + 1),
+            };
+            let n = taken.entry(base.clone()).or_insert(0);
+            *n += 1;
+            if *n == 1 {
+                base
+            } else {
+                format!("{base}{}", char::from(b'a' + (*n as u8 - 1).min(25)))
+            }
+        })
+        .collect()
+}
+
+/// Role of each leaf cage (parts and leaves are in the same order).
+fn parts_of_leaves(parts: &Parts, cages: &CageSet) -> Vec<Role> {
+    parts
+        .roles
+        .iter()
+        .copied()
+        .take(cages.leaves.len())
+        .collect()
+}
+
+/// One internal box per limb owning its cages' vertices that no body cage has, and one box
+/// over the whole rig owning every other leaf vertex and the limb boxes' vertices.
+fn add_internal_cages(cages: &mut CageSet, roles: &[Role]) {
+    let vertices_of =
+        |leaf: &LeafCage| -> BTreeSet<u32> { leaf.faces.iter().flatten().copied().collect() };
+    let body_vertices: BTreeSet<u32> = cages
+        .leaves
+        .iter()
+        .zip(roles)
+        .filter(|(_, r)| matches!(r, Role::Body { .. }))
+        .flat_map(|(l, _)| vertices_of(l))
+        .collect();
+    let mut limbs: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        if let Role::Limb { limb, .. } = role {
+            limbs
+                .entry(*limb)
+                .or_default()
+                .extend(vertices_of(leaf).difference(&body_vertices));
+        }
+    }
+    let diagonal = {
+        let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
+        (hi - lo).length()
+    };
+    let mut owned_by_limbs: BTreeSet<u32> = BTreeSet::new();
+    let mut limb_box_vertices: Vec<u32> = Vec::new();
+    let mut number = 0;
+    for owned in limbs.values() {
+        // A limb whose vertices are all shared with bodies has nothing of its own to drive.
+        let owned: Vec<u32> = owned.difference(&owned_by_limbs).copied().collect();
+        if owned.is_empty() {
+            continue;
+        }
+        number += 1;
+        let first = cages.vertices.len() as u32;
+        push_box(cages, &format!("limb{number}_ctrl"), &owned, 0.1, diagonal);
+        limb_box_vertices.extend(first..cages.vertices.len() as u32);
+        owned_by_limbs.extend(owned);
+    }
+    let leaf_vertices: BTreeSet<u32> = cages.leaves.iter().flat_map(vertices_of).collect();
+    let mut rest: Vec<u32> = leaf_vertices.difference(&owned_by_limbs).copied().collect();
+    rest.extend(limb_box_vertices);
+    rest.sort_unstable();
+    if !rest.is_empty() {
+        push_box(cages, "rig_ctrl", &rest, 0.05, diagonal);
+    }
+}
+
+/// Appends an internal box cage around `owned` (padded by `padding` of its largest side, at
+/// least a thousandth of `diagonal`), owning them.
+fn push_box(cages: &mut CageSet, name: &str, owned: &[u32], padding: f64, diagonal: f64) {
+    let points: Vec<DVec3> = owned.iter().map(|&v| cages.vertices[v as usize]).collect();
+    let (lo, hi) = crate::cage::bounds_of(&points);
+    let margin = (padding * (hi - lo).max_element()).max(1e-3 * diagonal);
+    let (positions, faces) = box_grid(
+        lo - DVec3::splat(margin),
+        hi + DVec3::splat(margin),
+        [1, 1, 1],
+    );
+    let base = cages.vertices.len() as u32;
+    cages.vertices.extend(positions);
+    cages.internals.push(InternalCage {
+        name: name.to_owned(),
+        kind: CoordinateKind::MeanValue,
+        faces: faces
+            .into_iter()
+            .map(|f| f.into_iter().map(|v| v + base).collect())
+            .collect(),
+        owns: owned.to_vec(),
+    });
+}
+
+/// Adds every cell within `distance` of a mesh vertex to the solid.
+fn widen(grid: &Grid, occupied: &mut [bool], mesh: &Mesh, distance: f64) {
+    for &p in mesh.welded_positions() {
+        let lo = grid.cell_at(p - DVec3::splat(distance));
+        let hi = grid.cell_at(p + DVec3::splat(distance));
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                for x in lo.x..=hi.x {
+                    if let Some(i) = grid.index(glam::IVec3::new(x, y, z)) {
+                        occupied[i] = true;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The axis across whose centre plane the mesh's vertices are most symmetric, if their mirror
+/// images land within 2 % of the diagonal of a vertex for at least 90 % of them (sampled on a
+/// coarse grid of occupied cells).
+fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
+    let (lo, hi) = mesh.bounds();
+    let n = 48.0;
+    let cell = (hi - lo).max_element() / n;
+    let key = |p: DVec3| ((p - lo) / cell).floor().as_ivec3();
+    let cells: BTreeSet<(i32, i32, i32)> = mesh
+        .welded_positions()
+        .iter()
+        .map(|&p| {
+            let c = key(p);
+            (c.x, c.y, c.z)
+        })
+        .collect();
+    let centre = 0.5 * (lo + hi);
+    let score = |axis: usize| -> f64 {
+        let hits = mesh
+            .welded_positions()
+            .iter()
+            .filter(|&&p| {
+                let mut q = p;
+                q[axis] = 2.0 * centre[axis] - p[axis];
+                let c = key(q);
+                (-1..=1).any(|dx| {
+                    (-1..=1).any(|dy| {
+                        (-1..=1).any(|dz| cells.contains(&(c.x + dx, c.y + dy, c.z + dz)))
+                    })
+                })
+            })
+            .count();
+        hits as f64 / mesh.welded_positions().len().max(1) as f64
+    };
+    let scores: Vec<f64> = (0..3).map(score).collect();
+    (0..3)
+        .filter(|&a| scores[a] >= 0.9)
+        .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
+}
+
+/// Pieces of the surface smaller than this many mesh vertices (or than 1 % of a cage's
+/// vertices) are slivers: they do not count as a part of their own.
+pub const SLIVER_VERTICES: usize = 20;
+
+/// For each leaf cage of `scene`, the number of connected pieces of the mesh surface among the
+/// mesh vertices it holds (inside or on it), slivers left out (see [`SLIVER_VERTICES`]). A
+/// rig that follows the shape has 1 everywhere: two legs, or an arm and the torso beside it,
+/// never share a cage.
+pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
+    let set = &scene.cages;
+    let locals: Vec<Option<crate::scene::LocalCage>> = set
+        .leaves
+        .iter()
+        .map(|l| crate::scene::LocalCage::new(&set.vertices, &l.faces).ok())
+        .collect();
+    let points = scene.mesh.welded_positions();
+    let valid: Vec<crate::scene::LocalCage> = locals.iter().flatten().cloned().collect();
+    let index_of: Vec<usize> = locals
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.is_some())
+        .map(|(i, _)| i)
+        .collect();
+    let containment = crate::scene::leaf_containment(&valid, points);
+    // Mesh edges once each.
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+    for &[a, b, c] in scene.mesh.welded_triangles() {
+        for (x, y) in [(a, b), (b, c), (c, a)] {
+            if let (Some(nx), Some(_)) = (neighbours.get_mut(x as usize), points.get(y as usize)) {
+                nx.push(y);
+            }
+            if let (Some(ny), Some(_)) = (neighbours.get_mut(y as usize), points.get(x as usize)) {
+                ny.push(x);
+            }
+        }
+    }
+    let mut pieces = vec![0; set.leaves.len()];
+    let mut member = vec![false; points.len()];
+    let mut seen = vec![false; points.len()];
+    for (k, &leaf) in index_of.iter().enumerate() {
+        member.iter_mut().for_each(|m| *m = false);
+        seen.iter_mut().for_each(|s| *s = false);
+        let mut held = 0;
+        for (v, c) in containment.iter().enumerate() {
+            if c.inside.contains(&k) || c.on_surface.contains(&k) {
+                member[v] = true;
+                held += 1;
+            }
+        }
+        let sliver = SLIVER_VERTICES.max(held / 100);
+        let mut count = 0;
+        let mut stack = Vec::new();
+        for start in 0..points.len() {
+            if !member[start] || seen[start] {
+                continue;
+            }
+            seen[start] = true;
+            stack.push(start);
+            let mut size = 0;
+            while let Some(v) = stack.pop() {
+                size += 1;
+                for &n in &neighbours[v] {
+                    let n = n as usize;
+                    if member[n] && !seen[n] {
+                        seen[n] = true;
+                        stack.push(n);
+                    }
+                }
+            }
+            if size >= sliver {
+                count += 1;
+            }
+        }
+        pieces[leaf] = count;
+    }
+    pieces
+}

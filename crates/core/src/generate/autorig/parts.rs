@@ -1,0 +1,364 @@
+//! The solid's cells split into parts that follow the shape: in each connected piece of the
+//! solid, a body (the union of the balls inscribed at its thickest cells) cut into slabs across
+//! its longest axis, and limbs (what is left: arms, legs, tails, ears, fingers), each cut into
+//! a chain of segments by geodesic distance from the body.
+
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap};
+
+use glam::IVec3;
+
+use super::voxels::{FACE_STEPS, Grid, components};
+
+/// What a part is, for its name and for the internal cages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) enum Role {
+    /// Slab `slab` of body `body`.
+    Body {
+        /// The body (one per thick region).
+        body: usize,
+        /// Position along the body's axis.
+        slab: usize,
+    },
+    /// Segment `segment` (0 at the body) of limb `limb`.
+    Limb {
+        /// The limb.
+        limb: usize,
+        /// Position along the limb, from its root.
+        segment: usize,
+    },
+}
+
+/// The parts: a label per cell (None where the cell is empty) and each part's role.
+#[derive(Debug, Clone)]
+pub(super) struct Parts {
+    /// Part of each cell.
+    pub label: Vec<Option<u32>>,
+    /// Role of each part.
+    pub roles: Vec<Role>,
+}
+
+/// How parts are cut.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Cutting {
+    /// Cells at least this fraction of their piece's greatest thickness seed the body.
+    pub body_fraction: f64,
+    /// Segment length along a limb, in thicknesses (diameters) of the limb.
+    pub segment_length: f64,
+    /// Slab length across a body, in thicknesses of the body.
+    pub slab_length: f64,
+}
+
+/// Splits the occupied cells into parts (see the module).
+pub(super) fn cut_into_parts(
+    grid: &Grid,
+    occupied: &[bool],
+    depth: &[f64],
+    cutting: &Cutting,
+) -> Parts {
+    let (piece_of, pieces) = components(grid, |i| occupied[i]);
+    let body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
+    // Bodies: face-connected pieces of body cells; limbs: of the rest.
+    let (body_of, bodies) = components(grid, |i| body[i]);
+    let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
+    let mut group: Vec<Option<Role>> = vec![None; grid.len()];
+    // Slabs across each body's longest grid axis.
+    for b in 0..bodies {
+        let cells: Vec<usize> = (0..grid.len()).filter(|&i| body_of[i] == Some(b)).collect();
+        let (lo, hi) = cell_bounds(grid, &cells);
+        let extent = hi - lo + IVec3::ONE;
+        let axis = longest_axis(extent);
+        let thickness = 2.0 * mean_depth(depth, &cells);
+        let count = slab_count(f64::from(extent[axis]), cutting.slab_length * thickness);
+        for &i in &cells {
+            let along = f64::from(grid.cell_of(i)[axis] - lo[axis]) + 0.5;
+            let slab = ((along / f64::from(extent[axis])) * count as f64) as usize;
+            group[i] = Some(Role::Body {
+                body: b,
+                slab: slab.min(count - 1),
+            });
+        }
+    }
+    // Chains along each limb by geodesic distance from its body.
+    for l in 0..limbs {
+        let cells: Vec<usize> = (0..grid.len()).filter(|&i| limb_of[i] == Some(l)).collect();
+        let distance = geodesic_from_body(grid, &cells, &limb_of, l, &body);
+        let longest = cells.iter().map(|&i| distance[&i]).fold(0.0, f64::max);
+        let thickness = 2.0 * mean_depth(depth, &cells);
+        let count = slab_count(longest, cutting.segment_length * thickness);
+        for &i in &cells {
+            let segment = ((distance[&i] / longest.max(1e-9)) * count as f64) as usize;
+            group[i] = Some(Role::Limb {
+                limb: l,
+                segment: segment.min(count - 1),
+            });
+        }
+    }
+    // Parts: face-connected cells of one group.
+    let (part_of, part_count) = components_within(grid, |i| group[i]);
+    let mut roles = vec![Role::Body { body: 0, slab: 0 }; part_count];
+    for (i, p) in part_of.iter().enumerate() {
+        if let (Some(p), Some(role)) = (p, group[i]) {
+            roles[*p as usize] = role;
+        }
+    }
+    let mut parts = Parts {
+        label: part_of,
+        roles,
+    };
+    merge_small_parts(grid, &mut parts);
+    parts
+}
+
+/// Face-connected components of cells with equal `key` (None: not a member).
+fn components_within<K: PartialEq + Copy>(
+    grid: &Grid,
+    key: impl Fn(usize) -> Option<K>,
+) -> (Vec<Option<u32>>, usize) {
+    let mut label: Vec<Option<u32>> = vec![None; grid.len()];
+    let mut count = 0u32;
+    let mut stack = Vec::new();
+    for start in 0..grid.len() {
+        let Some(k) = key(start) else { continue };
+        if label[start].is_some() {
+            continue;
+        }
+        label[start] = Some(count);
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            for n in grid.face_neighbours(i) {
+                if label[n].is_none() && key(n) == Some(k) {
+                    label[n] = Some(count);
+                    stack.push(n);
+                }
+            }
+        }
+        count += 1;
+    }
+    (label, count as usize)
+}
+
+/// The body cells of each piece: cells within the ball inscribed at a cell whose depth is at
+/// least `fraction` of the piece's greatest depth (a morphological opening of the thick part,
+/// which reaches the surface where no limb leaves it).
+fn body_cells(
+    grid: &Grid,
+    piece_of: &[Option<usize>],
+    pieces: usize,
+    depth: &[f64],
+    fraction: f64,
+) -> Vec<bool> {
+    let mut deepest = vec![0.0f64; pieces];
+    for (i, p) in piece_of.iter().enumerate() {
+        if let Some(p) = *p {
+            deepest[p] = deepest[p].max(depth[i]);
+        }
+    }
+    // Radius left at each cell, grown from the seeds outward (largest first).
+    let mut left = vec![0.0f64; grid.len()];
+    let mut heap = BinaryHeap::new();
+    for (i, p) in piece_of.iter().enumerate() {
+        if let Some(p) = *p
+            && depth[i] >= fraction * deepest[p]
+        {
+            left[i] = depth[i];
+            heap.push((left[i].to_bits(), Reverse(i)));
+        }
+    }
+    let steps = neighbour_steps();
+    while let Some((bits, Reverse(i))) = heap.pop() {
+        let r = f64::from_bits(bits);
+        if r < left[i] {
+            continue;
+        }
+        let c = grid.cell_of(i);
+        for (s, w) in &steps {
+            let Some(n) = grid.index(c + *s) else {
+                continue;
+            };
+            if piece_of[n] != piece_of[i] {
+                continue;
+            }
+            let rn = r - w;
+            if rn > left[n] {
+                left[n] = rn;
+                heap.push((rn.to_bits(), Reverse(n)));
+            }
+        }
+    }
+    left.iter().map(|&r| r > 0.0).collect()
+}
+
+/// Geodesic distance (26-neighbour steps) inside limb `l` from its cells touching the body.
+fn geodesic_from_body(
+    grid: &Grid,
+    cells: &[usize],
+    limb_of: &[Option<usize>],
+    l: usize,
+    body: &[bool],
+) -> BTreeMap<usize, f64> {
+    let mut distance: BTreeMap<usize, f64> = BTreeMap::new();
+    let mut heap = BinaryHeap::new();
+    for &i in cells {
+        if grid.face_neighbours(i).any(|n| body[n]) {
+            distance.insert(i, 0.0);
+            heap.push((Reverse(0u64), i));
+        }
+    }
+    if heap.is_empty() {
+        // A piece with no body (cannot happen: every piece has its deepest cell as a seed).
+        if let Some(&first) = cells.first() {
+            distance.insert(first, 0.0);
+            heap.push((Reverse(0u64), first));
+        }
+    }
+    let steps = neighbour_steps();
+    while let Some((Reverse(bits), i)) = heap.pop() {
+        let d = f64::from_bits(bits);
+        if d > distance[&i] {
+            continue;
+        }
+        let c = grid.cell_of(i);
+        for (s, w) in &steps {
+            let Some(n) = grid.index(c + *s) else {
+                continue;
+            };
+            if limb_of[n] != Some(l) {
+                continue;
+            }
+            let dn = d + w;
+            if distance.get(&n).is_none_or(|&old| dn < old) {
+                distance.insert(n, dn);
+                heap.push((Reverse(dn.to_bits()), n));
+            }
+        }
+    }
+    // Cells reached only through other pieces (none in practice) sit at the root.
+    for &i in cells {
+        distance.entry(i).or_insert(0.0);
+    }
+    distance
+}
+
+/// Parts smaller than a fifth of the median part (or than 4 cells) join the neighbour they
+/// share most faces with, so no sliver becomes a cage of its own.
+fn merge_small_parts(grid: &Grid, parts: &mut Parts) {
+    loop {
+        let count = parts.roles.len();
+        let mut size = vec![0usize; count];
+        for p in parts.label.iter().flatten() {
+            size[*p as usize] += 1;
+        }
+        let mut sorted: Vec<usize> = size.iter().copied().filter(|&s| s > 0).collect();
+        sorted.sort_unstable();
+        let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0);
+        let small = (median / 5).max(4);
+        // The first small part with a neighbour (an isolated piece stays a part of its own).
+        let Some((victim, into)) = (0..count)
+            .filter(|&p| size[p] > 0 && size[p] < small)
+            .find_map(|p| {
+                let contacts = contacts_of(grid, &parts.label, p as u32);
+                let best = contacts.iter().max_by_key(|(q, n)| (**n, Reverse(**q)))?;
+                Some((p, *best.0))
+            })
+        else {
+            return;
+        };
+        for l in parts.label.iter_mut() {
+            if *l == Some(victim as u32) {
+                *l = Some(into);
+            }
+        }
+        compact(parts);
+    }
+}
+
+/// Faces part `p` shares with each other part.
+pub(super) fn contacts_of(grid: &Grid, label: &[Option<u32>], p: u32) -> BTreeMap<u32, usize> {
+    let mut contacts = BTreeMap::new();
+    for (i, l) in label.iter().enumerate() {
+        if *l != Some(p) {
+            continue;
+        }
+        let c = grid.cell_of(i);
+        for s in FACE_STEPS {
+            if let Some(n) = grid.index(c + s)
+                && let Some(q) = label[n]
+                && q != p
+            {
+                *contacts.entry(q).or_insert(0) += 1;
+            }
+        }
+    }
+    contacts
+}
+
+/// Renumbers parts so that the numbers are 0..n without gaps, in order of first cell, and
+/// splits every part that is not face-connected into one part per piece.
+pub(super) fn compact(parts: &mut Parts) {
+    let mut renumber: BTreeMap<u32, u32> = BTreeMap::new();
+    let mut roles = Vec::new();
+    for l in parts.label.iter_mut().flatten() {
+        let next = renumber.len() as u32;
+        let new = *renumber.entry(*l).or_insert_with(|| {
+            roles.push(parts.roles[*l as usize]);
+            next
+        });
+        *l = new;
+    }
+    parts.roles = roles;
+}
+
+/// Splits parts that are not face-connected into one part per piece (same role).
+pub(super) fn split_disconnected(grid: &Grid, parts: &mut Parts) {
+    let label = parts.label.clone();
+    let (pieces, _) = components_within(grid, |i| label[i]);
+    let mut roles = Vec::new();
+    let mut seen: BTreeMap<u32, u32> = BTreeMap::new();
+    for (i, piece) in pieces.iter().enumerate() {
+        if let (Some(piece), Some(old)) = (piece, label[i]) {
+            let next = seen.len() as u32;
+            let new = *seen.entry(*piece).or_insert_with(|| {
+                roles.push(parts.roles[old as usize]);
+                next
+            });
+            parts.label[i] = Some(new);
+        }
+    }
+    parts.roles = roles;
+}
+
+fn neighbour_steps() -> Vec<(IVec3, f64)> {
+    (-1..=1)
+        .flat_map(|z| (-1..=1).flat_map(move |y| (-1..=1).map(move |x| IVec3::new(x, y, z))))
+        .filter(|s| *s != IVec3::ZERO)
+        .map(|s| (s, s.as_dvec3().length()))
+        .collect()
+}
+
+fn cell_bounds(grid: &Grid, cells: &[usize]) -> (IVec3, IVec3) {
+    cells.iter().fold((IVec3::MAX, IVec3::MIN), |(lo, hi), &i| {
+        let c = grid.cell_of(i);
+        (lo.min(c), hi.max(c))
+    })
+}
+
+fn longest_axis(extent: IVec3) -> usize {
+    // Ties go to z, then y: bodies stand along z in StarCages' frame.
+    [2, 1, 0]
+        .into_iter()
+        .max_by_key(|&a| (extent[a], a == 2, a == 1))
+        .unwrap_or(2)
+}
+
+fn mean_depth(depth: &[f64], cells: &[usize]) -> f64 {
+    if cells.is_empty() {
+        return 1.0;
+    }
+    (cells.iter().map(|&i| depth[i]).sum::<f64>() / cells.len() as f64).max(0.5)
+}
+
+/// How many pieces of about `piece` a length is cut into (at least one).
+fn slab_count(length: f64, piece: f64) -> usize {
+    ((length / piece.max(1.0)).round() as usize).clamp(1, 64)
+}

@@ -1,0 +1,273 @@
+//! The auto rig on generated shapes (an H, a Y, a five-armed star, two blobs, a figure with
+//! legs close together): valid scenes, one piece of surface per cage, the same rig on any
+//! number of threads; the 3×3×3 box grid as the negative control of the one-piece check.
+
+use glam::DVec3;
+use starcages_core::BindControl;
+use starcages_core::generate::{AutorigSettings, autorig, surface_pieces_per_leaf};
+use starcages_core::mesh::Mesh;
+use starcages_core::scene::{
+    AutocageOptions, CageSet, MeshSource, Scene, SceneSettings, autocage, validate_scene,
+};
+use starcages_core::surface_nets::surface_nets;
+
+/// Distance from `p` to the capsule from `a` to `b` of radius `r` (negative inside).
+fn capsule(p: DVec3, a: DVec3, b: DVec3, r: f64) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    (p - (a + ab * t)).length() - r
+}
+
+/// A closed mesh of the union of capsules (a, b, radius).
+fn capsules(parts: &[(DVec3, DVec3, f64)], spacing: f64) -> Mesh {
+    let field = |p: DVec3| {
+        parts
+            .iter()
+            .map(|&(a, b, r)| capsule(p, a, b, r))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (lo, hi) = parts.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &(a, b, r)| (lo.min(a.min(b) - r), hi.max(a.max(b) + r)),
+    );
+    let pad = DVec3::splat(2.0 * spacing);
+    let (positions, triangles) = surface_nets(field, lo - pad, hi + pad, spacing);
+    Mesh::new(positions, triangles, None, None).unwrap()
+}
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+fn shape_h() -> Mesh {
+    capsules(
+        &[
+            (v(-1.0, 0.0, -1.5), v(-1.0, 0.0, 1.5), 0.35),
+            (v(1.0, 0.0, -1.5), v(1.0, 0.0, 1.5), 0.35),
+            (v(-1.0, 0.0, 0.0), v(1.0, 0.0, 0.0), 0.3),
+        ],
+        0.06,
+    )
+}
+
+fn shape_y() -> Mesh {
+    capsules(
+        &[
+            (v(0.0, 0.0, -2.0), v(0.0, 0.0, 0.0), 0.35),
+            (v(0.0, 0.0, 0.0), v(-1.2, 0.0, 1.5), 0.3),
+            (v(0.0, 0.0, 0.0), v(1.2, 0.0, 1.5), 0.3),
+        ],
+        0.06,
+    )
+}
+
+fn shape_star() -> Mesh {
+    let mut parts = vec![(v(0.0, 0.0, 0.0), v(0.0, 0.0, 0.01), 0.6)];
+    for k in 0..5 {
+        let angle = std::f64::consts::TAU * f64::from(k) / 5.0;
+        parts.push((
+            v(0.0, 0.0, 0.0),
+            2.2 * v(angle.cos(), angle.sin(), 0.0),
+            0.22,
+        ));
+    }
+    capsules(&parts, 0.05)
+}
+
+fn two_blobs() -> Mesh {
+    capsules(
+        &[
+            (v(-1.5, 0.0, 0.0), v(-1.0, 0.0, 0.2), 0.6),
+            (v(1.2, 0.0, 0.0), v(1.6, 0.3, 0.0), 0.5),
+        ],
+        0.06,
+    )
+}
+
+/// A standing figure: a torso, a head, two arms out to the sides and two legs 0.3 apart.
+fn figure() -> Mesh {
+    capsules(
+        &[
+            (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
+            (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
+            (v(-0.3, 0.0, 1.1), v(-1.5, 0.0, 0.9), 0.14),
+            (v(0.3, 0.0, 1.1), v(1.5, 0.0, 0.9), 0.14),
+            (v(-0.3, 0.0, 0.1), v(-0.3, 0.0, -1.6), 0.15),
+            (v(0.3, 0.0, 0.1), v(0.3, 0.0, -1.6), 0.15),
+        ],
+        0.04,
+    )
+}
+
+fn rig(mesh: &Mesh, settings: &AutorigSettings) -> CageSet {
+    autorig(mesh, settings, &BindControl::default())
+        .unwrap()
+        .cages
+}
+
+fn scene(mesh: &Mesh, cages: CageSet) -> Scene {
+    Scene::new(
+        MeshSource::Embedded,
+        mesh.clone(),
+        cages,
+        SceneSettings::default(),
+    )
+}
+
+/// Properties 1 and 2 of the issue: a valid scene, one piece of surface in every leaf cage.
+fn check_rig(name: &str, mesh: &Mesh, least_cages: usize) -> Scene {
+    let scene = scene(mesh, rig(mesh, &AutorigSettings::default()));
+    let report = validate_scene(&scene);
+    assert!(report.is_valid(), "{name}: {:?}", report.errors);
+    assert!(
+        scene.cages.leaves.len() >= least_cages,
+        "{name}: only {} leaf cages",
+        scene.cages.leaves.len()
+    );
+    let pieces = surface_pieces_per_leaf(&scene);
+    for (leaf, n) in scene.cages.leaves.iter().zip(&pieces) {
+        assert_eq!(
+            *n, 1,
+            "{name}: cage '{}' holds {n} pieces of surface",
+            leaf.name
+        );
+    }
+    scene
+}
+
+#[test]
+fn an_h_gets_a_valid_rig_with_one_piece_per_cage() {
+    check_rig("H", &shape_h(), 5);
+}
+
+#[test]
+fn a_y_gets_a_valid_rig_with_one_piece_per_cage() {
+    check_rig("Y", &shape_y(), 4);
+}
+
+#[test]
+fn a_five_armed_star_gets_a_chain_per_arm() {
+    let scene = check_rig("star", &shape_star(), 6);
+    let limbs: std::collections::BTreeSet<&str> = scene
+        .cages
+        .leaves
+        .iter()
+        .filter_map(|l| l.name.strip_prefix("limb")?.split('_').next())
+        .collect();
+    assert_eq!(
+        limbs.len(),
+        5,
+        "one limb per arm: {:?}",
+        scene
+            .cages
+            .leaves
+            .iter()
+            .map(|l| &l.name)
+            .collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn two_blobs_get_cages_of_their_own() {
+    check_rig("two blobs", &two_blobs(), 2);
+}
+
+#[test]
+fn a_figure_with_legs_close_together_keeps_them_apart_where_a_box_grid_does_not() {
+    let mesh = figure();
+    check_rig("figure", &mesh, 7);
+    // Negative control: the 3x3x3 grid puts both legs in one cell.
+    let grid = scene(&mesh, autocage(&mesh, &AutocageOptions::default()));
+    assert!(validate_scene(&grid).is_valid());
+    let pieces = surface_pieces_per_leaf(&grid);
+    assert!(
+        pieces.iter().any(|&n| n > 1),
+        "the box grid should hold two legs in one cell: {pieces:?}"
+    );
+}
+
+#[test]
+fn a_mesh_lying_on_its_side_gets_a_valid_rig_too() {
+    // The Y turned a quarter about x, as a Y-up file read without turning would be.
+    let mesh = shape_y();
+    let turned: Vec<DVec3> = mesh.positions().iter().map(|p| v(p.x, -p.z, p.y)).collect();
+    let turned = Mesh::new(turned, mesh.triangles().to_vec(), None, None).unwrap();
+    check_rig("Y on its side", &turned, 4);
+}
+
+#[test]
+fn a_mesh_with_holes_is_filled_and_rigged() {
+    // The H with a tenth of its triangles removed: open, yet inside by winding number.
+    let mesh = shape_h();
+    let kept: Vec<[u32; 3]> = mesh
+        .triangles()
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| i % 10 != 3)
+        .map(|(_, t)| *t)
+        .collect();
+    let open = Mesh::new(mesh.positions().to_vec(), kept, None, None).unwrap();
+    let scene = scene(&open, rig(&open, &AutorigSettings::default()));
+    assert!(validate_scene(&scene).is_valid());
+}
+
+#[test]
+fn the_same_mesh_gives_the_same_rig_on_any_thread_count() {
+    let mesh = shape_star();
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| rig(&mesh, &AutorigSettings::default()))
+    };
+    assert_eq!(on(1), on(3));
+}
+
+#[test]
+fn internal_cages_drive_each_limb() {
+    let mesh = shape_star();
+    let settings = AutorigSettings {
+        internal: true,
+        ..AutorigSettings::default()
+    };
+    let scene = scene(&mesh, rig(&mesh, &settings));
+    assert!(validate_scene(&scene).is_valid());
+    let names: Vec<&str> = scene
+        .cages
+        .internals
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect();
+    assert_eq!(
+        names
+            .iter()
+            .filter(|n| n.ends_with("_ctrl") && n.starts_with("limb"))
+            .count(),
+        5
+    );
+    assert!(names.contains(&"rig_ctrl"));
+}
+
+#[test]
+fn bad_settings_and_flat_meshes_are_refused_with_the_reason() {
+    let mesh = shape_y();
+    let control = BindControl::default();
+    let bad = AutorigSettings {
+        detail: 9,
+        ..AutorigSettings::default()
+    };
+    let e = autorig(&mesh, &bad, &control).unwrap_err().to_string();
+    assert!(e.contains("detail 9"), "{e}");
+    let flat = Mesh::new(
+        vec![v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)],
+        vec![[0, 1, 2]],
+        None,
+        None,
+    )
+    .unwrap();
+    let e = autorig(&flat, &AutorigSettings::default(), &control)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no volume"), "{e}");
+}
