@@ -52,6 +52,7 @@ impl eframe::App for EditorApp {
         self.state.poll_jobs(false);
         let busy = self.state.bind_job.is_some()
             || self.state.load_job.is_some()
+            || self.state.autorig_job.is_some()
             || self.state.map.baseline_progress().is_some()
             || self.ui.tool.is_some()
             || self.ui.loop_cut.is_some();

@@ -32,7 +32,7 @@ fn main() -> anyhow::Result<()> {
         }
     };
     let (doc, error) = match &path {
-        Some(path) => match Document::open(path) {
+        Some(path) => match Document::open(path, &starcages_core::BindControl::default()) {
             Ok(doc) => (doc, None),
             Err(e) => (Document::demo(), Some(EditorError::Startup(Box::new(e)))),
         },

@@ -9,8 +9,7 @@ use starcages_core::io::{cage_set_obj_text, write_atomic};
 
 use super::{CameraChange, Command, UnsavedAnswer};
 use crate::state::NewMeshOptions;
-use crate::state::document::scene_from_mesh;
-use crate::state::{CageId, Document, EditorError, EditorState, Pending, SelectMode};
+use crate::state::{CageId, EditorError, EditorState, Pending, SelectMode};
 
 /// Carries out `commands` in order.
 pub fn apply_all(state: &mut EditorState, commands: Vec<Command>) {
@@ -105,6 +104,18 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 state.pending = Some(Pending::Close);
             } else {
                 state.close_confirmed = true;
+            }
+        }
+        Command::AutoRig { detail, internal } => {
+            state.start_autorig(starcages_core::generate::AutorigSettings {
+                detail,
+                internal,
+                ..Default::default()
+            });
+        }
+        Command::CancelAutoRig => {
+            if state.autorig_job.take().is_some() {
+                state.info("auto rig cancelled; the rig is unchanged");
             }
         }
         Command::CancelLoad => {
@@ -623,17 +634,7 @@ fn store_pose(state: &mut EditorState, name: &str) {
 }
 
 fn new_from_mesh(state: &mut EditorState, path: &Path, options: &NewMeshOptions) {
-    match scene_from_mesh(path, options) {
-        Ok(scene) => {
-            state.install_document(Document {
-                scene,
-                path: None,
-                dirty: true,
-            });
-            state.info(format!("new scene around {}", path.display()));
-        }
-        Err(e) => state.error(e),
-    }
+    state.start_new_from_mesh(path.to_path_buf(), *options);
 }
 
 fn save_as(state: &mut EditorState, path: &Path) -> bool {

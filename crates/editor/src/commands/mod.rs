@@ -59,8 +59,19 @@ pub enum Command {
     Open(PathBuf),
     /// Open a generated demo scene by name (asks first when there are unsaved changes).
     OpenDemo(String),
-    /// A new scene around a mesh in automatic grid cages (asks first over unsaved changes).
+    /// A new scene around a mesh in the auto rig or a grid of cages, made on a worker (asks
+    /// first over unsaved changes).
     NewFromMesh(PathBuf, NewMeshOptions),
+    /// Rig ▸ Auto rig: replace the rig with the auto rig of the mesh (on a worker; one undo
+    /// step when it arrives).
+    AutoRig {
+        /// How fine, 1 to 5.
+        detail: u32,
+        /// Also internal cages per limb and over the rig.
+        internal: bool,
+    },
+    /// Stop the auto rig in progress.
+    CancelAutoRig,
     /// Save to the document's file (the UI asks for one with [`Command::SaveAs`] when there is
     /// none).
     Save,

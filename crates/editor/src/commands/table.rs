@@ -81,6 +81,8 @@ pub enum UiCommand {
     FitCage,
     /// Rig ▸ Subdivide
     SubdivideCages,
+    /// Rig ▸ Auto rig
+    AutoRig,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -93,7 +95,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 37] = [
+    pub const ALL: [Self; 38] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -131,6 +133,7 @@ impl UiCommand {
         Self::MirrorCage,
         Self::FitCage,
         Self::SubdivideCages,
+        Self::AutoRig,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -173,6 +176,7 @@ impl UiCommand {
             Self::MirrorCage => "Mirror across X",
             Self::FitCage => "Fit to mesh",
             Self::SubdivideCages => "Subdivide",
+            Self::AutoRig => "Auto rig",
         }
     }
 
@@ -258,6 +262,11 @@ impl UiCommand {
                 "Rig mode: pull the inspected cage in to the mesh (vertices it shares stay), \
                  keeping a margin of 2 % of the mesh's size"
             }
+            Self::AutoRig => {
+                "Replace the rig with one that follows the mesh's shape: a chain of cages along \
+                 each limb, a few across the body, an internal cage per limb to pose it \
+                 (in the background; one undo step)"
+            }
         }
     }
 
@@ -298,7 +307,7 @@ impl UiCommand {
             Self::DeleteCage => &const { [key(NONE, Key::X), key(NONE, Key::Delete)] },
             Self::MergeCages => &const { [key(NONE, Key::M)] },
             Self::MirrorCage => &const { [key(CMD, Key::M)] },
-            Self::FitCage | Self::SubdivideCages => &[],
+            Self::FitCage | Self::SubdivideCages | Self::AutoRig => &[],
             Self::ShowShortcuts => {
                 &const {
                     [

@@ -1,8 +1,10 @@
 //! The open document: a scene, where it lives on disk, and whether it has unsaved changes.
-//! Opening accepts scene files and bare meshes (which get automatic grid cages).
+//! Opening accepts scene files and bare meshes (which get the auto rig).
 
 use std::path::{Path, PathBuf};
 
+use starcages_core::BindControl;
+use starcages_core::generate::{AutorigSettings, autorig};
 use starcages_core::io::read_mesh_as;
 use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{
@@ -49,7 +51,7 @@ impl Document {
 
     /// Opens a scene (`.json`) or a mesh (`.obj`, `.gltf`, `.glb`; boxed in automatic grid
     /// cages). The error names the file, what is wrong and what to do.
-    pub fn open(path: &Path) -> Result<Self, EditorError> {
+    pub fn open(path: &Path, control: &BindControl) -> Result<Self, EditorError> {
         let extension = path
             .extension()
             .and_then(|e| e.to_str())
@@ -72,7 +74,7 @@ impl Document {
             });
         }
         Ok(Self {
-            scene: scene_from_mesh(path, &NewMeshOptions::default())?,
+            scene: scene_from_mesh(path, &NewMeshOptions::default(), control)?,
             path: None,
             dirty: true,
         })
@@ -104,9 +106,24 @@ impl Document {
     }
 }
 
-/// How File ▸ New from mesh builds a scene: the automatic grid and the mesh file's up axis.
+/// Which cages File ▸ New from mesh (and opening a mesh) puts around the mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NewRig {
+    /// The auto rig: chains of cages along the limbs, a few across the body.
+    #[default]
+    Auto,
+    /// A grid of box cages.
+    Grid,
+}
+
+/// How File ▸ New from mesh builds a scene: the auto rig or the automatic grid, and the mesh
+/// file's up axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewMeshOptions {
+    /// Auto rig or grid.
+    pub rig: NewRig,
+    /// The auto rig's detail (1 to 5).
+    pub detail: u32,
     /// The automatic grid of box cages.
     pub cages: AutocageOptions,
     /// Up axis of an OBJ file (glTF is always Y-up).
@@ -116,6 +133,8 @@ pub struct NewMeshOptions {
 impl Default for NewMeshOptions {
     fn default() -> Self {
         Self {
+            rig: NewRig::Auto,
+            detail: AutorigSettings::default().detail,
             cages: AutocageOptions::default(),
             up: UpAxis::Y,
         }
@@ -128,11 +147,27 @@ pub fn is_gltf(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
 }
 
-/// A new scene around the mesh at `path`, turned to Z-up, in a grid of box cages.
-pub fn scene_from_mesh(path: &Path, options: &NewMeshOptions) -> Result<Scene, EditorError> {
+/// A new scene around the mesh at `path`, turned to Z-up, in the auto rig or a grid of box
+/// cages (`control` reports the auto rig's progress and cancels it).
+pub fn scene_from_mesh(
+    path: &Path,
+    options: &NewMeshOptions,
+    control: &BindControl,
+) -> Result<Scene, EditorError> {
     let up = if is_gltf(path) { UpAxis::Y } else { options.up };
     let mesh = read_mesh_as(path, up).map_err(EditorError::OpenMesh)?;
-    let cages = autocage(&mesh, &options.cages);
+    let cages = match options.rig {
+        NewRig::Auto => {
+            let settings = AutorigSettings {
+                detail: options.detail,
+                ..AutorigSettings::default()
+            };
+            autorig(&mesh, &settings, control)
+                .map_err(EditorError::AutoRig)?
+                .cages
+        }
+        NewRig::Grid => autocage(&mesh, &options.cages),
+    };
     let source = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
     Ok(Scene::from_mesh_file(
         source,

@@ -18,6 +18,9 @@ pub enum EditorError {
     /// No demo of that name.
     #[error("there is no demo '{0}'; File > Open demo lists them")]
     UnknownDemo(String),
+    /// The auto rig could not rig the mesh (or was cancelled).
+    #[error("{0}. The current scene is unchanged")]
+    AutoRig(#[source] starcages_core::generate::AutorigError),
     /// A mesh file could not be read.
     #[error("could not open {0}. The current scene is unchanged")]
     OpenMesh(#[source] FileError),

@@ -251,5 +251,38 @@ pub fn load_demo(name: String, wake: Option<Waker>) -> Job<LoadResult> {
 /// Opens the file `path` on a worker.
 pub fn load(path: PathBuf, wake: Option<Waker>) -> Job<LoadResult> {
     let label = format!("opening {}", path.display());
-    Job::spawn("loading", label, wake, move |_| Document::open(&path))
+    Job::spawn("loading", label, wake, move |control| {
+        Document::open(&path, control)
+    })
+}
+
+/// Reads the mesh at `path` and puts the cages `options` ask for around it, on a worker (the
+/// auto rig reports progress and can be cancelled).
+pub fn new_from_mesh(
+    path: PathBuf,
+    options: super::NewMeshOptions,
+    wake: Option<Waker>,
+) -> Job<LoadResult> {
+    let label = format!("rigging {}", path.display());
+    Job::spawn("loading", label, wake, move |control| {
+        let scene = super::document::scene_from_mesh(&path, &options, control)?;
+        Ok(Document {
+            scene,
+            path: None,
+            dirty: true,
+        })
+    })
+}
+
+/// The auto rig of `mesh` on a worker: the leaf cages (and internal cages where asked).
+pub fn autorig(
+    mesh: starcages_core::mesh::Mesh,
+    settings: starcages_core::generate::AutorigSettings,
+    wake: Option<Waker>,
+) -> Job<Result<CageSet, EditorError>> {
+    Job::spawn("auto rig", "auto rig", wake, move |control| {
+        starcages_core::generate::autorig(&mesh, &settings, control)
+            .map(|rig| rig.cages)
+            .map_err(EditorError::AutoRig)
+    })
 }

@@ -24,7 +24,7 @@ use std::time::Instant;
 use glam::{DVec3, Vec3};
 
 pub use cage_id::CageId;
-pub use document::{Document, NewMeshOptions};
+pub use document::{Document, NewMeshOptions, NewRig};
 pub use error::EditorError;
 pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
@@ -171,6 +171,8 @@ pub struct EditorState {
     pub bind_job: Option<Job<BindResult>>,
     /// A file being opened.
     pub load_job: Option<Job<LoadResult>>,
+    /// Rig ▸ Auto rig running on the current mesh (dropping it cancels it).
+    pub autorig_job: Option<Job<Result<starcages_core::scene::CageSet, EditorError>>>,
     /// The influence map.
     pub map: InfluenceMap,
     /// The status message.
@@ -222,6 +224,7 @@ impl EditorState {
             rig: None,
             bind_job: None,
             load_job: None,
+            autorig_job: None,
             map: InfluenceMap::default(),
             message: None,
             stats: Stats::default(),
@@ -313,10 +316,12 @@ impl EditorState {
     pub fn poll_jobs(&mut self, wait: bool) {
         loop {
             self.poll_load(wait);
+            self.poll_autorig(wait);
             self.poll_bind(wait);
             self.poll_baseline(wait);
             self.refresh_map();
             let busy = self.load_job.is_some()
+                || self.autorig_job.is_some()
                 || self.bind_job.is_some()
                 || self.map.baseline_progress().is_some();
             if !wait || !busy {
@@ -394,6 +399,52 @@ impl EditorState {
             }
             Err(e) => self.error(e),
         }
+    }
+
+    /// Takes the auto rig's cages once they are made: they replace the rig as one undo step
+    /// (poses are of the old cages, so they go; undo brings them back).
+    fn poll_autorig(&mut self, wait: bool) {
+        let Some(job) = &self.autorig_job else {
+            return;
+        };
+        let result = if wait { Some(job.wait()) } else { job.poll() };
+        let Some(result) = result else {
+            return;
+        };
+        self.autorig_job = None;
+        match result.and_then(|r| r) {
+            Ok(cages) => {
+                let (leaves, vertices) = (cages.leaves.len(), cages.vertices.len());
+                self.selection = Selection::default();
+                self.edit_scene("auto rig", |scene| {
+                    scene.pose = cages.vertices.clone();
+                    scene.cages = cages;
+                    scene.poses.clear();
+                    scene.pose_state = Default::default();
+                    scene.pose_states.clear();
+                });
+                self.info(format!(
+                    "auto rig: {leaves} leaf cages, {vertices} cage vertices (Ctrl+Z brings the old rig back)"
+                ));
+            }
+            Err(e) => self.error(e),
+        }
+    }
+
+    /// Starts the auto rig of the current mesh on a worker, with the scene's settings kept.
+    pub fn start_autorig(&mut self, settings: starcages_core::generate::AutorigSettings) {
+        self.info("auto rig…");
+        self.autorig_job = Some(jobs::autorig(
+            self.doc.scene.mesh.clone(),
+            settings,
+            self.waker.clone(),
+        ));
+    }
+
+    /// Starts reading a mesh and rigging it on a worker, as [`Self::start_load`].
+    pub fn start_new_from_mesh(&mut self, path: PathBuf, options: NewMeshOptions) {
+        self.info(format!("rigging {}…", path.display()));
+        self.load_job = Some(jobs::new_from_mesh(path, options, self.waker.clone()));
     }
 
     /// Starts opening `path` on a worker; the current document stays until it has loaded,

@@ -106,6 +106,10 @@ pub fn execute(
         UiCommand::MirrorCage => rig(super::rig_keys::mirror(state)),
         UiCommand::FitCage => rig(super::rig_keys::fit(state)),
         UiCommand::SubdivideCages => rig(Ok(starcages_core::scene::RigOp::Subdivide)),
+        UiCommand::AutoRig => Command::AutoRig {
+            detail: starcages_core::generate::AutorigSettings::default().detail,
+            internal: true,
+        },
     };
     sender.send(command);
 }

@@ -140,6 +140,8 @@ pub fn menu_bar(
             ] {
                 item(ui, action, None, rig, &mut chosen);
             }
+            ui.separator();
+            item(ui, UiCommand::AutoRig, None, true, &mut chosen);
         });
         ui.menu_button("Help", |ui| {
             item(ui, UiCommand::ShowShortcuts, None, true, &mut chosen);

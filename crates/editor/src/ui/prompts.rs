@@ -5,8 +5,8 @@ use super::UiState;
 use super::file_dialog::FilePurpose;
 use super::inspector::{KINDS, kind_name};
 use crate::commands::{Command, CommandSender, UnsavedAnswer};
-use crate::state::EditorState;
 use crate::state::document::is_gltf;
+use crate::state::{EditorState, NewRig};
 use starcages_core::scene::UpAxis;
 
 /// "Unsaved changes" while an action waits for the answer.
@@ -60,8 +60,8 @@ fn up_name(up: UpAxis) -> &'static str {
     }
 }
 
-/// File ▸ New from mesh: grid size, padding and coordinates of the automatic cages, and the
-/// file's up axis.
+/// File ▸ New from mesh: the auto rig (its detail) or the automatic grid (size, padding,
+/// coordinates), and the file's up axis.
 pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
     let Some((path, options)) = &mut ui_state.new_mesh_dialog else {
         return;
@@ -71,19 +71,34 @@ pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut
         ui.heading("New from mesh");
         ui.label(path.display().to_string());
         ui.horizontal(|ui| {
-            ui.label("Grid cells");
-            for n in &mut options.cages.grid {
-                ui.add(egui::DragValue::new(n).range(1..=16));
-            }
+            ui.label("Cages");
+            ui.radio_value(&mut options.rig, NewRig::Auto, "Auto rig")
+                .on_hover_text("chains of cages along the limbs, a few across the body");
+            ui.radio_value(&mut options.rig, NewRig::Grid, "Box grid")
+                .on_hover_text("a regular grid of box cages around the mesh");
         });
-        ui.add(egui::Slider::new(&mut options.cages.padding, 0.0..=0.5).text("padding"));
-        egui::ComboBox::from_label("Coordinates")
-            .selected_text(kind_name(options.cages.kind))
-            .show_ui(ui, |ui| {
-                for k in KINDS {
-                    ui.selectable_value(&mut options.cages.kind, k, kind_name(k));
-                }
-            });
+        match options.rig {
+            NewRig::Auto => {
+                ui.add(egui::Slider::new(&mut options.detail, 1..=5).text("detail"))
+                    .on_hover_text("1: few, coarse cages; 5: many, tight ones");
+            }
+            NewRig::Grid => {
+                ui.horizontal(|ui| {
+                    ui.label("Grid cells");
+                    for n in &mut options.cages.grid {
+                        ui.add(egui::DragValue::new(n).range(1..=16));
+                    }
+                });
+                ui.add(egui::Slider::new(&mut options.cages.padding, 0.0..=0.5).text("padding"));
+                egui::ComboBox::from_label("Coordinates")
+                    .selected_text(kind_name(options.cages.kind))
+                    .show_ui(ui, |ui| {
+                        for k in KINDS {
+                            ui.selectable_value(&mut options.cages.kind, k, kind_name(k));
+                        }
+                    });
+            }
+        }
         if is_gltf(path) {
             ui.label("Up axis: Y (glTF is Y-up by specification), turned to Z-up");
         } else {

@@ -29,6 +29,14 @@ pub fn status_bar(
                 sender.send(Command::CancelLoad);
             }
         }
+        if let Some(job) = &state.autorig_job {
+            ui.label(&job.label);
+            let fraction = job.progress() as f32;
+            ui.add(egui::ProgressBar::new(fraction).desired_width(160.0).show_percentage());
+            if ui.button("Cancel").clicked() {
+                sender.send(Command::CancelAutoRig);
+            }
+        }
         if let Some(job) = &state.bind_job {
             ui.label(&job.label);
             let fraction = job.progress() as f32;

@@ -226,7 +226,7 @@ fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable(
         app.run(Command::SaveAs(path.clone()));
         assert!(!app.state.doc.dirty, "{:?}", app.state.message);
     }
-    let reopened = Document::open(&path).unwrap();
+    let reopened = Document::open(&path, &starcages_core::BindControl::default()).unwrap();
     assert_eq!(reopened.scene, harness.state().state.doc.scene);
     // And through the app: open (on a worker), the same scene, clean, bound again.
     let saved = harness.state().state.doc.scene.clone();
@@ -652,6 +652,7 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
     for (up, tall_axis) in [(UpAxis::Y, 2), (UpAxis::Z, 1)] {
         let options = NewMeshOptions {
             up,
+            rig: starcages_editor::state::NewRig::Grid,
             ..NewMeshOptions::default()
         };
         app.run(Command::NewFromMesh(mesh.clone(), options));
@@ -670,6 +671,68 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
         // The default grid everywhere.
         assert!(scene.cages.leaves.len() <= 27 && scene.cages.leaves.len() > 8);
     }
+}
+
+/// New from mesh gives the auto rig by default, on a worker; Rig ▸ Auto rig replaces a rig
+/// with it as one undo step (poses of the old cages go, and come back with undo).
+#[test]
+fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
+    use starcages_core::scene::validate_scene;
+    use starcages_editor::state::NewMeshOptions;
+    let dir = scratch("auto-rig");
+    let mesh = dir.join("bar.obj");
+    let bar = starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap();
+    starcages_core::scene::write_deformed_mesh(&mesh, &bar, bar.mesh.welded_positions()).unwrap();
+    let doc = Document {
+        scene: bar,
+        path: None,
+        dirty: false,
+    };
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    app.wait_for_jobs();
+    let grid_cages = app.state.doc.scene.cages.clone();
+    app.run(Command::AutoRig {
+        detail: 2,
+        internal: true,
+    });
+    assert!(app.state.autorig_job.is_some(), "runs on a worker");
+    app.wait_for_jobs();
+    let scene = &app.state.doc.scene;
+    assert!(validate_scene(scene).is_valid());
+    assert_ne!(scene.cages, grid_cages);
+    assert!(
+        scene
+            .cages
+            .leaves
+            .iter()
+            .all(|l| l.name.starts_with("body") || l.name.starts_with("limb"))
+    );
+    assert!(scene.cages.internals.iter().any(|c| c.name == "rig_ctrl"));
+    assert!(app.state.rig.is_some(), "bound after the auto rig");
+    app.run(Command::Undo);
+    assert_eq!(app.state.doc.scene.cages, grid_cages, "one undo step back");
+    app.run(Command::Redo);
+    assert_ne!(app.state.doc.scene.cages, grid_cages);
+    // New from mesh: the auto rig by default.
+    app.run(Command::NewFromMesh(
+        mesh.clone(),
+        NewMeshOptions::default(),
+    ));
+    app.run(Command::AnswerUnsaved(
+        starcages_editor::commands::UnsavedAnswer::Discard,
+    ));
+    app.wait_for_jobs();
+    let scene = &app.state.doc.scene;
+    assert!(
+        scene
+            .cages
+            .leaves
+            .iter()
+            .all(|l| l.name.starts_with("body") || l.name.starts_with("limb")),
+        "{:?}",
+        app.state.message
+    );
+    assert!(validate_scene(scene).is_valid());
 }
 
 /// Where no native file dialog can be shown, File ▸ Open… opens the in-app one, and choosing a
