@@ -22,15 +22,12 @@ pub fn usage() -> String {
     format!(
         "starcages {} — the StarCages cage editor\n\n\
          Usage: starcages [FILE]\n\n\
-         FILE  a scene (.json) to open, or a mesh (.obj, .gltf, .glb) to box in an automatic\n      \
-         {}×{}×{} grid of cages (OBJ meshes are read Y-up and turned to Z-up); without FILE the\n      \
-         built-in demo opens\n\n\
+         FILE  a scene (.json) to open, or a mesh (.obj, .gltf, .glb) to rig automatically: a\n      \
+         chain of cages along each limb (OBJ meshes are read Y-up and turned to Z-up); without\n      \
+         FILE the built-in demo opens\n\n\
          Options:\n  -h, --help     print this help\n  -V, --version  print the version\n\n\
          Headless work (binding, deforming, benchmarks) is `starcages-cli --help`.",
         env!("CARGO_PKG_VERSION"),
-        starcages_core::scene::DEFAULT_GRID[0],
-        starcages_core::scene::DEFAULT_GRID[1],
-        starcages_core::scene::DEFAULT_GRID[2],
     )
 }
 

@@ -6,6 +6,7 @@
 //! b·row(T) + (1 − b)·Σ W_n(v, p)·row(L_v), with b, W, Ω and I from rest positions only.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
@@ -125,9 +126,9 @@ struct JoinData<'a> {
     /// d_{jc(v)}(t, v) per far face (1 for non-interior v).
     normaliser: Vec<f64>,
     /// Interpolating coordinates (MVC/HC) of the points that need Ω(v, ·).
-    interp: Option<Table>,
+    interp: Option<Arc<Table>>,
     /// Coordinates of kind `join.kind` of the points that need L_v.
-    transform: Option<Table>,
+    transform: Option<Arc<Table>>,
     /// For interior v: row of T_{jc(v)}(v) (eq. 10).
     vertex_row: Row,
     dofs: Vec<u32>,
@@ -335,18 +336,38 @@ pub(crate) fn bind_rows(
     // solve.
     let classes = harmonic_classes(topology, &need_omega);
     let in_a_class: BTreeSet<u32> = classes.iter().flatten().map(|(v, _)| *v).collect();
-    let join_tables_of = |v: u32, join: &JoinCage, shared_interp: bool| {
+    // Join cages over the same leaf cages are one cage (jc(v) is the union of the cages
+    // incident at v, eq. 8): its tables are computed once, for every point any of them needs
+    // (on a rig whose borders hold many vertices, most join cages are such copies).
+    let mut copies: BTreeMap<(&[usize], bool), Vec<u32>> = BTreeMap::new();
+    for (&v, join) in &topology.joins {
+        copies
+            .entry((join.cages.as_slice(), in_a_class.contains(&v)))
+            .or_default()
+            .push(v);
+    }
+    let copies: Vec<((&[usize], bool), Vec<u32>)> = copies.into_iter().collect();
+    let union_of = |members: &[u32], need: &BTreeMap<u32, BTreeSet<usize>>| -> Vec<usize> {
+        let union: BTreeSet<usize> = members
+            .iter()
+            .filter_map(|v| need.get(v))
+            .flatten()
+            .copied()
+            .collect();
+        union.into_iter().collect()
+    };
+    let join_tables_of = |members: &[u32], shared_interp: bool| {
+        let v = members[0];
         join_tables(
             v,
-            join,
+            &topology.joins[&v],
             shared_interp,
-            &need_omega,
-            &need_transform,
+            union_of(members, &need_omega),
+            union_of(members, &need_transform),
             points,
             &coord_settings,
             control,
         )
-        .map(|t| (v, t))
     };
     // The class solves (in parallel with each other), then every other join cage's tables
     // (in parallel). Running both pools at once was slower: two grid solves at a time fight
@@ -359,15 +380,19 @@ pub(crate) fn bind_rows(
         &coord_settings,
         control,
     );
-    let tables = topology
-        .joins
+    type Tables = (Option<Arc<Table>>, Option<Arc<Table>>);
+    let tables = copies
         .par_iter()
-        .map(|(&v, join)| join_tables_of(v, join, in_a_class.contains(&v)))
-        .collect::<Result<BTreeMap<u32, (Option<Table>, Option<Table>)>, StarError>>();
-    let (mut shared, mut tables) = (shared?, tables?);
+        .map(|((_, in_class), members)| {
+            join_tables_of(members, *in_class)
+                .map(|t| members.iter().map(|&v| (v, t.clone())).collect::<Vec<_>>())
+        })
+        .collect::<Result<Vec<Vec<(u32, Tables)>>, StarError>>();
+    let (mut shared, tables) = (shared?, tables?);
+    let mut tables: BTreeMap<u32, Tables> = tables.into_iter().flatten().collect();
     // Members of a class whose shared solve failed bind alone.
     for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
-        let (_, (interp, _)) = join_tables_of(v, &topology.joins[&v], false)?;
+        let (interp, _) = join_tables_of(&[v], false)?;
         if let Some(entry) = tables.get_mut(&v) {
             entry.0 = interp;
         }
@@ -394,7 +419,7 @@ pub(crate) fn bind_rows(
             Vec::new()
         };
         let (interp, transform) = tables.remove(&v).unwrap_or_default();
-        let interp = interp.or_else(|| shared.remove(&v));
+        let interp = interp.or_else(|| shared.remove(&v).map(Arc::new));
         // Interior v: its own coordinates in jc(v) give the normalisers d(t, v) and T_{jc(v)}(v).
         let own = interp.as_ref().and_then(|t| t.get(offset + v as usize));
         let (normaliser, vertex_row) = match (join.interior, own) {
@@ -564,33 +589,28 @@ pub(crate) fn bind_rows(
     })
 }
 
-/// The coordinate tables of join cage `join` (of vertex `v`): interpolating weights of the
-/// points that need Ω(v, ·) (unless a shared solve provides them), and weights of its own kind
-/// for the points that need L_v when that kind does not interpolate.
+/// The coordinate tables of join cage `join` (of vertex `v`): interpolating weights of
+/// `omega_points` (the points that need Ω(v, ·); none where a shared solve provides them), and
+/// weights of its own kind for `transform_points` (those that need L_v) when that kind does not
+/// interpolate.
 #[allow(clippy::too_many_arguments)]
 fn join_tables(
     v: u32,
     join: &JoinCage,
     shared_interp: bool,
-    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
-    need_transform: &BTreeMap<u32, BTreeSet<usize>>,
+    omega_points: Vec<usize>,
+    transform_points: Vec<usize>,
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
-) -> Result<(Option<Table>, Option<Table>), StarError> {
+) -> Result<(Option<Arc<Table>>, Option<Arc<Table>>), StarError> {
     let what = format!("join cage of vertex {v}");
     let interp_kind = interpolating(join.kind);
-    let list = |need: &BTreeMap<u32, BTreeSet<usize>>| -> Vec<usize> {
-        need.get(&v)
-            .map(|s| s.iter().copied().collect())
-            .unwrap_or_default()
-    };
-    let (omega_points, transform_points) = (list(need_omega), list(need_transform));
     let interp = if omega_points.is_empty() || shared_interp {
         None
     } else {
         let local = &join.local;
-        Some(Table::compute(
+        Some(Arc::new(Table::compute(
             interp_kind,
             local,
             points,
@@ -598,12 +618,12 @@ fn join_tables(
             settings,
             control,
             &what,
-        )?)
+        )?))
     };
     let transform = if transform_points.is_empty() || interp_kind == join.kind {
         None
     } else {
-        Some(Table::compute(
+        Some(Arc::new(Table::compute(
             join.kind,
             &join.local,
             points,
@@ -611,7 +631,7 @@ fn join_tables(
             settings,
             control,
             &what,
-        )?)
+        )?))
     };
     Ok((interp, transform))
 }

@@ -183,7 +183,10 @@ impl UiCommand {
     /// What it does, in plain words (menu tooltips).
     pub fn tooltip(self) -> &'static str {
         match self {
-            Self::NewFromMesh => "Box a mesh (OBJ, glTF, GLB) in a grid of automatic cages",
+            Self::NewFromMesh => {
+                "Rig a mesh (OBJ, glTF, GLB): the auto rig (chains of cages along its limbs) or a \
+                 grid of box cages"
+            }
             Self::Open => "Open a scene (.json) or a mesh, which gets automatic cages",
             Self::Save => "Save the scene to its file (atomic: a failed save overwrites nothing)",
             Self::SaveAs => "Save the scene to a new file",
