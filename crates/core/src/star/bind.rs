@@ -346,7 +346,7 @@ pub(crate) fn bind_rows(
             .or_default()
             .push(v);
     }
-    let copies: Vec<((&[usize], bool), Vec<u32>)> = copies.into_iter().collect();
+    let copies: Vec<_> = copies.into_iter().collect();
     let union_of = |members: &[u32], need: &BTreeMap<u32, BTreeSet<usize>>| -> Vec<usize> {
         let union: BTreeSet<usize> = members
             .iter()
@@ -380,16 +380,15 @@ pub(crate) fn bind_rows(
         &coord_settings,
         control,
     );
-    type Tables = (Option<Arc<Table>>, Option<Arc<Table>>);
     let tables = copies
         .par_iter()
         .map(|((_, in_class), members)| {
             join_tables_of(members, *in_class)
                 .map(|t| members.iter().map(|&v| (v, t.clone())).collect::<Vec<_>>())
         })
-        .collect::<Result<Vec<Vec<(u32, Tables)>>, StarError>>();
+        .collect::<Result<Vec<Vec<(u32, JoinTables)>>, StarError>>();
     let (mut shared, tables) = (shared?, tables?);
-    let mut tables: BTreeMap<u32, Tables> = tables.into_iter().flatten().collect();
+    let mut tables: BTreeMap<u32, JoinTables> = tables.into_iter().flatten().collect();
     // Members of a class whose shared solve failed bind alone.
     for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
         let (interp, _) = join_tables_of(&[v], false)?;
@@ -589,6 +588,10 @@ pub(crate) fn bind_rows(
     })
 }
 
+/// A join cage's tables: interpolating weights (for Ω) and weights of its own kind (for L_v),
+/// shared by the join cages over the same leaf cages.
+type JoinTables = (Option<Arc<Table>>, Option<Arc<Table>>);
+
 /// The coordinate tables of join cage `join` (of vertex `v`): interpolating weights of
 /// `omega_points` (the points that need Ω(v, ·); none where a shared solve provides them), and
 /// weights of its own kind for `transform_points` (those that need L_v) when that kind does not
@@ -603,7 +606,7 @@ fn join_tables(
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
-) -> Result<(Option<Arc<Table>>, Option<Arc<Table>>), StarError> {
+) -> Result<JoinTables, StarError> {
     let what = format!("join cage of vertex {v}");
     let interp_kind = interpolating(join.kind);
     let interp = if omega_points.is_empty() || shared_interp {
