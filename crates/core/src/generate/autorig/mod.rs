@@ -14,6 +14,7 @@
 //!    opposite directions by the two parts;
 //! 5. validation of the scene; parts named by a problem are merged and the cages rebuilt.
 
+mod decimate;
 mod parts;
 mod polycube;
 mod repair;
@@ -222,15 +223,22 @@ pub fn autorig(
     // Build, validate, merge what a problem names, again.
     let mut rounds = 0;
     let cages = loop {
-        let set = leaf_cages(&grid, &parts, settings);
-        let scene = Scene::new(
-            MeshSource::Embedded,
-            mesh.clone(),
-            set.clone(),
-            SceneSettings::default(),
-        );
-        let report = validate_scene(&scene);
-        let Some(problem) = report.errors.first() else {
+        // Decimated cages first; the grid-stepped ones where those do not validate.
+        let decimated = leaf_cages(&grid, &parts, settings, Some(mesh));
+        let problem_of = |set: &CageSet| {
+            let scene = Scene::new(
+                MeshSource::Embedded,
+                mesh.clone(),
+                set.clone(),
+                SceneSettings::default(),
+            );
+            validate_scene(&scene).errors.into_iter().next()
+        };
+        let Some(_) = problem_of(&decimated) else {
+            break decimated;
+        };
+        let set = leaf_cages(&grid, &parts, settings, None);
+        let Some(problem) = problem_of(&set) else {
             break set;
         };
         rounds += 1;
@@ -281,10 +289,23 @@ pub fn autorig(
     Ok(Autorig { cages, report })
 }
 
-/// The leaf cages of the parts, named by role.
-fn leaf_cages(grid: &Grid, parts: &Parts, settings: &AutorigSettings) -> CageSet {
+/// The leaf cages of the parts, named by role; decimated around `mesh` where given.
+fn leaf_cages(
+    grid: &Grid,
+    parts: &Parts,
+    settings: &AutorigSettings,
+    mesh: Option<&Mesh>,
+) -> CageSet {
     let faces = polycube::boundary_faces(grid, parts);
-    let (vertices, per_part) = polycube::part_polygons(&faces, parts.roles.len());
+    let (vertices, faces) = polycube::indexed_faces(&faces);
+    let faces = match mesh {
+        Some(mesh) => decimate::decimate(grid, &vertices, &faces, mesh.welded_positions())
+            .into_iter()
+            .map(|(corners, front, back)| (corners.to_vec(), front, back))
+            .collect(),
+        None => faces,
+    };
+    let (vertices, per_part) = polycube::part_faces(&vertices, &faces, parts.roles.len());
     let names = part_names(&parts.roles);
     let leaves = per_part
         .into_iter()

@@ -155,32 +155,62 @@ fn collinear(a: IVec3, b: IVec3, c: IVec3) -> bool {
     (b - a).cross(c - a) == IVec3::ZERO
 }
 
-/// Each part's polygons over a shared, renumbered vertex list: (grid vertex of each vertex,
-/// per part its faces as vertex indices, outward).
-pub(super) fn part_polygons(faces: &[GridFace], parts: usize) -> (Vec<IVec3>, Vec<Vec<Vec<u32>>>) {
+/// The faces over one numbered vertex list: (grid vertex of each vertex, per face its corners,
+/// the part it bounds and the part behind it).
+pub(super) type IndexedFaces = (Vec<IVec3>, Vec<(Vec<u32>, Option<u32>, Option<u32>)>);
+
+/// Numbers the faces' corners (see [`IndexedFaces`]).
+pub(super) fn indexed_faces(faces: &[GridFace]) -> IndexedFaces {
     let mut index: BTreeMap<(i32, i32, i32), u32> = BTreeMap::new();
     let mut vertices = Vec::new();
+    let indexed = faces
+        .iter()
+        .map(|face| {
+            let ids = face
+                .corners
+                .iter()
+                .map(|c| {
+                    *index.entry((c.x, c.y, c.z)).or_insert_with(|| {
+                        vertices.push(*c);
+                        vertices.len() as u32 - 1
+                    })
+                })
+                .collect();
+            (ids, face.front, face.back)
+        })
+        .collect();
+    (vertices, indexed)
+}
+
+/// Each part's faces, outward, from faces that each bound `front` and (reversed) `back`; the
+/// vertices renumbered to those used: (grid vertex of each vertex, per part its faces).
+pub(super) fn part_faces(
+    vertices: &[IVec3],
+    faces: &[(Vec<u32>, Option<u32>, Option<u32>)],
+    parts: usize,
+) -> (Vec<IVec3>, Vec<Vec<Vec<u32>>>) {
+    let mut renumber: BTreeMap<u32, u32> = BTreeMap::new();
+    let mut used = Vec::new();
     let mut per_part: Vec<Vec<Vec<u32>>> = vec![Vec::new(); parts];
-    for face in faces {
-        let ids: Vec<u32> = face
-            .corners
+    for (corners, front, back) in faces {
+        let ids: Vec<u32> = corners
             .iter()
-            .map(|c| {
-                *index.entry((c.x, c.y, c.z)).or_insert_with(|| {
-                    vertices.push(*c);
-                    vertices.len() as u32 - 1
+            .map(|&c| {
+                *renumber.entry(c).or_insert_with(|| {
+                    used.push(vertices[c as usize]);
+                    used.len() as u32 - 1
                 })
             })
             .collect();
-        if let Some(p) = face.front {
-            per_part[p as usize].push(ids.clone());
+        if let Some(p) = front {
+            per_part[*p as usize].push(ids.clone());
         }
-        if let Some(p) = face.back {
+        if let Some(p) = back {
             // Reversed, keeping the first corner (the fan's apex) first.
             let mut reversed = vec![ids[0]];
             reversed.extend(ids[1..].iter().rev());
-            per_part[p as usize].push(reversed);
+            per_part[*p as usize].push(reversed);
         }
     }
-    (vertices, per_part)
+    (used, per_part)
 }

@@ -1,0 +1,498 @@
+//! Fewer cage vertices: the grid-stepped surfaces between parts (and between a part and the
+//! outside) are decimated by collapsing vertices into a neighbour (Garland and Heckbert's
+//! half-edge collapse, without the quadrics), all cages at once, so a face two cages share
+//! stays one face of both.
+//!
+//! A vertex may go when all its triangles lie on one surface between the same two labels (a
+//! sheet), or when it lies on a curve where three surfaces meet and slides along that curve;
+//! corners stay. A collapse is refused when it would change the surface's topology (the link
+//! condition), fold or flatten a triangle, move the surface further than a limit from the
+//! vertex, or sweep over a mesh vertex or another cage vertex (so no mesh vertex changes cage,
+//! and no cage vertex ends up on or inside a face it did not touch). All positions stay on
+//! grid vertices, so the tests are exact in integers.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::{DVec3, I64Vec3, IVec3};
+
+use super::voxels::Grid;
+
+/// The labels on the two sides of a triangle (a part, or None outside).
+type Sides = (Option<u32>, Option<u32>);
+
+/// A triangle of the complex: corners counter-clockwise seen from outside `front`.
+#[derive(Debug, Clone, Copy)]
+struct Triangle {
+    corners: [u32; 3],
+    front: Option<u32>,
+    back: Option<u32>,
+    alive: bool,
+}
+
+impl Triangle {
+    /// The two labels it separates, in a fixed order.
+    fn sheet(&self) -> Sides {
+        (self.front.min(self.back), self.front.max(self.back))
+    }
+}
+
+/// Largest distance (in cells) a collapse may move the surface away from the removed vertex,
+/// on the outer surface and between two cages.
+const OUTER_ERROR: f64 = 0.75;
+const INNER_ERROR: f64 = 1.5;
+
+/// The decimated complex: the triangles of `faces` (polygons over `vertices`, each with the
+/// part it bounds and the part behind it), with fewer vertices. Returns the triangles as
+/// (corners, front, back) over the same vertex numbering; vertices no triangle uses are gone
+/// from every triangle.
+pub(super) fn decimate(
+    grid: &Grid,
+    vertices: &[IVec3],
+    faces: &[(Vec<u32>, Option<u32>, Option<u32>)],
+    mesh_points: &[DVec3],
+) -> Vec<([u32; 3], Option<u32>, Option<u32>)> {
+    let mut triangles: Vec<Triangle> = Vec::new();
+    for (corners, front, back) in faces {
+        for k in 1..corners.len().saturating_sub(1) {
+            triangles.push(Triangle {
+                corners: [corners[0], corners[k], corners[k + 1]],
+                front: *front,
+                back: *back,
+                alive: true,
+            });
+        }
+    }
+    let position: Vec<I64Vec3> = vertices.iter().map(|v| v.as_i64vec3()).collect();
+    let mut star: Vec<Vec<usize>> = vec![Vec::new(); vertices.len()];
+    for (t, tri) in triangles.iter().enumerate() {
+        for &c in &tri.corners {
+            star[c as usize].push(t);
+        }
+    }
+    let mut at: BTreeMap<(i32, i32, i32), u32> = vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| ((v.x, v.y, v.z), i as u32))
+        .collect();
+    // Mesh points in grid units, bucketed by cell.
+    let mut points: BTreeMap<(i32, i32, i32), Vec<DVec3>> = BTreeMap::new();
+    for &p in mesh_points {
+        let q = (p - grid.origin) / grid.cell;
+        let c = q.floor().as_ivec3();
+        points.entry((c.x, c.y, c.z)).or_default().push(q);
+    }
+    let mut removed = vec![false; vertices.len()];
+    for _round in 0..8 {
+        let mut changed = false;
+        for v in 0..vertices.len() as u32 {
+            if removed[v as usize] {
+                continue;
+            }
+            let Some(targets) = targets_of(v, &triangles, &star) else {
+                continue;
+            };
+            for u in targets {
+                if try_collapse(v, u, &mut triangles, &mut star, &position, &at, &points) {
+                    removed[v as usize] = true;
+                    let p = vertices[v as usize];
+                    at.remove(&(p.x, p.y, p.z));
+                    changed = true;
+                    break;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    triangles
+        .into_iter()
+        .filter(|t| t.alive)
+        .map(|t| (t.corners, t.front, t.back))
+        .collect()
+}
+
+/// The neighbours `v` may collapse into, nearest first: any neighbour for a sheet vertex, the
+/// two neighbours along the curve for a curve vertex; None for a corner.
+fn targets_of(v: u32, triangles: &[Triangle], star: &[Vec<usize>]) -> Option<Vec<u32>> {
+    let alive: Vec<&Triangle> = star[v as usize]
+        .iter()
+        .map(|&t| &triangles[t])
+        .filter(|t| t.alive)
+        .collect();
+    if alive.is_empty() {
+        return None;
+    }
+    // Sheets of the triangles around each edge from v.
+    let mut edge_sheets: BTreeMap<u32, BTreeSet<Sides>> = BTreeMap::new();
+    for t in &alive {
+        for &c in &t.corners {
+            if c != v {
+                edge_sheets.entry(c).or_default().insert(t.sheet());
+            }
+        }
+    }
+    let sheets: BTreeSet<_> = alive.iter().map(|t| t.sheet()).collect();
+    if sheets.len() == 1 {
+        return Some(edge_sheets.keys().copied().collect());
+    }
+    let curve: Vec<u32> = edge_sheets
+        .iter()
+        .filter(|(_, s)| s.len() > 1)
+        .map(|(u, _)| *u)
+        .collect();
+    // A simple curve vertex: two curve edges, each with every sheet of v around it.
+    (curve.len() == 2 && curve.iter().all(|u| edge_sheets[u] == sheets)).then_some(curve)
+}
+
+/// Collapses `v` into `u` if every check passes (see the module); returns whether it did.
+fn try_collapse(
+    v: u32,
+    u: u32,
+    triangles: &mut [Triangle],
+    star: &mut [Vec<usize>],
+    position: &[I64Vec3],
+    at: &BTreeMap<(i32, i32, i32), u32>,
+    points: &BTreeMap<(i32, i32, i32), Vec<DVec3>>,
+) -> bool {
+    let around_v: Vec<usize> = star[v as usize]
+        .iter()
+        .copied()
+        .filter(|&t| triangles[t].alive)
+        .collect();
+    let (dying, moving): (Vec<usize>, Vec<usize>) = around_v
+        .iter()
+        .partition(|&&t| triangles[t].corners.contains(&u));
+    if dying.is_empty() {
+        return false;
+    }
+    // Link condition: the vertices next to both u and v are the third corners of the
+    // triangles on edge uv.
+    let neighbours = |x: u32, star: &[Vec<usize>]| -> BTreeSet<u32> {
+        star[x as usize]
+            .iter()
+            .filter(|&&t| triangles[t].alive)
+            .flat_map(|&t| triangles[t].corners)
+            .filter(|&c| c != x)
+            .collect()
+    };
+    let (nv, nu) = (neighbours(v, star), neighbours(u, star));
+    let common: BTreeSet<u32> = nv.intersection(&nu).copied().collect();
+    let opposite: BTreeSet<u32> = dying
+        .iter()
+        .flat_map(|&t| triangles[t].corners)
+        .filter(|&c| c != u && c != v)
+        .collect();
+    if common != opposite {
+        return false;
+    }
+    let (pv, pu) = (position[v as usize], position[u as usize]);
+    let limit = if dying.iter().chain(&moving).all(|&t| {
+        let s = triangles[t].sheet();
+        s.0.is_none() || s.1.is_none()
+    }) {
+        OUTER_ERROR
+    } else {
+        INNER_ERROR
+    };
+    for &t in &moving {
+        let old = triangles[t].corners;
+        let new = old.map(|c| if c == v { u } else { c });
+        let [a, b, c] = old.map(|i| position[i as usize]);
+        let [na, nb, nc] = new.map(|i| position[i as usize]);
+        let n_old = (b - a).cross(c - a);
+        let n_new = (nb - na).cross(nc - na);
+        if n_new == I64Vec3::ZERO || n_old.dot(n_new) <= 0 {
+            return false;
+        }
+        // How far the surface moves from v: v's distance to the new triangle's plane.
+        let distance = ((pv - na).dot(n_new) as f64).abs() / n_new.as_dvec3().length();
+        if distance > limit {
+            return false;
+        }
+        // The tetrahedron the triangle sweeps must hold no other vertex and no mesh point.
+        let others: Vec<I64Vec3> = old
+            .iter()
+            .filter(|&&i| i != v)
+            .map(|&i| position[i as usize])
+            .collect();
+        let tetra = [pv, pu, others[0], others[1]];
+        if orient(tetra[0], tetra[1], tetra[2], tetra[3]) == 0 {
+            continue; // flat: the new triangle covers what the old ones did
+        }
+        let lo = tetra.iter().fold(I64Vec3::MAX, |m, p| m.min(*p));
+        let hi = tetra.iter().fold(I64Vec3::MIN, |m, p| m.max(*p));
+        for x in lo.x..=hi.x {
+            for y in lo.y..=hi.y {
+                for z in lo.z..=hi.z {
+                    let q = I64Vec3::new(x, y, z);
+                    if tetra.contains(&q) {
+                        continue;
+                    }
+                    if at.contains_key(&(x as i32, y as i32, z as i32)) && in_tetra(q, &tetra) {
+                        return false;
+                    }
+                }
+            }
+        }
+        let tetra_f = tetra.map(|p| p.as_dvec3());
+        for x in lo.x..hi.x.max(lo.x + 1) {
+            for y in lo.y..hi.y.max(lo.y + 1) {
+                for z in lo.z..hi.z.max(lo.z + 1) {
+                    let Some(list) = points.get(&(x as i32, y as i32, z as i32)) else {
+                        continue;
+                    };
+                    if list.iter().any(|&p| in_tetra_f(p, &tetra_f)) {
+                        return false;
+                    }
+                }
+            }
+        }
+    }
+    // The new triangles must not meet any other edge, and no edge the new triangles leave
+    // around u may be pinched for a part or a union of parts (a join cage).
+    let new_triangles: Vec<[u32; 3]> = moving
+        .iter()
+        .map(|&t| triangles[t].corners.map(|c| if c == v { u } else { c }))
+        .collect();
+    if new_triangles
+        .iter()
+        .any(|&tri| meets_other_edges(tri, v, triangles, position))
+    {
+        return false;
+    }
+    let mut around: BTreeMap<u32, Vec<Sides>> = BTreeMap::new();
+    // u's star and the moving triangles, each once.
+    let mut seen: BTreeSet<usize> = BTreeSet::new();
+    for &t in star[u as usize].iter().chain(&moving) {
+        if !seen.insert(t) || !triangles[t].alive || dying.contains(&t) {
+            continue;
+        }
+        let tri = &triangles[t];
+        let corners = tri.corners.map(|c| if c == v { u } else { c });
+        for &w in corners.iter().filter(|&&w| w != u) {
+            around.entry(w).or_default().push((tri.front, tri.back));
+        }
+    }
+    if around.values().any(|sides| pinched(sides)) {
+        return false;
+    }
+    for &t in &dying {
+        triangles[t].alive = false;
+    }
+    for &t in &moving {
+        for c in triangles[t].corners.iter_mut() {
+            if *c == v {
+                *c = u;
+            }
+        }
+        star[u as usize].push(t);
+    }
+    star[v as usize].clear();
+    true
+}
+
+/// Whether the triangles around one edge (each by the labels on its two sides) leave some part,
+/// or some union of the parts there, with other than 0 or 2 faces on the edge.
+fn pinched(sides: &[Sides]) -> bool {
+    let mut labels: Vec<u32> = sides.iter().flat_map(|(a, b)| [*a, *b]).flatten().collect();
+    labels.sort_unstable();
+    labels.dedup();
+    if labels.len() > 6 {
+        return true;
+    }
+    (1u32..(1 << labels.len())).any(|subset| {
+        let inside = |l: Option<u32>| {
+            l.and_then(|l| labels.iter().position(|&x| x == l))
+                .is_some_and(|k| subset & (1 << k) != 0)
+        };
+        let faces = sides
+            .iter()
+            .filter(|(a, b)| inside(*a) != inside(*b))
+            .count();
+        faces != 0 && faces != 2
+    })
+}
+
+/// Whether triangle `tri` (which will replace triangles around the removed vertex `gone`)
+/// meets an edge of an alive triangle that shares no corner with it, or holds one of their
+/// corners (exact).
+fn meets_other_edges(
+    tri: [u32; 3],
+    gone: u32,
+    triangles: &[Triangle],
+    position: &[I64Vec3],
+) -> bool {
+    let [a, b, c] = tri.map(|i| position[i as usize]);
+    let lo = a.min(b).min(c);
+    let hi = a.max(b).max(c);
+    triangles.iter().filter(|t| t.alive).any(|t| {
+        if t.corners.contains(&gone) {
+            return false; // goes with the collapse
+        }
+        let ps = t.corners.map(|i| position[i as usize]);
+        let (tlo, thi) = (ps[0].min(ps[1]).min(ps[2]), ps[0].max(ps[1]).max(ps[2]));
+        if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
+            return false;
+        }
+        (0..3).any(|k| {
+            let (p, q) = (t.corners[k], t.corners[(k + 1) % 3]);
+            if tri.contains(&p) || tri.contains(&q) {
+                return false;
+            }
+            segment_meets_triangle(position[p as usize], position[q as usize], [a, b, c])
+        })
+    })
+}
+
+/// Whether segment pq touches triangle abc (exact; coplanar segments count when they touch).
+fn segment_meets_triangle(p: I64Vec3, q: I64Vec3, [a, b, c]: [I64Vec3; 3]) -> bool {
+    let (sp, sq) = (orient(a, b, c, p).signum(), orient(a, b, c, q).signum());
+    if sp == sq && sp != 0 {
+        return false;
+    }
+    if sp == 0 && sq == 0 {
+        // Coplanar: in the plane's best 2D projection.
+        let n = (b - a).cross(c - a).abs();
+        let drop = if n.x >= n.y && n.x >= n.z {
+            0
+        } else if n.y >= n.z {
+            1
+        } else {
+            2
+        };
+        let flat = |v: I64Vec3| {
+            let k = [v.x, v.y, v.z];
+            match drop {
+                0 => (k[1], k[2]),
+                1 => (k[2], k[0]),
+                _ => (k[0], k[1]),
+            }
+        };
+        let (p2, q2, a2, b2, c2) = (flat(p), flat(q), flat(a), flat(b), flat(c));
+        let cross = |o: (i64, i64), x: (i64, i64), y: (i64, i64)| {
+            (x.0 - o.0) * (y.1 - o.1) - (x.1 - o.1) * (y.0 - o.0)
+        };
+        let inside = |x: (i64, i64)| {
+            let (d1, d2, d3) = (cross(a2, b2, x), cross(b2, c2, x), cross(c2, a2, x));
+            (d1 >= 0 && d2 >= 0 && d3 >= 0) || (d1 <= 0 && d2 <= 0 && d3 <= 0)
+        };
+        let crosses = |e0: (i64, i64), e1: (i64, i64)| {
+            let (d1, d2) = (cross(e0, e1, p2).signum(), cross(e0, e1, q2).signum());
+            let (d3, d4) = (cross(p2, q2, e0).signum(), cross(p2, q2, e1).signum());
+            d1 * d2 < 0 && d3 * d4 < 0
+        };
+        return inside(p2) || inside(q2) || crosses(a2, b2) || crosses(b2, c2) || crosses(c2, a2);
+    }
+    // The line pq passes through the triangle when pq sees its edges all on one side.
+    let s1 = orient(p, q, a, b).signum();
+    let s2 = orient(p, q, b, c).signum();
+    let s3 = orient(p, q, c, a).signum();
+    (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0)
+}
+
+/// Six times the signed volume of tetrahedron (a, b, c, d).
+fn orient(a: I64Vec3, b: I64Vec3, c: I64Vec3, d: I64Vec3) -> i64 {
+    (b - a).cross(c - a).dot(d - a)
+}
+
+/// Whether `q` lies inside or on tetrahedron `t` (exact).
+fn in_tetra(q: I64Vec3, t: &[I64Vec3; 4]) -> bool {
+    let whole = orient(t[0], t[1], t[2], t[3]).signum();
+    let faces = [
+        orient(q, t[1], t[2], t[3]),
+        orient(t[0], q, t[2], t[3]),
+        orient(t[0], t[1], q, t[3]),
+        orient(t[0], t[1], t[2], q),
+    ];
+    faces.iter().all(|&f| f.signum() * whole >= 0)
+}
+
+/// Whether `q` lies inside or within a hair of tetrahedron `t`.
+fn in_tetra_f(q: DVec3, t: &[DVec3; 4]) -> bool {
+    let orient = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| (b - a).cross(c - a).dot(d - a);
+    let whole = orient(t[0], t[1], t[2], t[3]);
+    let tolerance = 1e-9 * whole.abs();
+    [
+        orient(q, t[1], t[2], t[3]),
+        orient(t[0], q, t[2], t[3]),
+        orient(t[0], t[1], q, t[3]),
+        orient(t[0], t[1], t[2], q),
+    ]
+    .iter()
+    .all(|&f| f * whole.signum() >= -tolerance)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: i64, y: i64, z: i64) -> I64Vec3 {
+        I64Vec3::new(x, y, z)
+    }
+
+    #[test]
+    fn segments_through_touching_and_beside_a_triangle() {
+        let tri = [p(0, 0, 0), p(4, 0, 0), p(0, 4, 0)];
+        assert!(segment_meets_triangle(p(1, 1, -1), p(1, 1, 1), tri));
+        assert!(
+            segment_meets_triangle(p(1, 1, 0), p(1, 1, 3), tri),
+            "touching counts"
+        );
+        assert!(!segment_meets_triangle(p(5, 5, -1), p(5, 5, 1), tri));
+        assert!(!segment_meets_triangle(p(1, 1, 1), p(2, 1, 3), tri));
+        // Coplanar: crossing an edge, and lying beside it.
+        assert!(segment_meets_triangle(p(1, -1, 0), p(1, 1, 0), tri));
+        assert!(!segment_meets_triangle(p(5, 0, 0), p(6, 1, 0), tri));
+    }
+
+    #[test]
+    fn an_edge_with_four_faces_of_one_part_is_pinched() {
+        let a = Some(0);
+        let b = Some(1);
+        assert!(!pinched(&[(a, None), (a, None)]));
+        assert!(!pinched(&[(a, None), (b, None), (a, b)]));
+        assert!(pinched(&[(a, None), (a, None), (a, None), (a, None)]));
+        // Two parts meeting along the edge only: their union is pinched.
+        assert!(pinched(&[(a, None), (a, None), (b, None), (b, None)]));
+    }
+
+    #[test]
+    fn a_flat_sheet_loses_its_inner_vertices_and_keeps_its_corners() {
+        // A 3x3 grid of unit squares on z = 0 with the outside below: 16 vertices, of which the
+        // 4 inner ones can go; the border is a curve only where sheets meet, so here it is the
+        // border of one sheet and its vertices have neighbours off it.
+        let mut vertices = Vec::new();
+        for y in 0..4 {
+            for x in 0..4 {
+                vertices.push(IVec3::new(x, y, 0));
+            }
+        }
+        let id = |x: u32, y: u32| x + 4 * y;
+        let mut faces = Vec::new();
+        for y in 0..3 {
+            for x in 0..3 {
+                faces.push((
+                    vec![id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)],
+                    Some(0),
+                    None,
+                ));
+            }
+        }
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None);
+        let triangles = decimate(&grid, &vertices, &faces, &[]);
+        let used: BTreeSet<u32> = triangles.iter().flat_map(|(c, _, _)| *c).collect();
+        assert!(used.len() < 16, "{used:?}");
+        for corner in [id(0, 0), id(3, 0), id(0, 3), id(3, 3)] {
+            assert!(used.contains(&corner));
+        }
+        let area: i64 = triangles
+            .iter()
+            .map(|(c, _, _)| {
+                let [a, b, c] = c.map(|i| vertices[i as usize].as_i64vec3());
+                (b - a).cross(c - a).z
+            })
+            .sum();
+        assert_eq!(area, 2 * 9, "the sheet still covers its area, facing +z");
+    }
+}
