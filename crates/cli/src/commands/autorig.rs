@@ -7,9 +7,9 @@ use anyhow::Context as _;
 use clap::Args;
 use starcages_core::BindControl;
 use starcages_core::generate::{
-    AutorigError, AutorigSettings, Mirror, autorig, surface_pieces_per_leaf,
+    AutorigError, AutorigSettings, Mirror, autorig, autorig_settings, surface_pieces_per_leaf,
 };
-use starcages_core::scene::{Scene, SceneSettings, UpAxis};
+use starcages_core::scene::{Scene, UpAxis};
 
 use crate::InputError;
 use crate::progress::with_progress;
@@ -86,7 +86,7 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
     };
     let source = std::path::absolute(&args.mesh).unwrap_or_else(|_| args.mesh.clone());
     let report = rig.report.clone();
-    let scene = Scene::from_mesh_file(source, up, mesh, rig.cages, SceneSettings::default());
+    let scene = Scene::from_mesh_file(source, up, mesh, rig.cages, autorig_settings());
     let summary = format!(
         "{} leaf cages ({} vertices) along {} limbs{}{}",
         report.leaf_cages,

@@ -5,5 +5,6 @@
 pub mod autorig;
 
 pub use autorig::{
-    Autorig, AutorigError, AutorigReport, AutorigSettings, Mirror, autorig, surface_pieces_per_leaf,
+    Autorig, AutorigError, AutorigReport, AutorigSettings, Mirror, autorig, autorig_settings,
+    surface_pieces_per_leaf,
 };

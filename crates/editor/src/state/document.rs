@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use starcages_core::BindControl;
-use starcages_core::generate::{AutorigSettings, autorig};
+use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
 use starcages_core::io::read_mesh_as;
 use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{
@@ -156,24 +156,19 @@ pub fn scene_from_mesh(
 ) -> Result<Scene, EditorError> {
     let up = if is_gltf(path) { UpAxis::Y } else { options.up };
     let mesh = read_mesh_as(path, up).map_err(EditorError::OpenMesh)?;
-    let cages = match options.rig {
+    let (cages, settings) = match options.rig {
         NewRig::Auto => {
             let settings = AutorigSettings {
                 detail: options.detail,
                 ..AutorigSettings::default()
             };
-            autorig(&mesh, &settings, control)
+            let cages = autorig(&mesh, &settings, control)
                 .map_err(EditorError::AutoRig)?
-                .cages
+                .cages;
+            (cages, autorig_settings())
         }
-        NewRig::Grid => autocage(&mesh, &options.cages),
+        NewRig::Grid => (autocage(&mesh, &options.cages), SceneSettings::default()),
     };
     let source = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-    Ok(Scene::from_mesh_file(
-        source,
-        up,
-        mesh,
-        cages,
-        SceneSettings::default(),
-    ))
+    Ok(Scene::from_mesh_file(source, up, mesh, cages, settings))
 }

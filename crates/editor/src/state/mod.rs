@@ -402,7 +402,8 @@ impl EditorState {
     }
 
     /// Takes the auto rig's cages once they are made: they replace the rig as one undo step
-    /// (poses are of the old cages, so they go; undo brings them back).
+    /// (poses are of the old cages, so they go; undo brings them back), with mean value join
+    /// cages as [`starcages_core::generate::autorig_settings`] says.
     fn poll_autorig(&mut self, wait: bool) {
         let Some(job) = &self.autorig_job else {
             return;
@@ -417,6 +418,8 @@ impl EditorState {
                 let (leaves, vertices) = (cages.leaves.len(), cages.vertices.len());
                 self.selection = Selection::default();
                 self.edit_scene("auto rig", |scene| {
+                    scene.settings.join_coordinates =
+                        starcages_core::generate::autorig_settings().join_coordinates;
                     scene.pose = cages.vertices.clone();
                     scene.cages = cages;
                     scene.poses.clear();

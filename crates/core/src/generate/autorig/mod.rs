@@ -513,6 +513,17 @@ fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
         .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
 }
 
+/// The scene settings an auto-rigged scene starts with: the defaults, with mean value join
+/// cages (the paper's default join transformation). Its join cages are concave almost
+/// everywhere, so the automatic policy would solve a harmonic grid for most of them: on the
+/// armadillo that bind took minutes and gigabytes (docs/autorig.md).
+pub fn autorig_settings() -> SceneSettings {
+    SceneSettings {
+        join_coordinates: crate::scene::JoinPolicy::Mvc,
+        ..SceneSettings::default()
+    }
+}
+
 /// Pieces of the surface smaller than this many mesh vertices (or than 1 % of a cage's
 /// vertices) are slivers: they do not count as a part of their own.
 pub const SLIVER_VERTICES: usize = 20;
