@@ -8,6 +8,7 @@
 //! 2. parts (`parts`): in each connected piece, the body is the union of the balls inscribed
 //!    at its thickest cells, cut into slabs across its longest axis; the rest are limbs, each
 //!    cut into a chain of segments by geodesic distance from the body;
+//!    a part holding two separate pieces of the surface is split between them (`pieces`);
 //! 3. repairs (`repair`) until every part and every union of parts meeting at a grid vertex is
 //!    a manifold solid (so each cage and each *Cages join cage is valid);
 //! 4. cages (`polycube`): each part's surface as merged rectangles, shared rectangles run in
@@ -16,6 +17,7 @@
 
 mod decimate;
 mod parts;
+mod pieces;
 mod polycube;
 mod repair;
 mod voxels;
@@ -215,6 +217,7 @@ pub fn autorig(
         slab_length: segment_length,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
+    pieces::split_by_surface_pieces(&grid, &mut parts, mesh);
     control.advance();
     check()?;
     let mut merges = repair::make_manifold(&grid, &mut parts);
