@@ -1,4 +1,4 @@
-//! End-to-end tests of the scene commands: demo, validate, info, autocage, new, cages.
+//! End-to-end tests of the scene commands: demo, validate, info, autocage, autorig, new, cages.
 
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]
@@ -419,4 +419,66 @@ fn write_tower(d: &std::path::Path) -> std::path::PathBuf {
     )
     .unwrap();
     tower
+}
+
+#[test]
+fn autorig_writes_a_valid_shape_following_rig_and_refuses_what_it_cannot_rig() {
+    let d = dir("autorig");
+    // The bar demo's mesh as an OBJ: a long bar, so a body and a chain along it.
+    ok(&cli(&["demo", "bar", "--out", s(&d), "--detail", "0.3"]));
+    let mesh = d.join("bar.obj");
+    ok(&cli(&["deform", s(&d.join("bar.json")), "--out", s(&mesh)]));
+    let scene = d.join("rig.json");
+    let rig = cli(&[
+        "autorig",
+        s(&mesh),
+        "--detail",
+        "2",
+        "--mirror",
+        "auto",
+        "--internal",
+        "--out",
+        s(&scene),
+    ]);
+    assert!(rig.status.success(), "{}", stderr(&rig));
+    assert!(stdout(&rig).contains("leaf cages"), "{}", stdout(&rig));
+    assert!(cli(&["validate", s(&scene)]).status.success());
+    let info = cli(&["info", s(&scene), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let cages = json["cages"].as_array().unwrap();
+    assert!(
+        cages
+            .iter()
+            .any(|c| c["name"] == "rig_ctrl" && c["level"] == "internal")
+    );
+    assert!(
+        cages
+            .iter()
+            .filter(|c| c["level"] == "leaf")
+            .all(|c| c["name"].as_str().unwrap().starts_with("body")
+                || c["name"].as_str().unwrap().starts_with("limb"))
+    );
+    // A flat mesh, a detail out of range, the mesh as the output: exit 2, nothing written.
+    let flat = d.join("flat.obj");
+    std::fs::write(&flat, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = d.join("never.json");
+    let refused = cli(&["autorig", s(&flat), "--out", s(&out)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(
+        stderr(&refused).contains("no volume"),
+        "{}",
+        stderr(&refused)
+    );
+    let refused = cli(&["autorig", s(&mesh), "--detail", "9", "--out", s(&out)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(
+        stderr(&refused).contains("detail 9"),
+        "{}",
+        stderr(&refused)
+    );
+    let refused = cli(&["autorig", s(&mesh), "--mirror", "w", "--out", s(&out)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(!out.exists());
+    let onto_input = cli(&["autorig", s(&mesh), "--out", s(&mesh)]);
+    assert_eq!(onto_input.status.code(), Some(2));
 }
