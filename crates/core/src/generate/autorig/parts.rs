@@ -86,8 +86,11 @@ pub(super) fn cut_into_parts(
         let longest = cells.iter().map(|&i| distance[&i]).fold(0.0, f64::max);
         let thickness = 2.0 * mean_depth(depth, &cells);
         let count = slab_count(longest, cutting.segment_length * thickness);
+        // The root segment is two segments long: a turn of the whole limb shears it most.
+        let units = (count + 1) as f64;
         for &i in &cells {
-            let segment = ((distance[&i] / longest.max(1e-9)) * count as f64) as usize;
+            let unit = ((distance[&i] / longest.max(1e-9)) * units) as usize;
+            let segment = unit.max(1) - 1;
             group[i] = Some(Role::Limb {
                 limb: l,
                 segment: segment.min(count - 1),
