@@ -1,6 +1,6 @@
 //! Generated rigs: cages made from a mesh by the program rather than by hand.
 //!
-//! * [`autorig`]: a shape-following multi-cage rig (chains of cages along limbs).
+//! * [`mod@autorig`]: a shape-following multi-cage rig (chains of cages along limbs).
 
 pub mod autorig;
 
