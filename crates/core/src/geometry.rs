@@ -86,6 +86,28 @@ pub fn ray_triangle(origin: DVec3, direction: DVec3, a: DVec3, b: DVec3, c: DVec
     (t > 0.0).then_some(t)
 }
 
+/// Whether the cells set in `mask` (of a 2×2×2 block of grid cells, bit c = x + 2y + 4z) are
+/// connected through shared faces (cells differing in one bit). The empty set is connected.
+/// A set of grid cells and its complement are both face-connected in every block exactly when
+/// the set's surface is a manifold (no two cells meeting only along an edge or at a corner).
+pub(crate) fn block_face_connected(mask: u8) -> bool {
+    let Some(first) = (0..8).find(|&c| mask & (1 << c) != 0) else {
+        return true;
+    };
+    let mut seen = 1u8 << first;
+    let mut stack = vec![first];
+    while let Some(c) = stack.pop() {
+        for bit in [1, 2, 4] {
+            let n = c ^ bit;
+            if mask & (1 << n) != 0 && seen & (1 << n) == 0 {
+                seen |= 1 << n;
+                stack.push(n);
+            }
+        }
+    }
+    seen == mask
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use super::{CageSet, LeafCage};
 use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
+use crate::geometry::block_face_connected;
 use crate::mesh::Mesh;
 
 /// Options of [`autocage`].
@@ -154,7 +155,7 @@ fn make_manifold(occupied: &mut [bool], grid: UVec3) {
                     let mask: u8 = (0..8)
                         .filter(|&c| cells[c].is_some_and(|x| occupied[x]))
                         .fold(0, |m, c| m | 1 << c);
-                    if face_connected(mask) && face_connected(!mask) {
+                    if block_face_connected(mask) && block_face_connected(!mask) {
                         continue;
                     }
                     for x in cells.into_iter().flatten() {
@@ -168,26 +169,6 @@ fn make_manifold(occupied: &mut [bool], grid: UVec3) {
             return;
         }
     }
-}
-
-/// Whether the cells set in `mask` (of a 2×2×2 block, bit c = x + 2y + 4z) are connected
-/// through shared faces (cells differing in one bit). The empty set is connected.
-fn face_connected(mask: u8) -> bool {
-    let Some(first) = (0..8).find(|&c| mask & (1 << c) != 0) else {
-        return true;
-    };
-    let mut seen = 1u8 << first;
-    let mut stack = vec![first];
-    while let Some(c) = stack.pop() {
-        for bit in [1, 2, 4] {
-            let n = c ^ bit;
-            if mask & (1 << n) != 0 && seen & (1 << n) == 0 {
-                seen |= 1 << n;
-                stack.push(n);
-            }
-        }
-    }
-    seen == mask
 }
 
 #[cfg(test)]
@@ -217,10 +198,10 @@ mod tests {
 
     #[test]
     fn face_connectivity_of_blocks() {
-        assert!(face_connected(0));
-        assert!(face_connected(0b0000_0011));
-        assert!(!face_connected(0b0000_1001)); // cells 0 and 3 share an edge only
-        assert!(!face_connected(0b1000_0001)); // cells 0 and 7 share a vertex only
+        assert!(block_face_connected(0));
+        assert!(block_face_connected(0b0000_0011));
+        assert!(!block_face_connected(0b0000_1001)); // cells 0 and 3 share an edge only
+        assert!(!block_face_connected(0b1000_0001)); // cells 0 and 7 share a vertex only
     }
 
     #[test]

@@ -10,6 +10,8 @@
 
 use glam::IVec3;
 
+use crate::geometry::block_face_connected;
+
 use super::parts::{Parts, compact, split_disconnected};
 use super::voxels::Grid;
 
@@ -82,7 +84,7 @@ fn pinches_of(labels: &[Option<u32>; 8]) -> usize {
                 })
             })
             .fold(0, |m, c| m | (1 << c));
-        if !(face_connected(mask) && face_connected(!mask)) {
+        if !(block_face_connected(mask) && block_face_connected(!mask)) {
             count += 1;
         }
     }
@@ -153,26 +155,6 @@ fn merge_block(grid: &Grid, parts: &mut Parts, v: IVec3) {
             parts.label[i] = Some(into);
         }
     }
-}
-
-/// Whether the cells set in `mask` (of a 2×2×2 block, bit c = x + 2y + 4z) are connected
-/// through shared faces (cells differing in one bit). The empty set is connected.
-pub(super) fn face_connected(mask: u8) -> bool {
-    let Some(first) = (0..8).find(|&c| mask & (1 << c) != 0) else {
-        return true;
-    };
-    let mut seen = 1u8 << first;
-    let mut stack = vec![first];
-    while let Some(c) = stack.pop() {
-        for bit in [1, 2, 4] {
-            let n = c ^ bit;
-            if mask & (1 << n) != 0 && seen & (1 << n) == 0 {
-                seen |= 1 << n;
-                stack.push(n);
-            }
-        }
-    }
-    seen == mask
 }
 
 #[cfg(test)]

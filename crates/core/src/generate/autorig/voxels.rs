@@ -136,12 +136,8 @@ pub(super) fn solid_cells(grid: &Grid, mesh: &Mesh) -> Vec<bool> {
     }
     // Triangles larger than a cell pass through cells that hold none of their corners.
     let spacing = 0.45 * grid.cell;
-    for &[a, b, c] in triangles {
-        let (Some(&a), Some(&b), Some(&c)) = (
-            positions.get(a as usize),
-            positions.get(b as usize),
-            positions.get(c as usize),
-        ) else {
+    for triangle in triangles {
+        let Some([a, b, c]) = corners(positions, triangle) else {
             continue;
         };
         let longest = (b - a).length().max((c - b).length()).max((a - c).length());
@@ -203,12 +199,8 @@ impl<'a> Clusters<'a> {
     fn new(grid: &Grid, positions: &'a [DVec3], triangles: &'a [[u32; 3]]) -> Self {
         let mut by_cell: std::collections::BTreeMap<usize, (DVec3, DVec3, f64, Vec<usize>)> =
             std::collections::BTreeMap::new();
-        for (t, &[a, b, c]) in triangles.iter().enumerate() {
-            let (Some(&a), Some(&b), Some(&c)) = (
-                positions.get(a as usize),
-                positions.get(b as usize),
-                positions.get(c as usize),
-            ) else {
+        for (t, triangle) in triangles.iter().enumerate() {
+            let Some([a, b, c]) = corners(positions, triangle) else {
                 continue;
             };
             let centroid = (a + b + c) / 3.0;
@@ -262,6 +254,12 @@ impl<'a> Clusters<'a> {
         }
         total / (4.0 * std::f64::consts::PI)
     }
+}
+
+/// The corner positions of a triangle (None where it names a vertex that does not exist).
+fn corners(positions: &[DVec3], triangle: &[u32; 3]) -> Option<[DVec3; 3]> {
+    let [a, b, c] = triangle.map(|v| positions.get(v as usize).copied());
+    Some([a?, b?, c?])
 }
 
 /// Face-connected components of the cells for which `member` holds: per cell its component
