@@ -287,6 +287,22 @@ pub(crate) fn bind_rows(
     let join_start = Instant::now();
     let mut need_transform: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
     let mut need_omega: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
+    // Per leaf cage, the join vertices whose Ω its points read: its boundary vertices and their
+    // interior neighbours whose join cage holds it (Ω(u, ·) vanishes outside jc(u), the union
+    // of the cages incident at u). The same for every point of the cage, so listed once.
+    let omega_of_cage: Vec<Vec<u32>> = (0..topology.leaves.len())
+        .map(|c| {
+            let mut list: BTreeSet<u32> = topology.boundary[c].iter().copied().collect();
+            for v in &topology.boundary[c] {
+                list.extend(
+                    topology.interior_neighbours[v]
+                        .iter()
+                        .filter(|u| topology.joins[u].cages.contains(&c)),
+                );
+            }
+            list.into_iter().collect()
+        })
+        .collect();
     for (i, &b) in boundary_weight.iter().enumerate() {
         let Placement::Cage(c) = placement[i] else {
             continue;
@@ -296,13 +312,9 @@ pub(crate) fn bind_rows(
         }
         for v in &topology.boundary[c] {
             need_transform.entry(*v).or_default().insert(i);
-            need_omega.entry(*v).or_default().insert(i);
-            for u in &topology.interior_neighbours[v] {
-                // Ω(u, ·) vanishes outside jc(u), the union of the cages incident at u.
-                if topology.joins[u].cages.contains(&c) {
-                    need_omega.entry(*u).or_default().insert(i);
-                }
-            }
+        }
+        for u in &omega_of_cage[c] {
+            need_omega.entry(*u).or_default().insert(i);
         }
     }
     // Cage vertices as extra points (index `offset + v`), bound in the same batches: an
