@@ -5,7 +5,8 @@
 
 use glam::DVec3;
 
-use super::rig_edit::{RigEditError, apply_rig_op, parse_rig_script};
+use super::rig_edit::{apply_rig_op, parse_rig_script};
+use super::rig_vocabulary::RigEditError;
 use super::{CageSet, MeshSource, Scene, SceneSettings};
 use crate::mesh::Mesh;
 use crate::surface_nets::surface_nets;
@@ -118,7 +119,7 @@ pub fn creature(detail: f64) -> Scene {
     apply_rig_script(&mut scene, CREATURE_RIG)
         .unwrap_or_else(|e| unreachable!("creature rig: {e}"));
     // A pose: the head turned and lowered, the tail up, a front leg stepping forward.
-    super::demo::store_pose(
+    super::demo_pose::store_pose(
         &mut scene,
         "step",
         &[

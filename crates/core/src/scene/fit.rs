@@ -11,7 +11,7 @@ use std::collections::BTreeSet;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::rig_edit::{RigEditError, face_key, move_rest_vertex};
+use super::rig_vocabulary::{RigEditError, face_key, move_rest_vertex};
 use super::{LocalCage, Scene, leaf_containment};
 use crate::cage::Cage;
 use crate::geometry::{closest_point_on_triangle, solid_angle};

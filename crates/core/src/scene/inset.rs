@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use super::Scene;
-use super::rig_edit::RigEditError;
+use super::rig_vocabulary::RigEditError;
 
 /// The thinnest inset, as a fraction of the face's shortest side: thinner, the ring's quads
 /// would be slivers and the inner corners all but on the face's.

@@ -7,6 +7,7 @@ mod cage_set;
 mod containment;
 pub mod creature;
 pub mod demo;
+mod demo_pose;
 mod export;
 mod file;
 mod fit;
@@ -14,6 +15,7 @@ mod inset;
 mod pose_state;
 mod pretty_json;
 mod rig_edit;
+mod rig_vocabulary;
 mod settings;
 mod subdivide;
 mod up_axis;
@@ -41,9 +43,10 @@ pub use inset::InsetCorners;
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub use rig_edit::{
-    FaceRef, LoopCutRing, MAX_RIG_SCRIPT_OPS, RestTransform, RigEditError, RigOp, apply_rig_op,
+    FaceRef, LoopCutRing, MAX_RIG_SCRIPT_OPS, RestTransform, RigOp, apply_rig_op,
     import_leaf_cages, loop_cut_ring, parse_rig_script,
 };
+pub use rig_vocabulary::RigEditError;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use subdivide::subdivide_leaf_cages;
 pub use up_axis::UpAxis;

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 
 use super::Scene;
-use super::rig_edit::RigEditError;
+use super::rig_vocabulary::RigEditError;
 
 /// Subdivides every leaf cage's faces; every pose gets the same midpoints and centres of its
 /// own positions. Refused while the scene has internal cages.

@@ -5,7 +5,7 @@
 use std::collections::BTreeSet;
 
 use super::Scene;
-use super::rig_edit::RigEditError;
+use super::rig_vocabulary::RigEditError;
 
 /// What a weld did.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -11,6 +11,7 @@ mod green;
 mod harmonic;
 mod hierarchy;
 mod lanes;
+mod layout;
 mod mean_value;
 mod rig_edit;
 mod rig_inset;
