@@ -30,20 +30,10 @@ pub fn status_bar(
             }
         }
         if let Some(job) = &state.autorig_job {
-            ui.label(&job.label);
-            let fraction = job.progress() as f32;
-            ui.add(egui::ProgressBar::new(fraction).desired_width(160.0).show_percentage());
-            if ui.button("Cancel").clicked() {
-                sender.send(Command::CancelAutoRig);
-            }
+            job_progress(ui, &job.label, job.progress(), Command::CancelAutoRig, sender);
         }
         if let Some(job) = &state.bind_job {
-            ui.label(&job.label);
-            let fraction = job.progress() as f32;
-            ui.add(egui::ProgressBar::new(fraction).desired_width(160.0).show_percentage());
-            if ui.button("Cancel").clicked() {
-                sender.send(Command::CancelBind);
-            }
+            job_progress(ui, &job.label, job.progress(), Command::CancelBind, sender);
         }
         if let Some((label, fraction)) = state.map.baseline_progress() {
             ui.label(label);
@@ -78,4 +68,23 @@ pub fn status_bar(
             );
         }
     });
+}
+
+/// A background job's label, progress bar and Cancel button (which sends `cancel`).
+fn job_progress(
+    ui: &mut egui::Ui,
+    label: &str,
+    fraction: f64,
+    cancel: Command,
+    sender: &mut CommandSender,
+) {
+    ui.label(label);
+    ui.add(
+        egui::ProgressBar::new(fraction as f32)
+            .desired_width(160.0)
+            .show_percentage(),
+    );
+    if ui.button("Cancel").clicked() {
+        sender.send(cancel);
+    }
 }
