@@ -44,6 +44,9 @@ enum Command {
     Cages(commands::cages::CagesArgs),
     /// Deform a scene's mesh into a pose and write it (OBJ or GLB).
     Deform(commands::deform::DeformArgs),
+    /// Bake the animation (or a cage point cache from another tool) to PC2, MDD or animated
+    /// glTF.
+    Bake(commands::bake::BakeArgs),
     /// Render the scene in a pose to a PNG image (offscreen), with optional influence maps.
     Render(commands::render::RenderArgs),
     /// Deformed positions of arbitrary points, as JSON.
@@ -99,6 +102,7 @@ fn main() -> ExitCode {
         Command::Edit(args) => commands::edit::run(&args),
         Command::Cages(args) => commands::cages::run(&args),
         Command::Deform(args) => commands::deform::run(&args),
+        Command::Bake(args) => commands::bake::run(&args),
         Command::Eval(args) => commands::eval::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Bench(args) => commands::bench::run(&args),

@@ -1,6 +1,7 @@
 //! StarCages core: the deformation math and the scene model, with no GPU, window or UI
 //! dependency.
 //!
+//! * [`anim`]: keys on a timeline and their evaluation at any frame.
 //! * [`cage`]: validated closed triangle cages (polygon faces kept for eq. 7 of *Cages).
 //! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
 //! * [`generate`]: rigs made from a mesh (the auto rig).
@@ -11,6 +12,7 @@
 //! * [`star`]: *Cages deformation compiled into one sparse operator.
 //! * [`surface_nets`]: closed meshes of implicit surfaces (the creature demo).
 
+pub mod anim;
 pub mod cage;
 pub mod coords;
 pub mod generate;

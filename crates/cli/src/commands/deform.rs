@@ -40,22 +40,7 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     let (scene, posed, label) = args.pose.load_posed(&args.scene)?;
     let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--out", &args.out, &mesh, &["obj", "glb"])?;
-    let control = BindControl::default();
-    let binding = with_progress("binding", &control, || {
-        if !args.cache {
-            return StarBinding::bind_scene(&scene, &control);
-        }
-        let (binding, outcome) = StarBinding::bind_scene_cached(&scene, &args.scene, &control)?;
-        match outcome {
-            CacheOutcome::Hit => eprintln!("{label}: binding read from its cache"),
-            CacheOutcome::Written => {}
-            CacheOutcome::Replaced(why) | CacheOutcome::NotWritten(why) => {
-                eprintln!("warning: {why}")
-            }
-        }
-        Ok(binding)
-    })
-    .map_err(|e| InputError(format!("{label}: {e}")))?;
+    let binding = bind(&scene, &args.scene, args.cache, &label)?;
     let start = Instant::now();
     let welded = binding.deform(&scene.cages.vertices, &posed);
     let seconds_frame = start.elapsed().as_secs_f64();
@@ -82,6 +67,33 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     }
     crate::output::line(args.out.display())?;
     Ok(())
+}
+
+/// Binds `scene` (read from `scene_path`) with a progress line, through the binding cache
+/// beside the scene when `cache` is set.
+pub fn bind(
+    scene: &starcages_core::scene::Scene,
+    scene_path: &std::path::Path,
+    cache: bool,
+    label: &str,
+) -> anyhow::Result<StarBinding> {
+    let control = BindControl::default();
+    let binding = with_progress("binding", &control, || {
+        if !cache {
+            return StarBinding::bind_scene(scene, &control);
+        }
+        let (binding, outcome) = StarBinding::bind_scene_cached(scene, scene_path, &control)?;
+        match outcome {
+            CacheOutcome::Hit => eprintln!("{label}: binding read from its cache"),
+            CacheOutcome::Written => {}
+            CacheOutcome::Replaced(why) | CacheOutcome::NotWritten(why) => {
+                eprintln!("warning: {why}")
+            }
+        }
+        Ok(binding)
+    })
+    .map_err(|e| InputError(format!("{label}: {e}")))?;
+    Ok(binding)
 }
 
 /// Per leaf cage: the mesh vertices bound to it, how many of them blend with join cages

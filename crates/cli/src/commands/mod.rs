@@ -2,6 +2,7 @@
 
 pub mod autocage;
 pub mod autorig;
+pub mod bake;
 pub mod bench;
 pub mod bench_gpu;
 pub mod cages;
@@ -9,6 +10,7 @@ pub mod deform;
 pub mod demo;
 pub mod edit;
 pub mod eval;
+pub mod frames;
 pub mod info;
 pub mod internal_cage;
 pub mod new;

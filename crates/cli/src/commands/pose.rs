@@ -18,6 +18,10 @@ pub struct PoseArgs {
     /// A named pose stored in the scene (default: the scene's current pose).
     #[arg(long, conflicts_with = "pose_file")]
     pose: Option<String>,
+    /// The scene's animation at this frame (fractions allowed): cage vertices and keyed h
+    /// interpolated between its keys.
+    #[arg(long, conflicts_with_all = ["pose", "pose_file"], allow_negative_numbers = true)]
+    frame: Option<f64>,
     /// A cage OBJ with the scene's vertex order (as written by `starcages-cli cages`).
     #[arg(long)]
     pose_file: Option<PathBuf>,
@@ -44,13 +48,18 @@ impl PoseArgs {
         &self,
         path: &std::path::Path,
     ) -> anyhow::Result<(Scene, Vec<DVec3>, String)> {
-        let scene = super::load(path)?;
+        let mut scene = super::load(path)?;
         let label = path.display().to_string();
         if !super::report(&scene, &label).is_valid() {
             return Err(InputError(format!(
                 "{label}: the scene does not validate; see the problems above"
             ))
             .into());
+        }
+        if let Some(frame) = self.frame {
+            // h keyed at this frame shapes the operator: the scene is bound with it.
+            let h = scene.animation.h_at(frame);
+            starcages_core::anim::bake::apply_keyed_h(&mut scene, &h);
         }
         let posed = self.positions(&scene, path)?;
         Ok((self.method_scene(scene), posed, label))
@@ -71,8 +80,12 @@ impl PoseArgs {
         scene: &Scene,
         scene_path: &std::path::Path,
     ) -> anyhow::Result<Vec<DVec3>> {
-        let (mut pose, state) = match &self.pose_file {
-            Some(file) => (
+        let (mut pose, state) = match (&self.pose_file, self.frame) {
+            (None, Some(frame)) => (
+                frame_pose(scene, frame, scene_path)?,
+                HierarchyState::default(),
+            ),
+            (Some(file), _) => (
                 // Written by `cages` in the mesh file's axes: turned back to the scene's.
                 read_pose_obj(file, scene.cages.vertices.len())?
                     .into_iter()
@@ -80,7 +93,7 @@ impl PoseArgs {
                     .collect(),
                 HierarchyState::default(),
             ),
-            None => (
+            (None, None) => (
                 named_pose(scene, self.pose.as_deref(), scene_path)?,
                 scene.pose_state_named(self.pose.as_deref()),
             ),
@@ -126,4 +139,32 @@ pub fn named_pose(
         ))
     })?;
     Ok(pose.to_vec())
+}
+
+/// The cage vertices at `frame` of the scene's animation, or an input error when it has no
+/// keys.
+pub fn frame_pose(
+    scene: &Scene,
+    frame: f64,
+    scene_path: &std::path::Path,
+) -> anyhow::Result<Vec<DVec3>> {
+    if !frame.is_finite() {
+        return Err(InputError(format!("--frame {frame}: give a finite frame number")).into());
+    }
+    if scene.animation.is_empty() {
+        return Err(InputError(format!(
+            "{}: the scene has no animation keys; key poses in the editor (I on the timeline) or \
+             add \"animation\" keys to the file (docs/scene-format.md)",
+            scene_path.display()
+        ))
+        .into());
+    }
+    scene.animation.pose_at(&scene.poses, frame).ok_or_else(|| {
+        InputError(format!(
+            "{}: the animation's keys name missing or malformed poses; run `starcages-cli \
+                 validate`",
+            scene_path.display()
+        ))
+        .into()
+    })
 }

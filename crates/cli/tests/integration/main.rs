@@ -2,6 +2,7 @@
 //! render.
 #![allow(clippy::unwrap_used)]
 
+mod animation;
 mod bench;
 mod common;
 mod deform;

@@ -136,7 +136,7 @@ fn invalid_scenes_and_files_exit_with_status_2() {
     let text =
         std::fs::read_to_string(&nearest)
             .unwrap()
-            .replacen("\"version\": 2", "\"version\": 99", 1);
+            .replacen("\"version\": 3", "\"version\": 99", 1);
     std::fs::write(&newer, text).unwrap();
     let refused = cli(&["info", s(&newer)]);
     assert_eq!(refused.status.code(), Some(2));
@@ -194,7 +194,7 @@ fn y_up_obj_files_stand_up_and_round_trip_unchanged() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
     assert_eq!(json["mesh_up_axis"], "y");
-    assert_eq!(json["version"], 2);
+    assert_eq!(json["version"], 3);
     let info = cli(&["info", s(&scene), "--json"]);
     let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
     let (lo, hi) = (&info["mesh"]["bounds_min"], &info["mesh"]["bounds_max"]);

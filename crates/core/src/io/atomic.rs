@@ -61,47 +61,93 @@ pub fn remove_unfinished_saves() -> usize {
 
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
-    let fail = |error: std::io::Error| FileError::Write {
-        path: path.to_path_buf(),
-        error,
-    };
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let name = path.file_name().ok_or_else(|| {
-        fail(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a file path",
-        ))
-    })?;
-    let prefix = format!(".{}.", name.to_string_lossy());
-    sweep_stale(&folder, &prefix);
-    let existing = std::fs::metadata(path).ok().map(|m| m.permissions());
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(TEMP_SUFFIX);
-    // tempfile creates owner-only files; a saved file gets the permissions a plain new file
-    // would (0o666 less the umask), or keeps those of the file it replaces.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt as _;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    let mut writer = AtomicWriter::create(path)?;
+    writer.write(bytes)?;
+    writer.commit()
+}
+
+/// A file written in pieces (a bake's frames) and put in place atomically by
+/// [`AtomicWriter::commit`]; dropped without committing, it removes its temporary file and the
+/// target keeps its old content.
+pub struct AtomicWriter {
+    target: PathBuf,
+    folder: PathBuf,
+    temp: std::io::BufWriter<tempfile::NamedTempFile>,
+    _listed: Unfinished,
+}
+
+impl AtomicWriter {
+    /// Creates the temporary file beside `path` (exclusively, with an unpredictable name).
+    pub fn create(path: &Path) -> Result<Self, FileError> {
+        let fail = |error: std::io::Error| FileError::Write {
+            path: path.to_path_buf(),
+            error,
+        };
+        let folder = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => std::path::PathBuf::from("."),
+        };
+        let name = path.file_name().ok_or_else(|| {
+            fail(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a file path",
+            ))
+        })?;
+        let prefix = format!(".{}.", name.to_string_lossy());
+        sweep_stale(&folder, &prefix);
+        let existing = std::fs::metadata(path).ok().map(|m| m.permissions());
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(&prefix).suffix(TEMP_SUFFIX);
+        // tempfile creates owner-only files; a saved file gets the permissions a plain new file
+        // would (0o666 less the umask), or keeps those of the file it replaces.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt as _;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let temp = builder.tempfile_in(&folder).map_err(fail)?;
+        if let Some(permissions) = existing {
+            temp.as_file().set_permissions(permissions).map_err(fail)?;
+        }
+        let listed = Unfinished::new(temp.path());
+        pause_for_interrupt_tests();
+        Ok(Self {
+            target: path.to_path_buf(),
+            folder,
+            temp: std::io::BufWriter::with_capacity(1 << 20, temp),
+            _listed: listed,
+        })
     }
-    let mut temp = builder.tempfile_in(&folder).map_err(fail)?;
-    if let Some(permissions) = existing {
-        temp.as_file().set_permissions(permissions).map_err(fail)?;
+
+    fn fail(&self, error: std::io::Error) -> FileError {
+        FileError::Write {
+            path: self.target.clone(),
+            error,
+        }
     }
-    let _listed = Unfinished::new(temp.path());
-    pause_for_interrupt_tests();
-    temp.write_all(bytes).map_err(fail)?;
-    temp.as_file().sync_all().map_err(fail)?;
-    // On failure the temporary file is dropped, which removes it.
-    temp.persist(path).map_err(|e| fail(e.error))?;
-    // Make the rename itself durable where the platform allows opening folders.
-    if let Ok(dir) = std::fs::File::open(&folder) {
-        dir.sync_all().ok();
+
+    /// Appends `bytes`.
+    pub fn write(&mut self, bytes: &[u8]) -> Result<(), FileError> {
+        self.temp.write_all(bytes).map_err(|e| self.fail(e))
     }
-    Ok(())
+
+    /// Flushes the file to disk and renames it over the target.
+    pub fn commit(self) -> Result<(), FileError> {
+        let target = self.target.clone();
+        let fail = |error: std::io::Error| FileError::Write {
+            path: target.clone(),
+            error,
+        };
+        let temp = self.temp.into_inner().map_err(|e| fail(e.into_error()))?;
+        temp.as_file().sync_all().map_err(fail)?;
+        // On failure the temporary file is dropped, which removes it.
+        temp.persist(&self.target).map_err(|e| fail(e.error))?;
+        // Make the rename itself durable where the platform allows opening folders.
+        if let Ok(dir) = std::fs::File::open(&self.folder) {
+            dir.sync_all().ok();
+        }
+        Ok(())
+    }
 }
 
 /// Debug builds only: waits `STARCAGES_TEST_SAVE_PAUSE_MS` milliseconds with the temporary

@@ -94,111 +94,183 @@ pub fn glb_bytes_in_parts(
     uvs: Option<&[Vec2]>,
     parts: &[MeshPart],
 ) -> Vec<u8> {
-    let whole = [MeshPart {
-        vertices: 0..positions.len() as u32,
-        triangles: 0..triangles.len() as u32,
-    }];
-    let parts = if parts.is_empty() { &whole[..] } else { parts };
-    let mut bin: Vec<u8> = Vec::new();
-    let mut views = Vec::new();
-    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32, stride: Option<usize>| {
-        let offset = bin.len();
-        bin.extend_from_slice(data);
-        while !bin.len().is_multiple_of(4) {
-            bin.push(0);
+    let mut gltf = GltfBuilder::default();
+    let primitives = gltf.mesh_primitives(positions, triangles, normals, uvs, parts);
+    let document = gltf.document(serde_json::json!({"primitives": primitives}), None);
+    glb_container(&document, &gltf.bin)
+}
+
+/// The binary buffer, buffer views and accessors of a glTF document being built.
+#[derive(Default)]
+pub(crate) struct GltfBuilder {
+    /// The one buffer's bytes.
+    pub bin: Vec<u8>,
+    views: Vec<serde_json::Value>,
+    accessors: Vec<serde_json::Value>,
+}
+
+/// glTF's `ARRAY_BUFFER` target (vertex attributes).
+const ARRAY_BUFFER: u32 = 34962;
+/// glTF's `ELEMENT_ARRAY_BUFFER` target (indices).
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+impl GltfBuilder {
+    /// Appends `data` (4-byte aligned) as a buffer view; returns its index.
+    pub fn view(&mut self, data: &[u8], target: Option<u32>, stride: Option<usize>) -> usize {
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(data);
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
         }
-        let mut view = serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target});
+        let mut view =
+            serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len()});
+        if let Some(target) = target {
+            view["target"] = serde_json::json!(target);
+        }
         if let Some(stride) = stride {
             view["byteStride"] = serde_json::json!(stride);
         }
-        views.push(view);
-        views.len() - 1
-    };
-    let f32s = |values: &mut dyn Iterator<Item = f32>| -> Vec<u8> {
-        values.flat_map(f32::to_le_bytes).collect()
-    };
-    let pos32: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
-    const ARRAY_BUFFER: u32 = 34962;
-    const ELEMENT_ARRAY_BUFFER: u32 = 34963;
-    // Attribute views are shared (a stride makes them slicable); each part's accessors start
-    // at its first vertex.
-    let position_view = push_view(
-        &mut bin,
-        &f32s(&mut pos32.iter().flat_map(|p| p.to_array())),
-        ARRAY_BUFFER,
-        Some(12),
-    );
-    let normal_view = push_view(
-        &mut bin,
-        &f32s(&mut normals.iter().flat_map(|n| n.to_array())),
-        ARRAY_BUFFER,
-        Some(12),
-    );
-    let uv_view = uvs.map(|uvs| {
-        push_view(
-            &mut bin,
-            &f32s(&mut uvs.iter().flat_map(|t| t.to_array())),
-            ARRAY_BUFFER,
-            Some(8),
-        )
-    });
-    let index_bytes: Vec<u8> = parts
-        .iter()
-        .flat_map(|part| {
-            triangles[part.triangles.start as usize..part.triangles.end as usize]
+        self.views.push(view);
+        self.views.len() - 1
+    }
+
+    /// A vertex attribute view of 3-vectors (stride 12, so parts can slice it).
+    pub fn vec3_view(&mut self, values: &[Vec3]) -> usize {
+        let bytes: Vec<u8> = values
+            .iter()
+            .flat_map(|v| v.to_array())
+            .flat_map(f32::to_le_bytes)
+            .collect();
+        self.view(&bytes, Some(ARRAY_BUFFER), Some(12))
+    }
+
+    /// Adds an accessor; returns its index.
+    pub fn accessor(&mut self, accessor: serde_json::Value) -> usize {
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// A VEC3 float accessor of `values[range]` in `view`, with the bounds glTF requires for
+    /// positions (and position morph targets).
+    pub fn vec3_accessor(
+        &mut self,
+        view: usize,
+        values: &[Vec3],
+        range: std::ops::Range<usize>,
+        bounds: bool,
+    ) -> usize {
+        let mut accessor = serde_json::json!({"bufferView": view, "byteOffset": range.start * 12,
+            "componentType": 5126, "count": range.len(), "type": "VEC3"});
+        if bounds {
+            let (lo, hi) = values[range].iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            accessor["min"] = serde_json::json!(lo.to_array());
+            accessor["max"] = serde_json::json!(hi.to_array());
+        }
+        self.accessor(accessor)
+    }
+
+    /// The primitives of a triangle mesh: one per part (one for all when `parts` is empty).
+    pub fn mesh_primitives(
+        &mut self,
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        normals: &[Vec3],
+        uvs: Option<&[Vec2]>,
+        parts: &[MeshPart],
+    ) -> Vec<serde_json::Value> {
+        let parts = whole_if_empty(parts, positions.len(), triangles.len());
+        let pos32: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
+        // Attribute views are shared (a stride makes them slicable); each part's accessors
+        // start at its first vertex.
+        let position_view = self.vec3_view(&pos32);
+        let normal_view = self.vec3_view(normals);
+        let uv_view = uvs.map(|uvs| {
+            let bytes: Vec<u8> = uvs
                 .iter()
-                .flatten()
-                .map(move |i| i - part.vertices.start)
-        })
-        .flat_map(|i| i.to_le_bytes())
-        .collect();
-    let index_view = push_view(&mut bin, &index_bytes, ELEMENT_ARRAY_BUFFER, None);
-    let mut accessors = Vec::new();
-    let mut primitives = Vec::new();
-    for part in parts {
-        let (v0, v1) = (part.vertices.start as usize, part.vertices.end as usize);
-        let n = v1 - v0;
-        let (lo, hi) = pos32[v0..v1].iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let mut push = |accessor: serde_json::Value| {
-            accessors.push(accessor);
-            accessors.len() - 1
-        };
-        let position = push(
-            serde_json::json!({"bufferView": position_view, "byteOffset": v0 * 12,
-            "componentType": 5126, "count": n, "type": "VEC3", "min": lo.to_array(), "max": hi.to_array()}),
-        );
-        let normal = push(
-            serde_json::json!({"bufferView": normal_view, "byteOffset": v0 * 12,
-            "componentType": 5126, "count": n, "type": "VEC3"}),
-        );
-        let first_index = 12 * part.triangles.start as usize;
-        let index_count = 3 * (part.triangles.end - part.triangles.start) as usize;
-        let indices = push(
-            serde_json::json!({"bufferView": index_view, "byteOffset": first_index,
-            "componentType": 5125, "count": index_count, "type": "SCALAR"}),
-        );
-        let mut attributes = serde_json::json!({"POSITION": position, "NORMAL": normal});
-        if let Some(view) = uv_view {
-            let uv = push(serde_json::json!({"bufferView": view, "byteOffset": v0 * 8,
-                "componentType": 5126, "count": n, "type": "VEC2"}));
-            attributes["TEXCOORD_0"] = serde_json::json!(uv);
+                .flat_map(|t| t.to_array())
+                .flat_map(f32::to_le_bytes)
+                .collect();
+            self.view(&bytes, Some(ARRAY_BUFFER), Some(8))
+        });
+        let index_bytes: Vec<u8> = parts
+            .iter()
+            .flat_map(|part| {
+                triangles[part.triangles.start as usize..part.triangles.end as usize]
+                    .iter()
+                    .flatten()
+                    .map(move |i| i - part.vertices.start)
+            })
+            .flat_map(|i| i.to_le_bytes())
+            .collect();
+        let index_view = self.view(&index_bytes, Some(ELEMENT_ARRAY_BUFFER), None);
+        let mut primitives = Vec::new();
+        for part in &parts {
+            let vertices = part.vertices.start as usize..part.vertices.end as usize;
+            let position = self.vec3_accessor(position_view, &pos32, vertices.clone(), true);
+            let normal = self.vec3_accessor(normal_view, normals, vertices.clone(), false);
+            let first_index = 12 * part.triangles.start as usize;
+            let index_count = 3 * (part.triangles.end - part.triangles.start) as usize;
+            let indices = self.accessor(
+                serde_json::json!({"bufferView": index_view, "byteOffset": first_index,
+                "componentType": 5125, "count": index_count, "type": "SCALAR"}),
+            );
+            let mut attributes = serde_json::json!({"POSITION": position, "NORMAL": normal});
+            if let Some(view) = uv_view {
+                let uv = self.accessor(serde_json::json!({"bufferView": view,
+                    "byteOffset": vertices.start * 8, "componentType": 5126,
+                    "count": vertices.len(), "type": "VEC2"}));
+                attributes["TEXCOORD_0"] = serde_json::json!(uv);
+            }
+            primitives
+                .push(serde_json::json!({"attributes": attributes, "indices": indices, "mode": 4}));
         }
         primitives
-            .push(serde_json::json!({"attributes": attributes, "indices": indices, "mode": 4}));
     }
-    let document = serde_json::json!({
-        "asset": {"version": "2.0", "generator": "StarCages"},
-        "scene": 0,
-        "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0, "name": "deformed"}],
-        "meshes": [{"primitives": primitives}],
-        "buffers": [{"byteLength": bin.len()}],
-        "bufferViews": views,
-        "accessors": accessors,
-    });
+
+    /// The whole document: one node holding `mesh`, and `animations` when given.
+    pub fn document(
+        &self,
+        mesh: serde_json::Value,
+        animations: Option<serde_json::Value>,
+    ) -> serde_json::Value {
+        let mut document = serde_json::json!({
+            "asset": {"version": "2.0", "generator": "StarCages"},
+            "scene": 0,
+            "scenes": [{"nodes": [0]}],
+            "nodes": [{"mesh": 0, "name": "deformed"}],
+            "meshes": [mesh],
+            "buffers": [{"byteLength": self.bin.len()}],
+            "bufferViews": self.views,
+            "accessors": self.accessors,
+        });
+        if let Some(animations) = animations {
+            document["animations"] = animations;
+        }
+        document
+    }
+}
+
+/// `parts`, or one part holding every vertex and triangle when it is empty.
+pub(crate) fn whole_if_empty(
+    parts: &[MeshPart],
+    vertices: usize,
+    triangles: usize,
+) -> Vec<MeshPart> {
+    if parts.is_empty() {
+        vec![MeshPart {
+            vertices: 0..vertices as u32,
+            triangles: 0..triangles as u32,
+        }]
+    } else {
+        parts.to_vec()
+    }
+}
+
+/// A GLB container: the 12-byte header, the JSON chunk (space-padded) and the BIN chunk.
+pub(crate) fn glb_container(document: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
     let mut json = document.to_string().into_bytes();
     while !json.len().is_multiple_of(4) {
         json.push(b' ');
@@ -213,7 +285,7 @@ pub fn glb_bytes_in_parts(
     out.extend_from_slice(&json);
     out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
     out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
+    out.extend_from_slice(bin);
     out
 }
 

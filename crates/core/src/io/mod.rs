@@ -1,16 +1,18 @@
-//! Reading and writing files: meshes (OBJ, glTF, GLB), cage OBJ files, point lists; atomic
-//! saves.
+//! Reading and writing files: meshes (OBJ, glTF, GLB), cage OBJ files, point lists, point
+//! caches (PC2, MDD) and baked glTF animation; atomic saves.
 //!
 //! Every error names the file, and for text formats the 1-based line, with the reason.
 
 mod atomic;
 mod cage_set_obj;
+mod gltf_animation;
 mod mesh_gltf;
 mod mesh_obj;
 mod mesh_write;
 mod obj_cage;
 mod obj_like_source;
 mod obj_lint;
+mod point_cache;
 mod points;
 
 use std::path::{Path, PathBuf};
@@ -20,11 +22,16 @@ use thiserror::Error;
 use crate::cage::CageError;
 use crate::mesh::{Mesh, MeshError};
 
-pub use atomic::{is_same_file, remove_unfinished_saves, write_atomic};
+pub use atomic::{AtomicWriter, is_same_file, remove_unfinished_saves, write_atomic};
 pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
+pub use gltf_animation::{MAX_GLTF_BYTES, MAX_GLTF_FRAMES, MorphAnimation};
 pub use mesh_write::{glb_bytes, glb_bytes_in_parts, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
-pub use obj_like_source::{ObjCopyReport, write_obj_like_source};
+pub use obj_like_source::{ObjCopyReport, SourceVertex, source_vertex_list, write_obj_like_source};
+pub use point_cache::{
+    PointCache, PointCacheFormat, PointCacheWriter, SampleTimes, parse_point_cache,
+    read_point_cache,
+};
 pub use points::{parse_points, read_points};
 
 /// Reads a mesh from an OBJ, glTF or GLB file (by extension).

@@ -42,35 +42,22 @@ pub fn write_obj_like_source(
         });
     }
     let text = read_text(source)?;
-    // The welded vertex of each rest position (the mesh welded exactly equal positions).
-    let welded: HashMap<[u64; 3], usize> = mesh
-        .welded_positions()
+    let vertex_of: Vec<Option<usize>> = source_vertex_list(&text, source, mesh, &to_scene)?
         .iter()
-        .enumerate()
-        .map(|(i, p)| (key(*p), i))
+        .map(|v| v.welded)
         .collect();
-    // First pass: the welded vertex of each `v` line, and per `vn` line the area normals of the
-    // deformed faces that use it.
-    let mut vertex_of: Vec<Option<usize>> = Vec::new();
+    // Per `vn` line the area normals of the deformed faces that use it.
     let mut normal_sums: Vec<DVec3> = Vec::new();
+    let mut vertices_read = 0usize;
     for (number, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("");
         let mut tokens = line.split_whitespace();
         match tokens.next() {
-            Some("v") => {
-                let mut xyz = [0.0; 3];
-                for (k, value) in xyz.iter_mut().enumerate() {
-                    let token = tokens.next().unwrap_or("");
-                    *value = parse_finite(token, ["x", "y", "z"][k])
-                        .map_err(|why| FileError::parse(source, number + 1, why))?;
-                }
-                let rest = to_scene(DVec3::from_array(xyz));
-                vertex_of.push(welded.get(&key(rest)).copied());
-            }
+            Some("v") => vertices_read += 1,
             Some("vn") => normal_sums.push(DVec3::ZERO),
             Some("f") => {
                 let corners = tokens
-                    .map(|corner| corner_indices(corner, vertex_of.len(), normal_sums.len()))
+                    .map(|corner| corner_indices(corner, vertices_read, normal_sums.len()))
                     .collect::<Option<Vec<(usize, Option<usize>)>>>()
                     .ok_or_else(|| {
                         FileError::parse(
@@ -94,22 +81,7 @@ pub fn write_obj_like_source(
             _ => {}
         }
     }
-    // Every vertex of the mesh must come from some `v` line, or the file is not the one the
-    // mesh was read from (it changed on disk since).
-    let mut reached = vec![false; mesh.welded_positions().len()];
-    for w in vertex_of.iter().flatten() {
-        reached[*w] = true;
-    }
-    if let Some(missing) = reached.iter().position(|r| !r) {
-        return Err(FileError::format(
-            source,
-            format!(
-                "no longer matches the scene's mesh (mesh vertex {missing} is not in it: the file \
-                 changed since the scene was opened); reopen the scene, or export as .glb"
-            ),
-        ));
-    }
-    // Second pass: the copy.
+    // The copy.
     let newline = if text.contains("\r\n") { "\r\n" } else { "\n" };
     let mut out = String::with_capacity(text.len() + text.len() / 4);
     let (mut v, mut vn) = (0usize, 0usize);
@@ -161,6 +133,69 @@ pub fn write_obj_like_source(
     }
     write_atomic(path, out.as_bytes())?;
     Ok(report)
+}
+
+/// One `v` line of an OBJ file: the welded mesh vertex at its position (none for a vertex no
+/// face uses) and the position as the file has it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SourceVertex {
+    /// The welded mesh vertex, if a face uses the line.
+    pub welded: Option<usize>,
+    /// The position in the file's axes.
+    pub in_file: DVec3,
+}
+
+/// The `v` lines of the OBJ text `text` (read from `source`, the file `mesh` came from), in
+/// file order: the vertex list, count and order that a deformed copy keeps. Refuses a file that
+/// no longer holds every mesh vertex (it changed since the mesh was read).
+pub fn source_vertex_list(
+    text: &str,
+    source: &Path,
+    mesh: &Mesh,
+    to_scene: impl Fn(DVec3) -> DVec3,
+) -> Result<Vec<SourceVertex>, FileError> {
+    // The welded vertex of each rest position (the mesh welded exactly equal positions).
+    let welded: HashMap<[u64; 3], usize> = mesh
+        .welded_positions()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(*p), i))
+        .collect();
+    let mut list = Vec::new();
+    for (number, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("");
+        let mut tokens = line.split_whitespace();
+        if tokens.next() != Some("v") {
+            continue;
+        }
+        let mut xyz = [0.0; 3];
+        for (k, value) in xyz.iter_mut().enumerate() {
+            let token = tokens.next().unwrap_or("");
+            *value = parse_finite(token, ["x", "y", "z"][k])
+                .map_err(|why| FileError::parse(source, number + 1, why))?;
+        }
+        let in_file = DVec3::from_array(xyz);
+        list.push(SourceVertex {
+            welded: welded.get(&key(to_scene(in_file))).copied(),
+            in_file,
+        });
+    }
+    // Every vertex of the mesh must come from some `v` line, or the file is not the one the
+    // mesh was read from (it changed on disk since).
+    let mut reached = vec![false; mesh.welded_positions().len()];
+    for w in list.iter().filter_map(|v| v.welded) {
+        reached[w] = true;
+    }
+    if let Some(missing) = reached.iter().position(|r| !r) {
+        return Err(FileError::format(
+            source,
+            format!(
+                "no longer matches the scene's mesh (mesh vertex {missing} is not in it: the file \
+                 changed since the scene was opened); reopen the scene, or export as .glb"
+            ),
+        ));
+    }
+    Ok(list)
 }
 
 /// The bit pattern of a position, −0 and +0 alike (as the mesh welds).

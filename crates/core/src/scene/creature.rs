@@ -130,7 +130,85 @@ pub fn creature(detail: f64) -> Scene {
             "shin_front_left: translate 0.12 0 0.04",
         ],
     );
+    store_walk_cycle(&mut scene);
     scene
+}
+
+/// A shin swung forward (`+1`) or back (`-1`) about the knee: a rotation about its centre
+/// and a shift that keeps its top (the knee) close to where it was.
+fn swing(leg: &str, direction: f64) -> [String; 2] {
+    let degrees = 18.0 * direction;
+    let shift = 0.37 * degrees.to_radians().sin();
+    [
+        format!("shin_{leg}: rotate 0 1 0 {}", -degrees),
+        format!("shin_{leg}: translate {shift} 0 0"),
+    ]
+}
+
+/// A shin lifted and carried forward in the passing position.
+fn lift(leg: &str) -> [String; 2] {
+    [
+        format!("shin_{leg}: rotate 0 1 0 -10"),
+        format!("shin_{leg}: translate 0.07 0 0.07"),
+    ]
+}
+
+/// The walk cycle: two seconds at 24 fps (frames 1 to 48, the key at 49 repeating frame 1 so
+/// that playback loops), diagonal legs moving together as in a trot, the tail swinging and the
+/// head nodding at each contact.
+fn store_walk_cycle(scene: &mut Scene) {
+    let contact = |forward: [&str; 2], back: [&str; 2], tail: f64| -> Vec<String> {
+        let mut edits: Vec<String> = Vec::new();
+        for leg in forward {
+            edits.extend(swing(leg, 1.0));
+        }
+        for leg in back {
+            edits.extend(swing(leg, -1.0));
+        }
+        edits.push(format!("tail: rotate 0 0 1 {tail}"));
+        edits.push("head: rotate 0 1 0 6".into());
+        edits
+    };
+    let passing = |lifted: [&str; 2]| -> Vec<String> {
+        let mut edits: Vec<String> = lifted.iter().flat_map(|leg| lift(leg)).collect();
+        edits.push("head: rotate 0 1 0 -4".into());
+        edits
+    };
+    let poses = [
+        (
+            "walk_contact_1",
+            contact(
+                ["front_left", "rear_right"],
+                ["front_right", "rear_left"],
+                14.0,
+            ),
+        ),
+        ("walk_passing_1", passing(["front_right", "rear_left"])),
+        (
+            "walk_contact_2",
+            contact(
+                ["front_right", "rear_left"],
+                ["front_left", "rear_right"],
+                -14.0,
+            ),
+        ),
+        ("walk_passing_2", passing(["front_left", "rear_right"])),
+    ];
+    for (name, edits) in &poses {
+        let edits: Vec<&str> = edits.iter().map(String::as_str).collect();
+        super::demo_pose::store_pose(scene, name, &edits);
+    }
+    super::demo_pose::set_keys(
+        scene,
+        48,
+        &[
+            (1.0, "walk_contact_1"),
+            (13.0, "walk_passing_1"),
+            (25.0, "walk_contact_2"),
+            (37.0, "walk_passing_2"),
+            (49.0, "walk_contact_1"),
+        ],
+    );
 }
 
 /// Runs a rig script (see [`parse_rig_script`]) on `scene`, whole or not at all.

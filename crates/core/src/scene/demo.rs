@@ -403,5 +403,18 @@ fn critter(resolution: u32) -> Scene {
             "head_1_0_1: translate 0.15 -0.2 0",
         ],
     );
+    // A short animation (one second at 24 fps): the ears fold back and the head turns, then
+    // both come back.
+    super::demo_pose::store_pose(&mut scene, "rest", &[]);
+    super::demo_pose::store_pose(
+        &mut scene,
+        "ears_back",
+        &["ears: rotate 1 0 0 -25", "head: rotate 0 0 1 15"],
+    );
+    super::demo_pose::set_keys(
+        &mut scene,
+        24,
+        &[(1.0, "rest"), (12.0, "ears_back"), (24.0, "rest")],
+    );
     scene
 }

@@ -26,3 +26,21 @@ pub(super) fn store_pose(scene: &mut Scene, name: &str, edits: &[&str]) {
         scene.pose_states.insert(name.into(), state);
     }
 }
+
+/// Keys the stored poses `keys` (frame, pose name) with smooth interpolation, at 24 fps, the
+/// playback range from the first key to frame `last_frame`.
+pub(super) fn set_keys(scene: &mut Scene, last_frame: i64, keys: &[(f64, &str)]) {
+    use crate::anim::{Interpolation, Key};
+    scene.animation.fps = 24.0;
+    scene.animation.frame_start = keys.first().map_or(1, |k| k.0 as i64);
+    scene.animation.frame_end = last_frame;
+    scene.animation.keys = keys
+        .iter()
+        .map(|&(frame, pose)| Key {
+            frame,
+            pose: pose.into(),
+            interpolation: Interpolation::Bezier,
+            h: Default::default(),
+        })
+        .collect();
+}

@@ -7,7 +7,10 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{MeshSource, Scene};
-use crate::io::{FileError, extension, write_mesh, write_obj_like_source};
+use crate::io::{
+    FileError, SourceVertex, extension, read_text, source_vertex_list, write_mesh,
+    write_obj_like_source,
+};
 
 /// Writes the scene's mesh deformed to `welded` (welded positions, scene coordinates) to
 /// `path` (.obj or .glb), turned back to the mesh file's up axis ([`Scene::export_up`]). A
@@ -34,6 +37,67 @@ pub fn write_deformed_mesh(path: &Path, scene: &Scene, welded: &[DVec3]) -> Resu
                 .map(|p| up.from_scene(p))
                 .collect();
             write_mesh(path, &scene.mesh, &positions)
+        }
+    }
+}
+
+/// The vertex list `write_deformed_mesh` gives a `.obj` file, which point caches (PC2, MDD)
+/// follow so that they play on that file: for a mesh read from an OBJ file, the source's `v`
+/// lines in file order (a line no face uses keeps its position); otherwise the mesh's original
+/// layout.
+#[derive(Debug, Clone)]
+pub struct ExportLayout {
+    /// The source's `v` lines, for a mesh read from OBJ.
+    source: Option<Vec<SourceVertex>>,
+}
+
+impl ExportLayout {
+    /// The layout of `scene`'s OBJ export (reads the source OBJ file, if the mesh came from one).
+    pub fn of(scene: &Scene) -> Result<Self, FileError> {
+        let source = match &scene.mesh_source {
+            MeshSource::File(source) if extension(source) == "obj" => {
+                let up = scene.export_up();
+                let text = read_text(source)?;
+                Some(source_vertex_list(&text, source, &scene.mesh, |p| {
+                    up.to_scene(p)
+                })?)
+            }
+            _ => None,
+        };
+        Ok(Self { source })
+    }
+
+    /// How many vertices the export holds.
+    pub fn len(&self, scene: &Scene) -> usize {
+        match &self.source {
+            Some(list) => list.len(),
+            None => scene.mesh.positions().len(),
+        }
+    }
+
+    /// True when the export holds no vertex.
+    pub fn is_empty(&self, scene: &Scene) -> bool {
+        self.len(scene) == 0
+    }
+
+    /// The exported positions, in the mesh file's axes, of the mesh deformed to `welded`
+    /// (welded positions, scene coordinates).
+    pub fn positions(&self, scene: &Scene, welded: &[DVec3]) -> Vec<DVec3> {
+        let up = scene.export_up();
+        match &self.source {
+            Some(list) => list
+                .iter()
+                .map(|v| match v.welded.and_then(|w| welded.get(w)) {
+                    Some(p) => up.from_scene(*p),
+                    None => v.in_file,
+                })
+                .collect(),
+            None => scene
+                .mesh
+                .unweld(welded)
+                .into_iter()
+                .map(|p| up.from_scene(p))
+                .collect(),
         }
     }
 }

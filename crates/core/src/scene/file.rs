@@ -12,13 +12,14 @@ use thiserror::Error;
 
 use super::UpAxis;
 use super::{CageSet, HierarchyState, InternalCage, LeafCage, MeshSource, Scene, SceneSettings};
+use crate::anim::Animation;
 use crate::io::{FileError, read_mesh_as, write_atomic};
 use crate::mesh::{Mesh, MeshError};
 
 /// The `format` name of scene files.
 pub const SCENE_FORMAT: &str = "starcages-scene";
 /// The scene file version this build writes (and the newest it reads).
-pub const SCENE_VERSION: u32 = 2;
+pub const SCENE_VERSION: u32 = 3;
 
 /// Why a scene file could not be read or written.
 #[derive(Debug, Error)]
@@ -123,6 +124,9 @@ struct SceneFile {
     /// The mesh file's up axis (version 2; version 1 files read meshes as they are: "z").
     #[serde(default)]
     mesh_up_axis: UpAxis,
+    /// Keys, frame rate and range (version 3; absent: no keys, 24 fps, frames 1..48).
+    #[serde(default, skip_serializing_if = "Animation::is_default")]
+    animation: Animation,
     /// Last, since an embedded mesh can be long.
     mesh: MeshRef,
 }
@@ -157,6 +161,12 @@ fn migrate(mut value: Value, version: u64) -> Value {
         if let Value::Object(map) = &mut value {
             map.insert("mesh_up_axis".into(), Value::String("z".into()));
             map.insert("version".into(), Value::from(2));
+        }
+    }
+    if version < 3 {
+        // Version 3 added "animation"; a version-2 scene has none, which is the default.
+        if let Value::Object(map) = &mut value {
+            map.insert("version".into(), Value::from(3));
         }
     }
     value
@@ -249,6 +259,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
         pose,
         pose_state: file.current_hierarchy,
         pose_states: file.pose_hierarchy,
+        animation: file.animation,
     })
 }
 
@@ -283,6 +294,7 @@ pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
         current_pose: (scene.pose != scene.cages.vertices).then(|| scene.pose.clone()),
         current_hierarchy: scene.pose_state.clone(),
         mesh_up_axis: scene.mesh_up,
+        animation: scene.animation.clone(),
         mesh,
     };
     // Serialising plain data to a Value cannot fail (no maps with non-string keys).

@@ -1,5 +1,5 @@
 //! The scene model: a mesh, a set of leaf and internal cages over one vertex array, settings,
-//! named poses and the current pose; validation of the whole; JSON scene files; demo scenes
+//! named poses, the current pose and the animation; validation of the whole; JSON scene files; demo scenes
 //! and automatic grid cages.
 
 mod autocage;
@@ -27,6 +27,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 
+use crate::anim::Animation;
 use crate::mesh::Mesh;
 
 pub use autocage::{AutocageOptions, DEFAULT_GRID, autocage};
@@ -35,7 +36,7 @@ pub use cage_set::{
 };
 pub(crate) use containment::ON_CAGE;
 pub use containment::{Containment, leaf_containment};
-pub use export::write_deformed_mesh;
+pub use export::{ExportLayout, write_deformed_mesh};
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
 };
@@ -87,6 +88,8 @@ pub struct Scene {
     pub pose_state: HierarchyState,
     /// The hierarchy's state in each named pose (rest state where absent).
     pub pose_states: BTreeMap<String, HierarchyState>,
+    /// Keys over time (each names one of `poses`), frame rate and playback range.
+    pub animation: Animation,
 }
 
 impl Scene {
@@ -109,6 +112,7 @@ impl Scene {
             pose,
             pose_state: HierarchyState::default(),
             pose_states: BTreeMap::new(),
+            animation: Animation::default(),
         }
     }
 

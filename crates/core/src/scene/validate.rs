@@ -215,6 +215,9 @@ pub enum SceneProblem {
     /// The leaf cages' *Cages topology is unusable (e.g. a non-manifold join cage).
     #[error("{0}")]
     Topology(String),
+    /// The animation cannot be played.
+    #[error(transparent)]
+    Animation(#[from] crate::anim::AnimationProblem),
     /// An internal cage owns a vertex that does not exist or is its own.
     #[error(
         "internal cage '{cage}' owns vertex {vertex}, which {reason}; remove it from its owned list"
@@ -409,6 +412,13 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
     check_shared_faces(scene, errors);
     check_hierarchy(scene, errors);
     check_poses(scene, errors);
+    errors.extend(
+        scene
+            .animation
+            .problems(&scene.poses, set.leaves.iter().map(|c| c.name.as_str()))
+            .into_iter()
+            .map(SceneProblem::Animation),
+    );
     if leaves.iter().all(Option::is_some) && !leaves.is_empty() {
         let leaves: Vec<LocalCage> = leaves.into_iter().flatten().collect();
         check_overlaps_and_coverage(scene, &leaves, &mut report);

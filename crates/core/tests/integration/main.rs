@@ -2,6 +2,7 @@
 //! than running the tests): coordinates, *Cages, hierarchies, scenes and readers.
 #![allow(clippy::unwrap_used)]
 
+mod animation;
 mod autorig;
 mod common;
 mod fuzz_readers;

@@ -343,7 +343,7 @@ fn bad_scene_files_get_clear_errors() {
     let newer = write(
         &dir,
         "newer.json",
-        &text.replacen("\"version\": 2", "\"version\": 7", 1),
+        &text.replacen("\"version\": 3", "\"version\": 7", 1),
     );
     let e = load_scene(&newer).unwrap_err().to_string();
     assert!(
@@ -616,8 +616,8 @@ fn scene_version_zero_is_refused() {
     let path = dir.join("scene.json");
     save_scene(&two_box_scene(), &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("\"version\": 2"));
-    std::fs::write(&path, text.replace("\"version\": 2", "\"version\": 0")).unwrap();
+    assert!(text.contains("\"version\": 3"));
+    std::fs::write(&path, text.replace("\"version\": 3", "\"version\": 0")).unwrap();
     let error = load_scene(&path).unwrap_err().to_string();
     assert!(
         error.contains("scene.json") && error.contains("start at 1"),
@@ -931,7 +931,7 @@ fn version_1_scenes_keep_their_mesh_as_is_and_new_ones_record_the_up_axis() {
         .filter(|l| !l.contains("mesh_up_axis"))
         .collect::<Vec<_>>()
         .join("\n")
-        .replace("\"version\": 2", "\"version\": 1");
+        .replace("\"version\": 3", "\"version\": 1");
     std::fs::write(&path, v1).unwrap();
     let old = load_scene(&path).unwrap();
     assert_eq!(old.mesh_up, UpAxis::Z);

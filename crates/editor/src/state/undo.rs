@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 
 use glam::DVec3;
+use starcages_core::anim::Animation;
 use starcages_core::scene::{CageSet, HierarchyState, Scene, SceneSettings};
 
 /// The editable state of a scene.
@@ -15,6 +16,7 @@ pub struct Snapshot {
     pose: Vec<DVec3>,
     pose_state: HierarchyState,
     pose_states: BTreeMap<String, HierarchyState>,
+    animation: Animation,
 }
 
 impl Snapshot {
@@ -27,6 +29,7 @@ impl Snapshot {
             pose: scene.pose.clone(),
             pose_state: scene.pose_state.clone(),
             pose_states: scene.pose_states.clone(),
+            animation: scene.animation.clone(),
         }
     }
 
@@ -38,6 +41,7 @@ impl Snapshot {
         scene.pose = self.pose;
         scene.pose_state = self.pose_state;
         scene.pose_states = self.pose_states;
+        scene.animation = self.animation;
     }
 }
 

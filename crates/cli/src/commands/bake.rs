@@ -1,0 +1,229 @@
+//! `starcages-cli bake`: the scene's animation (or cage positions per frame from another
+//! tool's point cache) through one binding into a point cache (PC2, MDD) or an animated glTF.
+
+use std::io::{IsTerminal as _, Write as _};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use glam::{DVec3, Vec3};
+use starcages_core::BindControl;
+use starcages_core::anim::bake::FrameDeformer;
+use starcages_core::io::{
+    MorphAnimation, PointCacheFormat, PointCacheWriter, SampleTimes, read_point_cache,
+};
+use starcages_core::scene::{ExportLayout, Scene};
+
+use super::frames::{SampleArgs, animation_samples};
+use crate::InputError;
+
+/// Arguments of `bake`.
+#[derive(Debug, Args)]
+pub struct BakeArgs {
+    /// Scene file.
+    scene: PathBuf,
+    /// File to write: .pc2 or .mdd (the vertices of `deform --out x.obj`, in its order and the
+    /// mesh file's axes), or .glb / .gltf (the mesh with one morph target per frame).
+    #[arg(long)]
+    out: PathBuf,
+    #[command(flatten)]
+    samples: SampleArgs,
+    /// Cage vertex positions per frame from another tool (PC2 or MDD in the vertex order and
+    /// axes `starcages-cli cages` writes) drive the rig instead of the scene's animation.
+    #[arg(long, value_name = "CAGES.pc2|.mdd")]
+    cage_cache: Option<PathBuf>,
+    /// Keep the binding in a cache beside the scene (SCENE.json.bind).
+    #[arg(long)]
+    cache: bool,
+    /// Print the bake's frames per second and the file's size to standard error.
+    #[arg(long)]
+    stats: bool,
+}
+
+/// Cage positions and h per sample.
+struct Samples {
+    /// Scene frame of each sample.
+    frames: Vec<f64>,
+    /// Cage positions per sample, scene coordinates; `None`: from the animation.
+    cages: Option<Vec<Vec<DVec3>>>,
+    /// When the samples fall (cache headers).
+    times: SampleTimes,
+}
+
+/// Where the baked frames go.
+enum Output {
+    Cache(PointCacheWriter, ExportLayout),
+    Gltf(MorphAnimation),
+}
+
+/// Runs the command.
+pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
+    const WRITES: [&str; 4] = ["pc2", "mdd", "glb", "gltf"];
+    let inputs: Vec<&Path> = std::iter::once(args.scene.as_path())
+        .chain(args.cage_cache.as_deref())
+        .collect();
+    super::check_output("--out", &args.out, &inputs, &WRITES)?;
+    let scene = super::load(&args.scene)?;
+    let label = args.scene.display().to_string();
+    if !super::report(&scene, &label).is_valid() {
+        return Err(InputError(format!(
+            "{label}: the scene does not validate; see the problems above"
+        ))
+        .into());
+    }
+    let mesh: Vec<&Path> = super::mesh_file(&scene).into_iter().collect();
+    super::check_output("--out", &args.out, &mesh, &WRITES)?;
+    let samples = samples(args, &scene, &label)?;
+    let binding = super::deform::bind(&scene, &args.scene, args.cache, &label)?;
+    let mut output = match PointCacheFormat::of(&args.out) {
+        Some(format) => {
+            let layout = ExportLayout::of(&scene)?;
+            let writer = PointCacheWriter::create(
+                &args.out,
+                format,
+                layout.len(&scene),
+                samples.frames.len(),
+                samples.times,
+            )?;
+            Output::Cache(writer, layout)
+        }
+        None => {
+            let up = scene.export_up();
+            let rest: Vec<DVec3> = scene
+                .mesh
+                .positions()
+                .iter()
+                .map(|&p| up.from_scene(p))
+                .collect();
+            Output::Gltf(MorphAnimation::new(&args.out, &scene.mesh, rest)?)
+        }
+    };
+    let mut deformer = FrameDeformer::new(scene.clone(), binding);
+    let control = BindControl::default();
+    let start = Instant::now();
+    let mut seconds_deform = 0.0;
+    let progress = std::io::stderr().is_terminal();
+    let count = samples.frames.len();
+    for (k, &frame) in samples.frames.iter().enumerate() {
+        let (cages, h) = match &samples.cages {
+            Some(cages) => (cages[k].clone(), Default::default()),
+            None => (
+                super::pose::frame_pose(&scene, frame, &args.scene)?,
+                scene.animation.h_at(frame),
+            ),
+        };
+        let deform_start = Instant::now();
+        let welded = deformer
+            .deform(&cages, &h, &control)
+            .map_err(|e| InputError(format!("{label}: frame {frame}: {e}")))?;
+        seconds_deform += deform_start.elapsed().as_secs_f64();
+        match &mut output {
+            Output::Cache(writer, layout) => {
+                let positions: Vec<Vec3> = layout
+                    .positions(deformer.scene(), &welded)
+                    .iter()
+                    .map(|p| p.as_vec3())
+                    .collect();
+                writer.write_sample(&positions)?;
+            }
+            Output::Gltf(animation) => {
+                let up = scene.export_up();
+                let positions: Vec<DVec3> = scene
+                    .mesh
+                    .unweld(&welded)
+                    .into_iter()
+                    .map(|p| up.from_scene(p))
+                    .collect();
+                let seconds = (frame - samples.frames[0]) / samples.times.fps;
+                animation.push_frame(&scene.mesh, &positions, seconds, format!("frame {frame}"))?;
+            }
+        }
+        if progress {
+            eprint!("\rbaking: frame {frame} ({}/{count})", k + 1);
+            std::io::stderr().flush().ok();
+        }
+    }
+    match output {
+        Output::Cache(writer, _) => writer.finish()?,
+        Output::Gltf(animation) => animation.write(&scene.mesh)?,
+    }
+    if progress {
+        eprintln!();
+    }
+    if args.stats {
+        let seconds = start.elapsed().as_secs_f64();
+        let bytes = std::fs::metadata(&args.out).map(|m| m.len()).unwrap_or(0);
+        eprintln!(
+            "bake: {count} frames in {seconds:.3} s ({:.1} frames/s written; deformation alone \
+             {:.1} frames/s); {} bytes ({:.2} MB)",
+            count as f64 / seconds.max(1e-9),
+            count as f64 / seconds_deform.max(1e-9),
+            bytes,
+            bytes as f64 / 1e6
+        );
+    }
+    crate::output::line(args.out.display())?;
+    Ok(())
+}
+
+/// The samples to bake: the animation's frames, or the cage cache's samples.
+fn samples(args: &BakeArgs, scene: &Scene, label: &str) -> anyhow::Result<Samples> {
+    let Some(path) = &args.cage_cache else {
+        if scene.animation.is_empty() {
+            return Err(InputError(format!(
+                "{label}: the scene has no animation keys to bake; key poses in the editor, or \
+                 drive the rig with --cage-cache CAGES.pc2"
+            ))
+            .into());
+        }
+        let (frames, times) = animation_samples(scene, args.samples.frames, args.samples.fps)?;
+        return Ok(Samples {
+            frames,
+            cages: None,
+            times,
+        });
+    };
+    if args.samples.fps.is_some() {
+        return Err(InputError(
+            "--fps does not apply with --cage-cache: the cache's own samples are baked".into(),
+        )
+        .into());
+    }
+    let cache = read_point_cache(path, Some(scene.cages.vertices.len()), scene.animation.fps)?;
+    let up = scene.export_up();
+    let mut frames = Vec::new();
+    let mut cages = Vec::new();
+    for (k, sample) in cache.samples.iter().enumerate() {
+        let frame = cache.start_frame + k as f64 * cache.frame_step;
+        if let Some(range) = args.samples.frames
+            && !(frame >= range.first as f64 - 1e-6 && frame <= range.last as f64 + 1e-6)
+        {
+            continue;
+        }
+        frames.push(frame);
+        cages.push(
+            sample
+                .iter()
+                .map(|p| up.to_scene(p.as_dvec3()))
+                .collect::<Vec<_>>(),
+        );
+    }
+    let Some(&first) = frames.first() else {
+        return Err(InputError(format!(
+            "{}: no sample falls in --frames (its samples run from frame {} every {} frames)",
+            path.display(),
+            cache.start_frame,
+            cache.frame_step
+        ))
+        .into());
+    };
+    Ok(Samples {
+        frames,
+        cages: Some(cages),
+        times: SampleTimes {
+            start_frame: first,
+            frame_step: cache.frame_step,
+            fps: scene.animation.fps,
+        },
+    })
+}

@@ -1,0 +1,107 @@
+//! Baking: the mesh at a run of frames through one compiled operator. Cage positions change
+//! per frame at the cost of one sparse product; a frame whose keyed h differs from the
+//! operator's re-binds only the cages whose h changed (h shapes their rows of S, eq. 11).
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use crate::coords::BindControl;
+use crate::scene::Scene;
+use crate::star::{StarBinding, StarError};
+
+/// The most samples one bake takes (a day at 120 frames per second).
+pub const MAX_SAMPLES: usize = 10_368_000;
+
+/// The scene frames `first`, `first + step`, … up to `last` (within a thousandth of a step, so
+/// that `--fps` steps such as 24/30 land on `last`). `None` when the run is empty, the step is
+/// not positive or there would be more than [`MAX_SAMPLES`].
+pub fn sample_frames(first: f64, last: f64, step: f64) -> Option<Vec<f64>> {
+    if !(first.is_finite() && last.is_finite() && step.is_finite() && step > 0.0 && first <= last) {
+        return None;
+    }
+    let count = ((last - first) / step + 1e-3).floor() + 1.0;
+    if count > MAX_SAMPLES as f64 {
+        return None;
+    }
+    Some(
+        (0..count as usize)
+            .map(|k| first + k as f64 * step)
+            .collect(),
+    )
+}
+
+/// Sets the h of the leaf cages named in `h` (a key's values); returns the indices of the
+/// cages whose h changed. Names that are not leaf cages are ignored (validation reports them).
+pub fn apply_keyed_h(scene: &mut Scene, h: &BTreeMap<String, f64>) -> Vec<usize> {
+    let mut changed = Vec::new();
+    for (name, &value) in h {
+        let Some(index) = scene.cages.leaf_index(name) else {
+            continue;
+        };
+        if scene.cage_h(index) != value {
+            scene.cages.leaves[index].h = Some(value);
+            changed.push(index);
+        }
+    }
+    changed
+}
+
+/// A scene's mesh deformed frame after frame by one binding.
+pub struct FrameDeformer {
+    scene: Scene,
+    binding: StarBinding,
+}
+
+impl FrameDeformer {
+    /// Deforms `scene`'s mesh with `binding` (a binding of that scene).
+    pub fn new(scene: Scene, binding: StarBinding) -> Self {
+        Self { scene, binding }
+    }
+
+    /// The scene as bound now (its h as the last frame keyed it).
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The binding as it stands now.
+    pub fn binding(&self) -> &StarBinding {
+        &self.binding
+    }
+
+    /// The welded mesh, in scene coordinates, for cage vertices at `cage_positions` and the
+    /// keyed h values `h` (re-binding the cages whose h changed since the last frame).
+    pub fn deform(
+        &mut self,
+        cage_positions: &[DVec3],
+        h: &BTreeMap<String, f64>,
+        control: &BindControl,
+    ) -> Result<Vec<DVec3>, StarError> {
+        let changed = apply_keyed_h(&mut self.scene, h);
+        if !changed.is_empty() {
+            self.binding = self.binding.rebind_leaves(&self.scene, &changed, control)?;
+        }
+        Ok(self
+            .binding
+            .deform(&self.scene.cages.vertices, cage_positions)
+            .iter()
+            .map(|p| p.as_dvec3())
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_land_on_the_last_frame_and_refuse_empty_runs() {
+        assert_eq!(sample_frames(1.0, 4.0, 1.0), Some(vec![1.0, 2.0, 3.0, 4.0]));
+        let thirty = sample_frames(1.0, 25.0, 24.0 / 30.0).unwrap();
+        assert_eq!(thirty.len(), 31);
+        assert!((thirty[30] - 25.0).abs() < 1e-9);
+        assert_eq!(sample_frames(5.0, 4.0, 1.0), None);
+        assert_eq!(sample_frames(1.0, 4.0, 0.0), None);
+        assert_eq!(sample_frames(0.0, 1e12, 1.0), None);
+    }
+}
