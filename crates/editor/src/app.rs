@@ -50,6 +50,9 @@ impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         self.state.poll_jobs(false);
+        if self.state.advance_playback() {
+            ctx.request_repaint();
+        }
         let busy = self.state.bind_job.is_some()
             || self.state.load_job.is_some()
             || self.state.autorig_job.is_some()

@@ -134,7 +134,10 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
                     .into_iter()
                     .map(|p| up.from_scene(p))
                     .collect();
-                let seconds = (frame - samples.frames[0]) / samples.times.fps;
+                // Scene time (frame / fps), so that Blender's importer puts frame N at frame
+                // N; glTF times cannot be negative, so a range starting below 0 starts at 0.
+                let origin = samples.frames[0].min(0.0);
+                let seconds = (frame - origin) / samples.times.fps;
                 animation.push_frame(&scene.mesh, &positions, seconds, format!("frame {frame}"))?;
             }
         }

@@ -405,7 +405,7 @@ fn critter(resolution: u32) -> Scene {
     );
     // A short animation (one second at 24 fps): the ears fold back and the head turns, then
     // both come back.
-    super::demo_pose::store_pose(&mut scene, "rest", &[]);
+    super::demo_pose::store_pose(&mut scene, "ears_up", &[]);
     super::demo_pose::store_pose(
         &mut scene,
         "ears_back",
@@ -414,7 +414,7 @@ fn critter(resolution: u32) -> Scene {
     super::demo_pose::set_keys(
         &mut scene,
         24,
-        &[(1.0, "rest"), (12.0, "ears_back"), (24.0, "rest")],
+        &[(1.0, "ears_up"), (12.0, "ears_back"), (24.0, "ears_up")],
     );
     scene
 }

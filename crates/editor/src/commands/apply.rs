@@ -21,6 +21,15 @@ pub fn apply_all(state: &mut EditorState, commands: Vec<Command>) {
 /// Carries out one command.
 pub fn apply(state: &mut EditorState, command: Command) {
     match command {
+        command @ (Command::SetFrame(_)
+        | Command::SetPlaying(_)
+        | Command::InsertKey
+        | Command::DeleteKey(_)
+        | Command::MoveKey { .. }
+        | Command::SetKeyInterpolation { .. }
+        | Command::SetAnimationRange { .. }
+        | Command::SetAutoKey(_)
+        | Command::ImportCageAnimation(_)) => super::animation::apply_animation(state, command),
         Command::Open(path) => {
             if state.doc.dirty {
                 state.pending = Some(Pending::Open(path));
@@ -270,6 +279,19 @@ pub fn apply(state: &mut EditorState, command: Command) {
                     }
                 });
             }
+        }
+        Command::DeletePose(name)
+            if state
+                .doc
+                .scene
+                .animation
+                .keys
+                .iter()
+                .any(|k| k.pose == name) =>
+        {
+            state.error(EditorError::Pose(format!(
+                "pose '{name}' is keyed on the timeline; delete its keys first (X on a key)"
+            )));
         }
         Command::DeletePose(name) => {
             state.edit_scene("delete pose", |scene| {
@@ -543,6 +565,7 @@ fn move_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)]) {
         .then(|| crate::state::undo::Snapshot::of(&state.doc.scene));
     match state.move_vertices(moves) {
         Ok(()) => {
+            super::animation::key_after_edit(state);
             if let Some(before) = before
                 && before != crate::state::undo::Snapshot::of(&state.doc.scene)
             {

@@ -2,6 +2,7 @@
 //! place that changes the editor's state — carries them out once per frame. [`UiCommand`] is
 //! the table of menu and keyboard actions (label, tooltip, shortcut).
 
+mod animation;
 mod apply;
 mod table;
 
@@ -154,6 +155,42 @@ pub enum Command {
     SwitchPose(Option<String>),
     /// Delete a stored pose.
     DeletePose(String),
+    /// Go to a frame of the animation (not an undo step).
+    SetFrame(f64),
+    /// Start or stop playback.
+    SetPlaying(bool),
+    /// Key the current pose at the current frame (updating the key there, if any).
+    InsertKey,
+    /// Delete the key at this frame.
+    DeleteKey(f64),
+    /// Move the key at `from` to `to` (retime).
+    MoveKey {
+        /// Its frame now.
+        from: f64,
+        /// Its new frame.
+        to: f64,
+    },
+    /// How the key at `frame` moves on to the next one.
+    SetKeyInterpolation {
+        /// The key's frame.
+        frame: f64,
+        /// Its interpolation.
+        interpolation: starcages_core::anim::Interpolation,
+    },
+    /// Frame rate and playback range.
+    SetAnimationRange {
+        /// Frames per second.
+        fps: f64,
+        /// First frame.
+        start: i64,
+        /// Last frame.
+        end: i64,
+    },
+    /// Auto-key on or off.
+    SetAutoKey(bool),
+    /// Turn a cage point cache (PC2 or MDD from another tool, in the order and axes of
+    /// Export cages) into keys, one per sample (one undo step).
+    ImportCageAnimation(PathBuf),
     /// Select vertices.
     Select {
         /// The picked vertices.

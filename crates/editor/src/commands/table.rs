@@ -3,6 +3,8 @@
 
 use egui::{Key, KeyboardShortcut, Modifiers};
 
+use crate::state::EditMode;
+
 /// An action from a menu or a key. The UI layer carries it out (some need a file dialog or
 /// the pointer) by sending [`super::Command`]s.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -83,6 +85,28 @@ pub enum UiCommand {
     SubdivideCages,
     /// Rig ▸ Auto rig
     AutoRig,
+    /// Animation ▸ Play / pause
+    PlayPause,
+    /// Animation ▸ Jump to start
+    JumpToStart,
+    /// Animation ▸ Jump to end
+    JumpToEnd,
+    /// Animation ▸ Next frame
+    NextFrame,
+    /// Animation ▸ Previous frame
+    PreviousFrame,
+    /// Animation ▸ Next key
+    NextKey,
+    /// Animation ▸ Previous key
+    PreviousKey,
+    /// Animation ▸ Insert key
+    InsertKey,
+    /// Animation ▸ Delete key
+    DeleteKey,
+    /// Animation ▸ Auto-key
+    ToggleAutoKey,
+    /// File ▸ Import cage animation…
+    ImportCageAnimation,
 }
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
@@ -95,7 +119,7 @@ const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
     /// Every action, in menu order.
-    pub const ALL: [Self; 38] = [
+    pub const ALL: [Self; 49] = [
         Self::NewFromMesh,
         Self::Open,
         Self::Save,
@@ -134,6 +158,17 @@ impl UiCommand {
         Self::FitCage,
         Self::SubdivideCages,
         Self::AutoRig,
+        Self::PlayPause,
+        Self::JumpToStart,
+        Self::JumpToEnd,
+        Self::NextFrame,
+        Self::PreviousFrame,
+        Self::NextKey,
+        Self::PreviousKey,
+        Self::InsertKey,
+        Self::DeleteKey,
+        Self::ToggleAutoKey,
+        Self::ImportCageAnimation,
     ];
 
     /// The label in menus ("…" where a dialog follows).
@@ -177,6 +212,17 @@ impl UiCommand {
             Self::FitCage => "Fit to mesh",
             Self::SubdivideCages => "Subdivide",
             Self::AutoRig => "Auto rig",
+            Self::PlayPause => "Play / pause",
+            Self::JumpToStart => "Jump to start",
+            Self::JumpToEnd => "Jump to end",
+            Self::NextFrame => "Next frame",
+            Self::PreviousFrame => "Previous frame",
+            Self::NextKey => "Next key",
+            Self::PreviousKey => "Previous key",
+            Self::InsertKey => "Insert key",
+            Self::DeleteKey => "Delete key",
+            Self::ToggleAutoKey => "Auto-key",
+            Self::ImportCageAnimation => "Import cage animation…",
         }
     }
 
@@ -270,6 +316,29 @@ impl UiCommand {
                  each limb, a few across the body, an internal cage per limb to pose it \
                  (in the background; one undo step)"
             }
+            Self::PlayPause => {
+                "Play the animation in real time, looping over its range; again to stop"
+            }
+            Self::JumpToStart => "Go to the first frame of the range",
+            Self::JumpToEnd => "Go to the last frame of the range",
+            Self::NextFrame => "One frame forward",
+            Self::PreviousFrame => "One frame back",
+            Self::NextKey => "Go to the next key",
+            Self::PreviousKey => "Go to the previous key",
+            Self::InsertKey => {
+                "Pose mode: key the current pose at the current frame (the key there takes it)"
+            }
+            Self::DeleteKey => {
+                "Pose mode: delete the key selected on the timeline, or the one at the current frame"
+            }
+            Self::ToggleAutoKey => {
+                "Moving a cage vertex at a frame without a key inserts one (a keyed frame's key \
+                 always takes the edit)"
+            }
+            Self::ImportCageAnimation => {
+                "Keys from a cage point cache (PC2 or MDD) written by another tool, in the vertex \
+                 order and axes of Export cages: one linear key per sample"
+            }
         }
     }
 
@@ -311,6 +380,16 @@ impl UiCommand {
             Self::MergeCages => &const { [key(NONE, Key::M)] },
             Self::MirrorCage => &const { [key(CMD, Key::M)] },
             Self::FitCage | Self::SubdivideCages | Self::AutoRig => &[],
+            Self::ToggleAutoKey | Self::ImportCageAnimation => &[],
+            Self::PlayPause => &const { [key(NONE, Key::Space)] },
+            Self::JumpToStart => &const { [key(Modifiers::SHIFT, Key::ArrowLeft)] },
+            Self::JumpToEnd => &const { [key(Modifiers::SHIFT, Key::ArrowRight)] },
+            Self::NextFrame => &const { [key(NONE, Key::ArrowRight)] },
+            Self::PreviousFrame => &const { [key(NONE, Key::ArrowLeft)] },
+            Self::NextKey => &const { [key(NONE, Key::ArrowUp)] },
+            Self::PreviousKey => &const { [key(NONE, Key::ArrowDown)] },
+            Self::InsertKey => &const { [key(NONE, Key::I)] },
+            Self::DeleteKey => &const { [key(Modifiers::ALT, Key::I), key(NONE, Key::X)] },
             Self::ShowShortcuts => {
                 &const {
                     [
@@ -323,16 +402,45 @@ impl UiCommand {
         }
     }
 
-    /// The action whose shortcut is exactly `key` with `modifiers` (Ctrl and ⌘ count as one).
-    pub fn for_key(key: Key, modifiers: Modifiers) -> Option<Self> {
-        Self::ALL.into_iter().find(|c| {
+    /// The mode whose keys it owns, for an action whose shortcut means something else in the
+    /// other mode (I insets faces in Rig mode and keys the pose in Pose mode, as in Blender's
+    /// edit and pose modes); `None`: the same in both.
+    pub fn mode(self) -> Option<EditMode> {
+        match self {
+            Self::Extrude
+            | Self::InsetFaces
+            | Self::LoopCut
+            | Self::AddBox
+            | Self::DeleteCage
+            | Self::MergeCages
+            | Self::MirrorCage
+            | Self::FitCage
+            | Self::SubdivideCages => Some(EditMode::Rig),
+            Self::InsertKey | Self::DeleteKey => Some(EditMode::Pose),
+            _ => None,
+        }
+    }
+
+    /// The action whose shortcut is exactly `key` with `modifiers` (Ctrl and ⌘ count as one)
+    /// in `mode`: the one owned by that mode first, else any (which then says it belongs to the
+    /// other mode).
+    pub fn for_key(key: Key, modifiers: Modifiers, mode: EditMode) -> Option<Self> {
+        let matching = |c: &Self| {
             c.shortcuts().iter().any(|s| {
                 s.logical_key == key
                     && s.modifiers.command == modifiers.command
                     && s.modifiers.shift == modifiers.shift
                     && s.modifiers.alt == modifiers.alt
             })
-        })
+        };
+        let mut candidates = Self::ALL.into_iter().filter(matching);
+        let first = candidates.next()?;
+        Some(
+            std::iter::once(first)
+                .chain(candidates)
+                .find(|c| c.mode().is_none_or(|m| m == mode))
+                .unwrap_or(first),
+        )
     }
 }
 
@@ -341,23 +449,47 @@ mod tests {
     use super::*;
 
     #[test]
-    fn no_two_actions_share_a_shortcut_or_a_label() {
+    fn no_two_actions_share_a_shortcut_in_a_mode_or_a_label() {
         let mut seen = std::collections::BTreeSet::new();
         for command in UiCommand::ALL {
             assert!(seen.insert(command.label()), "{}", command.label());
             for s in command.shortcuts() {
-                assert_eq!(
-                    UiCommand::for_key(s.logical_key, s.modifiers),
-                    Some(command)
-                );
+                for mode in [EditMode::Pose, EditMode::Rig] {
+                    let found = UiCommand::for_key(s.logical_key, s.modifiers, mode);
+                    if command.mode().is_none_or(|m| m == mode) {
+                        assert_eq!(found, Some(command), "{s:?} in {mode:?}");
+                    }
+                }
             }
         }
-        assert_eq!(UiCommand::for_key(Key::S, CMD), Some(UiCommand::Save));
-        assert_eq!(UiCommand::for_key(Key::S, NONE), Some(UiCommand::Scale));
+        let pose = EditMode::Pose;
+        assert_eq!(UiCommand::for_key(Key::S, CMD, pose), Some(UiCommand::Save));
         assert_eq!(
-            UiCommand::for_key(Key::A, Modifiers::ALT),
+            UiCommand::for_key(Key::S, NONE, pose),
+            Some(UiCommand::Scale)
+        );
+        assert_eq!(
+            UiCommand::for_key(Key::A, Modifiers::ALT, pose),
             Some(UiCommand::SelectNone)
         );
-        assert_eq!(UiCommand::for_key(Key::Q, NONE), None);
+        assert_eq!(UiCommand::for_key(Key::Q, NONE, pose), None);
+        // I and X: keys in Pose mode, rig operations in Rig mode; E only in Rig mode, which
+        // Pose mode then explains.
+        assert_eq!(
+            UiCommand::for_key(Key::I, NONE, pose),
+            Some(UiCommand::InsertKey)
+        );
+        assert_eq!(
+            UiCommand::for_key(Key::I, NONE, EditMode::Rig),
+            Some(UiCommand::InsetFaces)
+        );
+        assert_eq!(
+            UiCommand::for_key(Key::X, NONE, pose),
+            Some(UiCommand::DeleteKey)
+        );
+        assert_eq!(
+            UiCommand::for_key(Key::E, NONE, pose),
+            Some(UiCommand::Extrude)
+        );
     }
 }

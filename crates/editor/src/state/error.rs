@@ -95,4 +95,10 @@ pub enum EditorError {
     /// A pose name that cannot be used.
     #[error("{0}")]
     Pose(String),
+    /// A key edit that cannot be made.
+    #[error("{0}")]
+    Animation(String),
+    /// A cage point cache could not be read.
+    #[error("could not import the cage animation: {0}. The animation is unchanged")]
+    ImportCageAnimation(#[source] FileError),
 }

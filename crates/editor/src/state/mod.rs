@@ -13,6 +13,7 @@ pub mod recent;
 mod rig;
 pub mod rig_warnings;
 mod selection;
+pub mod timeline;
 pub mod undo;
 mod view;
 
@@ -189,6 +190,8 @@ pub struct EditorState {
     pub recent_file: Option<PathBuf>,
     /// The user chose to close the window (after the unsaved-changes prompt).
     pub close_confirmed: bool,
+    /// The current frame, playback and auto-key.
+    pub timeline: timeline::Timeline,
     /// Settings changed inside a gesture: bind when it ends.
     bind_after_gesture: bool,
     waker: Option<Waker>,
@@ -233,9 +236,11 @@ impl EditorState {
             recent: Vec::new(),
             recent_file: None,
             close_confirmed: false,
+            timeline: timeline::Timeline::default(),
             bind_after_gesture: false,
             waker,
         };
+        state.timeline.frame = state.doc.scene.animation.frame_start as f64;
         // The editor shows the ground grid (off by default in the viewport crate's offscreen
         // images).
         state.view.layers.ground = true;
@@ -497,6 +502,52 @@ impl EditorState {
         self.stats.deform_ms = start.elapsed().as_secs_f64() * 1e3;
         self.generations.deformation += 1;
         Ok(())
+    }
+
+    /// Goes to `frame`: with keys, the cages take the animation's pose there (and keyed h,
+    /// which re-binds the cages whose h changed). Not an edit of the document: no undo step.
+    pub fn show_frame(&mut self, frame: f64) {
+        if !frame.is_finite() {
+            return;
+        }
+        self.timeline.frame = frame;
+        let scene = &mut self.doc.scene;
+        if scene.animation.is_empty() || self.gesture.is_some() {
+            return;
+        }
+        let Some(pose) = scene.animation.pose_at(&scene.poses, frame) else {
+            return;
+        };
+        if pose.len() != scene.cages.vertices.len() {
+            return;
+        }
+        scene.pose = pose;
+        scene.pose_state = Default::default();
+        let h = scene.animation.h_at(frame);
+        if !starcages_core::anim::bake::apply_keyed_h(scene, &h).is_empty() {
+            // Keyed h shapes the operator: bind the cages whose h changed.
+            self.document_changed();
+            return;
+        }
+        if let Some(rig) = self.rig.as_mut().filter(|rig| rig.can_pose(scene)) {
+            if let Err(e) = rig.hierarchy.restore(&scene.pose_state) {
+                self.message = Some(Message::new(EditorError::Hierarchy(e).to_string(), true));
+            }
+            let start = Instant::now();
+            rig.redeform_all(scene);
+            self.stats.deform_ms = start.elapsed().as_secs_f64() * 1e3;
+            self.generations.deformation += 1;
+        }
+    }
+
+    /// While playing: shows the frame due now. Returns whether playback runs (the UI then
+    /// asks for the next repaint at once).
+    pub fn advance_playback(&mut self) -> bool {
+        let now = Instant::now();
+        if let Some(frame) = self.timeline.playback_frame(&self.doc.scene.animation, now) {
+            self.show_frame(frame);
+        }
+        self.timeline.playing.is_some()
     }
 
     /// Validates the scene: its problems, and the elements they name for the viewport.

@@ -19,6 +19,7 @@ pub fn execute(
     sender: &mut CommandSender,
 ) {
     let camera = |change| Command::Camera(change);
+    let animation = &state.doc.scene.animation;
     let mut choose = |purpose| ui_state.files.request(purpose, None);
     let command = match action {
         UiCommand::NewFromMesh => return choose(FilePurpose::NewFromMesh),
@@ -106,6 +107,41 @@ pub fn execute(
         UiCommand::MirrorCage => rig(super::rig_keys::mirror(state)),
         UiCommand::FitCage => rig(super::rig_keys::fit(state)),
         UiCommand::SubdivideCages => rig(Ok(starcages_core::scene::RigOp::Subdivide)),
+        UiCommand::ImportCageAnimation => return choose(FilePurpose::ImportCageAnimation),
+        UiCommand::PlayPause => Command::SetPlaying(state.timeline.playing.is_none()),
+        UiCommand::JumpToStart => Command::SetFrame(animation.frame_start as f64),
+        UiCommand::JumpToEnd => Command::SetFrame(animation.frame_end as f64),
+        UiCommand::NextFrame => Command::SetFrame(state.timeline.frame + 1.0),
+        UiCommand::PreviousFrame => Command::SetFrame(state.timeline.frame - 1.0),
+        UiCommand::NextKey | UiCommand::PreviousKey => {
+            let frame = state.timeline.frame;
+            let found = if action == UiCommand::NextKey {
+                animation.next_key_frame(frame)
+            } else {
+                animation.previous_key_frame(frame)
+            };
+            match found {
+                Some(key) => Command::SetFrame(key),
+                None => Command::Info("no key further that way".into()),
+            }
+        }
+        UiCommand::InsertKey | UiCommand::DeleteKey if state.mode == EditMode::Rig => {
+            Command::Info(format!(
+                "{}: Pose mode only (keys hold poses); Tab switches to Pose mode",
+                action.label()
+            ))
+        }
+        UiCommand::InsertKey => Command::InsertKey,
+        UiCommand::DeleteKey => match super::timeline::selected_or_current_key(state, ui_state) {
+            Some(frame) => {
+                ui_state.selected_key = None;
+                Command::DeleteKey(frame)
+            }
+            None => Command::Info(
+                "no key here: select a key on the timeline, or go to a keyed frame".into(),
+            ),
+        },
+        UiCommand::ToggleAutoKey => Command::SetAutoKey(!state.timeline.auto_key),
         UiCommand::AutoRig => Command::AutoRig {
             detail: starcages_core::generate::AutorigSettings::default().detail,
             internal: true,
@@ -143,6 +179,7 @@ pub fn file_chosen(
         FilePurpose::ExportCages => Command::ExportCages(path),
         FilePurpose::ImportCages => Command::ImportCages(path),
         FilePurpose::ImportInternalCages => Command::ImportInternalCages(path),
+        FilePurpose::ImportCageAnimation => Command::ImportCageAnimation(path),
     };
     sender.send(command);
 }

@@ -26,6 +26,8 @@ pub enum FilePurpose {
     ImportCages,
     /// File ▸ Import internal cages.
     ImportInternalCages,
+    /// File ▸ Import cage animation: a point cache.
+    ImportCageAnimation,
 }
 
 impl FilePurpose {
@@ -39,6 +41,7 @@ impl FilePurpose {
             Self::ExportCages => "Export cages",
             Self::ImportCages => "Import cages",
             Self::ImportInternalCages => "Import internal cages",
+            Self::ImportCageAnimation => "Import cage animation",
         }
     }
 
@@ -58,6 +61,7 @@ impl FilePurpose {
             Self::SaveScene | Self::SaveBeforeContinuing => &["json"],
             Self::ExportMesh => &["obj", "glb"],
             Self::ExportCages | Self::ImportCages | Self::ImportInternalCages => &["obj"],
+            Self::ImportCageAnimation => &["pc2", "mdd"],
         }
     }
 
@@ -67,7 +71,11 @@ impl FilePurpose {
             Self::SaveScene | Self::SaveBeforeContinuing => "scene.json",
             Self::ExportMesh => "deformed.obj",
             Self::ExportCages => "cages.obj",
-            Self::Open | Self::NewFromMesh | Self::ImportCages | Self::ImportInternalCages => "",
+            Self::Open
+            | Self::NewFromMesh
+            | Self::ImportCages
+            | Self::ImportInternalCages
+            | Self::ImportCageAnimation => "",
         }
     }
 

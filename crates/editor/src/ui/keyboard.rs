@@ -55,7 +55,7 @@ pub fn shortcuts(
             modifiers,
             ..
         } = event
-            && let Some(action) = UiCommand::for_key(key, modifiers)
+            && let Some(action) = UiCommand::for_key(key, modifiers, state.mode)
         {
             execute(action, state, ui_state, pointer, sender);
             // egui moves the keyboard focus on Tab; a Blender user pressing it meant the mode,

@@ -53,6 +53,7 @@ pub fn menu_bar(
             item(ui, UiCommand::ExportCages, None, true, &mut chosen);
             item(ui, UiCommand::ImportCages, None, true, &mut chosen);
             item(ui, UiCommand::ImportInternalCages, None, true, &mut chosen);
+            item(ui, UiCommand::ImportCageAnimation, None, true, &mut chosen);
         });
         ui.menu_button("Edit", |ui| {
             let undo = state.undo.undo_label();
@@ -142,6 +143,29 @@ pub fn menu_bar(
             }
             ui.separator();
             item(ui, UiCommand::AutoRig, None, true, &mut chosen);
+        });
+        ui.menu_button("Animation", |ui| {
+            for action in [
+                UiCommand::PlayPause,
+                UiCommand::JumpToStart,
+                UiCommand::JumpToEnd,
+                UiCommand::NextFrame,
+                UiCommand::PreviousFrame,
+                UiCommand::NextKey,
+                UiCommand::PreviousKey,
+                UiCommand::InsertKey,
+                UiCommand::DeleteKey,
+            ] {
+                item(ui, action, None, true, &mut chosen);
+            }
+            let mut auto_key = state.timeline.auto_key;
+            if ui
+                .checkbox(&mut auto_key, UiCommand::ToggleAutoKey.label())
+                .on_hover_text(UiCommand::ToggleAutoKey.tooltip())
+                .changed()
+            {
+                chosen = Some(UiCommand::ToggleAutoKey);
+            }
         });
         ui.menu_button("Help", |ui| {
             item(ui, UiCommand::ShowShortcuts, None, true, &mut chosen);

@@ -20,6 +20,7 @@ mod prompts;
 mod rig_keys;
 mod select_modes;
 mod status_bar;
+mod timeline;
 mod transform_tool;
 mod viewport_input;
 pub mod viewport_paint;
@@ -68,6 +69,10 @@ pub struct UiState {
     grab_handled: u64,
     /// The influence map shown before an h slider drag switched to the cage's b map.
     pub influence_before_h_drag: Option<crate::state::InfluenceChoice>,
+    /// The key picked on the timeline (its frame), if any.
+    pub selected_key: Option<f64>,
+    /// A key being dragged along the timeline.
+    pub key_drag: Option<timeline::KeyDrag>,
     /// Show measured times in the stats panel (off for reproducible snapshots).
     pub show_timings: bool,
     /// Whether the 3D view can draw (wgpu available).
@@ -98,6 +103,8 @@ impl UiState {
             pose_prompt: None,
             influence_before_h_drag: None,
             grab_handled: 0,
+            selected_key: None,
+            key_drag: None,
             show_timings: true,
             gpu,
             frame_ms: 0.0,
@@ -187,6 +194,8 @@ pub fn frame_ui(
                 panels::poses(state, ui_state, ui, sender);
             });
         });
+    // Under the viewport only, between the side panels (as Blender's timeline).
+    Panel::bottom("timeline").show(ui, |ui| timeline::timeline(state, ui_state, ui, sender));
     egui::CentralPanel::default()
         .frame(egui::Frame::NONE)
         .show(ui, |ui| {

@@ -226,6 +226,10 @@ pub enum ActivePose {
 
 /// The active pose of `scene`.
 pub fn active_pose(scene: &starcages_core::scene::Scene) -> ActivePose {
+    // The rest pose first: a stored copy of it (a key's "rest") is still the rest pose.
+    if scene.pose == scene.cages.vertices {
+        return ActivePose::Rest;
+    }
     if let Some(name) = scene
         .poses
         .iter()
@@ -233,8 +237,6 @@ pub fn active_pose(scene: &starcages_core::scene::Scene) -> ActivePose {
         .map(|(n, _)| n.clone())
     {
         ActivePose::Stored(name)
-    } else if scene.pose == scene.cages.vertices {
-        ActivePose::Rest
     } else {
         ActivePose::Unstored
     }

@@ -900,9 +900,8 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
     let mut harness = harness();
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
-    // Rig operations in Pose mode say how to reach them.
+    // Rig operations in Pose mode say how to reach them (X and I are the timeline's there).
     for (key, modifiers) in [
-        (egui::Key::X, egui::Modifiers::NONE),
         (egui::Key::Delete, egui::Modifiers::NONE),
         (egui::Key::E, egui::Modifiers::NONE),
         (egui::Key::A, egui::Modifiers::SHIFT),
@@ -1011,6 +1010,8 @@ fn poses_show_the_active_one_and_ask_before_losing_or_overwriting() {
         .first()
         .expect("the critter has a stored pose")
         .clone();
+    // Away from the timeline's keys (an edit at a keyed frame goes into that key's pose).
+    harness.state_mut().run(Command::SetFrame(5.0));
     harness.state_mut().run(Command::SwitchPose(None));
     harness.run_steps(2);
     harness.get_by_label("current: the rest pose");

@@ -8,3 +8,4 @@ mod common;
 mod layering;
 mod model;
 mod regressions;
+mod timeline;
