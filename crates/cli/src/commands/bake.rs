@@ -33,8 +33,12 @@ pub struct BakeArgs {
     #[arg(long, value_name = "CAGES.pc2|.mdd")]
     cage_cache: Option<PathBuf>,
     /// Keep the binding in a cache beside the scene (SCENE.json.bind).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "single_cage")]
     cache: bool,
+    /// Bake with one cage (the union of the leaf cages) of this kind instead of *Cages: the
+    /// single-cage baseline, for comparing bake rates.
+    #[arg(long, value_parser = |s: &str| s.parse::<starcages_core::coords::CoordinateKind>())]
+    single_cage: Option<starcages_core::coords::CoordinateKind>,
     /// Print the bake's frames per second and the file's size to standard error.
     #[arg(long)]
     stats: bool,
@@ -74,6 +78,10 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
     let mesh: Vec<&Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--out", &args.out, &mesh, &WRITES)?;
     let samples = samples(args, &scene, &label)?;
+    let scene = match args.single_cage {
+        Some(kind) => starcages_core::star::single_cage_scene(&scene, kind),
+        None => scene,
+    };
     let binding = super::deform::bind(&scene, &args.scene, args.cache, &label)?;
     let mut output = match PointCacheFormat::of(&args.out) {
         Some(format) => {
