@@ -240,7 +240,11 @@ impl EditorState {
             bind_after_gesture: false,
             waker,
         };
-        state.timeline.frame = state.doc.scene.animation.frame_start as f64;
+        // A scene with keys opens at its first frame, posed as the animation says there.
+        let start = state.doc.scene.animation.frame_start as f64;
+        state.show_frame(start);
+        // Posing at a frame is not an edit: the document is as it was read.
+        state.doc.dirty = false;
         // The editor shows the ground grid (off by default in the viewport crate's offscreen
         // images).
         state.view.layers.ground = true;

@@ -158,14 +158,16 @@ pub fn poses(
 ) {
     ui.separator();
     ui.heading("Poses");
-    let active = active_pose(&state.doc.scene);
+    let active = active_pose(&state.doc.scene, state.timeline.frame);
     ui.label(match &active {
         ActivePose::Rest => "current: the rest pose".to_owned(),
         ActivePose::Stored(name) => format!("current: '{name}'"),
+        ActivePose::Animated(frame) => format!("current: the animation at frame {frame}"),
         ActivePose::Unstored => "current: edited, not stored".to_owned(),
     })
     .on_hover_text(
-        "The pose the cages are in now: a stored one, the rest pose, or edits not stored yet",
+        "The pose the cages are in now: a stored one, the rest pose, the animation between \
+         keys, or edits not stored yet",
     );
     for name in state.doc.scene.poses.keys() {
         ui.horizontal(|ui| {
@@ -214,18 +216,20 @@ pub fn poses(
 }
 
 /// Which pose the cages are in: found by comparing positions, so it is always true.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ActivePose {
     /// The rest pose.
     Rest,
     /// A stored pose (the first by name when several are equal).
     Stored(String),
+    /// The animation at this frame, between keys.
+    Animated(f64),
     /// Edits not stored under any name.
     Unstored,
 }
 
-/// The active pose of `scene`.
-pub fn active_pose(scene: &starcages_core::scene::Scene) -> ActivePose {
+/// The active pose of `scene`, the timeline at `frame`.
+pub fn active_pose(scene: &starcages_core::scene::Scene, frame: f64) -> ActivePose {
     // The rest pose first: a stored copy of it (a key's "rest") is still the rest pose.
     if scene.pose == scene.cages.vertices {
         return ActivePose::Rest;
@@ -237,6 +241,10 @@ pub fn active_pose(scene: &starcages_core::scene::Scene) -> ActivePose {
         .map(|(n, _)| n.clone())
     {
         ActivePose::Stored(name)
+    } else if !scene.animation.is_empty()
+        && scene.animation.pose_at(&scene.poses, frame).as_ref() == Some(&scene.pose)
+    {
+        ActivePose::Animated(frame)
     } else {
         ActivePose::Unstored
     }
