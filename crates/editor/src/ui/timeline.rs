@@ -247,21 +247,23 @@ fn strip(
         tick += step;
     }
     let pointer = response.interact_pointer_pos();
-    // A press on a diamond picks its key; elsewhere it scrubs.
+    // A press on a diamond picks its key (where the press began: a drag is recognised only
+    // once the pointer has moved); elsewhere it scrubs.
+    let diamond_y = rect.bottom() - DIAMOND - 3.0;
     if response.drag_started() || response.clicked() {
-        let hit =
-            pointer.and_then(|p| {
-                animation.keys.iter().map(|k| k.frame).find(|&f| {
-                    (axis.x(f) - p.x).abs() <= DIAMOND + 2.0 && p.y > rect.center().y - 8.0
-                })
-            });
+        let origin = ui.input(|i| i.pointer.press_origin()).or(pointer);
+        let hit = origin.and_then(|p| {
+            animation.keys.iter().map(|k| k.frame).find(|&f| {
+                (axis.x(f) - p.x).abs() <= DIAMOND + 2.0 && (p.y - diamond_y).abs() <= DIAMOND + 3.0
+            })
+        });
         ui_state.selected_key = hit;
         if response.drag_started() {
             ui_state.key_drag = hit.map(|from| KeyDrag { from, to: from });
         }
     }
     if let Some(p) = pointer
-        && (response.dragged() || response.clicked())
+        && (response.dragged() || response.clicked() || response.drag_stopped())
     {
         let at = axis.frame(p.x);
         match &mut ui_state.key_drag {
@@ -289,7 +291,7 @@ fn strip(
             Some(drag) if drag.from == key.frame => drag.to,
             _ => key.frame,
         };
-        let centre = Pos2::new(axis.x(shown), rect.bottom() - DIAMOND - 3.0);
+        let centre = Pos2::new(axis.x(shown), diamond_y);
         let selected = ui_state.selected_key == Some(key.frame);
         let fill = if selected {
             Color32::from_rgb(255, 190, 60)

@@ -207,3 +207,35 @@ fn a_cage_point_cache_imports_as_keys_and_the_timeline_draws_them() {
             .max_failed_pixels(1200),
     );
 }
+
+#[test]
+fn dragging_on_the_timeline_scrubs_and_dragging_a_key_retimes_it() {
+    let mut harness = harness();
+    let rect = harness.get_by_label("Timeline").rect();
+    // The critter's range is 1..24, drawn 14 points in from each end.
+    let x = |frame: f32| rect.left() + 14.0 + (rect.width() - 28.0) * (frame - 1.0) / 23.0;
+    let ticks_row = rect.top() + 10.0;
+    harness.hover_at(egui::pos2(x(6.0), ticks_row));
+    harness.run_steps(1);
+    harness.drag_at(egui::pos2(x(6.0), ticks_row));
+    harness.run_steps(1);
+    harness.hover_at(egui::pos2(x(12.0), ticks_row));
+    harness.run_steps(1);
+    harness.drop_at(egui::pos2(x(18.0), ticks_row));
+    harness.run_steps(2);
+    assert_eq!(frame(&harness), 18.0);
+    // The key at 12, by its diamond, to 16; one undo step puts it back.
+    let diamonds = rect.bottom() - 8.5;
+    harness.hover_at(egui::pos2(x(12.0), diamonds));
+    harness.run_steps(1);
+    harness.drag_at(egui::pos2(x(12.0), diamonds));
+    harness.run_steps(1);
+    harness.hover_at(egui::pos2(x(14.0), diamonds));
+    harness.run_steps(1);
+    harness.drop_at(egui::pos2(x(16.0), diamonds));
+    harness.run_steps(2);
+    assert_eq!(key_frames(&harness), vec![1.0, 16.0, 24.0]);
+    assert_eq!(frame(&harness), 18.0, "retiming a key does not scrub");
+    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
+}
