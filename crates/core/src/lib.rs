@@ -4,11 +4,12 @@
 //! * [`anim`]: keys on a timeline and their evaluation at any frame.
 //! * [`cage`]: validated closed triangle cages (polygon faces kept for eq. 7 of *Cages).
 //! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
-//! * [`generate`]: rigs made from a mesh (the auto rig).
+//! * [`generate`]: rigs and scenes made by the program (the auto rig, box grids, demos).
 //! * [`io`]: cage OBJ files and point lists, with errors naming file and line.
 //! * [`geometry`]: small geometric primitives.
 //! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
-//! * [`scene`]: the scene model, its validation, files and demos.
+//! * [`rig`]: rig operations on the rest cages (one file per operation) and their scripts.
+//! * [`scene`]: the scene model, its validation and files.
 //! * [`star`]: *Cages deformation compiled into one sparse operator.
 //! * [`surface_nets`]: closed meshes of implicit surfaces (the creature demo).
 
@@ -21,6 +22,7 @@ pub mod hierarchy;
 pub mod io;
 pub mod mesh;
 mod messages;
+pub mod rig;
 pub mod scene;
 pub mod star;
 pub mod surface_nets;

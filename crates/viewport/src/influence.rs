@@ -134,7 +134,7 @@ pub fn vertex_colors(values: Option<&[f32]>, count: usize) -> Vec<[u8; 4]> {
 mod tests {
     use super::*;
     use starcages_core::BindControl;
-    use starcages_core::scene::demo::demo_scene;
+    use starcages_core::generate::demo::demo_scene;
 
     #[test]
     fn a_multi_cage_b_map_has_both_ends_and_a_join_weight_map_peaks_on_its_border() {

@@ -321,7 +321,7 @@ pub fn mesh_edges(triangles: &[[u32; 3]]) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use starcages_core::scene::demo::demo_scene;
+    use starcages_core::generate::demo::demo_scene;
 
     #[test]
     fn levels_follow_the_hierarchy() {

@@ -4,9 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::{
-    AutocageOptions, DEFAULT_GRID, Scene, SceneSettings, UpAxis, autocage,
-};
+use starcages_core::generate::{AutocageOptions, DEFAULT_GRID, autocage};
+use starcages_core::scene::{Scene, SceneSettings, UpAxis};
 
 /// Arguments of `autocage`.
 #[derive(Debug, Args)]

@@ -12,8 +12,9 @@ use glam::{DVec3, Vec3};
 use serde::Serialize;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::demo::demo_scene;
-use starcages_core::scene::{AutocageOptions, DEFAULT_GRID, Scene, SceneSettings, autocage};
+use starcages_core::generate::demo::demo_scene;
+use starcages_core::generate::{AutocageOptions, DEFAULT_GRID, autocage};
+use starcages_core::scene::{Scene, SceneSettings};
 use starcages_core::star::{StarBinding, single_cage_scene};
 
 /// Arguments of `bench`.

@@ -8,7 +8,7 @@ use clap::Args;
 use glam::{Vec2, Vec3};
 use serde::Serialize;
 use starcages_core::BindControl;
-use starcages_core::scene::demo::demo_scene;
+use starcages_core::generate::demo::demo_scene;
 use starcages_core::star::StarBinding;
 use starcages_viewport::framing_camera;
 use starcages_viewport::gpu::cpu_normals;

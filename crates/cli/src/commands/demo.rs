@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use starcages_core::scene::demo::{DEMOS, demo_scene};
+use starcages_core::generate::demo::{DEMOS, demo_scene};
 use starcages_core::scene::save_scene;
 
 use crate::InputError;

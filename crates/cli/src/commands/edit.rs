@@ -5,9 +5,8 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use starcages_core::scene::{
-    CageSet, RigOp, Scene, SceneSettings, UpAxis, apply_rig_op, load_scene, parse_rig_script,
-};
+use starcages_core::rig::{RigOp, apply_rig_op, parse_rig_script};
+use starcages_core::scene::{CageSet, Scene, SceneSettings, UpAxis, load_scene};
 
 /// Arguments of `edit`.
 #[derive(Debug, Args)]

@@ -78,7 +78,7 @@ mod tests {
 
     use super::*;
     use crate::cage::shapes;
-    use crate::scene::demo::demo_scene;
+    use crate::generate::demo::demo_scene;
 
     /// A cage set holding one box from `lo` to `hi` called `name`.
     fn box_set(name: &str, lo: DVec3, hi: DVec3) -> CageSet {

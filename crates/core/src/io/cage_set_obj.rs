@@ -113,7 +113,7 @@ pub fn read_pose_obj(path: &Path, expected: usize) -> Result<Vec<DVec3>, FileErr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::demo::demo_scene;
+    use crate::generate::demo::demo_scene;
 
     #[test]
     fn cage_sets_round_trip_and_shared_vertices_are_welded() {

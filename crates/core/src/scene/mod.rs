@@ -1,26 +1,17 @@
 //! The scene model: a mesh, a set of leaf and internal cages over one vertex array, settings,
-//! named poses, the current pose and the animation; validation of the whole; JSON scene files; demo scenes
-//! and automatic grid cages.
+//! named poses, the current pose and the animation; validation of the whole; JSON scene files;
+//! export of the deformed mesh. Editing rigs is [`crate::rig`]'s, generating them
+//! [`crate::generate`]'s.
 
-mod autocage;
 mod cage_set;
 mod containment;
-pub mod creature;
-pub mod demo;
-mod demo_pose;
 mod export;
 mod file;
-mod fit;
-mod inset;
 mod pose_state;
 mod pretty_json;
-mod rig_edit;
-mod rig_vocabulary;
 mod settings;
-mod subdivide;
 mod up_axis;
 mod validate;
-mod weld;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -30,7 +21,6 @@ use glam::DVec3;
 use crate::anim::Animation;
 use crate::mesh::Mesh;
 
-pub use autocage::{AutocageOptions, DEFAULT_GRID, autocage};
 pub use cage_set::{
     Adjacency, CageSet, InternalCage, LeafCage, LocalCage, is_reversed, is_same_cycle,
 };
@@ -40,22 +30,14 @@ pub use export::{ExportLayout, write_deformed_mesh};
 pub use file::{
     SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
 };
-pub use inset::InsetCorners;
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
-pub use rig_edit::{
-    FaceRef, LoopCutRing, MAX_RIG_SCRIPT_OPS, RestTransform, RigOp, apply_rig_op,
-    import_leaf_cages, loop_cut_ring, parse_rig_script,
-};
-pub use rig_vocabulary::RigEditError;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
-pub use subdivide::subdivide_leaf_cages;
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;
 pub use validate::{
     MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, validate_scene,
 };
-pub use weld::{WeldReport, weld_vertices};
 
 /// Where the scene's mesh comes from.
 #[derive(Debug, Clone, PartialEq)]

@@ -761,8 +761,8 @@ fn shared_class(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::generate::demo::demo_scene;
     use crate::scene::JoinPolicy;
-    use crate::scene::demo::demo_scene;
 
     #[test]
     fn translated_harmonic_join_cages_share_one_solve_with_the_same_weights() {
@@ -776,9 +776,9 @@ mod tests {
     #[test]
     fn turned_and_mirrored_harmonic_join_cages_share_one_solve_with_the_same_weights() {
         let mut scene = demo_scene("egg", 0.3).unwrap();
-        scene.cages = crate::scene::autocage(
+        scene.cages = crate::generate::autocage(
             &scene.mesh,
-            &crate::scene::AutocageOptions {
+            &crate::generate::AutocageOptions {
                 grid: [4, 4, 4],
                 ..Default::default()
             },

@@ -291,7 +291,7 @@ impl StarBinding {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::demo::demo_scene;
+    use crate::generate::demo::demo_scene;
 
     #[test]
     fn cache_is_used_rebuilt_when_stale_and_never_trusted_when_corrupt() {
@@ -366,7 +366,7 @@ mod tests {
 
     #[test]
     fn every_demo_reads_back_from_its_cache_bytes() {
-        for (name, _) in crate::scene::demo::DEMOS {
+        for (name, _) in crate::generate::demo::DEMOS {
             let scene = demo_scene(name, 0.2).unwrap();
             let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
             let read = decode_binding_cache(&encode_binding_cache(&scene, &binding), &scene);

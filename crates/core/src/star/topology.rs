@@ -230,7 +230,7 @@ fn is_convex(local: &LocalCage) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::demo::demo_scene;
+    use crate::generate::demo::demo_scene;
 
     #[test]
     fn egg_has_two_interior_vertices_and_bar_none() {

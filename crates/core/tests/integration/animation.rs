@@ -10,11 +10,11 @@ use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 use starcages_core::anim::curve::{self, Interpolation};
 use starcages_core::anim::{Animation, AnimationProblem, Key};
+use starcages_core::generate::demo::demo_scene;
 use starcages_core::io::{
     MorphAnimation, PointCacheFormat, PointCacheWriter, SampleTimes, parse_point_cache,
     read_point_cache,
 };
-use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{SceneProblem, load_scene, save_scene, validate_scene};
 
 fn scratch(name: &str) -> PathBuf {
@@ -246,7 +246,7 @@ fn animations_round_trip_through_scene_files_and_version_2_files_migrate() {
 
 #[test]
 fn the_creature_walks_with_four_legs_tail_and_head_for_two_seconds() {
-    let scene = starcages_core::scene::creature::creature(0.25);
+    let scene = starcages_core::generate::creature::creature(0.25);
     let animation = &scene.animation;
     let seconds = (animation.frame_end - animation.frame_start + 1) as f64 / animation.fps;
     assert!(seconds >= 2.0, "{seconds} s");

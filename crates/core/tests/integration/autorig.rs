@@ -4,11 +4,10 @@
 
 use glam::DVec3;
 use starcages_core::BindControl;
+use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::generate::{AutorigSettings, autorig, surface_pieces_per_leaf};
 use starcages_core::mesh::Mesh;
-use starcages_core::scene::{
-    AutocageOptions, CageSet, MeshSource, Scene, SceneSettings, autocage, validate_scene,
-};
+use starcages_core::scene::{CageSet, MeshSource, Scene, SceneSettings, validate_scene};
 use starcages_core::surface_nets::surface_nets;
 
 /// Distance from `p` to the capsule from `a` to `b` of radius `r` (negative inside).

@@ -99,7 +99,7 @@ pub fn affine() -> impl Strategy<Value = (DMat3, DVec3)> {
 /// A tall box mesh (0.1 .. 0.9 across, 0.1 .. 1.8 up) and no cages yet: where rig scripts start.
 pub fn empty_scene() -> starcages_core::scene::Scene {
     use starcages_core::scene::{CageSet, MeshSource, Scene, SceneSettings};
-    let mesh = starcages_core::scene::demo::box_mesh(
+    let mesh = starcages_core::generate::demo::box_mesh(
         glam::DVec3::new(0.1, 0.1, 0.1),
         glam::DVec3::new(0.9, 0.9, 1.8),
         [3, 3, 6],

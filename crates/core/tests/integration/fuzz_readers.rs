@@ -12,8 +12,8 @@ use std::path::PathBuf;
 
 use proptest::prelude::*;
 use serde_json::Value;
+use starcages_core::generate::demo::demo_scene;
 use starcages_core::io::{glb_bytes, parse_obj_cages, parse_points, read_cage_obj, read_mesh};
-use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{load_scene, save_scene};
 use starcages_core::star::{StarBinding, decode_binding_cache, encode_binding_cache};
 

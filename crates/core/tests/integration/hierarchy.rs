@@ -6,11 +6,11 @@ use glam::{DMat3, DQuat, DVec3};
 use proptest::prelude::*;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
+use starcages_core::generate::demo::demo_scene;
 use starcages_core::hierarchy::{
     AutoInternalCage, AutoInternalCageError, CageEdit, Hierarchy, HierarchyError,
     RemoveInternalCageError, add_auto_internal_cage, remove_internal_cage,
 };
-use starcages_core::scene::demo::demo_scene;
 use starcages_core::scene::{FollowRecord, Scene, SceneProblem, load_scene, save_scene};
 use starcages_core::star::StarBinding;
 

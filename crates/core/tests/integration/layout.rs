@@ -1,5 +1,5 @@
 //! The core's layout: no two source files reach each other through explicit module paths
-//! (`super::fit::…`, `crate::scene::rig_edit::…`), directly or around a longer circle. A
+//! (`super::fit::…`, `crate::rig::vocabulary::…`), directly or around a longer circle. A
 //! folder's `mod.rs` re-exports its files' items and is left out (every file uses its parent's
 //! names); so is test code (`#[cfg(test)]` onwards), which may use the demos.
 
@@ -110,8 +110,8 @@ fn no_two_core_files_import_each_other_around_a_circle() {
     let edges = edges(&root, &files);
     assert!(
         edges
-            .get("scene::fit")
-            .is_some_and(|e| e.contains("scene::rig_vocabulary")),
+            .get("rig::fit")
+            .is_some_and(|e| e.contains("rig::vocabulary")),
         "the scan reads `super::` paths: {edges:?}"
     );
     // Depth-first search for a path back to where it started.
@@ -153,5 +153,48 @@ fn no_two_core_files_import_each_other_around_a_circle() {
                 circle.unwrap().join(" -> ")
             );
         }
+    }
+}
+
+/// Rig operations live one per file in `rig/`, over its vocabulary: no operation's file names
+/// another's (only the dispatcher, `rig/mod.rs`, names them all); generators live in
+/// `generate/`, and `scene/` keeps the model, its files and validation.
+#[test]
+fn rig_operations_import_only_their_vocabulary_and_generators_live_apart() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = BTreeMap::new();
+    modules(&root, &root, &mut files);
+    let edges = edges(&root, &files);
+    for op in [
+        "add_box", "extrude", "delete", "merge", "split", "mirror", "rest", "fit", "inset",
+    ] {
+        let name = format!("rig::{op}");
+        assert!(files.contains_key(&name), "{name} is missing");
+        let within: Vec<&String> = edges
+            .get(&name)
+            .into_iter()
+            .flatten()
+            .filter(|t| t.starts_with("rig::") && *t != "rig::vocabulary")
+            .collect();
+        assert!(within.is_empty(), "{name} imports {within:?}");
+    }
+    for generator in ["generate::autocage", "generate::demo", "generate::creature"] {
+        assert!(files.contains_key(generator), "{generator} is missing");
+    }
+    let scene: Vec<&String> = files.keys().filter(|m| m.starts_with("scene::")).collect();
+    for stray in [
+        "rig_edit",
+        "fit",
+        "inset",
+        "weld",
+        "subdivide",
+        "demo",
+        "creature",
+        "autocage",
+    ] {
+        assert!(
+            !scene.iter().any(|m| m.ends_with(&format!("::{stray}"))),
+            "scene::{stray} belongs in rig/ or generate/: {scene:?}"
+        );
     }
 }

@@ -6,8 +6,9 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::creature::{CREATURE_RIG, apply_rig_script, creature};
-use starcages_core::scene::{RigEditError, RigOp, apply_rig_op, parse_rig_script, validate_scene};
+use starcages_core::generate::creature::{CREATURE_RIG, apply_rig_script, creature};
+use starcages_core::rig::{RigEditError, RigOp, apply_rig_op, parse_rig_script};
+use starcages_core::scene::validate_scene;
 use starcages_core::star::StarBinding;
 use starcages_core::surface_nets::surface_nets;
 
@@ -43,7 +44,7 @@ fn a_script_skips_comments_and_names_the_line_of_a_bad_operation() {
     );
     assert_eq!(scene, before);
     // A script of more operations than the limit is refused before anything runs.
-    let long = "subdivide\n".repeat(starcages_core::scene::MAX_RIG_SCRIPT_OPS + 1);
+    let long = "subdivide\n".repeat(starcages_core::rig::MAX_RIG_SCRIPT_OPS + 1);
     assert!(
         parse_rig_script(&long)
             .unwrap_err()
@@ -169,7 +170,7 @@ fn subdivide_keeps_the_rig_valid_shared_and_the_deformation_at_rest() {
 
 #[test]
 fn subdivide_is_refused_while_internal_cages_drive_leaf_vertices() {
-    let mut scene = starcages_core::scene::demo::demo_scene("critter", 0.3).unwrap();
+    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap();
     let before = scene.clone();
     let error = apply_rig_op(&mut scene, &RigOp::Subdivide).unwrap_err();
     assert!(error.to_string().contains("internal cages"), "{error}");

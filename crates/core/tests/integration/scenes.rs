@@ -8,12 +8,12 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use starcages_core::coords::CoordinateKind;
+use starcages_core::generate::demo::{DEMOS, box_mesh, demo_scene};
+use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::io::read_mesh;
-use starcages_core::scene::demo::{DEMOS, box_mesh, demo_scene};
 use starcages_core::scene::{
-    AutocageOptions, CageSet, InternalCage, LeafCage, MeshSource, OutsidePolicy, Scene,
-    SceneFileError, SceneProblem, SceneSettings, UpAxis, autocage, load_scene, save_scene,
-    validate_scene,
+    CageSet, InternalCage, LeafCage, MeshSource, OutsidePolicy, Scene, SceneFileError,
+    SceneProblem, SceneSettings, UpAxis, load_scene, save_scene, validate_scene,
 };
 
 fn scratch(name: &str) -> PathBuf {

@@ -10,7 +10,7 @@ use glam::{DMat3, DQuat, DVec3};
 use starcages_core::BindControl;
 use starcages_core::cage::shapes::box_faces;
 use starcages_core::coords::{BindSettings, CoordinateKind, bind};
-use starcages_core::scene::demo::{box_mesh, demo_scene};
+use starcages_core::generate::demo::{box_mesh, demo_scene};
 use starcages_core::scene::{
     CageSet, JoinPolicy, LeafCage, LocalCage, MeshSource, Scene, SceneSettings,
 };
@@ -613,7 +613,7 @@ fn a_rest_edit_rebinds_only_nearby_rows_and_equals_a_full_bind() {
 /// the demos' borders are, where plain piecewise T is only C0.
 #[test]
 fn borders_made_by_extrude_and_loop_cut_are_c1() {
-    use starcages_core::scene::{RigOp, apply_rig_op};
+    use starcages_core::rig::{RigOp, apply_rig_op};
     let mesh = box_mesh(
         DVec3::new(-0.9, -0.4, -0.4),
         DVec3::new(1.9, 0.4, 0.4),

@@ -99,7 +99,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
                     }
                     let count = set.leaves.len();
                     state.edit_scene("import cages", |scene| {
-                        starcages_core::scene::import_leaf_cages(scene, &set)
+                        starcages_core::rig::import_leaf_cages(scene, &set)
                     });
                     state.info(format!("imported {count} cage(s) from {}", path.display()));
                 }
@@ -429,7 +429,7 @@ fn weld_snapped_vertices(state: &mut EditorState) {
         return;
     }
     let result = state.edit_scene("weld", |scene| {
-        starcages_core::scene::weld_vertices(scene, tolerance, Some(&moved))
+        starcages_core::rig::weld_vertices(scene, tolerance, Some(&moved))
     });
     match result {
         Ok(report) => {
@@ -452,7 +452,7 @@ fn weld_snapped_vertices(state: &mut EditorState) {
 
 /// Rig operations as one undo step, applied whole or not at all; after extrusions the new caps
 /// are selected (and one cap starts G along its normal), after insets the inner faces.
-fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::scene::RigOp>) {
+fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::rig::RigOp>) {
     let label = match ops.as_slice() {
         [op] => format!("rig: {}", rig_op_label(op)),
         _ => format!("rig: {} operations", ops.len()),
@@ -461,24 +461,24 @@ fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::scene::RigOp>
     let result = state.edit_scene(&label, |scene| {
         let mut edited = scene.clone();
         for op in &ops {
-            starcages_core::scene::apply_rig_op(&mut edited, op)?;
+            starcages_core::rig::apply_rig_op(&mut edited, op)?;
         }
         *scene = edited;
-        Ok::<(), starcages_core::scene::RigEditError>(())
+        Ok::<(), starcages_core::rig::RigEditError>(())
     });
     match result {
         Ok(()) => {
             state.info(label);
             let extruded = ops
                 .iter()
-                .filter(|op| matches!(op, starcages_core::scene::RigOp::Extrude { .. }))
+                .filter(|op| matches!(op, starcages_core::rig::RigOp::Extrude { .. }))
                 .count();
             let inset: Vec<(usize, usize)> = ops
                 .iter()
                 .filter_map(|op| match op {
-                    starcages_core::scene::RigOp::Inset {
+                    starcages_core::rig::RigOp::Inset {
                         cage,
-                        face: starcages_core::scene::FaceRef::Index(f),
+                        face: starcages_core::rig::FaceRef::Index(f),
                         ..
                     } => Some((state.doc.scene.cages.leaf_index(cage)?, *f)),
                     _ => None,
@@ -539,8 +539,8 @@ fn select_extruded_cap(state: &mut EditorState, leaves_before: usize) {
 }
 
 /// A short name of a rig operation for the undo history.
-fn rig_op_label(op: &starcages_core::scene::RigOp) -> String {
-    use starcages_core::scene::RigOp;
+fn rig_op_label(op: &starcages_core::rig::RigOp) -> String {
+    use starcages_core::rig::RigOp;
     match op {
         RigOp::AddBox { name, .. } => format!("add box '{name}'"),
         RigOp::Extrude { cage, name, .. } => format!("extrude '{cage}' into '{name}'"),

@@ -225,10 +225,10 @@ pub enum Command {
     /// Switch between Pose mode and Rig mode.
     SetMode(crate::state::EditMode),
     /// A rig operation on the rest cages (one undo step).
-    Rig(starcages_core::scene::RigOp),
+    Rig(starcages_core::rig::RigOp),
     /// Several rig operations applied whole or not at all, as one undo step (E on several
     /// faces).
-    RigOps(Vec<starcages_core::scene::RigOp>),
+    RigOps(Vec<starcages_core::rig::RigOp>),
     /// Select leaf-cage faces (cage index, face index): their corners join the vertex
     /// selection.
     SelectFaces {

@@ -74,7 +74,7 @@ impl CageId {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use starcages_core::scene::demo::demo_scene;
+    use starcages_core::generate::demo::demo_scene;
 
     #[test]
     fn ids_resolve_while_their_cage_exists() {

@@ -4,12 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use starcages_core::BindControl;
+use starcages_core::generate::demo::demo_scene;
+use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
 use starcages_core::io::read_mesh_as;
-use starcages_core::scene::demo::demo_scene;
-use starcages_core::scene::{
-    AutocageOptions, Scene, SceneSettings, UpAxis, autocage, load_scene, save_scene, validate_scene,
-};
+use starcages_core::scene::{Scene, SceneSettings, UpAxis, load_scene, save_scene, validate_scene};
 
 use super::EditorError;
 

@@ -195,7 +195,7 @@ mod tests {
         use starcages_core::hierarchy::{
             AutoInternalCage, add_auto_internal_cage, remove_internal_cage,
         };
-        let Some(mut scene) = starcages_core::scene::demo::demo_scene("critter", 0.3) else {
+        let Some(mut scene) = starcages_core::generate::demo::demo_scene("critter", 0.3) else {
             panic!("the critter demo exists");
         };
         // Two more top-level cages over halves of the head cage's own (free) vertices.

@@ -187,7 +187,7 @@ pub fn move_key(scene: &mut Scene, from: f64, to: f64) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use starcages_core::scene::demo::demo_scene;
+    use starcages_core::generate::demo::demo_scene;
 
     #[test]
     fn keying_twice_at_a_frame_updates_one_key_and_deleting_it_removes_its_pose() {

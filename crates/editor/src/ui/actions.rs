@@ -106,7 +106,7 @@ pub fn execute(
         UiCommand::MergeCages => rig(super::rig_keys::merge(state)),
         UiCommand::MirrorCage => rig(super::rig_keys::mirror(state)),
         UiCommand::FitCage => rig(super::rig_keys::fit(state)),
-        UiCommand::SubdivideCages => rig(Ok(starcages_core::scene::RigOp::Subdivide)),
+        UiCommand::SubdivideCages => rig(Ok(starcages_core::rig::RigOp::Subdivide)),
         UiCommand::ImportCageAnimation => return choose(FilePurpose::ImportCageAnimation),
         UiCommand::PlayPause => Command::SetPlaying(state.timeline.playing.is_none()),
         UiCommand::JumpToStart => Command::SetFrame(animation.frame_start as f64),
@@ -151,7 +151,7 @@ pub fn execute(
 }
 
 /// A rig operation, or why there is none (said in the status bar).
-fn rig(op: Result<starcages_core::scene::RigOp, String>) -> Command {
+fn rig(op: Result<starcages_core::rig::RigOp, String>) -> Command {
     match op {
         Ok(op) => Command::Rig(op),
         Err(why) => Command::Info(why),

@@ -4,7 +4,7 @@
 //! units) sets it; Enter or a click makes it (one undo step), Esc or a right click drops it.
 
 use glam::{DVec3, Vec2};
-use starcages_core::scene::{FaceRef, InsetCorners, RigOp};
+use starcages_core::rig::{FaceRef, InsetCorners, RigOp};
 
 use crate::state::EditorState;
 

@@ -4,7 +4,7 @@
 //! Enter or a click makes the cut (one rig operation), Esc or a right click drops it.
 
 use glam::{DVec3, Vec2};
-use starcages_core::scene::{LoopCutRing, RigOp, loop_cut_ring};
+use starcages_core::rig::{LoopCutRing, RigOp, loop_cut_ring};
 
 use crate::state::{CageId, EditorState};
 

@@ -33,7 +33,7 @@ pub fn menu_bar(
                 }
             });
             ui.menu_button("Open demo", |ui| {
-                for (name, description) in starcages_core::scene::demo::DEMOS {
+                for (name, description) in starcages_core::generate::demo::DEMOS {
                     if ui.button(name).on_hover_text(description).clicked() {
                         sender.send(Command::OpenDemo(name.to_owned()));
                     }

@@ -5,7 +5,7 @@
 //! cut and I's inset are sized with the mouse first: `loop_cut_tool`, `inset_tool`.)
 
 use glam::DVec3;
-use starcages_core::scene::RigOp;
+use starcages_core::rig::RigOp;
 
 use crate::state::{CageId, EditorState};
 
@@ -69,7 +69,7 @@ pub fn extrude_faces(state: &EditorState) -> Result<Vec<RigOp>, String> {
         taken.push(name.clone());
         ops.push(RigOp::Extrude {
             cage: cage.name.clone(),
-            face: starcages_core::scene::FaceRef::Index(f),
+            face: starcages_core::rig::FaceRef::Index(f),
             distance: 0.5 * longest_edge(scene, face),
             name,
         });
@@ -104,7 +104,7 @@ pub fn extrude(state: &EditorState) -> Result<RigOp, String> {
             if face.iter().all(|v| selected.contains(v)) {
                 return Ok(RigOp::Extrude {
                     cage: cage.name.clone(),
-                    face: starcages_core::scene::FaceRef::Index(f),
+                    face: starcages_core::rig::FaceRef::Index(f),
                     distance: 0.5 * longest_edge(scene, face),
                     name: fresh_name(state, &cage.name),
                 });

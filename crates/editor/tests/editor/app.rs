@@ -537,7 +537,7 @@ fn exporting_over_the_scene_s_own_mesh_is_refused() {
 fn harmonic_join_cages_arrive_after_a_deformable_preview() {
     use starcages_core::star::StarBinding;
     let doc = Document {
-        scene: starcages_core::scene::demo::demo_scene("critter", 0.3).unwrap(),
+        scene: starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap(),
         path: None,
         dirty: false,
     };
@@ -643,7 +643,7 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
     )
     .unwrap();
     let doc = Document {
-        scene: starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        scene: starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
         path: None,
         dirty: false,
     };
@@ -681,7 +681,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     use starcages_editor::state::NewMeshOptions;
     let dir = scratch("auto-rig");
     let mesh = dir.join("bar.obj");
-    let bar = starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap();
+    let bar = starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap();
     starcages_core::scene::write_deformed_mesh(&mesh, &bar, bar.mesh.welded_positions()).unwrap();
     let doc = Document {
         scene: bar,
@@ -745,7 +745,7 @@ fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
     std::fs::create_dir_all(dir.join("meshes")).unwrap();
     let path = dir.join("bar.json");
     starcages_core::scene::save_scene(
-        &starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        &starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
         &path,
     )
     .unwrap();
@@ -1241,7 +1241,7 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
     std::fs::create_dir_all(&dir).unwrap();
     let other = dir.join("bar.json");
     starcages_core::scene::save_scene(
-        &starcages_core::scene::demo::demo_scene("bar", 0.3).unwrap(),
+        &starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
         &other,
     )
     .unwrap();
@@ -1679,7 +1679,7 @@ fn file_open_demo_lists_the_demos_and_opens_one() {
     harness.run_steps(2);
     harness.get_by_label("Open demo").click();
     harness.run_steps(2);
-    for (name, _) in starcages_core::scene::demo::DEMOS {
+    for (name, _) in starcages_core::generate::demo::DEMOS {
         harness.get_by_label(name);
     }
     // The command starts a worker and returns: the document is not replaced yet (checked on
@@ -2183,7 +2183,7 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
     let gap = 0.3;
     harness
         .state_mut()
-        .run(Command::Rig(starcages_core::scene::RigOp::AddBox {
+        .run(Command::Rig(starcages_core::rig::RigOp::AddBox {
             name: "beyond".into(),
             min: DVec3::new(hi.x + gap, lo.y, lo.z),
             max: DVec3::new(hi.x + gap + 0.5, hi.y, hi.z),

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use egui_kittest::Harness;
-use starcages_core::scene::demo::demo_scene;
+use starcages_core::generate::demo::demo_scene;
 use starcages_editor::{CageId, Document, EditorApp};
 
 /// The critter demo at a reduced detail.

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use glam::DVec3;
 use proptest::prelude::*;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::demo::demo_scene;
+use starcages_core::generate::demo::demo_scene;
 use starcages_core::scene::save_scene;
 use starcages_editor::commands::{CameraChange, UnsavedAnswer};
 use starcages_editor::state::undo::Snapshot;

@@ -4,7 +4,7 @@
 
 use egui_kittest::kittest::Queryable as _;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::demo::demo_scene;
+use starcages_core::generate::demo::demo_scene;
 use starcages_core::scene::save_scene;
 use starcages_editor::state::{InfluenceChoice, SelectMode};
 use starcages_editor::ui::viewport_paint::uploaded_mesh;

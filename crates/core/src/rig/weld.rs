@@ -4,8 +4,8 @@
 
 use std::collections::BTreeSet;
 
-use super::Scene;
-use super::rig_vocabulary::RigEditError;
+use super::vocabulary::RigEditError;
+use crate::scene::Scene;
 
 /// What a weld did.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -127,11 +127,12 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-    use crate::scene::{RigOp, apply_rig_op, validate_scene};
+    use crate::rig::{RigOp, apply_rig_op};
+    use crate::scene::validate_scene;
 
     /// Two boxes 1e-3 apart along x: their facing faces do not share vertices.
     fn two_boxes_apart(gap: f64) -> Scene {
-        let mut scene = crate::scene::demo::demo_scene("bar", 0.3).unwrap();
+        let mut scene = crate::generate::demo::demo_scene("bar", 0.3).unwrap();
         scene.cages.leaves.clear();
         scene.cages.vertices.clear();
         scene.pose.clear();

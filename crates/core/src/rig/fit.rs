@@ -11,10 +11,10 @@ use std::collections::BTreeSet;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::rig_vocabulary::{RigEditError, face_key, move_rest_vertex};
-use super::{LocalCage, Scene, leaf_containment};
+use super::vocabulary::{RigEditError, face_key, move_rest_vertex};
 use crate::cage::Cage;
 use crate::geometry::{closest_point_on_triangle, solid_angle};
+use crate::scene::{LocalCage, Scene, leaf_containment};
 
 /// The furthest a fit moves a vertex: this fraction of the way to the mesh vertex nearest to it
 /// (the margin stops it sooner wherever the mesh is in the way).

@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::Scene;
-use super::rig_vocabulary::RigEditError;
+use super::vocabulary::RigEditError;
+use crate::scene::Scene;
 
 /// Subdivides every leaf cage's faces; every pose gets the same midpoints and centres of its
 /// own positions. Refused while the scene has internal cages.

@@ -6,11 +6,11 @@ use std::collections::BTreeMap;
 use glam::{DVec3, UVec3};
 use rayon::prelude::*;
 
-use super::{CageSet, LeafCage};
 use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
 use crate::geometry::block_face_connected;
 use crate::mesh::Mesh;
+use crate::scene::{CageSet, LeafCage};
 
 /// Options of [`autocage`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -181,7 +181,8 @@ mod tests {
     fn cells_inside_a_thick_mesh_are_kept() {
         // A closed box mesh 3 cells wide on a 3x3x3 grid: vertices lie only on its surface
         // (in the outer ring of cells), yet the centre cell is inside and must stay.
-        let mesh = crate::scene::demo::box_mesh(DVec3::splat(-1.5), DVec3::splat(1.5), [1, 1, 1]);
+        let mesh =
+            crate::generate::demo::box_mesh(DVec3::splat(-1.5), DVec3::splat(1.5), [1, 1, 1]);
         let options = AutocageOptions {
             grid: [3, 3, 3],
             padding: 0.0,

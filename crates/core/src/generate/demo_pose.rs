@@ -1,7 +1,7 @@
 //! Storing a named pose of a generated demo from text edits (shared by the demos and the
 //! creature, which each build theirs).
 
-use super::Scene;
+use crate::scene::Scene;
 
 /// Stores the pose `name`: the rest pose with `edits` ("CAGE: rotate …", as `--apply` takes
 /// them) applied in order through the cage hierarchy, with its hierarchy state when it is not

@@ -5,8 +5,8 @@
 
 use glam::DVec3;
 
-use super::Scene;
-use super::rig_vocabulary::RigEditError;
+use super::vocabulary::RigEditError;
+use crate::scene::Scene;
 
 /// The thinnest inset, as a fraction of the face's shortest side: thinner, the ring's quads
 /// would be slivers and the inner corners all but on the face's.

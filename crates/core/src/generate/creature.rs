@@ -5,10 +5,9 @@
 
 use glam::DVec3;
 
-use super::rig_edit::{apply_rig_op, parse_rig_script};
-use super::rig_vocabulary::RigEditError;
-use super::{CageSet, MeshSource, Scene, SceneSettings};
 use crate::mesh::Mesh;
+use crate::rig::{RigEditError, apply_rig_op, parse_rig_script};
+use crate::scene::{CageSet, MeshSource, Scene, SceneSettings};
 use crate::surface_nets::surface_nets;
 
 /// The rig script: one rig operation per line, `#` starts a comment.

@@ -6,10 +6,10 @@ use std::collections::BTreeMap;
 
 use glam::{DQuat, DVec3};
 
-use super::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
 use crate::mesh::Mesh;
+use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 
 /// Names and one-line descriptions of the demo scenes.
 pub const DEMOS: [(&str, &str); 6] = [
