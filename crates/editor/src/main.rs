@@ -5,7 +5,6 @@
 use anyhow::Context as _;
 use starcages_editor::Document;
 use starcages_editor::launch::{self, Launch};
-use starcages_editor::state::EditorError;
 use starcages_editor::state::recent;
 
 fn main() -> anyhow::Result<()> {
@@ -31,15 +30,9 @@ fn main() -> anyhow::Result<()> {
             std::process::exit(2);
         }
     };
-    let (doc, error) = match &path {
-        Some(path) => match Document::open(path, &starcages_core::BindControl::default()) {
-            Ok(doc) => (doc, None),
-            Err(e) => (Document::demo(), Some(EditorError::Startup(Box::new(e)))),
-        },
-        None => (Document::demo(), None),
-    };
-    // A file opened from the command line joins Open recent, as one opened from the menu.
-    let opened = path.filter(|_| error.is_none());
+    // The window opens at once on the demo; a file named on the command line opens on a worker
+    // (a mesh is rigged there), with progress and Cancel in the status bar, as File ▸ Open.
+    let doc = Document::demo();
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(doc.title())
@@ -58,11 +51,8 @@ fn main() -> anyhow::Result<()> {
             if let Some(file) = &state.recent_file {
                 state.recent = recent::load(file);
             }
-            if let Some(error) = error {
-                state.error(error);
-            }
-            if let Some(path) = &opened {
-                state.remember(path);
+            if let Some(path) = path {
+                state.start_load(path);
             }
             Ok(Box::new(app))
         }),

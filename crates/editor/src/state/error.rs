@@ -89,9 +89,6 @@ pub enum EditorError {
     /// Saving to the document's own file, which it does not have yet.
     #[error("this scene has no file yet: use File > Save as… to choose one")]
     NoFile,
-    /// The file named on the command line could not be opened.
-    #[error("{0}; the demo scene is shown instead")]
-    Startup(#[source] Box<EditorError>),
     /// A pose name that cannot be used.
     #[error("{0}")]
     Pose(String),

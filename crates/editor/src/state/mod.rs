@@ -526,7 +526,18 @@ impl EditorState {
             return;
         }
         scene.pose = pose;
-        scene.pose_state = Default::default();
+        // On a key its pose's hierarchy state comes back (hand moves go on from there); between
+        // keys the interpolated pose starts from the rest state.
+        scene.pose_state = scene
+            .animation
+            .key_at(frame)
+            .and_then(|k| {
+                scene
+                    .pose_states
+                    .get(&scene.animation.keys[k].pose)
+                    .cloned()
+            })
+            .unwrap_or_default();
         let h = scene.animation.h_at(frame);
         if !starcages_core::anim::bake::apply_keyed_h(scene, &h).is_empty() {
             // Keyed h shapes the operator: bind the cages whose h changed.
