@@ -22,8 +22,9 @@ pub fn usage() -> String {
     format!(
         "starcages {} — the StarCages cage editor\n\n\
          Usage: starcages [FILE]\n\n\
-         FILE  a scene (.json) to open, or a mesh (.obj, .gltf, .glb) to rig automatically: a\n      \
-         chain of cages along each limb (OBJ meshes are read Y-up and turned to Z-up); without\n      \
+         FILE  a scene (.json) to open, or a mesh (.obj, .gltf, .glb, .ply, .stl, .off) to rig\n      \
+         automatically: a chain of cages along each limb (OBJ, PLY, STL and OFF meshes are read\n      \
+         Y-up and turned to Z-up); without\n      \
          FILE the built-in demo opens\n\n\
          Options:\n  -h, --help     print this help\n  -V, --version  print the version\n\n\
          Headless work (binding, deforming, benchmarks) is `starcages-cli --help`.",

@@ -11,7 +11,7 @@ use starcages_core::scene::{CageSet, Scene, SceneSettings, UpAxis, load_scene};
 /// Arguments of `edit`.
 #[derive(Debug, Args)]
 pub struct EditArgs {
-    /// A scene (.json), or a mesh (.obj, .gltf, .glb) to start a rig from nothing around it.
+    /// A scene (.json), or a mesh (.obj, .gltf, .glb, .ply, .stl, .off) to start a rig from nothing around it.
     input: PathBuf,
     /// Scene file to write (never the input).
     #[arg(long)]

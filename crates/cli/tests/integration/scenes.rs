@@ -482,3 +482,57 @@ fn autorig_writes_a_valid_shape_following_rig_and_refuses_what_it_cannot_rig() {
     let onto_input = cli(&["autorig", s(&mesh), "--out", s(&mesh)]);
     assert_eq!(onto_input.status.code(), Some(2));
 }
+
+/// PLY, STL and OFF meshes come in wherever OBJ does: a scene around each, deformed back out
+/// in the file's layout (an STL keeps its three corners per triangle).
+#[test]
+fn ply_stl_and_off_meshes_make_scenes_and_deform_out_in_their_layout() {
+    let d = dir("formats");
+    let corners = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n";
+    let quads = "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+    let ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n\
+         property float z\nelement face 6\nproperty list uchar int vertex_indices\nend_header\n\
+         {corners}{quads}"
+    );
+    let off = format!("OFF\n8 6 0\n{corners}{quads}");
+    let mut stl = String::from("solid c\n");
+    let p: Vec<[&str; 3]> = corners
+        .lines()
+        .map(|l| {
+            let t: Vec<&str> = l.split(' ').collect();
+            [t[0], t[1], t[2]]
+        })
+        .collect();
+    for q in quads.lines() {
+        let i: Vec<usize> = q.split(' ').skip(1).map(|t| t.parse().unwrap()).collect();
+        for t in [[i[0], i[1], i[2]], [i[0], i[2], i[3]]] {
+            stl += "facet normal 0 0 0\nouter loop\n";
+            for k in t {
+                stl += &format!("vertex {} {} {}\n", p[k][0], p[k][1], p[k][2]);
+            }
+            stl += "endloop\nendfacet\n";
+        }
+    }
+    stl += "endsolid c\n";
+    for (name, text, vertices) in [("c.ply", ply, 8), ("c.off", off, 8), ("c.stl", stl, 36)] {
+        let mesh = d.join(name);
+        std::fs::write(&mesh, text).unwrap();
+        let scene = d.join(format!("{name}.json"));
+        ok(&cli(&[
+            "autocage",
+            s(&mesh),
+            "--grid",
+            "1",
+            "1",
+            "1",
+            "--out",
+            s(&scene),
+        ]));
+        let out = d.join(format!("{name}.obj"));
+        ok(&cli(&["deform", s(&scene), "--out", s(&out)]));
+        let written = std::fs::read_to_string(&out).unwrap();
+        let count = written.lines().filter(|l| l.starts_with("v ")).count();
+        assert_eq!(count, vertices, "{name}");
+    }
+}

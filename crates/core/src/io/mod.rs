@@ -8,6 +8,9 @@ mod cage_set_obj;
 mod gltf_animation;
 mod mesh_gltf;
 mod mesh_obj;
+mod mesh_off;
+mod mesh_ply;
+mod mesh_stl;
 mod mesh_write;
 mod obj_cage;
 mod obj_like_source;
@@ -25,6 +28,9 @@ use crate::mesh::{Mesh, MeshError};
 pub use atomic::{AtomicWriter, is_same_file, remove_unfinished_saves, write_atomic};
 pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
 pub use gltf_animation::{MAX_GLTF_BYTES, MAX_GLTF_FRAMES, MorphAnimation};
+pub use mesh_off::parse_off;
+pub use mesh_ply::parse_ply;
+pub use mesh_stl::parse_stl;
 pub use mesh_write::{glb_bytes, glb_bytes_in_parts, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
 pub use obj_like_source::{ObjCopyReport, SourceVertex, source_vertex_list, write_obj_like_source};
@@ -34,15 +40,22 @@ pub use point_cache::{
 };
 pub use points::{parse_points, read_points};
 
-/// Reads a mesh from an OBJ, glTF or GLB file (by extension).
+/// The mesh file types StarCages reads, by extension.
+pub const MESH_EXTENSIONS: [&str; 6] = ["obj", "gltf", "glb", "ply", "stl", "off"];
+const MESH_EXTENSIONS_TEXT: &str = "obj, gltf, glb, ply, stl, off";
+
+/// Reads a mesh from an OBJ, glTF, GLB, PLY, STL or OFF file (by extension).
 pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
     match extension(path).as_str() {
         "obj" => mesh_obj::read_obj_mesh(path),
         "gltf" | "glb" => mesh_gltf::read_gltf_mesh(path),
+        "ply" => mesh_ply::read_ply_mesh(path),
+        "stl" => mesh_stl::read_stl_mesh(path),
+        "off" => mesh_off::read_off_mesh(path),
         other => Err(FileError::Unsupported {
             path: path.to_path_buf(),
             extension: other.to_owned(),
-            supported: "obj, gltf, glb",
+            supported: MESH_EXTENSIONS_TEXT,
         }),
     }
 }

@@ -14,6 +14,7 @@ mod hierarchy;
 mod lanes;
 mod layout;
 mod mean_value;
+mod mesh_formats;
 mod rig_edit;
 mod rig_inset;
 mod rig_script;

@@ -56,8 +56,8 @@ impl FilePurpose {
     /// The file kinds offered.
     pub fn extensions(self) -> &'static [&'static str] {
         match self {
-            Self::Open => &["json", "obj", "gltf", "glb"],
-            Self::NewFromMesh => &["obj", "gltf", "glb"],
+            Self::Open => &["json", "obj", "gltf", "glb", "ply", "stl", "off"],
+            Self::NewFromMesh => &starcages_core::io::MESH_EXTENSIONS,
             Self::SaveScene | Self::SaveBeforeContinuing => &["json"],
             Self::ExportMesh => &["obj", "glb"],
             Self::ExportCages | Self::ImportCages | Self::ImportInternalCages => &["obj"],
