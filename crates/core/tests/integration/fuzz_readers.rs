@@ -41,8 +41,9 @@ fn valid_scene_text() -> String {
 const CUBE_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\no a\n\
 f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
 
-fn damage(text: &str, cuts: &[(usize, u8)]) -> Vec<u8> {
-    let mut bytes = text.as_bytes().to_vec();
+/// `text` with bytes replaced, removed, or the rest cut off, as `cuts` say.
+pub fn damage(text: impl AsRef<[u8]>, cuts: &[(usize, u8)]) -> Vec<u8> {
+    let mut bytes = text.as_ref().to_vec();
     for &(at, b) in cuts {
         if bytes.is_empty() {
             break;
@@ -256,7 +257,7 @@ proptest! {
         cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..4),
     ) {
         let (scene, valid) = cache_fixture();
-        let damaged = damage(&String::from_utf8_lossy(valid), &cuts);
+        let damaged = damage(String::from_utf8_lossy(valid).as_bytes(), &cuts);
         let _ = decode_binding_cache(&damaged, scene);
         let mut crafted = valid.clone();
         let payload_words = (crafted.len() - 24) / 4;

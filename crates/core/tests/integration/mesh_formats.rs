@@ -274,22 +274,7 @@ proptest! {
     /// Random damage (bytes replaced, removed, the file cut) never panics.
     #[test]
     fn damaged_files_never_panic(cuts in prop::collection::vec((0usize..4096, any::<u8>()), 1..6)) {
-        let damage = |mut bytes: Vec<u8>| {
-            for &(at, b) in &cuts {
-                if bytes.is_empty() {
-                    break;
-                }
-                let i = at % bytes.len();
-                match b % 3 {
-                    0 => bytes[i] = b,
-                    1 => {
-                        bytes.remove(i);
-                    }
-                    _ => bytes.truncate(i),
-                }
-            }
-            bytes
-        };
+        let damage = |bytes: Vec<u8>| crate::fuzz_readers::damage(bytes, &cuts);
         let at = Path::new("fuzz");
         let _ = parse_ply(at, &damage(ascii_ply().into_bytes()));
         let _ = parse_ply(at, &damage(binary_ply(false)));
