@@ -211,7 +211,7 @@ impl UiCommand {
             Self::MirrorCage => "Mirror across X",
             Self::FitCage => "Fit to mesh",
             Self::SubdivideCages => "Subdivide",
-            Self::AutoRig => "Auto rig",
+            Self::AutoRig => "Auto rig…",
             Self::PlayPause => "Play / pause",
             Self::JumpToStart => "Jump to start",
             Self::JumpToEnd => "Jump to end",

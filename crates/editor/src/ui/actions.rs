@@ -142,10 +142,10 @@ pub fn execute(
             ),
         },
         UiCommand::ToggleAutoKey => Command::SetAutoKey(!state.timeline.auto_key),
-        UiCommand::AutoRig => Command::AutoRig {
-            detail: starcages_core::generate::AutorigSettings::default().detail,
-            internal: true,
-        },
+        UiCommand::AutoRig => {
+            ui_state.autorig_dialog = Some(super::prompts::AutorigDialog::default());
+            return;
+        }
     };
     sender.send(command);
 }

@@ -16,7 +16,7 @@ mod loop_cut_tool;
 mod menu;
 mod outliner;
 mod panels;
-mod prompts;
+pub mod prompts;
 mod rig_keys;
 mod select_modes;
 mod status_bar;
@@ -69,6 +69,8 @@ pub struct UiState {
     grab_handled: u64,
     /// The influence map shown before an h slider drag switched to the cage's b map.
     pub influence_before_h_drag: Option<crate::state::InfluenceChoice>,
+    /// Rig ▸ Auto rig's dialog, while open.
+    pub autorig_dialog: Option<prompts::AutorigDialog>,
     /// The key picked on the timeline (its frame), if any.
     pub selected_key: Option<f64>,
     /// A key being dragged along the timeline.
@@ -103,6 +105,7 @@ impl UiState {
             pose_prompt: None,
             influence_before_h_drag: None,
             grab_handled: 0,
+            autorig_dialog: None,
             selected_key: None,
             key_drag: None,
             show_timings: true,
@@ -206,6 +209,7 @@ pub fn frame_ui(
         actions::file_chosen(purpose, path, ui_state, sender);
     }
     prompts::new_mesh_dialog(ui_state, &ctx, sender);
+    prompts::autorig_dialog(ui_state, &ctx, sender);
     help::shortcuts_window(ui_state, &ctx);
     panels::pose_prompt(state, ui_state, &ctx, sender);
     add_menu::popup(state, ui_state, &ctx, sender);

@@ -134,3 +134,58 @@ pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut
         None => {}
     }
 }
+
+/// Rig ▸ Auto rig's settings, while its dialog is open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AutorigDialog {
+    /// How fine, 1 to 5.
+    pub detail: u32,
+    /// Also an internal cage per limb and one over the rig.
+    pub internal: bool,
+}
+
+impl Default for AutorigDialog {
+    fn default() -> Self {
+        Self {
+            detail: starcages_core::generate::AutorigSettings::default().detail,
+            internal: true,
+        }
+    }
+}
+
+/// Rig ▸ Auto rig: detail and internal cages, then the rig replaces the current one (one undo
+/// step, on a worker).
+pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
+    let Some(dialog) = &mut ui_state.autorig_dialog else {
+        return;
+    };
+    let mut answer = None;
+    egui::Modal::new(egui::Id::unique("auto-rig-dialog")).show(ctx, |ui| {
+        ui.heading("Auto rig");
+        ui.label("Replace the rig with cages that follow the mesh (one undo step).");
+        ui.add(egui::Slider::new(&mut dialog.detail, 1..=5).text("detail"))
+            .on_hover_text("1: few, coarse cages; 5: many, tight ones");
+        ui.checkbox(&mut dialog.internal, "Internal cages")
+            .on_hover_text("an internal cage per limb to pose it, and one over the whole rig");
+        ui.horizontal(|ui| {
+            if ui.button("Make rig").clicked() {
+                answer = Some(true);
+            }
+            if ui.button("Cancel").clicked() {
+                answer = Some(false);
+            }
+        });
+    });
+    match answer {
+        Some(true) => {
+            if let Some(dialog) = ui_state.autorig_dialog.take() {
+                sender.send(Command::AutoRig {
+                    detail: dialog.detail,
+                    internal: dialog.internal,
+                });
+            }
+        }
+        Some(false) => ui_state.autorig_dialog = None,
+        None => {}
+    }
+}

@@ -2474,3 +2474,41 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
     assert!(harness.query_by_label("Box at the pointer").is_none());
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
 }
+
+/// Rig ▸ Auto rig… asks for the detail and internal cages first; Cancel changes nothing, Make
+/// rig starts the auto rig with what was chosen.
+#[test]
+fn rig_auto_rig_asks_for_detail_and_internal_cages_first() {
+    let mut harness = harness();
+    let before = harness.state().state.doc.scene.cages.clone();
+    harness.get_by_label("Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label("Auto rig…").click();
+    harness.run_steps(2);
+    assert!(harness.state().ui.autorig_dialog.is_some());
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    assert!(harness.state().ui.autorig_dialog.is_none());
+    assert!(harness.state().state.autorig_job.is_none());
+    assert_eq!(harness.state().state.doc.scene.cages, before);
+    harness.get_by_label("Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label("Auto rig…").click();
+    harness.run_steps(2);
+    harness
+        .state_mut()
+        .ui
+        .autorig_dialog
+        .as_mut()
+        .unwrap()
+        .internal = false;
+    harness.get_by_label("Make rig").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_ne!(scene.cages, before, "the auto rig replaced the rig");
+    assert!(
+        scene.cages.internals.is_empty(),
+        "no internal cages, as chosen"
+    );
+}
