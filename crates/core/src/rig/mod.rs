@@ -30,7 +30,7 @@ pub use inset::InsetCorners;
 pub use op::{FaceRef, RestTransform, RigOp};
 pub use parse::{MAX_RIG_SCRIPT_OPS, parse_rig_script};
 pub use split::{LoopCutRing, loop_cut_ring};
-pub use subdivide::subdivide_leaf_cages;
+pub use subdivide::{MAX_SUBDIVIDED_VERTICES, subdivide_leaf_cages};
 pub use vocabulary::RigEditError;
 pub use weld::{WeldReport, weld_vertices};
 

@@ -9,9 +9,34 @@ use glam::DVec3;
 use super::vocabulary::RigEditError;
 use crate::scene::Scene;
 
+/// The most cage vertices a subdivision may make: each one multiplies the vertices by about four,
+/// and a rig of this many already takes seconds to validate and bind (repeating `subdivide`
+/// would otherwise grow without bound).
+pub const MAX_SUBDIVIDED_VERTICES: usize = 100_000;
+
 /// Subdivides every leaf cage's faces; every pose gets the same midpoints and centres of its
-/// own positions. Refused while the scene has internal cages.
+/// own positions. Refused while the scene has internal cages, or when the result would pass
+/// [`MAX_SUBDIVIDED_VERTICES`].
 pub fn subdivide_leaf_cages(scene: &mut Scene) -> Result<(), RigEditError> {
+    // New vertices: at most one per face and one per face corner (each edge's midpoint, shared
+    // edges counted once per side): an upper bound, checked before anything is made.
+    let corners: usize = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|c| &c.faces)
+        .map(|f| f.len() + 1)
+        .sum();
+    let most = scene.cages.vertices.len() + corners;
+    if most > MAX_SUBDIVIDED_VERTICES {
+        let estimate = scene.cages.vertices.len() + corners / 2;
+        return Err(RigEditError::Value(format!(
+            "subdivide: the rig has {} cage vertices and would get about {estimate}, more than \
+             the {MAX_SUBDIVIDED_VERTICES} a rig may have; subdivide only the cages that need \
+             it, or start from a coarser rig",
+            scene.cages.vertices.len()
+        )));
+    }
     if !scene.cages.internals.is_empty() {
         return Err(RigEditError::Value(
             "subdivide: internal cages drive leaf vertices, and the new vertices would have no \

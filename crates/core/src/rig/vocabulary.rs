@@ -119,8 +119,10 @@ pub(crate) fn free_name(scene: &Scene, name: &str) -> Result<(), RigEditError> {
     let set = &scene.cages;
     let taken =
         set.leaves.iter().any(|c| c.name == name) || set.internals.iter().any(|c| c.name == name);
-    if taken || name.is_empty() {
+    if taken {
         Err(RigEditError::NameTaken(name.to_owned()))
+    } else if let Some(why) = crate::scene::name_problem(name) {
+        Err(RigEditError::Value(format!("cage name {name:?}: {why}")))
     } else {
         Ok(())
     }

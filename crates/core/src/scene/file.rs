@@ -172,6 +172,65 @@ fn migrate(mut value: Value, version: u64) -> Value {
     value
 }
 
+/// The first field that must be an object (named fields) but is not, with what it is. serde
+/// would read a struct from an array by position, which silently accepts nonsense.
+fn misplaced_array(value: &Value) -> Option<(String, &'static str)> {
+    let kind = |v: &Value| match v {
+        Value::Array(_) => "an array",
+        Value::String(_) => "a string",
+        Value::Number(_) => "a number",
+        Value::Bool(_) => "a boolean",
+        Value::Null => "null",
+        Value::Object(_) => "an object",
+    };
+    let mut wrong = None;
+    let mut check = |field: String, v: &Value| {
+        if wrong.is_none() && !v.is_object() {
+            wrong = Some((field, kind(v)));
+        }
+    };
+    for field in [
+        "settings",
+        "animation",
+        "current_hierarchy",
+        "mesh",
+        "pose_hierarchy",
+    ] {
+        if let Some(v) = value.get(field) {
+            check(field.to_owned(), v);
+        }
+    }
+    if let Some(harmonic) = value.get("settings").and_then(|s| s.get("harmonic")) {
+        check("settings.harmonic".to_owned(), harmonic);
+    }
+    for list in ["cages", "internal_cages"] {
+        for (i, cage) in value
+            .get(list)
+            .and_then(Value::as_array)
+            .into_iter()
+            .flatten()
+            .enumerate()
+        {
+            check(format!("{list}[{i}]"), cage);
+        }
+    }
+    let keys = value.get("animation").and_then(|a| a.get("keys"));
+    for (i, key) in keys
+        .and_then(Value::as_array)
+        .into_iter()
+        .flatten()
+        .enumerate()
+    {
+        check(format!("animation.keys[{i}]"), key);
+    }
+    if let Some(states) = value.get("pose_hierarchy").and_then(Value::as_object) {
+        for (name, state) in states {
+            check(format!("pose_hierarchy.{name}"), state);
+        }
+    }
+    wrong
+}
+
 /// Reads a scene file and the mesh it names.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
     let text = crate::io::read_text(path)?;
@@ -207,6 +266,16 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
         });
     }
     let value = migrate(value, version);
+    if let Some((field, found)) = misplaced_array(&value) {
+        return Err(SceneFileError::Syntax {
+            path: path.to_path_buf(),
+            reason: format!(
+                "\"{field}\" is {found}, but it is a set of named fields: write it as an object \
+                 {{\"name\": value, …}} (docs/scene-format.md lists them); values are never \
+                 read by position"
+            ),
+        });
+    }
     // Parse the text itself so that shape errors carry the line, the column and the field's
     // path (`cages[0].faces`); a migrated older file is parsed from its migrated value.
     let file: SceneFile = if version == u64::from(SCENE_VERSION) {

@@ -36,7 +36,7 @@ pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;
 pub use validate::{
-    MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, validate_scene,
+    MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, name_problem, validate_scene,
 };
 
 /// Where the scene's mesh comes from.

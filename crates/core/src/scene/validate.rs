@@ -54,6 +54,15 @@ pub enum SceneProblem {
         /// The name.
         name: String,
     },
+    /// A cage name that is empty or holds control characters (a newline would print as a line
+    /// of its own in every message naming the cage).
+    #[error("cage name {name:?}: {why}; rename it")]
+    BadName {
+        /// The name, quoted and escaped when shown.
+        name: String,
+        /// What is wrong with it.
+        why: &'static str,
+    },
     /// A cage is not a valid closed, outward-oriented cage.
     #[error("cage '{cage}': {problem}")]
     Cage {
@@ -331,6 +340,17 @@ impl ValidationReport {
     }
 }
 
+/// What is wrong with a cage name, if anything: empty, or holding a control character.
+pub fn name_problem(name: &str) -> Option<&'static str> {
+    if name.trim().is_empty() {
+        Some("a cage needs a name that is not empty or only spaces")
+    } else if name.chars().any(char::is_control) {
+        Some("a name may not hold control characters such as a newline or a tab")
+    } else {
+        None
+    }
+}
+
 /// Validates the whole scene.
 pub fn validate_scene(scene: &Scene) -> ValidationReport {
     let mut report = ValidationReport::default();
@@ -348,6 +368,12 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
     {
         if !names.insert(name) {
             errors.push(SceneProblem::DuplicateName { name: name.clone() });
+        }
+        if let Some(why) = name_problem(name) {
+            errors.push(SceneProblem::BadName {
+                name: name.clone(),
+                why,
+            });
         }
     }
     let named = scene.poses.iter().map(|(n, p)| (format!("pose '{n}'"), p));
@@ -412,6 +438,17 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
     check_shared_faces(scene, errors);
     check_hierarchy(scene, errors);
     check_poses(scene, errors);
+    // A hierarchy state stored for a pose that does not exist belongs to nothing.
+    for name in scene.pose_states.keys() {
+        if !scene.poses.contains_key(name) {
+            errors.push(SceneProblem::PoseState {
+                pose: format!("pose '{name}'"),
+                why: "there is no pose of that name (its state is stored, its positions are \
+                      not)"
+                    .into(),
+            });
+        }
+    }
     errors.extend(
         scene
             .animation

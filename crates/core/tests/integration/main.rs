@@ -11,6 +11,7 @@ mod gltf_files;
 mod green;
 mod harmonic;
 mod hierarchy;
+mod hostile;
 mod lanes;
 mod layout;
 mod mean_value;
