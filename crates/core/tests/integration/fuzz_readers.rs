@@ -1,5 +1,6 @@
-//! No panic, hang or runaway allocation on arbitrary input: the scene, mesh OBJ, glTF/GLB, cage
-//! OBJ and point readers on random bytes, on randomly damaged valid files, and (glTF) on
+//! No panic, hang or runaway allocation on arbitrary input: the scene (with its animation),
+//! mesh OBJ, PLY, STL and OFF (in `mesh_formats`), glTF/GLB, cage OBJ, point and point-cache
+//! readers on random bytes, on randomly damaged valid files, and (glTF) on
 //! structure-aware mutations of a valid document: numbers swapped for extreme values, type
 //! names swapped, array entries dropped, node cycles; and the binding cache, damaged and crafted
 //! (words replaced, checksum recomputed). A proptest harness; `scripts/fuzz.sh`
@@ -19,7 +20,7 @@ use starcages_core::star::{StarBinding, decode_binding_cache, encode_binding_cac
 
 /// Cases per property: 64 in the test suite, more from `scripts/fuzz.sh`
 /// (`STARCAGES_FUZZ_CASES`).
-fn fuzz_cases() -> u32 {
+pub fn fuzz_cases() -> u32 {
     std::env::var("STARCAGES_FUZZ_CASES")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -32,9 +33,26 @@ fn scratch() -> PathBuf {
     dir
 }
 
+/// A small valid scene with poses and animation keys (so damage reaches every section).
 fn valid_scene_text() -> String {
     let path = scratch().join("valid.json");
-    save_scene(&demo_scene("bar", 0.2).unwrap(), &path).unwrap();
+    let mut scene = demo_scene("bar", 0.2).unwrap();
+    let lifted: Vec<glam::DVec3> = scene.pose.iter().map(|p| *p + glam::DVec3::Z).collect();
+    scene.poses.insert("up".into(), lifted);
+    scene
+        .poses
+        .insert("rest".into(), scene.cages.vertices.clone());
+    for (frame, pose) in [(1.0, "rest"), (12.0, "up")] {
+        scene.animation.keys.push(starcages_core::anim::Key {
+            frame,
+            pose: pose.into(),
+            interpolation: starcages_core::anim::Interpolation::Bezier,
+            h: [(scene.cages.leaves[0].name.clone(), 0.4)]
+                .into_iter()
+                .collect(),
+        });
+    }
+    save_scene(&scene, &path).unwrap();
     std::fs::read_to_string(path).unwrap()
 }
 
@@ -70,7 +88,36 @@ proptest! {
         for (name, bytes) in [("damaged.json", damage(&text, &cuts)), ("raw.json", raw)] {
             let path = dir.join(format!("{}-{name}", std::process::id()));
             std::fs::write(&path, &bytes).unwrap();
-            let _ = load_scene(&path);
+            // What loads is validated and played: a damaged animation never panics either.
+            if let Ok(scene) = load_scene(&path) {
+                let _ = starcages_core::scene::validate_scene(&scene);
+                for frame in [-1.0, 1.0, 6.5, 12.0, 1e300] {
+                    let _ = scene.animation.pose_at(&scene.poses, frame);
+                    let _ = scene.animation.h_at(frame);
+                }
+            }
+        }
+    }
+
+    /// Point caches (PC2, MDD) damaged or made of random bytes are refused or read, never a
+    /// panic or an allocation the file's length does not back.
+    #[test]
+    fn point_cache_readers_never_panic(cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..6), raw in prop::collection::vec(any::<u8>(), 0..200)) {
+        use starcages_core::io::{PointCacheFormat, PointCacheWriter, SampleTimes, parse_point_cache};
+        let dir = scratch();
+        for format in [PointCacheFormat::Pc2, PointCacheFormat::Mdd] {
+            let path = dir.join(format!("{}-valid-{format:?}", std::process::id()));
+            let times = SampleTimes { start_frame: 1.0, frame_step: 1.0, fps: 24.0 };
+            let mut writer = PointCacheWriter::create(&path, format, 4, 3, times).unwrap();
+            for k in 0..3 {
+                writer.write_sample(&[glam::Vec3::splat(k as f32); 4]).unwrap();
+            }
+            writer.finish().unwrap();
+            let valid = std::fs::read(&path).unwrap();
+            for bytes in [damage(&valid, &cuts), raw.clone()] {
+                let _ = parse_point_cache(&path, format, &bytes, None, 24.0);
+                let _ = parse_point_cache(&path, format, &bytes, Some(4), 24.0);
+            }
         }
     }
 

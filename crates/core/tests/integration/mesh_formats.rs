@@ -269,7 +269,7 @@ fn forged_and_broken_files_are_refused_with_the_reason() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(crate::fuzz_readers::fuzz_cases()))]
 
     /// Random damage (bytes replaced, removed, the file cut) never panics.
     #[test]
