@@ -47,13 +47,28 @@ pub fn save_new_scene(scene: &Scene, out: &Path, summary: &str) -> anyhow::Resul
 /// Prints a validation report to standard error; returns whether the scene is valid.
 pub fn report(scene: &Scene, label: &str) -> ValidationReport {
     let report = validate_scene(scene);
-    for warning in &report.warnings {
-        eprintln!("warning: {label}: {warning}");
-    }
-    for error in &report.errors {
-        eprintln!("error: {label}: {error}");
-    }
+    print_capped("warning", label, &report.warnings);
+    print_capped("error", label, &report.errors);
     report
+}
+
+/// The most problems of one severity printed for a scene: a file with millions of problems
+/// gets a summary line, not millions of lines.
+pub const MAX_PROBLEMS_SHOWN: usize = 50;
+
+/// Prints up to [`MAX_PROBLEMS_SHOWN`] of `problems`, then how many more there are.
+fn print_capped(severity: &str, label: &str, problems: &[impl std::fmt::Display]) {
+    for problem in problems.iter().take(MAX_PROBLEMS_SHOWN) {
+        eprintln!("{severity}: {label}: {problem}");
+    }
+    if problems.len() > MAX_PROBLEMS_SHOWN {
+        eprintln!(
+            "{severity}: {label}: … and {} more ({} in all); fix the ones above first, most \
+             repeat the same mistake",
+            problems.len() - MAX_PROBLEMS_SHOWN,
+            problems.len()
+        );
+    }
 }
 
 /// Three counts NX NY NZ given to `flag`, each in 1..=`max`.

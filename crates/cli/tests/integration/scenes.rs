@@ -536,3 +536,29 @@ fn ply_stl_and_off_meshes_make_scenes_and_deform_out_in_their_layout() {
         assert_eq!(count, vertices, "{name}");
     }
 }
+
+/// A scene with thousands of problems prints a capped list and a count, not thousands of lines.
+#[test]
+fn thousands_of_problems_print_a_capped_list_and_a_count() {
+    let d = dir("many-problems");
+    ok(&cli(&["demo", "critter", "--out", s(&d)]));
+    let scene = d.join("critter.json");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    let owns = json["internal_cages"][0]["owns"].as_array_mut().unwrap();
+    owns.extend((0..5000).map(|k| serde_json::json!(1_000_000 + k)));
+    std::fs::write(&scene, json.to_string()).unwrap();
+    let o = cli(&["validate", s(&scene)]);
+    assert_eq!(o.status.code(), Some(2));
+    let text = stderr(&o);
+    let lines = text.lines().filter(|l| l.starts_with("error:")).count();
+    assert!(lines <= 52, "{lines} lines");
+    assert!(
+        text.contains("more (50") || text.contains("in all"),
+        "{text}"
+    );
+    assert!(
+        text.contains("5000") || text.contains("problem(s)"),
+        "{text}"
+    );
+}

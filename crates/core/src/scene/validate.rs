@@ -251,6 +251,14 @@ pub enum SceneProblem {
         /// The other.
         second: String,
     },
+    /// An internal cage lists a vertex twice in its `owns`.
+    #[error("internal cage '{cage}' lists vertex {vertex} twice in \"owns\"; remove the repeat")]
+    ListedTwice {
+        /// The internal cage.
+        cage: String,
+        /// The vertex.
+        vertex: usize,
+    },
     /// The ownership hierarchy has a cycle.
     #[error(
         "internal cage '{cage}' ends up owning one of its own vertices through the hierarchy; break the cycle"
@@ -580,7 +588,12 @@ pub(crate) fn check_hierarchy(scene: &Scene, errors: &mut Vec<SceneProblem>) {
                 });
                 continue;
             }
-            if let Some(&other) = parent.get(&v) {
+            if parent.get(&v) == Some(&i) {
+                errors.push(SceneProblem::ListedTwice {
+                    cage: cage.name.clone(),
+                    vertex: v as usize,
+                });
+            } else if let Some(&other) = parent.get(&v) {
                 errors.push(SceneProblem::OwnedTwice {
                     vertex: v as usize,
                     first: set.internals[other].name.clone(),

@@ -117,3 +117,26 @@ fn subdivide_refuses_to_grow_a_rig_past_its_limit() {
     );
     assert_eq!(scene.cages.vertices.len(), before, "nothing was made");
 }
+
+/// A vertex listed twice by one internal cage says so, not "owned by both 'ic' and 'ic'".
+#[test]
+fn a_vertex_listed_twice_by_one_internal_cage_is_named_as_such() {
+    let mut scene = demo_scene("critter", 0.3).unwrap();
+    let v = scene.cages.internals[0].owns[0];
+    scene.cages.internals[0].owns.push(v);
+    let errors = validate_scene(&scene).errors;
+    let cage = scene.cages.internals[0].name.clone();
+    assert!(
+        errors.iter().any(|e| matches!(
+            e,
+            SceneProblem::ListedTwice { cage: c, vertex } if *c == cage && *vertex == v as usize
+        )),
+        "{errors:?}"
+    );
+    assert!(
+        !errors
+            .iter()
+            .any(|e| matches!(e, SceneProblem::OwnedTwice { .. })),
+        "{errors:?}"
+    );
+}
