@@ -20,6 +20,7 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
     } else {
         "glTF"
     };
+    check_container(path, &bytes)?;
     check_primitive_references(path, &bytes)?;
     // The gltf crate's own validation indexes some arrays unchecked: a file that still trips it
     // is an error like any other, not a crash.
@@ -100,21 +101,82 @@ fn no_triangles_reason(gltf: &gltf::Gltf) -> String {
     }
 }
 
+/// The JSON of a glTF file: the whole file, or a GLB's JSON chunk (`None` when the GLB is too
+/// short to hold one).
+fn json_of(bytes: &[u8]) -> Option<&[u8]> {
+    if bytes.starts_with(b"glTF") {
+        // GLB: 12-byte header, then the JSON chunk (length, type, data).
+        let length = bytes
+            .get(12..16)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)?;
+        bytes.get(20..20usize.saturating_add(length))
+    } else {
+        Some(bytes)
+    }
+}
+
+/// A GLB's header must give version 2 and the file's own length (a shorter length hides bytes
+/// the reader would ignore; a longer one is a truncated file), and the asset must be glTF 2.x:
+/// glTF 1.0 is a different format, whose files only look alike.
+fn check_container(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
+    if bytes.starts_with(b"glTF") {
+        let word = |at: usize| {
+            bytes
+                .get(at..at + 4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        };
+        let (Some(version), Some(length)) = (word(4), word(8)) else {
+            return Err(FileError::format(
+                path,
+                "a GLB file has a 12-byte header; this one is cut short",
+            ));
+        };
+        if version != 2 {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "GLB container version {version}; only version 2 (glTF 2.0) is read: \
+                     re-export it from a current tool"
+                ),
+            ));
+        }
+        if length as usize != bytes.len() {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "the GLB header gives a length of {length} bytes, but the file has {}: it \
+                     is truncated or has bytes after its end; re-export it",
+                    bytes.len()
+                ),
+            ));
+        }
+    }
+    let version = json_of(bytes)
+        .and_then(|json| serde_json::from_slice::<serde_json::Value>(json).ok())
+        .and_then(|root| {
+            root.get("asset")?
+                .get("version")?
+                .as_str()
+                .map(str::to_owned)
+        });
+    match version {
+        Some(v) if !v.starts_with("2.") => Err(FileError::format(
+            path,
+            format!(
+                "a glTF {v} file; only glTF 2.0 is read (1.0 is a different format): re-export \
+                 it as glTF 2.0"
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Checks that every mesh primitive names accessors that exist (the gltf crate's validation
 /// indexes them unchecked and would panic). Files whose JSON does not parse are left to the
 /// gltf crate, which reports the syntax error.
 fn check_primitive_references(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
-    let json: &[u8] = if bytes.starts_with(b"glTF") {
-        // GLB: 12-byte header, then the JSON chunk (length, type, data).
-        let length = bytes
-            .get(12..16)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
-        match length.and_then(|n| bytes.get(20..20usize.saturating_add(n))) {
-            Some(chunk) => chunk,
-            None => return Ok(()),
-        }
-    } else {
-        bytes
+    let Some(json) = json_of(bytes) else {
+        return Ok(());
     };
     let Ok(root) = serde_json::from_slice::<serde_json::Value>(json) else {
         return Ok(());

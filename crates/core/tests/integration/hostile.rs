@@ -140,3 +140,39 @@ fn a_vertex_listed_twice_by_one_internal_cage_is_named_as_such() {
         "{errors:?}"
     );
 }
+
+/// A GLB whose header gives another length than the file's, a container version other than 2,
+/// and a glTF 1.0 asset are refused saying which; our own GLB still reads.
+#[test]
+fn glb_lengths_container_versions_and_gltf_1_are_refused() {
+    let dir = scratch("glb");
+    let scene = demo_scene("bar", 0.3).unwrap();
+    let good = dir.join("good.glb");
+    starcages_core::io::write_mesh(&good, &scene.mesh, scene.mesh.positions()).unwrap();
+    assert!(starcages_core::io::read_mesh(&good).is_ok());
+    let bytes = std::fs::read(&good).unwrap();
+    let refused = |name: &str, bytes: Vec<u8>, says: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let error = starcages_core::io::read_mesh(&path)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(says), "{name}: {says:?} not in {error}");
+    };
+    let mut longer = bytes.clone();
+    longer.extend([0u8; 16]);
+    refused("longer.glb", longer, "bytes after its end");
+    let mut version = bytes.clone();
+    version[4..8].copy_from_slice(&1u32.to_le_bytes());
+    refused("version.glb", version, "container version 1");
+    let gltf = dir.join("old.gltf");
+    std::fs::write(
+        &gltf,
+        r#"{"asset": {"version": "1.0"}, "meshes": {}, "accessors": {}}"#,
+    )
+    .unwrap();
+    let error = starcages_core::io::read_mesh(&gltf)
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("glTF 1.0 file"), "{error}");
+}
