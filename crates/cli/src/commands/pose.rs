@@ -99,7 +99,7 @@ impl PoseArgs {
             ),
         };
         if self.edits.is_empty() {
-            return Ok(pose);
+            return self.within_range(pose);
         }
         let label = scene_path.display();
         let mut posed = scene.clone();
@@ -114,7 +114,31 @@ impl PoseArgs {
                 .apply(&mut pose, &moves)
                 .map_err(|e| InputError(format!("{label}: {e}")))?;
         }
-        Ok(pose)
+        self.within_range(pose)
+    }
+
+    /// `pose` when every coordinate is finite and within the documented ±1e9 (the deformation
+    /// runs in 32-bit floats: beyond it a mesh comes out at 1e19 or worse), else an input
+    /// error naming the vertex and where the pose came from.
+    fn within_range(&self, pose: Vec<DVec3>) -> anyhow::Result<Vec<DVec3>> {
+        use starcages_core::scene::MAX_COORDINATE;
+        let far = pose
+            .iter()
+            .position(|p| !(p.is_finite() && p.abs().max_element() <= MAX_COORDINATE));
+        let Some(vertex) = far else {
+            return Ok(pose);
+        };
+        let source = match (&self.pose_file, self.edits.is_empty()) {
+            (Some(file), true) => format!("the pose file {}", file.display()),
+            (_, false) => "the --apply edits".to_owned(),
+            (None, true) => "the pose".to_owned(),
+        };
+        Err(InputError(format!(
+            "{source} put cage vertex {vertex} at {}, beyond ±{MAX_COORDINATE:e} (the \
+             deformation runs in 32-bit floats); use a smaller move, scale or pose",
+            pose[vertex]
+        ))
+        .into())
     }
 }
 

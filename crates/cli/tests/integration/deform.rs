@@ -287,3 +287,67 @@ fn internal_cages_imported_from_an_obj() {
     assert!(stderr(&out).contains("whole.obj") && stderr(&out).contains("no cage vertex"));
     assert!(!again.exists(), "nothing is written");
 }
+
+/// Poses pushed past ±1e9 by a pose file or `--apply` are refused naming the vertex and where
+/// the pose came from; nothing is written (meshes came out at 1e19–1e30 before).
+#[test]
+fn poses_beyond_the_coordinate_limit_are_refused_before_writing() {
+    let d = crate::common::dir("far-poses");
+    crate::common::ok(&crate::common::cli(&[
+        "demo",
+        "critter",
+        "--out",
+        crate::common::s(&d),
+    ]));
+    let scene = d.join("critter.json");
+    let out = d.join("far.obj");
+    let s = crate::common::s;
+    for edits in [
+        vec!["--apply", "head: translate 1e12 0 0"],
+        vec!["--apply", "head_0_0_0: scale 1e15"],
+    ] {
+        let mut args = vec!["deform", s(&scene), "--out", s(&out)];
+        args.extend(edits.iter().copied());
+        let o = crate::common::cli(&args);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{edits:?}: {}",
+            crate::common::stderr(&o)
+        );
+        assert!(
+            crate::common::stderr(&o).contains("--apply edits"),
+            "{}",
+            crate::common::stderr(&o)
+        );
+        assert!(!out.exists(), "nothing written");
+    }
+    let cages = d.join("cages.obj");
+    crate::common::ok(&crate::common::cli(&[
+        "cages",
+        s(&scene),
+        "--out",
+        s(&cages),
+    ]));
+    let far = std::fs::read_to_string(&cages)
+        .unwrap()
+        .replacen("v ", "v 1e20 ", 1);
+    // The first vertex line gets an x of 1e20 in front (its old x becomes y, and so on).
+    let far_file = d.join("far_cages.obj");
+    std::fs::write(&far_file, far).unwrap();
+    let o = crate::common::cli(&[
+        "deform",
+        s(&scene),
+        "--pose-file",
+        s(&far_file),
+        "--out",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", crate::common::stderr(&o));
+    assert!(
+        crate::common::stderr(&o).contains("pose file"),
+        "{}",
+        crate::common::stderr(&o)
+    );
+    assert!(!out.exists(), "nothing written");
+}
