@@ -134,9 +134,9 @@ impl PoseArgs {
             (None, true) => "the pose".to_owned(),
         };
         Err(InputError(format!(
-            "{source} put cage vertex {vertex} at {}, beyond ±{MAX_COORDINATE:e} (the \
-             deformation runs in 32-bit floats); use a smaller move, scale or pose",
-            pose[vertex]
+            "{source} put cage vertex {vertex} at ({:e}, {:e}, {:e}), beyond ±{MAX_COORDINATE:e} \
+             (the deformation runs in 32-bit floats); use a smaller move, scale or pose",
+            pose[vertex].x, pose[vertex].y, pose[vertex].z
         ))
         .into())
     }

@@ -156,7 +156,8 @@ fn an_edit_that_blows_the_mesh_up_writes_nothing() {
         "--out",
         s(&out),
     ];
-    refused(&args, "non-finite coordinate");
+    // Refused before binding: the edit's pose is beyond the coordinate limit.
+    refused(&args, "beyond ±1e9");
     assert!(!out.exists());
 }
 
