@@ -20,8 +20,14 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
     } else {
         "glTF"
     };
-    check_container(path, &bytes)?;
-    check_primitive_references(path, &bytes)?;
+    // The JSON is parsed once for both checks (files whose JSON does not parse are left to the
+    // gltf crate, which reports the syntax error).
+    let root =
+        json_of(&bytes).and_then(|json| serde_json::from_slice::<serde_json::Value>(json).ok());
+    check_container(path, &bytes, root.as_ref())?;
+    if let Some(root) = &root {
+        check_primitive_references(path, root)?;
+    }
     // The gltf crate's own validation indexes some arrays unchecked: a file that still trips it
     // is an error like any other, not a crash.
     let parsed = std::panic::catch_unwind(|| gltf::Gltf::from_slice(&bytes)).map_err(|_| {
@@ -118,7 +124,11 @@ fn json_of(bytes: &[u8]) -> Option<&[u8]> {
 /// A GLB's header must give version 2 and the file's own length (a shorter length hides bytes
 /// the reader would ignore; a longer one is a truncated file), and the asset must be glTF 2.x:
 /// glTF 1.0 is a different format, whose files only look alike.
-fn check_container(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
+fn check_container(
+    path: &Path,
+    bytes: &[u8],
+    root: Option<&serde_json::Value>,
+) -> Result<(), FileError> {
     if bytes.starts_with(b"glTF") {
         let word = |at: usize| {
             bytes
@@ -151,14 +161,7 @@ fn check_container(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
             ));
         }
     }
-    let version = json_of(bytes)
-        .and_then(|json| serde_json::from_slice::<serde_json::Value>(json).ok())
-        .and_then(|root| {
-            root.get("asset")?
-                .get("version")?
-                .as_str()
-                .map(str::to_owned)
-        });
+    let version = root.and_then(|root| root.get("asset")?.get("version")?.as_str());
     match version {
         Some(v) if !v.starts_with("2.") => Err(FileError::format(
             path,
@@ -171,16 +174,9 @@ fn check_container(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
     }
 }
 
-/// Checks that every mesh primitive names accessors that exist (the gltf crate's validation
-/// indexes them unchecked and would panic). Files whose JSON does not parse are left to the
-/// gltf crate, which reports the syntax error.
-fn check_primitive_references(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
-    let Some(json) = json_of(bytes) else {
-        return Ok(());
-    };
-    let Ok(root) = serde_json::from_slice::<serde_json::Value>(json) else {
-        return Ok(());
-    };
+/// Checks that every mesh primitive of the document `root` names accessors that exist (the
+/// gltf crate's validation indexes them unchecked and would panic).
+fn check_primitive_references(path: &Path, root: &serde_json::Value) -> Result<(), FileError> {
     let accessors = root
         .get("accessors")
         .and_then(serde_json::Value::as_array)

@@ -53,9 +53,13 @@ impl Rig {
 
     /// Recomputes the whole deformation of `scene`'s current pose.
     pub fn redeform_all(&mut self, scene: &Scene) {
+        // The DOFs once, for the product and for the GPU (playback calls this every frame).
         let operator = &self.binding.operator;
-        self.dofs = Arc::new(operator.dofs(&scene.cages.vertices, &scene.pose));
-        self.deformed = Arc::new(self.binding.deform(&scene.cages.vertices, &scene.pose));
+        let dofs = operator.dofs(&scene.cages.vertices, &scene.pose);
+        let mut deformed = vec![Vec3::ZERO; operator.row_count()];
+        operator.apply(&dofs, &mut deformed);
+        self.dofs = Arc::new(dofs);
+        self.deformed = Arc::new(deformed);
     }
 
     /// Updates the deformation after the cage vertices `changed` moved: only the mesh rows
