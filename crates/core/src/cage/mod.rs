@@ -191,6 +191,23 @@ impl Cage {
         total / (4.0 * std::f64::consts::PI)
     }
 
+    /// Whether `p` lies within `distance` of the cage surface: [`Cage::closest_point`]'s
+    /// distance ≤ `distance`, with each triangle first tested against its bounds grown by
+    /// `distance` (a point inside or outside a cage is rejected by every triangle at the cost of
+    /// a few comparisons; placing points spends most of its time here).
+    pub fn is_within(&self, p: DVec3, distance: f64) -> bool {
+        let margin = DVec3::splat(distance);
+        self.triangles.iter().any(|&[a, b, c]| {
+            let [a, b, c] = [a, b, c].map(|k| self.positions[k as usize]);
+            let (lo, hi) = (a.min(b).min(c) - margin, a.max(b).max(c) + margin);
+            if p.cmplt(lo).any() || p.cmpgt(hi).any() {
+                return false;
+            }
+            let (q, _) = crate::geometry::closest_point_on_triangle(p, a, b, c);
+            q.distance(p) <= distance
+        })
+    }
+
     /// The smallest t > 0 where the ray `origin + t·direction` meets the cage surface
     /// (infinity when it never does).
     pub fn ray_exit(&self, origin: DVec3, direction: DVec3) -> f64 {
@@ -460,5 +477,33 @@ pub mod shapes {
             [9, 8, 1],
         ];
         (positions, faces)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::shapes;
+
+    /// `is_within` answers what `closest_point`'s distance says, on points inside, outside, on
+    /// faces, edges and corners, and just off them on either side of the tolerance.
+    #[test]
+    fn is_within_agrees_with_the_closest_point_distance() {
+        let cage = shapes::cuboid(DVec3::ZERO, DVec3::new(1.0, 2.0, 0.5));
+        let mut checked = [0usize; 2];
+        for i in -4..=24 {
+            for j in -4..=44 {
+                for k in -4..=14 {
+                    let p = DVec3::new(i as f64, j as f64, k as f64) * 0.05 + DVec3::splat(1e-4);
+                    for tolerance in [1e-3, 0.02, 0.1] {
+                        let near = cage.closest_point(p).2 <= tolerance;
+                        assert_eq!(cage.is_within(p, tolerance), near, "{p} within {tolerance}");
+                        checked[usize::from(near)] += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked[0] > 1000 && checked[1] > 1000, "{checked:?}");
     }
 }

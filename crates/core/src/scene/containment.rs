@@ -1,10 +1,11 @@
 //! Which leaf cages contain each mesh vertex (robust point-in-polyhedron by winding number,
-//! pruned by bounding boxes).
+//! pruned by bounding boxes, and for many points answered from each cage's [`CageLocator`]).
 
 use glam::DVec3;
 use rayon::prelude::*;
 
 use super::cage_set::LocalCage;
+use super::locator::{CageLocator, Location, exact};
 
 /// Relative distance (to the cage's diagonal) under which a point is on a cage.
 pub(crate) const ON_CAGE: f64 = 1e-9;
@@ -35,6 +36,14 @@ pub fn leaf_containment(cages: &[LocalCage], points: &[DVec3]) -> Vec<Containmen
             (lo - DVec3::splat(tol), hi + DVec3::splat(tol), tol)
         })
         .collect();
+    // A locator pays for itself once a cage has a few points per triangle to place.
+    let locators: Vec<Option<CageLocator>> = cages
+        .par_iter()
+        .zip(&boxes)
+        .map(|(c, &(_, _, tol))| {
+            (points.len() >= 4 * c.cage.triangles().len()).then(|| CageLocator::new(&c.cage, tol))
+        })
+        .collect();
     points
         .par_iter()
         .map(|&p| {
@@ -43,11 +52,14 @@ pub fn leaf_containment(cages: &[LocalCage], points: &[DVec3]) -> Vec<Containmen
                 if p.cmplt(lo).any() || p.cmpgt(hi).any() {
                     continue;
                 }
-                // The distance first: at a cage vertex or edge the winding number is ill-defined.
-                if cage.cage.closest_point(p).2 <= tol {
-                    result.on_surface.push(c);
-                } else if cage.cage.winding_number(p) > 0.5 {
-                    result.inside.push(c);
+                let location = match &locators[c] {
+                    Some(locator) => locator.locate(p),
+                    None => exact(&cage.cage, p, tol),
+                };
+                match location {
+                    Location::OnSurface => result.on_surface.push(c),
+                    Location::Inside => result.inside.push(c),
+                    Location::Outside => {}
                 }
             }
             result

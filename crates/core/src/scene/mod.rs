@@ -7,6 +7,7 @@ mod cage_set;
 mod containment;
 mod export;
 mod file;
+mod locator;
 mod pose_state;
 mod pretty_json;
 mod settings;

@@ -30,11 +30,35 @@ impl Smoothing {
         }
         let t = x / h;
         match self {
-            Self::Sine => 0.5 * (std::f64::consts::PI * (t - 0.5)).sin() + 0.5,
+            Self::Sine => 0.5 * sin_within_half_turn(std::f64::consts::PI * (t - 0.5)) + 0.5,
             Self::Cubic => t * t * (3.0 - 2.0 * t),
             Self::Quintic => t * t * (7.0 + t * (-18.0 + t * (20.0 - 8.0 * t))),
         }
     }
+}
+
+/// sin x for |x| ≤ π/2 by its Taylor series through x²¹ (the first term left out is below
+/// 2e-18 there): f_h is evaluated for every far face of every join cage at every point of a
+/// bind, where libm's sin, with its range reduction, was a fifth of the bind's time.
+fn sin_within_half_turn(x: f64) -> f64 {
+    // (−1)^k / (2k + 1)!, k = 10 … 1, in Horner order over x².
+    const COEFFICIENTS: [f64; 10] = [
+        1.0 / 51_090_942_171_709_440_000.0,
+        -1.0 / 121_645_100_408_832_000.0,
+        1.0 / 355_687_428_096_000.0,
+        -1.0 / 1_307_674_368_000.0,
+        1.0 / 6_227_020_800.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 362_880.0,
+        -1.0 / 5_040.0,
+        1.0 / 120.0,
+        -1.0 / 6.0,
+    ];
+    let x2 = x * x;
+    // Plain multiply-adds: `mul_add` is a libm call where the build does not target FMA.
+    let series = COEFFICIENTS.iter().fold(0.0, |acc, &c| acc * x2 + c);
+    // Rounding may pass ±1 by an ulp near ±π/2; f_h must stay within [0, 1].
+    (x * (series * x2 + 1.0)).clamp(-1.0, 1.0)
 }
 
 /// Coordinates used for join cages (section 3.1; Fig. 10).
@@ -117,5 +141,18 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_sine_series_is_libms_sine_to_rounding() {
+        let half_turn = std::f64::consts::FRAC_PI_2;
+        for k in 0..=20_000 {
+            let x = -half_turn + 2.0 * half_turn * k as f64 / 20_000.0;
+            let error = (sin_within_half_turn(x) - x.sin()).abs();
+            assert!(error <= 4.0 * f64::EPSILON, "x = {x}: {error:e}");
+        }
+        // Odd, and exact at the ends of the range.
+        assert_eq!(sin_within_half_turn(0.0), 0.0);
+        assert!((sin_within_half_turn(half_turn) - 1.0).abs() <= f64::EPSILON);
     }
 }

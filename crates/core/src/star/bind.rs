@@ -13,23 +13,14 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::StarError;
+use super::assemble::{CagePlan, Inputs, Sharing, assemble_rows};
 use super::green_dofs::GreenDofs;
 use super::shape_class::{Placement as ShapePlacement, ShapeKey, shape_class};
+pub use super::tables::Placement;
+use super::tables::{JoinData, Row, Table, add_row};
 use super::topology::{JoinCage, Topology};
 use crate::coords::{BindControl, BindSettings, CageWeights, CoordinateKind, bind};
-use crate::scene::{CageSet, LocalCage, SceneSettings, Smoothing};
-
-/// Where a point is bound.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Placement {
-    /// Inside (or on) this leaf cage.
-    Cage(usize),
-    /// Outside every cage, following this nearest cage (the scene's `nearest` policy).
-    Nearest(usize),
-}
-
-/// A sparse row over the operator's columns: cage vertices, then Green DOFs.
-pub(crate) type Row = Vec<(u32, f64)>;
+use crate::scene::{CageSet, SceneSettings};
 
 /// Everything a bind produces before packing.
 pub(crate) struct BoundRows {
@@ -42,112 +33,9 @@ pub(crate) struct BoundRows {
     pub seconds_join: f64,
 }
 
-/// Coordinates of a sorted set of points in one cage.
-struct Table {
-    points: Vec<usize>,
-    weights: CageWeights,
-}
-
-impl Table {
-    fn compute(
-        kind: CoordinateKind,
-        cage: &LocalCage,
-        all: &[DVec3],
-        points: Vec<usize>,
-        settings: &BindSettings,
-        control: &BindControl,
-        what: &str,
-    ) -> Result<Self, StarError> {
-        let positions: Vec<DVec3> = points.iter().map(|&i| all[i]).collect();
-        let weights = bind(kind, &cage.cage, &positions, settings, control).map_err(|source| {
-            StarError::Coordinates {
-                what: what.to_owned(),
-                source,
-            }
-        })?;
-        Ok(Self { points, weights })
-    }
-
-    /// (vertex weights, Green ψ) of point `i`, if the table has it.
-    fn get(&self, i: usize) -> Option<(&[f64], Option<&[f64]>)> {
-        let k = self.points.binary_search(&i).ok()?;
-        Some(match &self.weights {
-            CageWeights::Vertex { weights, .. } => (weights.row(k), None),
-            CageWeights::Green(g) => (g.phi_row(k), Some(g.psi_row(k))),
-        })
-    }
-}
-
-/// Adds `scale` × a coordinate row of `cage` (local vertices, optional ψ over its triangles).
-fn add_row(
-    out: &mut Row,
-    scale: f64,
-    (w, psi): (&[f64], Option<&[f64]>),
-    cage: &LocalCage,
-    dofs: &[u32],
-    vertex_count: u32,
-) {
-    for (k, &x) in w.iter().enumerate() {
-        if x != 0.0 {
-            out.push((cage.global[k], scale * x));
-        }
-    }
-    if let Some(psi) = psi {
-        for (t, &x) in psi.iter().enumerate() {
-            if x != 0.0 {
-                out.push((vertex_count + dofs[t], scale * x));
-            }
-        }
-    }
-}
-
-/// Sorts a row by column and sums duplicates, in place (no second allocation per row).
-pub(super) fn merge(mut row: Row) -> Row {
-    row.sort_unstable_by_key(|&(c, _)| c);
-    let mut kept = 0;
-    for read in 0..row.len() {
-        let (c, w) = row[read];
-        if kept > 0 && row[kept - 1].0 == c {
-            row[kept - 1].1 += w;
-        } else {
-            row[kept] = (c, w);
-            kept += 1;
-        }
-    }
-    row.truncate(kept);
-    row
-}
-
-/// Per join cage: Ω's faces and normalisers, and the special points' coordinates.
-struct JoinData<'a> {
-    join: &'a JoinCage,
-    /// Faces of jc(v) not incident to v, as local vertex lists (F(jc(v), v) in eq. 6).
-    far_faces: Vec<Vec<usize>>,
-    /// d_{jc(v)}(t, v) per far face (1 for non-interior v).
-    normaliser: Vec<f64>,
-    /// Interpolating coordinates (MVC/HC) of the points that need Ω(v, ·).
-    interp: Option<Arc<Table>>,
-    /// Coordinates of kind `join.kind` of the points that need L_v.
-    transform: Option<Arc<Table>>,
-    /// For interior v: row of T_{jc(v)}(v) (eq. 10).
-    vertex_row: Row,
-    dofs: Vec<u32>,
-}
-
-impl JoinData<'_> {
-    /// Ω(v, p) (eq. 6) from p's interpolating weights in jc(v).
-    fn omega(&self, w: &[f64], smoothing: Smoothing) -> f64 {
-        self.far_faces
-            .iter()
-            .zip(&self.normaliser)
-            .map(|(face, &dv)| {
-                // d_{jc(v)}(t, p) = 1 − Σ_{u ∈ V(t)} w(u, p)   (eq. 7)
-                let d = 1.0 - face.iter().map(|&k| w[k]).sum::<f64>();
-                smoothing.eval(d / dv, 1.0)
-            })
-            .product()
-    }
-}
+/// Per join vertex, the points (increasing indices, each once) whose Ω or L_v needs its join
+/// cage's coordinates.
+type Needs = BTreeMap<u32, Vec<usize>>;
 
 /// The interpolating kind used for d (eq. 7) in a cage of kind `kind`: Green φ do not
 /// interpolate (paper-notes item 4), so Green cages use MVC there.
@@ -166,6 +54,27 @@ pub(crate) fn bind_rows(
     points: &[DVec3],
     placement: &[Placement],
     control: &BindControl,
+) -> Result<BoundRows, StarError> {
+    bind_rows_by(
+        set,
+        topology,
+        settings,
+        points,
+        placement,
+        control,
+        Sharing::Shared,
+    )
+}
+
+/// [`bind_rows`], assembling the rows with or without the terms copies of a join cage share.
+fn bind_rows_by(
+    set: &CageSet,
+    topology: &Topology,
+    settings: &SceneSettings,
+    points: &[DVec3],
+    placement: &[Placement],
+    control: &BindControl,
+    sharing: Sharing,
 ) -> Result<BoundRows, StarError> {
     let coord_settings = BindSettings {
         harmonic: settings.harmonic,
@@ -285,8 +194,8 @@ pub(crate) fn bind_rows(
 
     // Which join cages each point needs.
     let join_start = Instant::now();
-    let mut need_transform: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
-    let mut need_omega: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
+    let mut need_transform = Needs::new();
+    let mut need_omega = Needs::new();
     // Per leaf cage, the join vertices whose Ω its points read: its boundary vertices and their
     // interior neighbours whose join cage holds it (Ω(u, ·) vanishes outside jc(u), the union
     // of the cages incident at u). The same for every point of the cage, so listed once.
@@ -311,10 +220,10 @@ pub(crate) fn bind_rows(
             continue;
         }
         for v in &topology.boundary[c] {
-            need_transform.entry(*v).or_default().insert(i);
+            need_transform.entry(*v).or_default().push(i);
         }
         for u in &omega_of_cage[c] {
-            need_omega.entry(*u).or_default().insert(i);
+            need_omega.entry(*u).or_default().push(i);
         }
     }
     // Cage vertices as extra points (index `offset + v`), bound in the same batches: an
@@ -333,15 +242,19 @@ pub(crate) fn bind_rows(
         for &u in near {
             let cage = &topology.joins[&u].local.cage;
             let x = set.vertices[v as usize];
-            if cage.winding_number(x) > 0.5 || cage.closest_point(x).2 <= 1e-9 * cage.diagonal() {
-                need_omega.entry(u).or_default().insert(offset + v as usize);
+            if cage.winding_number(x) > 0.5 || cage.is_within(x, 1e-9 * cage.diagonal()) {
+                need_omega.entry(u).or_default().push(offset + v as usize);
             }
         }
     }
     for (&v, join) in &topology.joins {
         if join.interior && need_omega.contains_key(&v) {
-            need_omega.entry(v).or_default().insert(offset + v as usize);
+            need_omega.entry(v).or_default().push(offset + v as usize);
         }
+    }
+    for list in need_omega.values_mut() {
+        list.sort_unstable();
+        list.dedup();
     }
     let points = &all_points[..];
     // Harmonic join cages congruent up to translation, quarter turns and mirrors share one
@@ -359,14 +272,16 @@ pub(crate) fn bind_rows(
             .push(v);
     }
     let copies: Vec<_> = copies.into_iter().collect();
-    let union_of = |members: &[u32], need: &BTreeMap<u32, BTreeSet<usize>>| -> Vec<usize> {
-        let union: BTreeSet<usize> = members
+    let union_of = |members: &[u32], need: &Needs| -> Vec<usize> {
+        let mut union: Vec<usize> = members
             .iter()
             .filter_map(|v| need.get(v))
             .flatten()
             .copied()
             .collect();
-        union.into_iter().collect()
+        union.sort_unstable();
+        union.dedup();
+        union
     };
     let join_tables_of = |members: &[u32], shared_interp: bool| {
         let v = members[0];
@@ -489,107 +404,33 @@ pub(crate) fn bind_rows(
     }
     let seconds_join = join_start.elapsed().as_secs_f64();
 
-    // Assemble every row.
-    let (rows, join_weights): (Vec<Row>, Vec<Vec<(u32, f64)>>) = (0..offset)
+    // Assemble every row (eqs. 3–10), one plan of columns per leaf cage.
+    let plans: Vec<CagePlan> = (0..n_cages)
         .into_par_iter()
-        .map(|i| {
-            let c = match placement[i] {
-                Placement::Cage(c) | Placement::Nearest(c) => c,
-            };
-            let local = &topology.leaves[c];
-            let mut row = Row::new();
-            if let Some(t) = cage_t[c].get(i) {
-                // T_{c_i}(p), eq. 2 (or Lipman et al.'s GC map).
-                add_row(&mut row, 1.0, t, local, &cage_dofs[c], vertex_count);
-            } else {
-                // Outside an HC cage under the 'nearest' policy: follow the closest cage
-                // point rigidly (translation with it).
-                let (t, bary, _) = local.cage.closest_point(points[i]);
-                let tri = local.cage.triangles()[t];
-                for k in 0..3 {
-                    row.push((local.global[tri[k] as usize], bary[k]));
-                }
-                return (merge(row), Vec::new());
-            }
-            let b = boundary_weight[i];
-            if b >= 1.0 {
-                return (merge(row), Vec::new());
-            }
-            // W(v, p) = Ω(v, p) I(v, p) for the boundary vertices of c (eqs. 5, 6, 8).
-            let omega_of = |u: u32| -> f64 {
-                let data = &joins[&u];
-                data.interp
-                    .as_ref()
-                    .and_then(|t| t.get(i))
-                    .map_or(0.0, |(w, _)| data.omega(w, smoothing))
-            };
-            let mut omega: BTreeMap<u32, f64> = BTreeMap::new();
-            for &v in &topology.boundary[c] {
-                for &u in std::iter::once(&v).chain(&topology.interior_neighbours[&v]) {
-                    omega.entry(u).or_insert_with(|| omega_of(u));
-                }
-            }
-            let weights: Vec<(u32, f64)> = topology.boundary[c]
-                .iter()
-                .map(|&v| {
-                    let interior_influence: f64 = topology.interior_neighbours[&v]
-                        .iter()
-                        .map(|&u| {
-                            let omega_u = omega[&u];
-                            let at_v = omega_at_vertex[&(u, v)];
-                            // f((1 − Ω(u, p)) / (1 − Ω(u, v))), eq. 8 (h = 1: see docs/math.md).
-                            smoothing.eval((1.0 - omega_u) / (1.0 - at_v), 1.0)
-                        })
-                        .product();
-                    (v, omega[&v] * interior_influence)
-                })
-                .collect();
-            let total: f64 = weights.iter().map(|(_, w)| w).sum();
-            if total <= 1e-14 {
-                // Far from every boundary vertex: b = 1 to working precision.
-                return (merge(row), Vec::new());
-            }
-            let normalised: Vec<(u32, f64)> = weights
-                .iter()
-                .filter(|(_, w)| *w != 0.0)
-                .map(|&(v, w)| (v, w / total))
-                .collect();
-            // S = b T + (1 − b) Σ W_n(v, p) L_v(p)   (eqs. 3, 4)
-            for (_, w) in row.iter_mut() {
-                *w *= b;
-            }
-            for (v, w) in weights {
-                if w == 0.0 {
-                    continue;
-                }
-                let data = &joins[&v];
-                let scale = (1.0 - b) * w / total;
-                let table = data.transform.as_ref().or(data.interp.as_ref());
-                let Some(l) = table.and_then(|t| t.get(i)) else {
-                    continue;
-                };
-                // L_v(p) = T_{jc(v)}(p)   (eq. 9)
-                add_row(
-                    &mut row,
-                    scale,
-                    l,
-                    &data.join.local,
-                    &data.dofs,
-                    vertex_count,
-                );
-                if data.join.interior {
-                    // + W(v, p) (v' − T_{jc(v)}(v))   (eq. 10), with the raw W (paper-notes 5).
-                    row.push((v, scale * w));
-                    row.extend(
-                        data.vertex_row
-                            .iter()
-                            .map(|&(col, x)| (col, -scale * w * x)),
-                    );
-                }
-            }
-            (merge(row), normalised)
+        .map(|c| {
+            CagePlan::new(
+                c,
+                topology,
+                &joins,
+                &omega_at_vertex,
+                &cage_dofs[c],
+                vertex_count,
+                sharing,
+            )
         })
-        .unzip();
+        .collect();
+    let (rows, join_weights) = assemble_rows(
+        &Inputs {
+            topology,
+            points,
+            placement,
+            cage_t: &cage_t,
+            plans: &plans,
+            boundary_weight: &boundary_weight,
+            smoothing,
+        },
+        offset,
+    );
     Ok(BoundRows {
         rows,
         boundary_weight,
@@ -656,10 +497,7 @@ fn join_tables(
 /// ([`super::shape_class`]); classes of one are left out. Each class is solved once: every
 /// member's points, mapped into the first member's frame, are bound together and the rows are
 /// mapped back through the canonical vertex order.
-fn harmonic_classes(
-    topology: &Topology,
-    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
-) -> Vec<Vec<(u32, ShapePlacement)>> {
+fn harmonic_classes(topology: &Topology, need_omega: &Needs) -> Vec<Vec<(u32, ShapePlacement)>> {
     let mut classes: BTreeMap<ShapeKey, Vec<(u32, ShapePlacement)>> = BTreeMap::new();
     for (&v, needed) in need_omega {
         let join = &topology.joins[&v];
@@ -676,7 +514,7 @@ fn harmonic_classes(
 fn solve_harmonic_classes(
     classes: &[Vec<(u32, ShapePlacement)>],
     topology: &Topology,
-    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
+    need_omega: &Needs,
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
@@ -692,7 +530,7 @@ fn solve_harmonic_classes(
 /// shared bind failed (round-off put a point outside, say: each member then binds alone).
 fn shared_class(
     topology: &Topology,
-    need_omega: &BTreeMap<u32, BTreeSet<usize>>,
+    need_omega: &Needs,
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
@@ -707,10 +545,7 @@ fn shared_class(
         by_rank[r] = k;
     }
     let canonical = &topology.joins[first].local;
-    let lists: Vec<Vec<usize>> = members
-        .iter()
-        .map(|(v, _)| need_omega[v].iter().copied().collect())
-        .collect();
+    let lists: Vec<Vec<usize>> = members.iter().map(|(v, _)| need_omega[v].clone()).collect();
     let mapped: Vec<DVec3> = members
         .iter()
         .zip(&lists)
@@ -764,6 +599,63 @@ mod tests {
     use crate::generate::demo::demo_scene;
     use crate::scene::JoinPolicy;
 
+    /// The bind's shared terms (Ω of copies of a join cage from one set of face factors, L_v of
+    /// copies added once with the sum of their scales) give the rows and join weights of
+    /// evaluating every join vertex alone, to 1e-12, on rigs with interior vertices (egg),
+    /// Green leaves (bumpy), many copies (critter) and every join policy.
+    #[test]
+    fn shared_join_terms_equal_evaluating_each_join_vertex_alone() {
+        for (name, policy) in [
+            ("egg", JoinPolicy::Mvc),
+            ("egg", JoinPolicy::Gc),
+            ("bumpy", JoinPolicy::Auto),
+            ("critter", JoinPolicy::Mvc),
+            ("critter", JoinPolicy::Hc),
+            ("prism", JoinPolicy::Gc),
+        ] {
+            let mut scene = demo_scene(name, 0.25).unwrap();
+            scene.settings.join_coordinates = policy;
+            scene.settings.harmonic.resolution = 12;
+            let topology = Topology::new(&scene.cages, policy).unwrap();
+            let points = scene.mesh.welded_positions();
+            let placement = super::super::place(&scene, &topology, points).unwrap();
+            let control = BindControl::default();
+            let [shared, direct] = [Sharing::Shared, Sharing::Direct].map(|sharing| {
+                bind_rows_by(
+                    &scene.cages,
+                    &topology,
+                    &scene.settings,
+                    points,
+                    &placement,
+                    &control,
+                    sharing,
+                )
+                .unwrap()
+            });
+            let mut blended = 0;
+            for i in 0..points.len() {
+                let dense = |row: &Row| row.iter().copied().collect::<BTreeMap<u32, f64>>();
+                let (a, b) = (dense(&shared.rows[i]), dense(&direct.rows[i]));
+                for column in a.keys().chain(b.keys()) {
+                    let (x, y) = (a.get(column), b.get(column));
+                    let difference = (x.unwrap_or(&0.0) - y.unwrap_or(&0.0)).abs();
+                    assert!(
+                        difference <= 1e-12,
+                        "{name} {policy:?} point {i}: {difference:e}"
+                    );
+                }
+                let (a, b) = (&shared.join_weights[i], &direct.join_weights[i]);
+                assert_eq!(a.len(), b.len(), "{name} point {i}");
+                for ((va, wa), (vb, wb)) in a.iter().zip(b) {
+                    assert_eq!(va, vb);
+                    assert!((wa - wb).abs() <= 1e-12, "{name} point {i}: W_n");
+                }
+                blended += usize::from(!a.is_empty());
+            }
+            assert!(blended > 0, "{name}: some points blend join cages");
+        }
+    }
+
     #[test]
     fn translated_harmonic_join_cages_share_one_solve_with_the_same_weights() {
         let mut scene = demo_scene("prism", 0.2).unwrap();
@@ -810,7 +702,7 @@ mod tests {
         let points = scene.mesh.welded_positions();
         // Every join cage's points: those inside its incident cages.
         let containment = crate::scene::leaf_containment(&topology.leaves, points);
-        let need: BTreeMap<u32, BTreeSet<usize>> = topology
+        let need: Needs = topology
             .joins
             .iter()
             .map(|(&v, join)| {

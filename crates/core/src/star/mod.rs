@@ -8,12 +8,14 @@
 //! * `green_dofs`: Green face degrees of freedom.
 //! * `cache`: the binding cache beside a scene file.
 
+mod assemble;
 mod bind;
 mod cache;
 mod green_dofs;
 mod operator;
 mod partial;
 mod shape_class;
+mod tables;
 pub mod topology;
 
 use std::time::Instant;

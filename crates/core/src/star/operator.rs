@@ -5,8 +5,8 @@
 use glam::{DVec3, Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::bind::Row;
 use super::green_dofs::GreenDofs;
+use super::tables::Row;
 
 /// The compiled operator.
 #[derive(Debug, Clone, PartialEq)]
@@ -354,7 +354,7 @@ mod tests {
                     .map(|k| ((k * 5 + len) % 13, 0.25 + f64::from(k)))
                     .collect()
             })
-            .map(super::super::bind::merge)
+            .map(super::super::tables::merge)
             .collect();
         let operator = StarOperator::from_rows(&rows, 13, GreenDofs::default());
         let x: Vec<Vec3> = (0..13)

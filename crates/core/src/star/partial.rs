@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::bind::Row;
+use super::tables::Row;
 use super::topology::Topology;
 use super::{GreenDofs, JoinWeights, StarBinding, StarError, StarOperator};
 use crate::coords::BindControl;

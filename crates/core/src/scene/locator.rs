@@ -1,0 +1,216 @@
+//! Point-in-cage tests for many points at once. A grid over the cage's bounds marks the cells
+//! that its surface (grown by the on-cage tolerance) may reach; every other cell lies wholly
+//! inside or wholly outside, and so does each face-connected region of such cells, whose one
+//! winding number is computed once. A point in such a cell is answered by a lookup; only points
+//! in marked cells pay for the exact tests (distance to the surface, winding number). The
+//! answers are those of the exact tests: no surface passes through an unmarked cell, so the
+//! winding number is constant there and the distance exceeds the tolerance.
+
+use glam::{DVec3, IVec3};
+
+use crate::cage::Cage;
+
+/// Where a point lies with respect to one cage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Location {
+    Outside,
+    Inside,
+    /// Within the tolerance of the surface.
+    OnSurface,
+}
+
+/// Cells along the longest side: about four per triangle's cube root, so the marked shell stays
+/// thin for large cages while small cages get a grid worth building.
+fn cells_along_longest_side(triangles: usize) -> f64 {
+    (4.0 * (triangles as f64).cbrt()).clamp(8.0, 64.0)
+}
+
+/// A cell nobody marked, and the region it belongs to.
+const NEAR: u32 = u32::MAX;
+
+/// One cage's grid for [`Location`] queries.
+pub struct CageLocator<'a> {
+    cage: &'a Cage,
+    tolerance: f64,
+    origin: DVec3,
+    cell: f64,
+    dims: IVec3,
+    /// Per cell: [`NEAR`] or the index of its region in `inside`.
+    region: Vec<u32>,
+    inside: Vec<bool>,
+}
+
+impl<'a> CageLocator<'a> {
+    /// The locator of `cage`, with points within `tolerance` of its surface on it.
+    pub fn new(cage: &'a Cage, tolerance: f64) -> Self {
+        let (lo, hi) = cage.bounds();
+        let margin = DVec3::splat(tolerance);
+        let (lo, hi) = (lo - margin, hi + margin);
+        let extent = hi - lo;
+        let cell = (extent.max_element() / cells_along_longest_side(cage.triangles().len()))
+            .max(f64::MIN_POSITIVE);
+        let dims = (extent / cell).ceil().as_ivec3().max(IVec3::ONE);
+        let mut locator = Self {
+            cage,
+            tolerance,
+            origin: lo,
+            cell,
+            dims,
+            region: vec![0; (dims.x * dims.y * dims.z) as usize],
+            inside: Vec::new(),
+        };
+        locator.mark_near_cells();
+        locator.label_regions();
+        locator
+    }
+
+    fn index(&self, c: IVec3) -> usize {
+        ((c.z * self.dims.y + c.y) * self.dims.x + c.x) as usize
+    }
+
+    fn cell_of(&self, p: DVec3) -> IVec3 {
+        ((p - self.origin) / self.cell)
+            .floor()
+            .as_ivec3()
+            .clamp(IVec3::ZERO, self.dims - IVec3::ONE)
+    }
+
+    fn centre(&self, c: IVec3) -> DVec3 {
+        self.origin + (c.as_dvec3() + DVec3::splat(0.5)) * self.cell
+    }
+
+    /// Marks every cell the surface, grown by the tolerance, may reach: the cells of each
+    /// triangle's grown bounds whose centre is within half a cell diagonal of its plane.
+    fn mark_near_cells(&mut self) {
+        let positions = self.cage.positions();
+        // A little more than the tolerance, against rounding in the cell arithmetic.
+        let reach = self.tolerance + 1e-9 * self.cell;
+        let half_diagonal = 0.5 * self.cell * 3f64.sqrt();
+        for &[a, b, c] in self.cage.triangles() {
+            let [a, b, c] = [a, b, c].map(|k| positions[k as usize]);
+            let grow = DVec3::splat(reach);
+            let first = self.cell_of(a.min(b).min(c) - grow);
+            let last = self.cell_of(a.max(b).max(c) + grow);
+            let normal = (b - a).cross(c - a).normalize_or_zero();
+            for z in first.z..=last.z {
+                for y in first.y..=last.y {
+                    for x in first.x..=last.x {
+                        let cell = IVec3::new(x, y, z);
+                        let off_plane = normal.dot(self.centre(cell) - a).abs();
+                        if normal == DVec3::ZERO || off_plane <= half_diagonal + reach {
+                            let index = self.index(cell);
+                            self.region[index] = NEAR;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Numbers the face-connected regions of unmarked cells and decides each by the winding
+    /// number at one of its cell centres.
+    fn label_regions(&mut self) {
+        const UNLABELLED: u32 = 0;
+        let mut stack = Vec::new();
+        let mut next = 0u32;
+        for start in 0..self.region.len() {
+            if self.region[start] != UNLABELLED {
+                continue;
+            }
+            // Regions are stored from 1 while labelling, as index + 1.
+            next += 1;
+            let first = self.cell_at_index(start);
+            self.inside
+                .push(self.cage.winding_number(self.centre(first)) > 0.5);
+            self.region[start] = next;
+            stack.push(first);
+            while let Some(c) = stack.pop() {
+                for step in [IVec3::X, IVec3::Y, IVec3::Z] {
+                    for n in [c - step, c + step] {
+                        if n.cmplt(IVec3::ZERO).any() || n.cmpge(self.dims).any() {
+                            continue;
+                        }
+                        let index = self.index(n);
+                        if self.region[index] == UNLABELLED {
+                            self.region[index] = next;
+                            stack.push(n);
+                        }
+                    }
+                }
+            }
+        }
+        for region in &mut self.region {
+            if *region != NEAR {
+                *region -= 1;
+            }
+        }
+    }
+
+    fn cell_at_index(&self, index: usize) -> IVec3 {
+        let index = index as i32;
+        IVec3::new(
+            index % self.dims.x,
+            (index / self.dims.x) % self.dims.y,
+            index / (self.dims.x * self.dims.y),
+        )
+    }
+
+    /// Where `p` lies: on the surface within the tolerance, else inside by winding number
+    /// (> ½), else outside.
+    pub fn locate(&self, p: DVec3) -> Location {
+        // The grid covers the cage's bounds grown by the tolerance: beyond it is outside.
+        let (lo, hi) = (self.origin, self.origin + self.dims.as_dvec3() * self.cell);
+        if p.cmplt(lo).any() || p.cmpgt(hi).any() || !p.is_finite() {
+            return Location::Outside;
+        }
+        match self.region[self.index(self.cell_of(p))] {
+            NEAR => exact(self.cage, p, self.tolerance),
+            region if self.inside[region as usize] => Location::Inside,
+            _ => Location::Outside,
+        }
+    }
+}
+
+/// The exact tests: distance to the surface first (at a vertex or edge the winding number is
+/// ill-defined), then the winding number.
+pub fn exact(cage: &Cage, p: DVec3, tolerance: f64) -> Location {
+    if cage.is_within(p, tolerance) {
+        Location::OnSurface
+    } else if cage.winding_number(p) > 0.5 {
+        Location::Inside
+    } else {
+        Location::Outside
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An L-shaped (concave) cage: the locator answers as the exact tests do on a lattice of
+    /// points inside, outside, on faces, edges and corners and just off them, and most points
+    /// are answered without the exact tests.
+    #[test]
+    fn the_locator_answers_as_the_exact_tests_do() {
+        let l_shape = crate::cage::shapes::l_prism();
+        for tolerance in [1e-9, 0.03] {
+            let locator = CageLocator::new(&l_shape, tolerance);
+            let mut counts = [0usize; 3];
+            let mut looked_up = 0;
+            for i in -3..=43 {
+                for j in -3..=43 {
+                    for k in -3..=23 {
+                        let p = DVec3::new(i as f64, j as f64, k as f64) * 0.05;
+                        let expected = exact(&l_shape, p, tolerance);
+                        assert_eq!(locator.locate(p), expected, "{p}, tolerance {tolerance}");
+                        counts[expected as usize] += 1;
+                        let cell = locator.cell_of(p);
+                        looked_up += usize::from(locator.region[locator.index(cell)] != NEAR);
+                    }
+                }
+            }
+            assert!(counts.iter().all(|&n| n > 500), "{counts:?}");
+            assert!(looked_up > 20_000, "{looked_up} answered by lookup");
+        }
+    }
+}
