@@ -20,7 +20,7 @@ pub use super::tables::Placement;
 use super::tables::{JoinData, Row, Table, add_row};
 use super::topology::{JoinCage, Topology};
 use crate::coords::{BindControl, BindSettings, CageWeights, CoordinateKind, bind};
-use crate::scene::{CageSet, SceneSettings};
+use crate::scene::{CageSet, LocalCage, SceneSettings};
 
 /// Everything a bind produces before packing.
 pub(crate) struct BoundRows {
@@ -97,6 +97,9 @@ fn bind_rows_by(
             Placement::Nearest(c) => members[c].push(i),
         }
     }
+    // Congruent harmonic leaves (a rig's mirrored limbs) share one solve.
+    let mut shared_leaves =
+        shared_leaf_tables(set, topology, &members, points, &coord_settings, control)?;
     let mut cage_t = Vec::with_capacity(n_cages);
     let mut cage_w = Vec::with_capacity(n_cages);
     let mut cage_dofs = Vec::with_capacity(n_cages);
@@ -110,15 +113,18 @@ fn bind_rows_by(
         } else {
             Vec::new()
         });
-        let t = Table::compute(
-            kind,
-            local,
-            points,
-            list.clone(),
-            &coord_settings,
-            control,
-            &name,
-        )?;
+        let t = match shared_leaves.remove(&c) {
+            Some(shared) => shared,
+            None => Table::compute(
+                kind,
+                local,
+                points,
+                list.clone(),
+                &coord_settings,
+                control,
+                &name,
+            )?,
+        };
         // Interpolating weights for b of the points inside (nearest ones keep b = 1).
         let inside: Vec<usize> = list
             .iter()
@@ -536,28 +542,55 @@ fn shared_class(
     control: &BindControl,
     members: &[(u32, ShapePlacement)],
 ) -> Result<Vec<(u32, Table)>, StarError> {
+    let congruent: Vec<Congruent> = members
+        .iter()
+        .map(|(v, placement)| Congruent {
+            cage: &topology.joins[v].local,
+            placement,
+            points: need_omega[v].clone(),
+        })
+        .collect();
+    let tables = solve_congruent(&congruent, points, settings, control)?;
+    Ok(members.iter().map(|(v, _)| *v).zip(tables).collect())
+}
+
+/// A member of a class of congruent harmonic cages, with the points it needs.
+struct Congruent<'a> {
+    cage: &'a LocalCage,
+    placement: &'a ShapePlacement,
+    points: Vec<usize>,
+}
+
+/// One harmonic solve for a class of congruent cages (the same shape up to translation, quarter
+/// turns and mirrors, [`super::shape_class`]): every member's points, mapped into the first
+/// member's frame, are bound together and the rows are mapped back through the canonical
+/// vertex order. Each member's table in order, or none when the shared bind failed.
+fn solve_congruent(
+    members: &[Congruent],
+    points: &[DVec3],
+    settings: &BindSettings,
+    control: &BindControl,
+) -> Result<Vec<Table>, StarError> {
     control.check().map_err(|_| StarError::Cancelled)?;
-    let Some((first, first_placement)) = members.first() else {
+    let Some(first) = members.first() else {
         return Ok(Vec::new());
     };
-    let mut by_rank = vec![0usize; first_placement.rank.len()];
-    for (k, &r) in first_placement.rank.iter().enumerate() {
+    let mut by_rank = vec![0usize; first.placement.rank.len()];
+    for (k, &r) in first.placement.rank.iter().enumerate() {
         by_rank[r] = k;
     }
-    let canonical = &topology.joins[first].local;
-    let lists: Vec<Vec<usize>> = members.iter().map(|(v, _)| need_omega[v].clone()).collect();
     let mapped: Vec<DVec3> = members
         .iter()
-        .zip(&lists)
-        .flat_map(|((_, placement), list)| {
-            list.iter().map(move |&i| {
-                first_placement.join_from_canonical(placement.canonical_from_join(points[i]))
+        .flat_map(|member| {
+            member.points.iter().map(move |&i| {
+                let canonical = member.placement.canonical_from_join(points[i]);
+                first.placement.join_from_canonical(canonical)
             })
         })
         .collect();
     let result = bind(
         CoordinateKind::Harmonic,
-        &canonical.cage,
+        &first.cage.cage,
         &mapped,
         settings,
         control,
@@ -569,28 +602,68 @@ fn shared_class(
     let n = weights.vertex_count;
     let mut row_index = 0;
     let mut tables = Vec::with_capacity(members.len());
-    for ((v, placement), list) in members.iter().zip(lists) {
-        let mut rows = Vec::with_capacity(list.len() * n);
-        for _ in &list {
+    for member in members {
+        let mut rows = Vec::with_capacity(member.points.len() * n);
+        for _ in &member.points {
             let row = weights.row(row_index);
             row_index += 1;
-            rows.extend(placement.rank.iter().map(|&r| row[by_rank[r]]));
+            rows.extend(member.placement.rank.iter().map(|&r| row[by_rank[r]]));
         }
-        tables.push((
-            *v,
-            Table {
-                points: list,
-                weights: CageWeights::Vertex {
-                    kind: CoordinateKind::Harmonic,
-                    weights: crate::coords::VertexWeights {
-                        vertex_count: n,
-                        weights: rows,
-                    },
+        tables.push(Table {
+            points: member.points.clone(),
+            weights: CageWeights::Vertex {
+                kind: CoordinateKind::Harmonic,
+                weights: crate::coords::VertexWeights {
+                    vertex_count: n,
+                    weights: rows,
                 },
             },
-        ));
+        });
     }
     Ok(tables)
+}
+
+/// Harmonic leaf cages with points to bind, grouped by shape as the join cages are; each
+/// class of two or more is solved once. The tables by leaf cage (a class whose shared solve
+/// failed is left out: its members bind alone).
+fn shared_leaf_tables(
+    set: &CageSet,
+    topology: &Topology,
+    members: &[Vec<usize>],
+    points: &[DVec3],
+    settings: &BindSettings,
+    control: &BindControl,
+) -> Result<BTreeMap<usize, Table>, StarError> {
+    let mut classes: BTreeMap<ShapeKey, Vec<(usize, ShapePlacement)>> = BTreeMap::new();
+    for (c, list) in members.iter().enumerate() {
+        if set.leaves[c].kind == CoordinateKind::Harmonic && !list.is_empty() {
+            let (key, placement) = shape_class(&topology.leaves[c].cage);
+            classes.entry(key).or_default().push((c, placement));
+        }
+    }
+    let solved = classes
+        .into_values()
+        .filter(|class| class.len() > 1)
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|class| {
+            let congruent: Vec<Congruent> = class
+                .iter()
+                .map(|(c, placement)| Congruent {
+                    cage: &topology.leaves[*c],
+                    placement,
+                    points: members[*c].clone(),
+                })
+                .collect();
+            let tables = solve_congruent(&congruent, points, settings, control)?;
+            Ok(class
+                .iter()
+                .map(|(c, _)| *c)
+                .zip(tables)
+                .collect::<Vec<_>>())
+        })
+        .collect::<Result<Vec<_>, StarError>>()?;
+    Ok(solved.into_iter().flatten().collect())
 }
 
 #[cfg(test)]
@@ -693,6 +766,58 @@ mod tests {
         });
         assert!(turned, "a class holds turned or mirrored copies");
         assert!(shared_tables_equal_solving_alone(&scene) >= 8);
+    }
+
+    /// The creature's four harmonic thighs (mirrored left and right) bind in shared solves,
+    /// with the rows each gets alone.
+    #[test]
+    fn congruent_harmonic_leaves_share_one_solve_with_the_same_weights() {
+        let mut scene = demo_scene("creature", 0.2).unwrap();
+        scene.settings.harmonic.resolution = 16;
+        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates).unwrap();
+        let points = scene.mesh.welded_positions();
+        let placement = super::super::place(&scene, &topology, points).unwrap();
+        let mut members = vec![Vec::new(); scene.cages.leaves.len()];
+        for (i, p) in placement.iter().enumerate() {
+            if let Placement::Cage(c) = p {
+                members[*c].push(i);
+            }
+        }
+        let settings = BindSettings {
+            harmonic: scene.settings.harmonic,
+        };
+        let control = BindControl::default();
+        let shared = shared_leaf_tables(
+            &scene.cages,
+            &topology,
+            &members,
+            points,
+            &settings,
+            &control,
+        )
+        .unwrap();
+        assert!(shared.len() >= 4, "{} thighs shared a solve", shared.len());
+        for (c, table) in &shared {
+            let alone = Table::compute(
+                CoordinateKind::Harmonic,
+                &topology.leaves[*c],
+                points,
+                members[*c].clone(),
+                &settings,
+                &control,
+                "test",
+            )
+            .unwrap();
+            for &i in table.points.iter().step_by(7) {
+                let (a, b) = (table.get(i).unwrap().0, alone.get(i).unwrap().0);
+                let worst = a
+                    .iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max);
+                assert!(worst < 1e-6, "leaf {c}, point {i}: {worst}");
+            }
+        }
     }
 
     /// Binds every join cage's points through the shared solves and each shared join cage
