@@ -126,40 +126,30 @@ impl Topology {
             .collect();
         let all_boundary: BTreeSet<u32> = boundary.iter().flatten().copied().collect();
         let mut joins = BTreeMap::new();
+        // The border vertices of one border share their incident cages, so their join cages are
+        // one cage: built and validated once per set of cages.
+        let mut built: BTreeMap<Vec<usize>, (LocalCage, Vec<Vec<u32>>, bool)> = BTreeMap::new();
         for &v in &all_boundary {
             let cages: Vec<usize> = (0..n).filter(|&c| cage_vertices[c].contains(&v)).collect();
-            // Union of the incident cages, shared faces (between any two of them) removed.
-            let mut count: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
-            for &c in &cages {
-                for face in &set.leaves[c].faces {
-                    let mut key = face.clone();
-                    key.sort_unstable();
-                    *count.entry(key).or_default() += 1;
-                }
+            if !built.contains_key(&cages) {
+                let (local, polygons) =
+                    join_cage_of(set, &cages).map_err(|problem| TopologyError::JoinCage {
+                        vertex: v,
+                        cages: cages
+                            .iter()
+                            .map(|&c| set.leaves[c].name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        problem,
+                    })?;
+                let convex = is_convex(&local);
+                built.insert(cages.clone(), (local, polygons, convex));
             }
-            let polygons: Vec<Vec<u32>> = cages
-                .iter()
-                .flat_map(|&c| set.leaves[c].faces.iter())
-                .filter(|face| {
-                    let mut key = (*face).clone();
-                    key.sort_unstable();
-                    count[&key] == 1
-                })
-                .cloned()
-                .collect();
-            let local = LocalCage::new(&set.vertices, &polygons).map_err(|problem| {
-                TopologyError::JoinCage {
-                    vertex: v,
-                    cages: cages
-                        .iter()
-                        .map(|&c| set.leaves[c].name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                    problem,
-                }
-            })?;
+            let Some((local, polygons, convex)) = built.get(&cages) else {
+                continue;
+            };
+            let (local, polygons, convex) = (local.clone(), polygons.clone(), *convex);
             let interior = !polygons.iter().any(|f| f.contains(&v));
-            let convex = is_convex(&local);
             let kind = match policy {
                 JoinPolicy::Auto => {
                     if convex {
@@ -211,6 +201,31 @@ impl Topology {
             interior_neighbours,
         })
     }
+}
+
+/// The union of the leaf cages `cages`, the faces shared by two of them removed (eq. 8's
+/// jc(v)), as a validated cage and its polygons.
+fn join_cage_of(set: &CageSet, cages: &[usize]) -> Result<(LocalCage, Vec<Vec<u32>>), CageError> {
+    let mut count: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
+    for &c in cages {
+        for face in &set.leaves[c].faces {
+            let mut key = face.clone();
+            key.sort_unstable();
+            *count.entry(key).or_default() += 1;
+        }
+    }
+    let polygons: Vec<Vec<u32>> = cages
+        .iter()
+        .flat_map(|&c| set.leaves[c].faces.iter())
+        .filter(|face| {
+            let mut key = (*face).clone();
+            key.sort_unstable();
+            count[&key] == 1
+        })
+        .cloned()
+        .collect();
+    let local = LocalCage::new(&set.vertices, &polygons)?;
+    Ok((local, polygons))
 }
 
 /// Whether every vertex lies behind (or on) every face plane.
