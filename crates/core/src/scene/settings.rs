@@ -66,9 +66,10 @@ fn sin_within_half_turn(x: f64) -> f64 {
 #[serde(rename_all = "lowercase")]
 pub enum JoinPolicy {
     /// HC where the join cage is concave, MVC where it is convex.
-    #[default]
     Auto,
-    /// Always Mean Value Coordinates.
+    /// Always Mean Value Coordinates: the paper's default join transformation (section 4) and
+    /// ours (docs/math.md, "Join cages default to mean value coordinates").
+    #[default]
     Mvc,
     /// Always Harmonic Coordinates.
     Hc,

@@ -85,6 +85,38 @@ fn rest_pose_is_the_identity() {
     }
 }
 
+/// Under default settings an automatic grid around a mesh (concave join cages everywhere)
+/// gives the mesh back at rest to the f32 operator's precision: join cages default to mean
+/// value coordinates, which reproduce positions exactly (docs/math.md). With the automatic
+/// policy their harmonic grids moved vertices by about 1e-3 of the diagonal: the negative
+/// control.
+#[test]
+fn the_default_join_cages_give_the_mesh_back_at_rest_on_an_automatic_grid() {
+    let mut scene = demo_scene("egg", 0.3).unwrap();
+    scene.cages = starcages_core::generate::autocage(
+        &scene.mesh,
+        &starcages_core::generate::AutocageOptions {
+            grid: [3, 3, 3],
+            ..Default::default()
+        },
+    );
+    scene.settings = SceneSettings::default();
+    assert_eq!(scene.settings.join_coordinates, JoinPolicy::Mvc);
+    let diag = (scene.mesh.bounds().1 - scene.mesh.bounds().0).length();
+    let worst = |scene: &Scene| {
+        let binding = StarBinding::bind_scene(scene, &control()).unwrap();
+        let out = binding.deform(&scene.cages.vertices, &scene.cages.vertices);
+        out.iter()
+            .zip(scene.mesh.welded_positions())
+            .map(|(a, b)| (a.as_dvec3() - *b).length() / diag)
+            .fold(0.0, f64::max)
+    };
+    assert!(worst(&scene) < 1e-6, "{}", worst(&scene));
+    scene.settings.join_coordinates = JoinPolicy::Auto;
+    scene.settings.harmonic.resolution = 16;
+    assert!(worst(&scene) > 1e-5, "{}", worst(&scene));
+}
+
 #[test]
 fn affine_maps_are_reproduced_with_every_join_policy() {
     let map = |p: DVec3| {

@@ -273,8 +273,9 @@ fn scene_settings(
             .response
             .on_hover_text(
                 "The coordinates of the join cages, which blend neighbouring cages smoothly \
-                 across their shared faces: Auto uses harmonic coordinates where a join cage \
-                 is concave (mean value coordinates can go negative there) and MVC elsewhere",
+                 across their shared faces. Mvc (the default) is exact at rest and fast to \
+                 bind; Auto uses harmonic coordinates where a join cage is concave (mean \
+                 value coordinates can go negative there), refined in the background",
             );
         if settings != current {
             sender.send(set("change join policy", settings));

@@ -301,9 +301,10 @@ fn main_window_snapshot() {
 fn a_bind_runs_in_the_background_the_ui_keeps_drawing_and_cancel_keeps_the_previous_binding() {
     let mut harness = harness();
     let old = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
-    // A fine HC grid makes the harmonic join cages slow enough to cancel. A quick preview with
+    // Harmonic join cages on a fine HC grid are slow enough to cancel. A quick preview with
     // mean value join cages comes first and is installed; the refinement is what runs long.
     let mut settings = harness.state().state.doc.scene.settings;
+    settings.join_coordinates = starcages_core::scene::JoinPolicy::Auto;
     settings.harmonic.resolution = 128;
     harness.state_mut().run(Command::SetSettings {
         label: "HC grid".into(),
@@ -536,8 +537,10 @@ fn exporting_over_the_scene_s_own_mesh_is_refused() {
 #[test]
 fn harmonic_join_cages_arrive_after_a_deformable_preview() {
     use starcages_core::star::StarBinding;
+    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap();
+    scene.settings.join_coordinates = starcages_core::scene::JoinPolicy::Auto;
     let doc = Document {
-        scene: starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap(),
+        scene,
         path: None,
         dirty: false,
     };
