@@ -128,7 +128,7 @@ impl Topology {
         let mut joins = BTreeMap::new();
         // The border vertices of one border share their incident cages, so their join cages are
         // one cage: built and validated once per set of cages.
-        let mut built: BTreeMap<Vec<usize>, (LocalCage, Vec<Vec<u32>>, bool)> = BTreeMap::new();
+        let mut built: BTreeMap<Vec<usize>, BuiltJoin> = BTreeMap::new();
         for &v in &all_boundary {
             let cages: Vec<usize> = (0..n).filter(|&c| cage_vertices[c].contains(&v)).collect();
             if !built.contains_key(&cages) {
@@ -202,6 +202,9 @@ impl Topology {
         })
     }
 }
+
+/// A join cage built once for its set of leaf cages: the cage, its polygons, whether convex.
+type BuiltJoin = (LocalCage, Vec<Vec<u32>>, bool);
 
 /// The union of the leaf cages `cages`, the faces shared by two of them removed (eq. 8's
 /// jc(v)), as a validated cage and its polygons.
