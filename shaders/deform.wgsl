@@ -24,19 +24,21 @@ struct Params {
 @group(0) @binding(8) var<storage, read> triangles: array<u32>;
 // Three floats per mesh vertex: the normal vertex buffer.
 @group(0) @binding(9) var<storage, read_write> normals: array<f32>;
+// Three floats per mesh vertex: p − S(rest), the row's rest offset (displacement form).
+@group(0) @binding(10) var<storage, read> rest_offsets: array<f32>;
 
 fn position(v: u32) -> vec3<f32> {
     return vec3<f32>(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u]);
 }
 
-// S(p) = Σ_j w_j x_j   (eq. 3 as one sparse row)
+// S(p) = Σ_j w_j x_j   (eq. 3 as one sparse row), plus p − S(rest) (docs/math.md)
 @compute @workgroup_size(64)
 fn deform(@builtin(global_invocation_id) id: vec3<u32>) {
     let row = id.x + id.y * params.stride;
     if (row >= params.rows) {
         return;
     }
-    var sum = vec3<f32>(0.0);
+    var sum = vec3<f32>(rest_offsets[3u * row], rest_offsets[3u * row + 1u], rest_offsets[3u * row + 2u]);
     for (var k = row_start[row]; k < row_start[row + 1u]; k = k + 1u) {
         let c = columns[k];
         sum = sum + values[k] * vec3<f32>(dofs[3u * c], dofs[3u * c + 1u], dofs[3u * c + 2u]);

@@ -5,14 +5,16 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::Vec3;
+
 use super::{BindStats, GreenDofs, JoinWeights, StarBinding, StarError, StarOperator};
 use crate::coords::BindControl;
 use crate::io::write_atomic;
 use crate::scene::Scene;
 
-/// 03: harmonic coordinates on grids centred on the cage (session 8); older caches hold weights
-/// from the previous grid and are rebuilt.
-const MAGIC: &[u8; 8] = b"SCBIND03";
+/// 03: harmonic coordinates on grids centred on the cage (session 8); 04: a rest offset per row
+/// (session 12). Older caches are rebuilt.
+const MAGIC: &[u8; 8] = b"SCBIND04";
 
 /// How far from 1 the stored (f32) weights of a row may sum: rounding of a few hundred f32
 /// weights stays orders of magnitude below it.
@@ -133,6 +135,12 @@ fn encode(key: u64, binding: &StarBinding) -> Vec<u8> {
         .chain(&joins.vertex)
         .for_each(|&x| put(x));
     joins.weight.iter().for_each(|v| put(v.to_bits()));
+    binding
+        .operator
+        .rest_offsets()
+        .iter()
+        .flat_map(|o| o.to_array())
+        .for_each(|v| put(v.to_bits()));
     let mut out = Vec::with_capacity(payload.len() + 32);
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&key.to_le_bytes());
@@ -173,7 +181,7 @@ fn decode(
         ));
     }
     let rows = n_rows1.checked_sub(1).ok_or("no rows")?;
-    let expected = 5 + n_rows1 + 2 * nnz + 3 * n_tris + 2 * rows + n_rows1 + 2 * n_joins;
+    let expected = 5 + n_rows1 + 2 * nnz + 3 * n_tris + 2 * rows + n_rows1 + 2 * n_joins + 3 * rows;
     if words.len() != expected {
         return Err(format!(
             "truncated ({} words, {expected} expected)",
@@ -200,6 +208,16 @@ fn decode(
         vertex: take(n_joins).to_vec(),
         weight: take(n_joins).iter().map(|&b| f32::from_bits(b)).collect(),
     };
+    let rest_offset: Vec<Vec3> = take(3 * rows)
+        .chunks_exact(3)
+        .map(|o| {
+            Vec3::new(
+                f32::from_bits(o[0]),
+                f32::from_bits(o[1]),
+                f32::from_bits(o[2]),
+            )
+        })
+        .collect();
     let join_rows_ok = join_weights.row_start.first() == Some(&0)
         && join_weights.row_start.windows(2).all(|w| w[0] <= w[1])
         && join_weights.row_start.last().map(|&l| l as usize) == Some(n_joins)
@@ -242,6 +260,7 @@ fn decode(
         row_start,
         columns,
         values,
+        rest_offset,
     )?;
     let stats = BindStats {
         operator_bytes: operator.byte_size(),

@@ -171,7 +171,9 @@ impl StarBinding {
         let start = Instant::now();
         let pairs_before = control.kernel_pairs();
         let (placement, rows) = bound_rows(scene, points, control)?;
-        let operator = StarOperator::from_rows(&rows.rows, scene.cages.vertices.len(), rows.green);
+        let mut operator =
+            StarOperator::from_rows(&rows.rows, scene.cages.vertices.len(), rows.green);
+        operator.set_rest_offsets(points, &scene.cages.vertices);
         let stats = BindStats {
             seconds_cage_coordinates: rows.seconds_cage,
             seconds_join_cages: rows.seconds_join,
@@ -214,12 +216,22 @@ pub fn evaluate_points(
     control: &BindControl,
 ) -> Result<Vec<DVec3>, StarError> {
     let (_, rows) = bound_rows(scene, points, control)?;
-    let mut x: Vec<DVec3> = posed.to_vec();
-    x.extend(rows.green.values(&scene.cages.vertices, posed));
+    let rest = &scene.cages.vertices;
+    let dofs = |cage: &[DVec3]| {
+        let mut x: Vec<DVec3> = cage.to_vec();
+        x.extend(rows.green.values(rest, cage));
+        x
+    };
+    let (x, x_rest) = (dofs(posed), dofs(rest));
+    let apply = |row: &[(u32, f64)], x: &[DVec3]| -> DVec3 {
+        row.iter().map(|&(c, w)| x[c as usize] * w).sum()
+    };
+    // S(posed) + p − S(rest): the displacement form (docs/math.md).
     Ok(rows
         .rows
         .iter()
-        .map(|row| row.iter().map(|&(c, w)| x[c as usize] * w).sum())
+        .zip(points)
+        .map(|(row, p)| apply(row, &x) + (*p - apply(row, &x_rest)))
         .collect())
 }
 

@@ -1,6 +1,8 @@
 //! The compiled *Cages operator: one sparse matrix (rows: points; columns: cage vertices, then
-//! Green face DOFs) in f32 CSR, with its transpose for incremental updates. A frame is the
-//! Green face terms from the posed cage, then one parallel sparse matrix–vector product.
+//! Green face DOFs) in f32 CSR, with its transpose for incremental updates, and a rest offset
+//! per row. A frame is the Green face terms from the posed cage, then one parallel sparse
+//! matrix–vector product plus the offsets: S(posed) + p − S(rest), the displacement form that
+//! gives every bound point back at rest whatever its coordinates (docs/math.md).
 
 use glam::{DVec3, Vec3, Vec3A};
 use rayon::prelude::*;
@@ -23,6 +25,10 @@ pub struct StarOperator {
     /// besides its own column).
     green_of_vertex_start: Vec<u32>,
     green_of_vertex: Vec<u32>,
+    /// Per row, p − S(rest) in f32 (zero until [`StarOperator::set_rest_offsets`]): what the
+    /// coordinates miss of the point at rest (a harmonic grid's discretisation error, a point
+    /// outside its cage following the closest point of it, the weights' f32 rounding).
+    rest_offset: Vec<Vec3>,
 }
 
 /// CSR lists of the Green DOFs each of `vertex_count` vertices belongs to, in DOF order.
@@ -85,6 +91,7 @@ impl StarOperator {
         Self {
             vertex_count,
             green,
+            rest_offset: vec![Vec3::ZERO; rows.len()],
             row_start,
             columns,
             values,
@@ -95,6 +102,31 @@ impl StarOperator {
         }
     }
 
+    /// Sets each row's rest offset so that the rest cage `rest` gives `points` back:
+    /// p − S(rest), with S(rest) evaluated by this operator's own f32 product.
+    pub(crate) fn set_rest_offsets(&mut self, points: &[DVec3], rest: &[DVec3]) {
+        let x = self.dofs(rest, rest);
+        self.rest_offset = vec![Vec3::ZERO; self.row_count()];
+        let mut at_rest = vec![Vec3::ZERO; self.row_count()];
+        self.apply(&x, &mut at_rest);
+        self.rest_offset = points
+            .iter()
+            .zip(&at_rest)
+            .map(|(p, s)| (*p - s.as_dvec3()).as_vec3())
+            .collect();
+    }
+
+    /// Replaces the rest offsets (one per row; a partial re-bind splices them).
+    pub(crate) fn replace_rest_offsets(&mut self, rest_offset: Vec<Vec3>) {
+        debug_assert_eq!(rest_offset.len(), self.row_count());
+        self.rest_offset = rest_offset;
+    }
+
+    /// Per row, p − S(rest) (added to every product).
+    pub fn rest_offsets(&self) -> &[Vec3] {
+        &self.rest_offset
+    }
+
     /// Rebuilds an operator from its stored parts (a binding cache), checking every index.
     pub(crate) fn from_parts(
         vertex_count: usize,
@@ -102,6 +134,7 @@ impl StarOperator {
         row_start: Vec<u32>,
         columns: Vec<u32>,
         values: Vec<f32>,
+        rest_offset: Vec<Vec3>,
     ) -> Result<Self, String> {
         let n_columns = (vertex_count + green.len()) as u32;
         let monotone = row_start.first() == Some(&0) && row_start.windows(2).all(|w| w[0] <= w[1]);
@@ -130,9 +163,16 @@ impl StarOperator {
                     .collect()
             })
             .collect();
+        // Within the documented coordinate range (±1e9): a forged offset cannot throw a point
+        // anywhere.
+        let in_range = |o: &Vec3| o.is_finite() && o.abs().max_element() <= 1e9;
+        if rest_offset.len() != rows.len() || !rest_offset.iter().all(in_range) {
+            return Err("inconsistent rest offsets".into());
+        }
         let mut rebuilt = Self::from_rows(&rows, vertex_count, green);
         // Keep the stored f32 values bit for bit.
         rebuilt.values = values;
+        rebuilt.rest_offset = rest_offset;
         Ok(rebuilt)
     }
 
@@ -192,8 +232,8 @@ impl StarOperator {
         x
     }
 
-    /// Row `r` times the DOFs: four independent SIMD accumulators, so the sum is bound by
-    /// loads rather than by the latency of one chain of additions.
+    /// Row `r` times the DOFs, plus its rest offset: four independent SIMD accumulators, so the
+    /// sum is bound by loads rather than by the latency of one chain of additions.
     fn apply_row(&self, r: usize, x: &[Vec3A]) -> Vec3 {
         let (a, b) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
         let (columns, values) = (&self.columns[a..b], &self.values[a..b]);
@@ -209,7 +249,8 @@ impl StarOperator {
         for (&c, &w) in column_tail.iter().zip(value_tail) {
             acc[0] += x[c as usize] * w;
         }
-        ((acc[0] + acc[1]) + (acc[2] + acc[3])).into()
+        let sum: Vec3 = ((acc[0] + acc[1]) + (acc[2] + acc[3])).into();
+        sum + self.rest_offset[r]
     }
 
     /// The DOFs in 16-byte SIMD vectors, checked against the operator's column count.

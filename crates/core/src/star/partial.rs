@@ -161,10 +161,18 @@ impl StarBinding {
                     .collect(),
             })
             .collect();
-        let operator = StarOperator::from_rows(
+        let mut operator = StarOperator::from_rows(
             &all_rows,
             scene.cages.vertices.len(),
             GreenDofs::from_triangles(triangles),
+        );
+        operator.replace_rest_offsets(
+            (0..self.cage_of.len())
+                .map(|i| match replaced[i] {
+                    Some(k) => part.operator.rest_offsets()[k],
+                    None => self.operator.rest_offsets()[i],
+                })
+                .collect(),
         );
         let join_rows: Vec<Vec<(u32, f64)>> = (0..self.cage_of.len())
             .map(|i| {

@@ -85,13 +85,60 @@ fn rest_pose_is_the_identity() {
     }
 }
 
-/// Under default settings an automatic grid around a mesh (concave join cages everywhere)
-/// gives the mesh back at rest to the f32 operator's precision: join cages default to mean
-/// value coordinates, which reproduce positions exactly (docs/math.md). With the automatic
-/// policy their harmonic grids moved vertices by about 1e-3 of the diagonal: the negative
-/// control.
+/// The rest pose gives every bound point back to f32 precision under every setting: each leaf
+/// kind, each join policy, several h, an automatic grid's concave join cages (the displacement
+/// form, docs/math.md). Harmonic grids alone moved points by about 1e-3 of the diagonal.
 #[test]
-fn the_default_join_cages_give_the_mesh_back_at_rest_on_an_automatic_grid() {
+fn the_rest_pose_gives_the_mesh_back_under_every_setting() {
+    let mut scene = egg_in_a_grid();
+    scene.settings.harmonic.resolution = 16;
+    let diag = (scene.mesh.bounds().1 - scene.mesh.bounds().0).length();
+    let kinds = [
+        CoordinateKind::MeanValue,
+        CoordinateKind::Harmonic,
+        CoordinateKind::Green,
+    ];
+    for policy in [
+        JoinPolicy::Mvc,
+        JoinPolicy::Auto,
+        JoinPolicy::Hc,
+        JoinPolicy::Gc,
+    ] {
+        for (k, h) in [(0, 0.2), (1, 0.5), (2, 1.0), (3, 0.5)] {
+            let mut scene = scene.clone();
+            scene.settings.join_coordinates = policy;
+            scene.settings.default_h = h;
+            for (c, leaf) in scene.cages.leaves.iter_mut().enumerate() {
+                // One kind for all (k < 3), or the three mixed.
+                leaf.kind = kinds[if k < 3 { k } else { c % 3 }];
+            }
+            let worst = rigid_error(&scene, DQuat::IDENTITY, diag);
+            assert!(worst < 2e-6, "{policy:?}, kinds {k}, h {h}: {worst:e}");
+        }
+    }
+}
+
+/// Under default settings a rigid turn of the whole rig turns the mesh rigidly (1e-5 of the
+/// diagonal): join cages default to mean value coordinates, which reproduce affine maps. With
+/// the automatic policy the harmonic join cages' grid error turns with the rig but the rest
+/// offset does not: the negative control.
+#[test]
+fn a_rigid_turn_of_the_rig_is_rigid_under_the_defaults() {
+    let mut scene = egg_in_a_grid();
+    scene.settings = SceneSettings::default();
+    assert_eq!(scene.settings.join_coordinates, JoinPolicy::Mvc);
+    let diag = (scene.mesh.bounds().1 - scene.mesh.bounds().0).length();
+    let turn = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.6);
+    let worst = rigid_error(&scene, turn, diag);
+    assert!(worst < 1e-5, "{worst:e}");
+    scene.settings.join_coordinates = JoinPolicy::Auto;
+    scene.settings.harmonic.resolution = 16;
+    let worst = rigid_error(&scene, turn, diag);
+    assert!(worst > 1e-5, "{worst:e}");
+}
+
+/// The egg demo's mesh in a 3×3×3 automatic grid (concave join cages everywhere).
+fn egg_in_a_grid() -> Scene {
     let mut scene = demo_scene("egg", 0.3).unwrap();
     scene.cages = starcages_core::generate::autocage(
         &scene.mesh,
@@ -100,21 +147,19 @@ fn the_default_join_cages_give_the_mesh_back_at_rest_on_an_automatic_grid() {
             ..Default::default()
         },
     );
-    scene.settings = SceneSettings::default();
-    assert_eq!(scene.settings.join_coordinates, JoinPolicy::Mvc);
-    let diag = (scene.mesh.bounds().1 - scene.mesh.bounds().0).length();
-    let worst = |scene: &Scene| {
-        let binding = StarBinding::bind_scene(scene, &control()).unwrap();
-        let out = binding.deform(&scene.cages.vertices, &scene.cages.vertices);
-        out.iter()
-            .zip(scene.mesh.welded_positions())
-            .map(|(a, b)| (a.as_dvec3() - *b).length() / diag)
-            .fold(0.0, f64::max)
-    };
-    assert!(worst(&scene) < 1e-6, "{}", worst(&scene));
-    scene.settings.join_coordinates = JoinPolicy::Auto;
-    scene.settings.harmonic.resolution = 16;
-    assert!(worst(&scene) > 1e-5, "{}", worst(&scene));
+    scene
+}
+
+/// The largest distance, over the diagonal, between the mesh deformed by the rig turned by
+/// `turn` about the origin and the mesh turned alike.
+fn rigid_error(scene: &Scene, turn: DQuat, diag: f64) -> f64 {
+    let binding = StarBinding::bind_scene(scene, &control()).unwrap();
+    let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&v| turn * v).collect();
+    let out = binding.deform(&scene.cages.vertices, &posed);
+    out.iter()
+        .zip(scene.mesh.welded_positions())
+        .map(|(a, b)| (a.as_dvec3() - turn * *b).length() / diag)
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -478,6 +523,41 @@ mod random_grids {
             let tolerance = if uses_hc { 0.1 * 3.0 / 16.0 * scale.max(1.0) } else { 1e-8 };
             let worst = points.iter().zip(&out).map(|(p, q)| (map(*p) - *q).length()).fold(0.0, f64::max);
             prop_assert!(worst < tolerance, "{dims:?} {kinds:?} {policy:?}: error {worst}");
+        }
+
+        /// The rest pose gives every point back (the displacement form) on random cages: a grid
+        /// whose vertices are jittered (concave join cages included), every mix of kinds, every
+        /// join policy, any h.
+        #[test]
+        fn random_cages_give_the_points_back_at_rest(
+            dims in (1usize..=3, 1usize..=2, 1usize..=2),
+            kinds in prop::collection::vec(kind(), 1..4),
+            policy in prop_oneof![
+                Just(JoinPolicy::Mvc),
+                Just(JoinPolicy::Auto),
+                Just(JoinPolicy::Hc),
+                Just(JoinPolicy::Gc)
+            ],
+            h in 0.1f64..1.0,
+            jitter in prop::collection::vec(-0.08f64..0.08, 54 * 3),
+        ) {
+            let mut scene = grid_scene([dims.0, dims.1, dims.2], &kinds, policy);
+            scene.settings.default_h = h;
+            scene.settings.harmonic.resolution = 16;
+            for (v, d) in scene.cages.vertices.iter_mut().zip(jitter.chunks_exact(3)) {
+                *v += DVec3::new(d[0], d[1], d[2]);
+            }
+            let points: Vec<DVec3> = scene.mesh.welded_positions().iter().step_by(5).copied().collect();
+            let rest = scene.cages.vertices.clone();
+            let out = evaluate_points(&scene, &points, &rest, &control()).unwrap();
+            let worst = points.iter().zip(&out).map(|(p, q)| (*p - *q).length()).fold(0.0, f64::max);
+            prop_assert!(worst < 1e-9, "{dims:?} {kinds:?} {policy:?} h {h}: error {worst}");
+            // The f32 operator too.
+            let binding = StarBinding::bind_scene(&scene, &control()).unwrap();
+            let out = binding.deform(&rest, &rest);
+            let worst = scene.mesh.welded_positions().iter().zip(&out)
+                .map(|(p, q)| (*p - q.as_dvec3()).length()).fold(0.0, f64::max);
+            prop_assert!(worst < 1e-5, "f32: {worst}");
         }
     }
 }

@@ -95,10 +95,16 @@ impl GpuDeformer {
         let rows = operator.row_count();
         let (vt_start, vt_list) = vertex_triangles(rows, triangles);
         let flat_triangles: Vec<u32> = triangles.iter().flatten().copied().collect();
+        let rest_offsets: Vec<f32> = operator
+            .rest_offsets()
+            .iter()
+            .flat_map(|o| o.to_array())
+            .collect();
         let buffers = [
             storage(device, "row starts", bytemuck::cast_slice(row_start)),
             storage(device, "columns", bytemuck::cast_slice(columns)),
             storage(device, "values", bytemuck::cast_slice(values)),
+            storage(device, "rest offsets", bytemuck::cast_slice(&rest_offsets)),
         ];
         let topology = [
             storage(
@@ -139,7 +145,7 @@ impl GpuDeformer {
             count: None,
         };
         // Two passes, two bind groups: each stays within the default limit of 8 storage
-        // buffers per stage (the product: 5; the normals: 5).
+        // buffers per stage (the product: 6; the normals: 5).
         let group = |label: &str, bindings: &[(u32, bool, bool)], buffers: &[&wgpu::Buffer]| {
             let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
                 .iter()
@@ -173,6 +179,7 @@ impl GpuDeformer {
                 (3, true, false),
                 (4, true, false),
                 (5, false, false),
+                (10, true, false),
             ],
             &[
                 &params,
@@ -181,6 +188,7 @@ impl GpuDeformer {
                 &buffers[2],
                 &dofs,
                 positions,
+                &buffers[3],
             ],
         );
         let (normals_layout, normals_group) = group(
