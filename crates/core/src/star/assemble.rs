@@ -84,16 +84,20 @@ pub(super) struct CagePlan<'a> {
     groups: Vec<Group>,
 }
 
-/// Non-interior join vertices whose join cages are copies of one cage (the same leaf cages)
-/// sharing one table of interpolating weights. Their normalisers are 1 (eq. 6), so
-/// f(d_{jc}(t, p)) is the same for every member and each face's factor is evaluated once per
-/// point: Ω(v, p) is the product over all faces divided by the factors of the faces at v.
+/// Join vertices whose join cages are copies of one cage (the same leaf cages) sharing one
+/// table of interpolating weights: d_{jc}(t, p) is computed once per face and point. The
+/// normalisers of non-interior members are 1 (eq. 6), so f(d_{jc}(t, p)) is shared too:
+/// Ω(v, p) is the product over all faces divided by the factors of the faces at v. Interior
+/// members take their own f(d(t, p) / d(t, u)).
 struct OmegaGroup<'a> {
     data: &'a JoinData<'a>,
     /// Every face of the join cage, as local vertex lists.
     faces: Vec<Vec<usize>>,
-    /// Per member: its Ω slot and the faces incident to it.
+    /// Per non-interior member: its Ω slot and the faces incident to it.
     members: Vec<(usize, Vec<usize>)>,
+    /// Per interior member: its Ω slot and, per face not incident to it, the face and
+    /// 1 / d(t, u) (its own normalisers: the factors cannot be shared, the sums d(t, p) are).
+    interior: Vec<(usize, Vec<(usize, f64)>)>,
 }
 
 /// Factors f(d) below this are set apart instead of divided out (no precision lost to
@@ -104,17 +108,34 @@ impl OmegaGroup<'_> {
     /// Ω(v, p) of every member into `omega`, from p's interpolating weights `w`.
     fn evaluate(&self, w: &[f64], smoothing: Smoothing, scratch: &mut Scratch) {
         let Scratch {
+            distance,
             factor,
             small,
             omega,
             ..
         } = scratch;
+        distance.clear();
+        // d_{jc}(t, p) = 1 − Σ_{u ∈ V(t)} w(u, p)   (eq. 7)
+        distance.extend(
+            self.faces
+                .iter()
+                .map(|face| 1.0 - face.iter().map(|&k| w[k]).sum::<f64>()),
+        );
+        for (slot, far) in &self.interior {
+            // Ω(u, p) = Π_{t ∌ u} f(d(t, p) / d(t, u))   (eq. 6)
+            omega[*slot] = far
+                .iter()
+                .map(|&(t, inverse)| smoothing.eval(distance[t] * inverse, 1.0))
+                .product();
+        }
+        if self.members.is_empty() {
+            return;
+        }
         factor.clear();
         small.clear();
         let mut product = 1.0;
-        for (t, face) in self.faces.iter().enumerate() {
-            // f(d_{jc}(t, p)), d = 1 − Σ_{u ∈ V(t)} w(u, p)   (eqs. 6, 7)
-            let f = smoothing.eval(1.0 - face.iter().map(|&k| w[k]).sum::<f64>(), 1.0);
+        for (t, &d) in distance.iter().enumerate() {
+            let f = smoothing.eval(d, 1.0);
             if f > SMALL_FACTOR {
                 product *= f;
             } else {
@@ -259,43 +280,58 @@ fn omega_groups<'a>(
     let mut alone = Vec::new();
     let mut shared: Vec<OmegaGroup> = Vec::new();
     for (slot, &data) in omega_joins.iter().enumerate() {
-        let Some(table) = data.interp.as_ref().filter(|_| !data.join.interior) else {
+        let Some(table) = data.interp.as_ref() else {
             alone.push((slot, data));
             continue;
         };
         let v = data.join.vertex;
-        let incident: Vec<usize> = (0..data.join.polygons.len())
-            .filter(|&t| data.join.polygons[t].contains(&v))
-            .collect();
+        let polygons = &data.join.polygons;
         let same = |group: &&mut OmegaGroup| {
             group
                 .data
                 .interp
                 .as_ref()
                 .is_some_and(|t| Arc::ptr_eq(t, table))
-                && group.data.join.polygons == data.join.polygons
+                && group.data.join.polygons == *polygons
                 && group.data.join.local.global == data.join.local.global
         };
-        if let Some(group) = shared.iter_mut().find(same) {
+        let index = match shared.iter_mut().position(|g| same(&g)) {
+            Some(index) => index,
+            None => {
+                let local = &data.join.local;
+                let faces = polygons
+                    .iter()
+                    .map(|f| {
+                        f.iter()
+                            .filter_map(|g| local.global.binary_search(g).ok())
+                            .collect()
+                    })
+                    .collect();
+                shared.push(OmegaGroup {
+                    data,
+                    faces,
+                    members: Vec::new(),
+                    interior: Vec::new(),
+                });
+                shared.len() - 1
+            }
+        };
+        let group = &mut shared[index];
+        if data.join.interior {
+            // far_faces and their normalisers list the faces without v in polygon order.
+            let far: Vec<usize> = (0..polygons.len())
+                .filter(|&t| !polygons[t].contains(&v))
+                .collect();
+            let inverse = data.normaliser.iter().map(|&d| 1.0 / d);
+            group
+                .interior
+                .push((slot, far.into_iter().zip(inverse).collect()));
+        } else {
+            let incident = (0..polygons.len())
+                .filter(|&t| polygons[t].contains(&v))
+                .collect();
             group.members.push((slot, incident));
-            continue;
         }
-        let local = &data.join.local;
-        let faces = data
-            .join
-            .polygons
-            .iter()
-            .map(|f| {
-                f.iter()
-                    .filter_map(|g| local.global.binary_search(g).ok())
-                    .collect()
-            })
-            .collect();
-        shared.push(OmegaGroup {
-            data,
-            faces,
-            members: vec![(slot, incident)],
-        });
     }
     (alone, shared)
 }
@@ -314,6 +350,7 @@ pub(super) enum Sharing {
 struct Scratch {
     acc: Vec<f64>,
     omega: Vec<f64>,
+    distance: Vec<f64>,
     factor: Vec<f64>,
     small: Vec<(usize, f64)>,
     weight: Vec<f64>,
