@@ -72,16 +72,16 @@ fn remove_unfinished_saves_on_signals() {
     let installed = ctrlc::set_handler(|| {
         let removed = starcages_core::io::remove_unfinished_saves();
         if removed > 0 {
-            eprintln!(
+            crate::note!(
                 "interrupted: the unfinished save was removed; the file keeps its old content"
             );
         } else {
-            eprintln!("interrupted");
+            crate::note!("interrupted");
         }
         std::process::exit(INTERRUPTED);
     });
     if let Err(e) = installed {
-        eprintln!(
+        crate::note!(
             "warning: no Ctrl-C handler ({e}); an interrupted save may leave a temporary file"
         );
     }
@@ -112,7 +112,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) if output::is_broken_pipe(&error) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            crate::note!("error: {error:#}");
             let input = error.downcast_ref::<InputError>().is_some()
                 || error
                     .downcast_ref::<starcages_core::io::FileError>()

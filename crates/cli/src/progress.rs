@@ -23,13 +23,13 @@ pub fn with_progress<T: Send>(
             while !done.load(std::sync::atomic::Ordering::Relaxed) {
                 std::thread::sleep(Duration::from_millis(100));
                 if start.elapsed() > Duration::from_millis(500) {
-                    eprint!("\r{label}: {:5.1}%", 100.0 * control.progress());
+                    crate::note_inline!("\r{label}: {:5.1}%", 100.0 * control.progress());
                     std::io::stderr().flush().ok();
                     shown = true;
                 }
             }
             if shown {
-                eprintln!("\r{label}: done in {:.2} s", start.elapsed().as_secs_f64());
+                crate::note!("\r{label}: done in {:.2} s", start.elapsed().as_secs_f64());
             }
         });
         let result = work();

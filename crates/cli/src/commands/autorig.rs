@@ -112,7 +112,7 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
         .map(|(l, _)| l.name.as_str())
         .collect();
     if !shared.is_empty() {
-        eprintln!(
+        crate::note!(
             "note: {} cages hold more than one piece of the surface ({}); a higher --detail \
              separates parts that lie close together",
             shared.len(),

@@ -150,7 +150,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
             }
         }
         if progress {
-            eprint!("\rbaking: frame {frame} ({}/{count})", k + 1);
+            crate::note_inline!("\rbaking: frame {frame} ({}/{count})", k + 1);
             std::io::stderr().flush().ok();
         }
     }
@@ -159,12 +159,12 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
         Output::Gltf(animation) => animation.write(&scene.mesh)?,
     }
     if progress {
-        eprintln!();
+        crate::note!();
     }
     if args.stats {
         let seconds = start.elapsed().as_secs_f64();
         let bytes = std::fs::metadata(&args.out).map(|m| m.len()).unwrap_or(0);
-        eprintln!(
+        crate::note!(
             "bake: {count} frames in {seconds:.3} s ({:.1} frames/s written; deformation alone \
              {:.1} frames/s); {} bytes ({:.2} MB)",
             count as f64 / seconds.max(1e-9),

@@ -236,7 +236,7 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
             Err(e) => {
                 // The small move can push mesh vertices that touch a cage outside it: the
                 // scene's other figures stand, this one is left out.
-                eprintln!("{name} ({method}): no rest-edit figure: {e}");
+                crate::note!("{name} ({method}): no rest-edit figure: {e}");
                 (None, None, None)
             }
         }
@@ -546,7 +546,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             )?);
         }
         if !args.json {
-            eprintln!("benched {name}");
+            crate::note!("benched {name}");
         }
     }
     let report = Report {

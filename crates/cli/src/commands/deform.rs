@@ -50,7 +50,7 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     write_deformed_mesh(&args.out, &scene, &welded)?;
     if args.stats {
         let s = binding.stats;
-        eprintln!(
+        crate::note!(
             "bind: {:.3} s (cage coordinates {:.3} s, join cages {:.3} s; the MVC/GC kernels \
              evaluated {:.2} million point·triangle pairs, the bind's floor); weights: {:.2} MB in \
              {} non-zeros (+{:.2} MB transpose); frame: {:.4} s",
@@ -84,10 +84,10 @@ pub fn bind(
         }
         let (binding, outcome) = StarBinding::bind_scene_cached(scene, scene_path, &control)?;
         match outcome {
-            CacheOutcome::Hit => eprintln!("{label}: binding read from its cache"),
+            CacheOutcome::Hit => crate::note!("{label}: binding read from its cache"),
             CacheOutcome::Written => {}
             CacheOutcome::Replaced(why) | CacheOutcome::NotWritten(why) => {
-                eprintln!("warning: {why}")
+                crate::note!("warning: {why}")
             }
         }
         Ok(binding)
@@ -123,12 +123,17 @@ fn print_leaf_breakdown(scene: &starcages_core::scene::Scene, binding: &StarBind
         }
     }
     let total = binding.operator.nonzeros().max(1) as f64;
-    eprintln!(
+    crate::note!(
         "{:<20} {:>4} {:>8} {:>9} {:>10} {:>10}",
-        "leaf cage", "kind", "points", "b < 1 %", "nnz / row", "nnz share"
+        "leaf cage",
+        "kind",
+        "points",
+        "b < 1 %",
+        "nnz / row",
+        "nnz share"
     );
     for (cage, leaf) in scene.cages.leaves.iter().zip(&leaves) {
-        eprintln!(
+        crate::note!(
             "{:<20} {:>4} {:>8} {:>9.1} {:>10.1} {:>9.1}%",
             cage.name,
             cage.kind.to_string(),

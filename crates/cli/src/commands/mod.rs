@@ -59,10 +59,10 @@ pub const MAX_PROBLEMS_SHOWN: usize = 50;
 /// Prints up to [`MAX_PROBLEMS_SHOWN`] of `problems`, then how many more there are.
 fn print_capped(severity: &str, label: &str, problems: &[impl std::fmt::Display]) {
     for problem in problems.iter().take(MAX_PROBLEMS_SHOWN) {
-        eprintln!("{severity}: {label}: {problem}");
+        crate::note!("{severity}: {label}: {problem}");
     }
     if problems.len() > MAX_PROBLEMS_SHOWN {
-        eprintln!(
+        crate::note!(
             "{severity}: {label}: … and {} more ({} in all); fix the ones above first, most \
              repeat the same mistake",
             problems.len() - MAX_PROBLEMS_SHOWN,

@@ -121,9 +121,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let a = binding.deform(&scene.cages.vertices, &pose);
         let b = single_binding.deform(&scene.cages.vertices, &pose);
         let (map, stats) = influence::difference(&a, &b);
-        eprintln!(
+        crate::note!(
             "difference to single-cage {kind}: max {:.3e}, RMS {:.3e} of the bounding box diagonal",
-            stats.max, stats.rms
+            stats.max,
+            stats.rms
         );
         Some(map)
     } else {

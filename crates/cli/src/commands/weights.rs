@@ -119,8 +119,9 @@ pub fn run(args: &WeightsArgs) -> anyhow::Result<()> {
             },
         ),
     }
-    .context("writing the JSON output")?;
-    writeln!(out).context("writing the JSON output")?;
-    out.flush().context("writing the JSON output")?;
+    .context("cannot write the JSON to standard output")?;
+    writeln!(out).context("cannot write the JSON to standard output")?;
+    out.flush()
+        .context("cannot write the JSON to standard output")?;
     Ok(())
 }

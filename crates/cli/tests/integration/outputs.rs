@@ -214,3 +214,45 @@ fn an_interrupted_save_leaves_no_temporary_file_and_the_old_content() {
     assert_eq!(temporary(), Vec::<String>::new(), "temporary file left");
     assert_eq!(std::fs::read(&target).unwrap(), b"old content");
 }
+
+/// A standard output that cannot be written (a full disk: /dev/full) fails the command with an
+/// error naming standard output; a standard error that cannot be written is ignored: the
+/// command ends with its own status instead of panicking (exit 101).
+#[cfg(target_os = "linux")]
+#[test]
+fn unwritable_standard_streams_fail_cleanly() {
+    use std::process::Stdio;
+    let full = || Stdio::from(std::fs::File::create("/dev/full").unwrap());
+    let d = dir("streams");
+    assert!(cli(&["demo", "bar", "--out", s(&d)]).status.success());
+    let scene = d.join("bar.json");
+    let run = |args: &[&str], out: Stdio, err: Stdio| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_starcages-cli"))
+            .args(args)
+            .stdout(out)
+            .stderr(err)
+            .output()
+            .unwrap()
+    };
+    for command in ["info", "validate"] {
+        let o = run(&[command, s(&scene)], full(), Stdio::piped());
+        assert_eq!(o.status.code(), Some(1), "{command}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("cannot write to standard output"),
+            "{command}: {}",
+            stderr(&o)
+        );
+    }
+    let o = run(&["info", s(&scene)], Stdio::null(), full());
+    assert_eq!(o.status.code(), Some(0));
+    let o = run(&["info", s(&d.join("missing.json"))], Stdio::null(), full());
+    assert_eq!(o.status.code(), Some(2));
+    let out = d.join("out.obj");
+    let o = run(
+        &["deform", s(&scene), "--out", s(&out), "--stats"],
+        Stdio::null(),
+        full(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    assert!(out.exists());
+}
