@@ -172,27 +172,41 @@ fn check_degenerate_faces(positions: &[DVec3], faces: &[Vec<u32>], problems: &mu
     }
 }
 
+/// Each vertex that coincides with an earlier one is named once, with the first vertex of its
+/// cluster: linear in the vertices however many share a position (listing every coincident
+/// pair was quadratic: 30,000 copies of one point aborted the process).
 fn check_duplicates(positions: &[DVec3], problems: &mut Vec<CageError>) {
     let (lo, hi) = bounds_of(positions);
     let diagonal = (hi - lo).length();
     // Sort by x, compare within the tolerance window.
     let tolerance = DUPLICATE_TOLERANCE * diagonal.max(f64::MIN_POSITIVE);
     let mut order: Vec<usize> = (0..positions.len()).collect();
-    order.sort_by(|&i, &j| positions[i].x.total_cmp(&positions[j].x));
-    let mut pairs = Vec::new();
+    order.sort_by(|&i, &j| positions[i].x.total_cmp(&positions[j].x).then(i.cmp(&j)));
+    // The first vertex (lowest index) each vertex was found to coincide with.
+    let mut first_of: Vec<Option<usize>> = vec![None; positions.len()];
     for (k, &i) in order.iter().enumerate() {
+        if first_of[i].is_some() {
+            continue; // already named with its cluster's first vertex
+        }
+        let mut cluster = vec![i];
         for &j in &order[k + 1..] {
             if positions[j].x - positions[i].x > tolerance {
                 break;
             }
-            if positions[i].distance(positions[j]) <= tolerance {
-                pairs.push((i.min(j), i.max(j)));
+            if first_of[j].is_none() && positions[i].distance(positions[j]) <= tolerance {
+                cluster.push(j);
+            }
+        }
+        if let Some(&first) = cluster.iter().min() {
+            for &j in cluster.iter().filter(|&&j| j != first) {
+                first_of[j] = Some(first);
             }
         }
     }
-    pairs.sort_unstable();
-    for (first, second) in pairs {
-        problems.push(CageError::DuplicateVertex { first, second });
+    for (second, first) in first_of.iter().enumerate() {
+        if let Some(first) = *first {
+            problems.push(CageError::DuplicateVertex { first, second });
+        }
     }
 }
 
@@ -205,6 +219,29 @@ mod tests {
         let c = shapes::cuboid(DVec3::ZERO, DVec3::ONE);
         let faces = c.polygons().iter().map(|p| p.vertices.clone()).collect();
         (c.positions().to_vec(), faces)
+    }
+
+    /// Many copies of one position are named once each, with the first copy, in linear time
+    /// and memory (every pair was listed before: quadratic).
+    #[test]
+    fn many_coincident_vertices_are_named_once_each() {
+        let (mut p, f) = cube_soup();
+        let copies = 30_000;
+        p.extend(std::iter::repeat_n(p[0], copies));
+        let problems = check(&p, &f);
+        let duplicates: Vec<_> = problems
+            .iter()
+            .filter_map(|e| match e {
+                CageError::DuplicateVertex { first, second } => Some((*first, *second)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(duplicates.len(), copies);
+        assert!(
+            duplicates
+                .iter()
+                .all(|&(first, second)| first == 0 && second >= 8)
+        );
     }
 
     #[test]
