@@ -1,5 +1,6 @@
 //! `starcages-cli eval`: deformed positions of arbitrary points, so other objects can follow
-//! the cages. Points in (one `x y z` per line), JSON out: `{"points": [[x, y, z], ...]}`.
+//! the cages. Points in (one `x y z` per line), JSON out: `{"points": [[x, y, z], ...]}`, both
+//! in the mesh file's axes, as every file `deform` and `cages` read and write.
 
 use std::path::PathBuf;
 
@@ -17,7 +18,8 @@ use crate::InputError;
 pub struct EvalArgs {
     /// Scene file.
     scene: PathBuf,
-    /// Points file: one `x y z` per line (rest positions); blank lines and `#` comments allowed.
+    /// Points file: one `x y z` per line (rest positions, in the mesh file's axes, as the output);
+    /// blank lines and `#` comments allowed.
     #[arg(long)]
     points: PathBuf,
     #[command(flatten)]
@@ -32,13 +34,17 @@ struct Output {
 /// Runs the command.
 pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
     let scene = super::load(&args.scene)?;
-    let points = read_points(&args.points)?;
+    let up = scene.mesh_up;
+    let points: Vec<_> = read_points(&args.points)?
+        .into_iter()
+        .map(|p| up.to_scene(p))
+        .collect();
     let posed = args.pose.positions(&scene, &args.scene)?;
     let scene = args.pose.method_scene(scene);
     let out = evaluate_points(&scene, &points, &posed, &BindControl::default())
         .map_err(|e| InputError(format!("{}: {e}", args.points.display())))?;
     let json = serde_json::to_string(&Output {
-        points: out.iter().map(|p| p.to_array()).collect(),
+        points: out.iter().map(|&p| up.from_scene(p).to_array()).collect(),
     })?;
     crate::output::line(json)?;
     Ok(())

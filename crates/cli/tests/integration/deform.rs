@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use common::{cli, dir, ok, s, stderr, stdout};
+use common::{BOX_OBJ, cli, dir, ok, s, stderr, stdout};
 
 #[test]
 fn deform_eval_baselines_pose_files_and_cache() {
@@ -350,4 +350,50 @@ fn poses_beyond_the_coordinate_limit_are_refused_before_writing() {
         crate::common::stderr(&o)
     );
     assert!(!out.exists(), "nothing written");
+}
+
+/// `eval` reads and writes points in the mesh file's axes, as `cages` and `--pose-file` do: a
+/// Y-up OBJ's rig moved up its file's Y moves the points up Y (they were taken in StarCages'
+/// Z-up frame, and moved along the file's Z).
+#[test]
+fn eval_points_are_in_the_mesh_files_axes() {
+    let d = dir("eval-axes");
+    let mesh = d.join("box.obj");
+    std::fs::write(&mesh, BOX_OBJ).unwrap();
+    let scene = d.join("box.json");
+    ok(&cli(&["autocage", s(&mesh), "--out", s(&scene)]));
+    let cages = d.join("cages.obj");
+    ok(&cli(&["cages", s(&scene), "--out", s(&cages)]));
+    let moved: String = std::fs::read_to_string(&cages)
+        .unwrap()
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let v: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|x| x.parse().unwrap())
+                    .collect();
+                format!("v {} {} {}\n", v[0], v[1] + 1.0, v[2])
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    let pose = d.join("up.obj");
+    std::fs::write(&pose, moved).unwrap();
+    let points = d.join("points.txt");
+    std::fs::write(&points, "0.3 0.7 -0.2\n").unwrap();
+    let out = cli(&[
+        "eval",
+        s(&scene),
+        "--points",
+        s(&points),
+        "--pose-file",
+        s(&pose),
+    ]);
+    ok(&out);
+    let json: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let p: Vec<f64> = serde_json::from_value(json["points"][0].clone()).unwrap();
+    for (got, want) in p.iter().zip([0.3, 1.7, -0.2]) {
+        assert!((got - want).abs() < 1e-6, "{p:?}");
+    }
 }
