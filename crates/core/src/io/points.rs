@@ -5,6 +5,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{FileError, parse_finite, read_text};
+use crate::cage::MAX_COORDINATE;
 
 /// Reads a point list file.
 pub fn read_points(path: &Path) -> Result<Vec<DVec3>, FileError> {
@@ -29,8 +30,23 @@ pub fn parse_points(text: &str, path: &Path) -> Result<Vec<DVec3>, FileError> {
         }
         let mut xyz = [0.0; 3];
         for (k, token) in tokens.iter().enumerate() {
-            xyz[k] = parse_finite(token, ["x", "y", "z"][k])
+            let axis = ["x", "y", "z"][k];
+            xyz[k] = parse_finite(token, axis)
                 .map_err(|reason| FileError::parse(path, index + 1, reason))?;
+            // The range every mesh and cage coordinate is held to: beyond it coordinates
+            // overflow to infinity in their sums (GC printed null) or lose all precision in
+            // the f32 output.
+            if xyz[k].abs() > MAX_COORDINATE {
+                return Err(FileError::parse(
+                    path,
+                    index + 1,
+                    format!(
+                        "{axis} = {:e} is beyond the supported range of ±{MAX_COORDINATE:e}; \
+                         express the points (and the scene) in larger units",
+                        xyz[k]
+                    ),
+                ));
+            }
         }
         points.push(DVec3::from_array(xyz));
     }
@@ -40,6 +56,22 @@ pub fn parse_points(text: &str, path: &Path) -> Result<Vec<DVec3>, FileError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Points beyond ±1e9 are refused naming the line and the coordinate (GC weights of a
+    /// point at 1e300 printed null).
+    #[test]
+    fn points_beyond_the_coordinate_range_are_refused() {
+        let p = Path::new("pts.txt");
+        assert!(parse_points("1e9 -1e9 0\n", p).is_ok());
+        let error = parse_points("0 0 0\n1e300 0 0\n", p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.starts_with("pts.txt:2:") && error.contains("1e300"),
+            "{error}"
+        );
+        assert!(error.contains("supported range"), "{error}");
+    }
 
     #[test]
     fn comments_blank_lines_and_errors() {
