@@ -798,25 +798,38 @@ mod tests {
         .unwrap();
         assert!(shared.len() >= 4, "{} thighs shared a solve", shared.len());
         for (c, table) in &shared {
-            let alone = Table::compute(
-                CoordinateKind::Harmonic,
-                &topology.leaves[*c],
-                points,
-                members[*c].clone(),
-                &settings,
-                &control,
-                "test",
-            )
-            .unwrap();
-            for &i in table.points.iter().step_by(7) {
-                let (a, b) = (table.get(i).unwrap().0, alone.get(i).unwrap().0);
-                let worst = a
-                    .iter()
-                    .zip(b)
-                    .map(|(x, y)| (x - y).abs())
-                    .fold(0.0, f64::max);
-                assert!(worst < 1e-6, "leaf {c}, point {i}: {worst}");
-            }
+            assert_equals_solving_alone(table, &topology.leaves[*c], points, &settings, 7);
+        }
+    }
+
+    /// Asserts that `table` (from a shared solve) gives every `step`-th of its points the
+    /// harmonic rows of solving `cage` alone, to 1e-6.
+    fn assert_equals_solving_alone(
+        table: &Table,
+        cage: &LocalCage,
+        points: &[DVec3],
+        settings: &BindSettings,
+        step: usize,
+    ) {
+        let control = BindControl::default();
+        let alone = Table::compute(
+            CoordinateKind::Harmonic,
+            cage,
+            points,
+            table.points.clone(),
+            settings,
+            &control,
+            "test",
+        )
+        .unwrap();
+        for &i in table.points.iter().step_by(step) {
+            let (a, b) = (table.get(i).unwrap().0, alone.get(i).unwrap().0);
+            let worst = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            assert!(worst < 1e-6, "point {i}: {worst}");
         }
     }
 
@@ -852,25 +865,7 @@ mod tests {
             solve_harmonic_classes(&classes, &topology, &need, points, &settings, &control)
                 .unwrap();
         for (v, table) in &shared {
-            let alone = Table::compute(
-                CoordinateKind::Harmonic,
-                &topology.joins[v].local,
-                points,
-                table.points.clone(),
-                &settings,
-                &control,
-                "test",
-            )
-            .unwrap();
-            for &i in table.points.iter().step_by(5) {
-                let (a, b) = (table.get(i).unwrap().0, alone.get(i).unwrap().0);
-                let worst = a
-                    .iter()
-                    .zip(b)
-                    .map(|(x, y)| (x - y).abs())
-                    .fold(0.0, f64::max);
-                assert!(worst < 1e-6, "join {v}, point {i}: {worst}");
-            }
+            assert_equals_solving_alone(table, &topology.joins[v].local, points, &settings, 5);
         }
         shared.len()
     }
