@@ -98,6 +98,17 @@ fn figure() -> Mesh {
     )
 }
 
+/// A hand: a palm with four fingers whose sides lie closer than one cell of the auto rig's
+/// grid, so that no grid-aligned cut can put them in cages of their own.
+fn hand() -> Mesh {
+    let mut parts = vec![(v(-0.25, 0.0, 0.0), v(0.25, 0.0, 0.0), 0.3)];
+    for k in 0..4 {
+        let x = -0.285 + 0.19 * f64::from(k);
+        parts.push((v(x, 0.0, 0.2), v(x, 0.0, 1.6), 0.08));
+    }
+    capsules(&parts, 0.012)
+}
+
 fn rig(mesh: &Mesh, settings: &AutorigSettings) -> CageSet {
     autorig(mesh, settings, &BindControl::default())
         .unwrap()
@@ -183,6 +194,15 @@ fn a_figure_with_legs_close_together_keeps_them_apart_where_a_box_grid_does_not(
         pieces.iter().any(|&n| n > 1),
         "the box grid should hold two legs in one cell: {pieces:?}"
     );
+}
+
+#[test]
+fn fingers_closer_than_a_cell_share_their_palm_s_cage_rather_than_split_apart() {
+    let mesh = hand();
+    check_rig("hand", &mesh, 1);
+    // Negative control: the fingers do lie in shared cells of the 3x3x3 grid too.
+    let grid = scene(&mesh, autocage(&mesh, &AutocageOptions::default()));
+    assert!(surface_pieces_per_leaf(&grid).iter().any(|&n| n > 1));
 }
 
 #[test]

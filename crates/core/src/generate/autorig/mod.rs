@@ -8,7 +8,8 @@
 //! 2. parts (`parts`): in each connected piece, the body is the union of the balls inscribed
 //!    at its thickest cells, cut into slabs across its longest axis; the rest are limbs, each
 //!    cut into a chain of segments by geodesic distance from the body;
-//!    a part holding two separate pieces of the surface is split between them (`pieces`);
+//!    a part holding two separate pieces of the surface is split between them, or merged with
+//!    the parts that join them where they share cells (`pieces`);
 //! 3. repairs (`repair`) until every part and every union of parts meeting at a grid vertex is
 //!    a manifold solid (so each cage and each *Cages join cage is valid);
 //! 4. cages (`polycube`): each part's surface as merged rectangles, shared rectangles run in
@@ -218,9 +219,12 @@ pub fn autorig(
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
     pieces::split_by_surface_pieces(&grid, &mut parts, mesh);
+    let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, mesh);
     control.advance();
     check()?;
-    let mut merges = repair::make_manifold(&grid, &mut parts);
+    // Repairs move cells between parts, which may leave a part two pieces again.
+    merges += repair::make_manifold(&grid, &mut parts);
+    merges += pieces::merge_inseparable_pieces(&grid, &mut parts, mesh);
     control.advance();
     check()?;
     // Build, validate, merge what a problem names, again.

@@ -1,33 +1,27 @@
 //! One piece of surface per part: a part whose cells hold two separate pieces of the mesh's
 //! surface (two fingers in one slice of a hand, an ear beside the head) is split between them,
 //! each cell going to the piece whose vertices it holds or, holding none, to the nearest one.
-//! Pieces that share a cell cannot be told apart at this grid's resolution and stay together.
+//! Pieces that share a cell cannot be told apart at this grid's resolution: their part merges
+//! with the neighbour through which they connect (fingers that touch, with their palm; the lips
+//! of a closed mouth, with the head's side), so that the cage holds one piece.
 
+use std::cmp::Reverse;
 use std::collections::{BTreeMap, VecDeque};
 
 use super::SLIVER_VERTICES;
-use super::parts::{Parts, split_disconnected};
+use super::parts::{Parts, compact, contacts_of, split_disconnected};
 use super::voxels::Grid;
 use crate::mesh::Mesh;
 
 /// Splits the parts whose cells hold more than one piece of the surface (see the module).
 /// Returns how many parts were split.
 pub(super) fn split_by_surface_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mesh) -> usize {
+    let Surface {
+        cell_of,
+        neighbours,
+    } = Surface::new(grid, mesh);
     let points = mesh.welded_positions();
-    let cell_of: Vec<Option<usize>> = points
-        .iter()
-        .map(|&p| grid.index(grid.cell_at(p)))
-        .collect();
     let part_of = |v: usize| cell_of[v].and_then(|c| parts.label[c]);
-    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
-    for &[a, b, c] in mesh.welded_triangles() {
-        for (x, y) in [(a, b), (b, c), (c, a)] {
-            if (x as usize) < points.len() && (y as usize) < points.len() {
-                neighbours[x as usize].push(y);
-                neighbours[y as usize].push(x);
-            }
-        }
-    }
     // Pieces: mesh vertices connected through edges whose ends are in the same part.
     let mut piece = vec![usize::MAX; points.len()];
     let mut piece_part = Vec::new();
@@ -121,4 +115,215 @@ pub(super) fn split_by_surface_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mes
         split_disconnected(grid, parts);
     }
     split
+}
+
+/// Mesh vertices by grid cell and mesh edges, for counting the pieces of surface of parts.
+struct Surface {
+    /// Cell (grid index) of each welded mesh vertex.
+    cell_of: Vec<Option<usize>>,
+    /// Mesh edges at each welded vertex.
+    neighbours: Vec<Vec<u32>>,
+}
+
+impl Surface {
+    fn new(grid: &Grid, mesh: &Mesh) -> Self {
+        let points = mesh.welded_positions();
+        let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+        for &[a, b, c] in mesh.welded_triangles() {
+            for (x, y) in [(a, b), (b, c), (c, a)] {
+                if (x as usize) < points.len() && (y as usize) < points.len() {
+                    neighbours[x as usize].push(y);
+                    neighbours[y as usize].push(x);
+                }
+            }
+        }
+        Self {
+            cell_of: points
+                .iter()
+                .map(|&p| grid.index(grid.cell_at(p)))
+                .collect(),
+            neighbours,
+        }
+    }
+
+    /// The mesh vertices of each part.
+    fn vertices_by_part(&self, parts: &Parts) -> BTreeMap<u32, Vec<usize>> {
+        let mut by_part: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+        for (v, c) in self.cell_of.iter().enumerate() {
+            if let Some(p) = c.and_then(|c| parts.label[c]) {
+                by_part.entry(p).or_default().push(v);
+            }
+        }
+        by_part
+    }
+
+    /// The pieces (mesh vertices connected by edges) among the mesh vertices of `members` (a
+    /// part or a few), slivers (under [`SLIVER_VERTICES`] or 1 % of the vertices held) left
+    /// out. `mark` is scratch space of one entry per mesh vertex, all false.
+    fn significant_pieces(
+        &self,
+        parts: &Parts,
+        by_part: &BTreeMap<u32, Vec<usize>>,
+        members: &[u32],
+        mark: &mut [bool],
+    ) -> Vec<Vec<usize>> {
+        let inside = |v: usize| {
+            self.cell_of[v]
+                .and_then(|c| parts.label[c])
+                .is_some_and(|p| members.contains(&p))
+        };
+        let vertices: Vec<usize> = members
+            .iter()
+            .filter_map(|p| by_part.get(p))
+            .flatten()
+            .copied()
+            .collect();
+        let sliver = SLIVER_VERTICES.max(vertices.len() / 100);
+        let mut pieces = Vec::new();
+        for &start in &vertices {
+            if mark[start] {
+                continue;
+            }
+            mark[start] = true;
+            let mut piece = vec![start];
+            let mut next = 0;
+            while let Some(&v) = piece.get(next) {
+                next += 1;
+                for &n in &self.neighbours[v] {
+                    let n = n as usize;
+                    if !mark[n] && inside(n) {
+                        mark[n] = true;
+                        piece.push(n);
+                    }
+                }
+            }
+            if piece.len() >= sliver {
+                pieces.push(piece);
+            }
+        }
+        for &v in &vertices {
+            mark[v] = false;
+        }
+        pieces
+    }
+
+    /// Pieces beyond the first among the mesh vertices of `members` (see
+    /// [`Self::significant_pieces`]).
+    fn extra_pieces(
+        &self,
+        parts: &Parts,
+        by_part: &BTreeMap<u32, Vec<usize>>,
+        members: &[u32],
+        mark: &mut [bool],
+    ) -> usize {
+        self.significant_pieces(parts, by_part, members, mark)
+            .len()
+            .saturating_sub(1)
+    }
+
+    /// The parts along the shortest path of mesh edges outside `p` that joins two of its
+    /// pieces (the palm between two fingers): a breadth-first search grown from every piece at
+    /// once, stopped where two fronts meet.
+    fn parts_joining(&self, parts: &Parts, p: u32, pieces: &[Vec<usize>]) -> Vec<u32> {
+        let part_of = |v: usize| self.cell_of[v].and_then(|c| parts.label[c]);
+        let mut source = vec![usize::MAX; self.cell_of.len()];
+        let mut parent = vec![usize::MAX; self.cell_of.len()];
+        let mut queue = VecDeque::new();
+        for (k, piece) in pieces.iter().enumerate() {
+            for &v in piece {
+                source[v] = k;
+                queue.push_back(v);
+            }
+        }
+        let path_to_source = |mut v: usize, parent: &[usize]| {
+            let mut path = Vec::new();
+            while v != usize::MAX {
+                path.push(v);
+                v = parent[v];
+            }
+            path
+        };
+        while let Some(v) = queue.pop_front() {
+            for &n in &self.neighbours[v] {
+                let n = n as usize;
+                if part_of(n) == Some(p) && source[n] == usize::MAX {
+                    // A vertex of p outside the significant pieces (a sliver): not a way through.
+                    continue;
+                }
+                if source[n] == usize::MAX {
+                    source[n] = source[v];
+                    parent[n] = v;
+                    queue.push_back(n);
+                } else if source[n] != source[v] {
+                    let mut joined: Vec<u32> = path_to_source(v, &parent)
+                        .into_iter()
+                        .chain(path_to_source(n, &parent))
+                        .filter_map(part_of)
+                        .filter(|&q| q != p)
+                        .collect();
+                    joined.sort_unstable();
+                    joined.dedup();
+                    return joined;
+                }
+            }
+        }
+        Vec::new()
+    }
+}
+
+/// Merges each part that still holds more than one piece of the surface (pieces sharing cells,
+/// which [`split_by_surface_pieces`] cannot separate) with the neighbour part that removes most
+/// extra pieces or, where no one neighbour does (two fingers meeting only at the palm), with
+/// the parts along the shortest way over the surface between two of its pieces; as long as a
+/// merge removes extra pieces. Returns the number of merges.
+pub(super) fn merge_inseparable_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mesh) -> usize {
+    let surface = Surface::new(grid, mesh);
+    let mut mark = vec![false; surface.cell_of.len()];
+    let mut merges = 0;
+    loop {
+        let by_part = surface.vertices_by_part(parts);
+        let extra: BTreeMap<u32, usize> = by_part
+            .keys()
+            .map(|&p| (p, surface.extra_pieces(parts, &by_part, &[p], &mut mark)))
+            .collect();
+        let extra_of = |members: &[u32]| members.iter().filter_map(|q| extra.get(q)).sum::<usize>();
+        // The first part with extra pieces that a merge improves, merged with its best
+        // neighbour (most extra pieces removed, then most faces shared, then lowest label), or
+        // with the parts joining two of its pieces.
+        let merge = extra.iter().filter(|&(_, &e)| e > 0).find_map(|(&p, _)| {
+            let best_neighbour = contacts_of(grid, &parts.label, p)
+                .into_iter()
+                .filter_map(|(q, faces)| {
+                    let before = extra_of(&[p, q]);
+                    let after = surface.extra_pieces(parts, &by_part, &[p, q], &mut mark);
+                    (after < before).then_some((before - after, faces, Reverse(q)))
+                })
+                .max()
+                .map(|(_, _, Reverse(q))| vec![p, q]);
+            best_neighbour.or_else(|| {
+                let pieces = surface.significant_pieces(parts, &by_part, &[p], &mut mark);
+                let mut members = vec![p];
+                members.extend(surface.parts_joining(parts, p, &pieces));
+                let after = surface.extra_pieces(parts, &by_part, &members, &mut mark);
+                (members.len() > 1 && after < extra_of(&members)).then_some(members)
+            })
+        });
+        let Some(members) = merge else {
+            return merges;
+        };
+        // The merged part keeps the role nearest the body (a body slab, or the lowest segment)
+        // and the first member's label.
+        let Some(role) = members.iter().map(|&q| parts.roles[q as usize]).min() else {
+            return merges;
+        };
+        let into = members[0];
+        parts.roles[into as usize] = role;
+        for l in parts.label.iter_mut().flatten() {
+            if members.contains(l) {
+                *l = into;
+            }
+        }
+        compact(parts);
+        merges += 1;
+    }
 }
