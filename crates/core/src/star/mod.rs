@@ -123,6 +123,39 @@ pub struct JoinWeights {
 }
 
 impl JoinWeights {
+    /// These weights with the points `rows` (increasing, in range) replaced, in order, by the
+    /// points of `part`; every other point's entries copied slice by slice.
+    fn splice(&self, rows: &[usize], part: &JoinWeights) -> Self {
+        let mut out = Self {
+            row_start: Vec::with_capacity(self.row_start.len()),
+            vertex: Vec::with_capacity(self.vertex.len() + part.vertex.len()),
+            weight: Vec::with_capacity(self.weight.len() + part.weight.len()),
+        };
+        out.row_start.push(0);
+        let copy = |out: &mut Self, from: &JoinWeights, range: std::ops::Range<usize>| {
+            let (a, b) = (
+                from.row_start[range.start] as usize,
+                from.row_start[range.end] as usize,
+            );
+            let (base, first) = (out.vertex.len() as u32, from.row_start[range.start]);
+            out.vertex.extend_from_slice(&from.vertex[a..b]);
+            out.weight.extend_from_slice(&from.weight[a..b]);
+            out.row_start.extend(
+                from.row_start[range.start + 1..=range.end]
+                    .iter()
+                    .map(|&s| s - first + base),
+            );
+        };
+        let mut kept_from = 0;
+        for (k, &r) in rows.iter().enumerate() {
+            copy(&mut out, self, kept_from..r);
+            copy(&mut out, part, k..k + 1);
+            kept_from = r + 1;
+        }
+        copy(&mut out, self, kept_from..self.row_start.len() - 1);
+        out
+    }
+
     fn from_rows(rows: &[Vec<(u32, f64)>]) -> Self {
         let mut out = Self {
             row_start: vec![0],

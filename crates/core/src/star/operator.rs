@@ -57,6 +57,39 @@ fn green_of_vertex(green: &GreenDofs, vertex_count: usize) -> (Vec<u32>, Vec<u32
     (start, dofs)
 }
 
+/// CSR arrays under construction (a splice).
+struct Csr {
+    row_start: Vec<u32>,
+    columns: Vec<u32>,
+    values: Vec<f32>,
+    rest_offset: Vec<Vec3>,
+}
+
+impl Csr {
+    /// Appends the rows `range` of `from` unchanged: one slice copy each for columns, values
+    /// and offsets, the row starts shifted.
+    fn copy_rows(&mut self, from: &StarOperator, range: std::ops::Range<usize>) {
+        if range.is_empty() {
+            return;
+        }
+        let (a, b) = (
+            from.row_start[range.start] as usize,
+            from.row_start[range.end] as usize,
+        );
+        let base = self.columns.len() as u32;
+        let first = from.row_start[range.start];
+        self.columns.extend_from_slice(&from.columns[a..b]);
+        self.values.extend_from_slice(&from.values[a..b]);
+        self.row_start.extend(
+            from.row_start[range.start + 1..=range.end]
+                .iter()
+                .map(|&s| s - first + base),
+        );
+        self.rest_offset
+            .extend_from_slice(&from.rest_offset[range.clone()]);
+    }
+}
+
 impl StarOperator {
     pub(crate) fn from_rows(rows: &[Row], vertex_count: usize, green: GreenDofs) -> Self {
         let mut row_start = Vec::with_capacity(rows.len() + 1);
@@ -70,6 +103,28 @@ impl StarOperator {
             }
             row_start.push(columns.len() as u32);
         }
+        let rest_offset = vec![Vec3::ZERO; rows.len()];
+        Self::from_csr(
+            vertex_count,
+            green,
+            Csr {
+                row_start,
+                columns,
+                values,
+                rest_offset,
+            },
+        )
+    }
+
+    /// The operator over CSR arrays whose indices are in range (callers check), with the
+    /// transpose and the Green lists derived.
+    fn from_csr(vertex_count: usize, green: GreenDofs, csr: Csr) -> Self {
+        let Csr {
+            row_start,
+            columns,
+            values,
+            rest_offset,
+        } = csr;
         let n_columns = vertex_count + green.len();
         let mut counts = vec![0u32; n_columns + 1];
         for &c in &columns {
@@ -81,8 +136,8 @@ impl StarOperator {
         let column_start = counts.clone();
         let mut column_rows = vec![0u32; columns.len()];
         let mut fill = counts;
-        for (r, row) in rows.iter().enumerate() {
-            for &(c, _) in row {
+        for (r, range) in row_start.windows(2).enumerate() {
+            for &c in &columns[range[0] as usize..range[1] as usize] {
                 column_rows[fill[c as usize] as usize] = r as u32;
                 fill[c as usize] += 1;
             }
@@ -91,7 +146,7 @@ impl StarOperator {
         Self {
             vertex_count,
             green,
-            rest_offset: vec![Vec3::ZERO; rows.len()],
+            rest_offset,
             row_start,
             columns,
             values,
@@ -100,6 +155,41 @@ impl StarOperator {
             green_of_vertex_start,
             green_of_vertex,
         }
+    }
+
+    /// This operator with the rows `rows` (increasing, in range) replaced, in order, by the rows
+    /// of `part` (with their rest offsets), whose columns `remap` takes to this operator's
+    /// numbering extended by the Green DOFs `green` (ours, then the part's new triangles).
+    /// Every other row is copied bit for bit, slice by slice.
+    pub(crate) fn splice(
+        &self,
+        rows: &[usize],
+        part: &StarOperator,
+        remap: impl Fn(u32) -> u32,
+        green: GreenDofs,
+    ) -> Self {
+        let count = self.row_count();
+        let nnz = self.nonzeros() + part.nonzeros();
+        let mut out = Csr {
+            row_start: Vec::with_capacity(count + 1),
+            columns: Vec::with_capacity(nnz),
+            values: Vec::with_capacity(nnz),
+            rest_offset: Vec::with_capacity(count),
+        };
+        out.row_start.push(0);
+        let mut kept_from = 0;
+        for (k, &r) in rows.iter().enumerate() {
+            out.copy_rows(self, kept_from..r);
+            let (a, b) = (part.row_start[k] as usize, part.row_start[k + 1] as usize);
+            out.columns
+                .extend(part.columns[a..b].iter().map(|&c| remap(c)));
+            out.values.extend_from_slice(&part.values[a..b]);
+            out.row_start.push(out.columns.len() as u32);
+            out.rest_offset.push(part.rest_offset[k]);
+            kept_from = r + 1;
+        }
+        out.copy_rows(self, kept_from..count);
+        Self::from_csr(self.vertex_count, green, out)
     }
 
     /// Sets each row's rest offset so that the rest cage `rest` gives `points` back:
@@ -114,12 +204,6 @@ impl StarOperator {
             .zip(&at_rest)
             .map(|(p, s)| (*p - s.as_dvec3()).as_vec3())
             .collect();
-    }
-
-    /// Replaces the rest offsets (one per row; a partial re-bind splices them).
-    pub(crate) fn replace_rest_offsets(&mut self, rest_offset: Vec<Vec3>) {
-        debug_assert_eq!(rest_offset.len(), self.row_count());
-        self.rest_offset = rest_offset;
     }
 
     /// Per row, p − S(rest) (added to every product).
@@ -155,24 +239,22 @@ impl StarOperator {
         {
             return Err("Green triangle refers to a missing vertex".into());
         }
-        let rows: Vec<Row> = row_start
-            .windows(2)
-            .map(|w| {
-                (w[0] as usize..w[1] as usize)
-                    .map(|k| (columns[k], f64::from(values[k])))
-                    .collect()
-            })
-            .collect();
         // Within the documented coordinate range (±1e9): a forged offset cannot throw a point
         // anywhere.
         let in_range = |o: &Vec3| o.is_finite() && o.abs().max_element() <= 1e9;
-        if rest_offset.len() != rows.len() || !rest_offset.iter().all(in_range) {
+        if rest_offset.len() + 1 != row_start.len() || !rest_offset.iter().all(in_range) {
             return Err("inconsistent rest offsets".into());
         }
-        let mut rebuilt = Self::from_rows(&rows, vertex_count, green);
-        // Keep the stored f32 values bit for bit.
-        rebuilt.values = values;
-        rebuilt.rest_offset = rest_offset;
+        let rebuilt = Self::from_csr(
+            vertex_count,
+            green,
+            Csr {
+                row_start,
+                columns,
+                values,
+                rest_offset,
+            },
+        );
         Ok(rebuilt)
     }
 

@@ -10,9 +10,8 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use super::tables::Row;
 use super::topology::Topology;
-use super::{GreenDofs, JoinWeights, StarBinding, StarError, StarOperator};
+use super::{GreenDofs, StarBinding, StarError};
 use crate::coords::BindControl;
 use crate::scene::ON_CAGE;
 use crate::scene::Scene;
@@ -147,44 +146,13 @@ impl StarBinding {
         for (k, &i) in rows.iter().enumerate() {
             replaced[i] = Some(k);
         }
-        let all_rows: Vec<Row> = (0..self.cage_of.len())
-            .map(|i| match replaced[i] {
-                Some(k) => part
-                    .operator
-                    .row(k)
-                    .map(|(c, w)| (remap(c), f64::from(w)))
-                    .collect(),
-                None => self
-                    .operator
-                    .row(i)
-                    .map(|(c, w)| (c, f64::from(w)))
-                    .collect(),
-            })
-            .collect();
-        let mut operator = StarOperator::from_rows(
-            &all_rows,
-            scene.cages.vertices.len(),
+        let operator = self.operator.splice(
+            rows,
+            &part.operator,
+            remap,
             GreenDofs::from_triangles(triangles),
         );
-        operator.replace_rest_offsets(
-            (0..self.cage_of.len())
-                .map(|i| match replaced[i] {
-                    Some(k) => part.operator.rest_offsets()[k],
-                    None => self.operator.rest_offsets()[i],
-                })
-                .collect(),
-        );
-        let join_rows: Vec<Vec<(u32, f64)>> = (0..self.cage_of.len())
-            .map(|i| {
-                let (source, r) = match replaced[i] {
-                    Some(k) => (&part.join_weights, k),
-                    None => (&self.join_weights, i),
-                };
-                (source.row_start[r] as usize..source.row_start[r + 1] as usize)
-                    .map(|e| (source.vertex[e], f64::from(source.weight[e])))
-                    .collect()
-            })
-            .collect();
+        let join_weights = self.join_weights.splice(rows, &part.join_weights);
         let boundary_weight = (0..self.cage_of.len())
             .map(|i| match replaced[i] {
                 Some(k) => part.boundary_weight[k],
@@ -209,7 +177,7 @@ impl StarBinding {
             operator,
             boundary_weight,
             cage_of,
-            join_weights: JoinWeights::from_rows(&join_rows),
+            join_weights,
             stats,
         })
     }

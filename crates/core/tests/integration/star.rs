@@ -709,6 +709,20 @@ fn a_rest_edit_rebinds_only_nearby_rows_and_equals_a_full_bind() {
         assert_eq!(incremental.boundary_weight, full.boundary_weight);
         let worst = worst_row_difference(&incremental, &full);
         assert!(worst <= 1e-6, "vertex {vertex}: rows differ by {worst}");
+        // The spliced join weights and rest offsets are the full bind's too.
+        assert_eq!(
+            incremental.join_weights.row_start,
+            full.join_weights.row_start
+        );
+        assert_eq!(incremental.join_weights.vertex, full.join_weights.vertex);
+        for (a, b) in incremental
+            .operator
+            .rest_offsets()
+            .iter()
+            .zip(full.operator.rest_offsets())
+        {
+            assert!((*a - *b).length() <= 1e-5, "rest offsets {a} and {b}");
+        }
         // Rows outside the re-bound set kept their weights bit for bit.
         for kept in (0..old.operator.row_count()).filter(|i| rows.binary_search(i).is_err()) {
             assert_eq!(
