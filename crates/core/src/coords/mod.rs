@@ -28,7 +28,7 @@ use crate::cage::Cage;
 pub use control::BindControl;
 pub use green::green_stretch;
 pub(crate) use green::triangle_stretch;
-pub use harmonic::HarmonicSettings;
+pub use harmonic::{HarmonicSettings, clear_harmonic_cache};
 pub use lanes::{SIMD_ENV, lane_backend};
 
 /// The coordinate systems a cage can use.
