@@ -54,7 +54,7 @@ struct Term {
     v: u32,
     /// Index of Ω(v, ·) in the plan's `omega_joins`.
     omega: usize,
-    /// Per interior neighbour u of v: index of Ω(u, ·) and Ω(u, v).
+    /// Per interior neighbour u of v: index of Ω(u, ·) and Ω(u, v), by index.
     interior_neighbours: Vec<(usize, f64)>,
     /// The table group of T_{jc(v)} (none where no point of the cage needed it).
     group: Option<usize>,
@@ -75,6 +75,9 @@ pub(super) struct CagePlan<'a> {
     leaf: Slots,
     /// How many Ω(u, p) the terms read (one per join vertex u).
     omega_count: usize,
+    /// The indices of Ω(u, ·) of interior vertices u that some term reads in eq. 8's
+    /// product, increasing.
+    interior_omegas: Vec<usize>,
     /// Ω(u, ·) of interior u, or of a join cage without a shared table, evaluated alone
     /// (slot, data).
     omega_alone: Vec<(usize, &'a JoinData<'a>)>,
@@ -192,10 +195,11 @@ impl<'a> CagePlan<'a> {
         let mut terms = Vec::with_capacity(boundary.len());
         for &v in boundary {
             let omega = index_of(v);
-            let interior_neighbours = topology.interior_neighbours[&v]
-                .iter()
-                .map(|&u| (index_of(u), omega_at_vertex[&(u, v)]))
+            let mut interior_neighbours: Vec<(usize, f64)> = topology
+                .interior_neighbours(v)
+                .map(|u| (index_of(u), omega_at_vertex[&(u, v)]))
                 .collect();
+            interior_neighbours.sort_unstable_by_key(|&(u, _)| u);
             let data = &joins[&v];
             let group = transform_table(data).map(|table| {
                 let same = |(t, d): &(Arc<Table>, &JoinData)| {
@@ -260,10 +264,17 @@ impl<'a> CagePlan<'a> {
                 Vec::new(),
             ),
         };
+        let mut interior_omegas: Vec<usize> = terms
+            .iter()
+            .flat_map(|t| t.interior_neighbours.iter().map(|&(u, _)| u))
+            .collect();
+        interior_omegas.sort_unstable();
+        interior_omegas.dedup();
         Self {
             leaf: Slots::new(local, leaf_dofs, vertex_count, &columns),
             columns,
             omega_count: omega_joins.len(),
+            interior_omegas,
             omega_alone,
             omega_shared,
             terms,
@@ -355,6 +366,8 @@ struct Scratch {
     small: Vec<(usize, f64)>,
     weight: Vec<f64>,
     group_scale: Vec<f64>,
+    /// Indices of the interior Ω(u, p) that are not zero at the point.
+    live: Vec<usize>,
 }
 
 /// Everything a point's row is assembled from.
@@ -470,14 +483,30 @@ fn joins_weigh(inputs: &Inputs, plan: &CagePlan, scratch: &mut Scratch, i: usize
         }
     }
     let omega = &scratch.omega;
+    // Where Ω(u, p) = 0 the factor of u is f(1 / (1 − Ω(u, v))) = 1 (Ω(u, v) ≤ 1): only the
+    // interior vertices whose Ω is alive at p enter the products. On a finely subdivided
+    // border every term has thousands of interior neighbours, of which a point sees a few.
+    scratch.live.clear();
+    scratch
+        .live
+        .extend(plan.interior_omegas.iter().filter(|&&u| omega[u] != 0.0));
+    let live = &scratch.live;
     scratch.weight.clear();
     scratch.weight.extend(plan.terms.iter().map(|term| {
-        let interior_influence: f64 = term
-            .interior_neighbours
+        let own = omega[term.omega];
+        if own == 0.0 || live.is_empty() {
+            return own;
+        }
+        let neighbours = &term.interior_neighbours;
+        let interior_influence: f64 = live
             .iter()
-            .map(|&(u, at_v)| smoothing.eval((1.0 - omega[u]) / (1.0 - at_v), 1.0))
+            .filter_map(|&u| {
+                let k = neighbours.binary_search_by_key(&u, |&(x, _)| x).ok()?;
+                let at_v = neighbours[k].1;
+                Some(smoothing.eval((1.0 - omega[u]) / (1.0 - at_v), 1.0))
+            })
             .product();
-        omega[term.omega] * interior_influence
+        own * interior_influence
     }));
     scratch.weight.iter().sum::<f64>() > 1e-14
 }

@@ -208,12 +208,17 @@ fn bind_rows_by(
     let omega_of_cage: Vec<Vec<u32>> = (0..topology.leaves.len())
         .map(|c| {
             let mut list: BTreeSet<u32> = topology.boundary[c].iter().copied().collect();
+            // Boundary vertices with the same incident cages share one list: read it once.
+            let mut read: Vec<&Arc<[u32]>> = Vec::new();
             for v in &topology.boundary[c] {
-                list.extend(
-                    topology.interior_neighbours[v]
-                        .iter()
-                        .filter(|u| topology.joins[u].cages.contains(&c)),
-                );
+                let Some(near) = topology.interior_near.get(v) else {
+                    continue;
+                };
+                if read.iter().any(|r| Arc::ptr_eq(r, near)) {
+                    continue;
+                }
+                read.push(near);
+                list.extend(near.iter().filter(|u| topology.joins[u].cages.contains(&c)));
             }
             list.into_iter().collect()
         })
@@ -241,14 +246,20 @@ fn bind_rows_by(
     let mut all_points = points.to_vec();
     all_points.extend_from_slice(&set.vertices);
     let used_boundary: BTreeSet<u32> = need_transform.keys().copied().collect();
-    for (&v, near) in &topology.interior_neighbours {
-        if !used_boundary.contains(&v) {
-            continue; // Ω(u, v) is read only for boundary vertices of the points' cages
-        }
-        for &u in near {
-            let cage = &topology.joins[&u].local.cage;
-            let x = set.vertices[v as usize];
-            if cage.winding_number(x) > 0.5 || cage.is_within(x, 1e-9 * cage.diagonal()) {
+    // Whether v lies in jc(u), once per join cage: interior vertices over the same leaf cages
+    // (a subdivided shared face holds thousands) have the same join cage.
+    check_omega_work(topology, set, &need_omega, &used_boundary)?;
+    let mut within: BTreeMap<(&[usize], u32), bool> = BTreeMap::new();
+    for &v in &used_boundary {
+        // Ω(u, v) is read only for boundary vertices of the points' cages.
+        for u in topology.interior_neighbours(v) {
+            let join = &topology.joins[&u];
+            let inside = *within.entry((join.cages.as_slice(), v)).or_insert_with(|| {
+                let cage = &join.local.cage;
+                let x = set.vertices[v as usize];
+                cage.winding_number(x) > 0.5 || cage.is_within(x, 1e-9 * cage.diagonal())
+            });
+            if inside {
                 need_omega.entry(u).or_default().push(offset + v as usize);
             }
         }
@@ -396,18 +407,24 @@ fn bind_rows_by(
     }
     // Ω(u, v) for interior u at each boundary vertex v that has u as an interior neighbour
     // (0 where v lies outside jc(u)).
-    let mut omega_at_vertex: BTreeMap<(u32, u32), f64> = BTreeMap::new();
-    for (&v, near) in &topology.interior_neighbours {
-        for &u in near {
+    let pairs: Vec<(u32, u32)> = topology
+        .interior_near
+        .keys()
+        .flat_map(|&v| topology.interior_neighbours(v).map(move |u| (u, v)))
+        .collect();
+    let values: Vec<f64> = pairs
+        .par_iter()
+        .with_min_len(64)
+        .map(|&(u, v)| {
             let data = &joins[&u];
-            let value = data
-                .interp
+            data.interp
                 .as_ref()
                 .and_then(|t| t.get(offset + v as usize))
-                .map_or(0.0, |(w, _)| data.omega(w, smoothing));
-            omega_at_vertex.insert((u, v), value);
-        }
-    }
+                .map_or(0.0, |(w, _)| data.omega(w, smoothing))
+        })
+        .collect();
+    control.check().map_err(|_| StarError::Cancelled)?;
+    let omega_at_vertex: BTreeMap<(u32, u32), f64> = pairs.into_iter().zip(values).collect();
     let seconds_join = join_start.elapsed().as_secs_f64();
 
     // Assemble every row (eqs. 3–10), one plan of columns per leaf cage.
@@ -559,6 +576,93 @@ struct Congruent<'a> {
     cage: &'a LocalCage,
     placement: &'a ShapePlacement,
     points: Vec<usize>,
+}
+
+/// Steps of eq. 8 (one factor f(d(t, ·) / d(t, u)) each) a bind may take: about two
+/// minutes on two cores.
+const MAX_OMEGA_STEPS: f64 = 5e10;
+
+/// Seconds one step of eq. 8 takes on one core (measured on a finely subdivided border).
+const SECONDS_PER_OMEGA_STEP: f64 = 5e-9;
+
+/// Refuses a bind whose interior vertices' Ω (eq. 6, each over every face of its join cage not
+/// incident to it) at the points and cage vertices that need them would exceed
+/// [`MAX_OMEGA_STEPS`], naming the border with the most interior vertices. Their number grows
+/// with the square of a border's subdivision, the work with its fourth power.
+fn check_omega_work(
+    topology: &Topology,
+    set: &CageSet,
+    need_omega: &BTreeMap<u32, Vec<usize>>,
+    used_boundary: &BTreeSet<u32>,
+) -> Result<(), StarError> {
+    // Points per interior vertex u: the mesh points listed so far, and (at most) every used
+    // boundary vertex that has u as an interior neighbour, counted once per shared list.
+    let mut readers: BTreeMap<u32, f64> = need_omega
+        .iter()
+        .map(|(&u, list)| (u, list.len() as f64))
+        .collect();
+    let mut by_list: Vec<(&Arc<[u32]>, f64)> = Vec::new();
+    for v in used_boundary {
+        let Some(near) = topology.interior_near.get(v) else {
+            continue;
+        };
+        match by_list.iter_mut().find(|(list, _)| Arc::ptr_eq(list, near)) {
+            Some((_, count)) => *count += 1.0,
+            None => by_list.push((near, 1.0)),
+        }
+    }
+    for (list, count) in by_list {
+        for &u in list.iter() {
+            *readers.entry(u).or_insert(0.0) += count;
+        }
+    }
+    let steps: f64 = readers
+        .iter()
+        .filter_map(|(u, count)| {
+            let join = topology.joins.get(u).filter(|j| j.interior)?;
+            Some(count * join.local.cage.triangles().len() as f64)
+        })
+        .sum();
+    if steps <= MAX_OMEGA_STEPS {
+        return Ok(());
+    }
+    let mut interior_by_border: BTreeMap<&[usize], usize> = BTreeMap::new();
+    for join in topology.joins.values().filter(|j| j.interior) {
+        *interior_by_border.entry(join.cages.as_slice()).or_insert(0) += 1;
+    }
+    let Some((cages, interior)) = interior_by_border
+        .into_iter()
+        .max_by_key(|&(cages, n)| (n, std::cmp::Reverse(cages)))
+    else {
+        return Ok(());
+    };
+    let faces = topology
+        .joins
+        .values()
+        .find(|j| j.cages.as_slice() == cages)
+        .map_or(0, |j| j.local.cage.triangles().len());
+    let names: Vec<String> = cages
+        .iter()
+        .filter_map(|&c| set.leaves.get(c))
+        .map(|l| format!("'{}'", l.name))
+        .collect();
+    let seconds = steps * SECONDS_PER_OMEGA_STEP / rayon::current_num_threads().max(1) as f64;
+    Err(StarError::TooMuchWork {
+        cages: names.join(" and "),
+        interior,
+        faces,
+        estimate: duration_in_words(seconds),
+    })
+}
+
+/// A duration for a person: seconds, minutes, hours or days, rounded.
+fn duration_in_words(seconds: f64) -> String {
+    match seconds {
+        s if s < 120.0 => format!("{s:.0} seconds"),
+        s if s < 7_200.0 => format!("{:.0} minutes", s / 60.0),
+        s if s < 172_800.0 => format!("{:.0} hours", s / 3_600.0),
+        s => format!("{:.0} days", s / 86_400.0),
+    }
 }
 
 /// One harmonic solve for a class of congruent cages (the same shape up to translation, quarter

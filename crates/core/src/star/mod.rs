@@ -62,6 +62,26 @@ pub enum StarError {
     /// Cancelled through the [`BindControl`].
     #[error("binding was cancelled")]
     Cancelled,
+    /// Eq. 8 would take too long: the interior vertices of a border (a finely subdivided
+    /// shared face) each weigh every point and every other such vertex over all the faces of
+    /// their join cage.
+    #[error(
+        "binding would take about {estimate}: the border of cages {cages} holds {interior} \
+         vertices inside it (not on its edges), and eq. 8 weighs each of them at every point and \
+         every other such vertex over all {faces} faces of its join cage; use fewer subdivisions \
+         on the shared faces (dissolve or weld vertices there), or split the cages so that each \
+         border is smaller"
+    )]
+    TooMuchWork {
+        /// The leaf cages of the worst border, named.
+        cages: String,
+        /// Interior vertices on it.
+        interior: usize,
+        /// Faces of its join cage.
+        faces: usize,
+        /// The time it would take, in words.
+        estimate: String,
+    },
     /// A partial re-bind was asked of a binding made for another mesh.
     #[error(
         "the binding has {rows} rows but the mesh has {vertices} vertices; bind the scene again"

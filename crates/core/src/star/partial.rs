@@ -71,9 +71,9 @@ impl StarBinding {
             .map(|c| {
                 topology.boundary[c].iter().any(|v| {
                     changed_joins.contains(v)
-                        || topology.interior_neighbours[v]
-                            .iter()
-                            .any(|u| changed_joins.contains(u))
+                        || topology
+                            .interior_neighbours(*v)
+                            .any(|u| changed_joins.contains(&u))
                 })
             })
             .collect();

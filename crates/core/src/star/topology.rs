@@ -3,6 +3,7 @@
 //! with their shared faces removed), and the interior / non-interior classification of v.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 
 use thiserror::Error;
 
@@ -53,10 +54,11 @@ pub struct JoinCage {
     pub vertex: u32,
     /// Leaf cages incident at v.
     pub cages: Vec<usize>,
-    /// The union as a cage (vertices numbered locally; `global` maps back).
-    pub local: LocalCage,
-    /// Its polygon faces over shared vertex indices.
-    pub polygons: Vec<Vec<u32>>,
+    /// The union as a cage (vertices numbered locally; `global` maps back), shared by every
+    /// boundary vertex with the same incident cages.
+    pub local: Arc<LocalCage>,
+    /// Its polygon faces over shared vertex indices (shared as `local` is).
+    pub polygons: Arc<Vec<Vec<u32>>>,
     /// Whether v is inside jc(v) (no face of jc(v) contains it).
     pub interior: bool,
     /// Coordinates of T_{jc(v)} (eqs. 9, 10) by the scene's join policy.
@@ -76,12 +78,24 @@ pub struct Topology {
     pub boundary: Vec<Vec<u32>>,
     /// Join cages by boundary vertex.
     pub joins: BTreeMap<u32, JoinCage>,
-    /// Per boundary vertex v, the interior vertices u ≠ v sharing a leaf cage with v
-    /// (Int(jc(v)) − {v} in eq. 8).
-    pub interior_neighbours: BTreeMap<u32, Vec<u32>>,
+    /// Per boundary vertex v, the interior vertices sharing a leaf cage with v, v itself
+    /// among them when it is interior: one list shared by every vertex with the same
+    /// incident cages (a subdivided border holds thousands). [`Topology::interior_neighbours`]
+    /// leaves v out (Int(jc(v)) − {v} in eq. 8).
+    pub interior_near: BTreeMap<u32, Arc<[u32]>>,
 }
 
 impl Topology {
+    /// The interior vertices u ≠ v sharing a leaf cage with boundary vertex v (Int(jc(v)) −
+    /// {v} in eq. 8), increasing.
+    pub fn interior_neighbours(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        self.interior_near
+            .get(&v)
+            .into_iter()
+            .flat_map(|near| near.iter().copied())
+            .filter(move |&u| u != v)
+    }
+
     /// Builds the topology of the leaf cages of `set`.
     pub fn new(set: &CageSet, policy: JoinPolicy) -> Result<Self, TopologyError> {
         let leaves = set
@@ -143,13 +157,28 @@ impl Topology {
                         problem,
                     })?;
                 let convex = is_convex(&local);
-                built.insert(cages.clone(), (local, polygons, convex));
+                let mut on_faces: Vec<u32> = polygons.iter().flatten().copied().collect();
+                on_faces.sort_unstable();
+                on_faces.dedup();
+                built.insert(
+                    cages.clone(),
+                    BuiltJoin {
+                        local: Arc::new(local),
+                        polygons: Arc::new(polygons),
+                        convex,
+                        on_faces,
+                    },
+                );
             }
-            let Some((local, polygons, convex)) = built.get(&cages) else {
+            let Some(built) = built.get(&cages) else {
                 continue;
             };
-            let (local, polygons, convex) = (local.clone(), polygons.clone(), *convex);
-            let interior = !polygons.iter().any(|f| f.contains(&v));
+            let (local, polygons, convex, interior) = (
+                Arc::clone(&built.local),
+                Arc::clone(&built.polygons),
+                built.convex,
+                built.on_faces.binary_search(&v).is_err(),
+            );
             let kind = match policy {
                 JoinPolicy::Auto => {
                     if convex {
@@ -175,36 +204,51 @@ impl Topology {
                 },
             );
         }
-        let interior_vertices: Vec<u32> = joins
-            .values()
-            .filter(|j| j.interior)
-            .map(|j| j.vertex)
-            .collect();
-        let interior_neighbours = joins
-            .iter()
-            .map(|(&v, join)| {
-                let near: Vec<u32> = interior_vertices
-                    .iter()
-                    .copied()
-                    .filter(|&u| {
-                        u != v && join.cages.iter().any(|&c| cage_vertices[c].contains(&u))
-                    })
-                    .collect();
-                (v, near)
-            })
-            .collect();
+        // Interior vertices by leaf cage, then their union per set of incident cages.
+        let mut interior_in_cage: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for join in joins.values().filter(|j| j.interior) {
+            for (c, vertices) in cage_vertices.iter().enumerate() {
+                if vertices.contains(&join.vertex) {
+                    interior_in_cage[c].push(join.vertex);
+                }
+            }
+        }
+        let mut near_of_cages: BTreeMap<&[usize], Arc<[u32]>> = BTreeMap::new();
+        let mut interior_near = BTreeMap::new();
+        for (&v, join) in &joins {
+            let near = near_of_cages
+                .entry(join.cages.as_slice())
+                .or_insert_with(|| {
+                    let mut near: Vec<u32> = join
+                        .cages
+                        .iter()
+                        .flat_map(|&c| interior_in_cage[c].iter().copied())
+                        .collect();
+                    near.sort_unstable();
+                    near.dedup();
+                    near.into()
+                });
+            interior_near.insert(v, Arc::clone(near));
+        }
         Ok(Self {
             leaves,
             borders,
             boundary,
             joins,
-            interior_neighbours,
+            interior_near,
         })
     }
 }
 
 /// A join cage built once for its set of leaf cages: the cage, its polygons, whether convex.
-type BuiltJoin = (LocalCage, Vec<Vec<u32>>, bool);
+/// A join cage as built once for every boundary vertex with the same incident cages.
+struct BuiltJoin {
+    local: Arc<LocalCage>,
+    polygons: Arc<Vec<Vec<u32>>>,
+    convex: bool,
+    /// The vertices on its faces, increasing (a vertex not among them is interior).
+    on_faces: Vec<u32>,
+}
 
 /// The union of the leaf cages `cages`, the faces shared by two of them removed (eq. 8's
 /// jc(v)), as a validated cage and its polygons.

@@ -820,3 +820,26 @@ fn kernel_pairs_count_the_coordinate_work() {
     assert!(partial.stats.kernel_pairs > 0);
     assert!(partial.stats.kernel_pairs < star.stats.kernel_pairs);
 }
+
+/// A border subdivided until eq. 8's work is out of reach (two boxes subdivided six times:
+/// 3,969 vertices inside their shared face, each weighed against every other over 81,920
+/// faces) is refused at once, naming the border and saying what to do.
+#[test]
+fn a_bind_whose_border_is_subdivided_beyond_reach_is_refused_naming_it() {
+    use starcages_core::rig::{RigOp, apply_rig_op};
+    let mut scene = grid_scene([2, 1, 1], &[CoordinateKind::MeanValue], JoinPolicy::Mvc);
+    scene.mesh = box_mesh(DVec3::splat(0.2), DVec3::new(1.8, 0.8, 0.8), [2, 1, 1]);
+    for _ in 0..6 {
+        apply_rig_op(&mut scene, &RigOp::Subdivide).unwrap();
+    }
+    let error = StarBinding::bind_scene(&scene, &control())
+        .unwrap_err()
+        .to_string();
+    for expected in [
+        "'c0' and 'c1'",
+        "3969 vertices inside it",
+        "fewer subdivisions",
+    ] {
+        assert!(error.contains(expected), "{error}");
+    }
+}
