@@ -12,7 +12,7 @@ use starcages_core::anim::bake::FrameDeformer;
 use starcages_core::io::{
     MorphAnimation, PointCacheFormat, PointCacheWriter, SampleTimes, read_point_cache,
 };
-use starcages_core::scene::{ExportLayout, Scene};
+use starcages_core::scene::{ExportLayout, Scene, UpAxis};
 
 use super::frames::{SampleArgs, animation_samples};
 use crate::InputError;
@@ -96,7 +96,8 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
             Output::Cache(writer, layout)
         }
         None => {
-            let up = scene.export_up();
+            // Animated glTF: Y-up by the format's rule, whatever the mesh file's axes.
+            let up = UpAxis::Y;
             let rest: Vec<DVec3> = scene
                 .mesh
                 .positions()
@@ -135,7 +136,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
                 writer.write_sample(&positions)?;
             }
             Output::Gltf(animation) => {
-                let up = scene.export_up();
+                let up = UpAxis::Y;
                 let positions: Vec<DVec3> = scene
                     .mesh
                     .unweld(&welded)

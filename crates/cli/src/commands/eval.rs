@@ -34,7 +34,7 @@ struct Output {
 /// Runs the command.
 pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
     let scene = super::load(&args.scene)?;
-    let up = scene.mesh_up;
+    let up = scene.export_up();
     let points: Vec<_> = read_points(&args.points)?
         .into_iter()
         .map(|p| up.to_scene(p))

@@ -134,7 +134,8 @@ fn apply_edits_and_internal_cages() {
     ]));
     let scene = d.join("critter.json");
     let points = d.join("points.txt");
-    std::fs::write(&points, "0 0 0\n0.3 -0.5 0.2\n-0.4 0.6 1.5\n").unwrap();
+    // In the mesh file's axes: a demo's are Y-up (scene points (x, y, z) are (x, z, -y)).
+    std::fs::write(&points, "0 0 0\n0.3 0.2 0.5\n-0.4 1.5 -0.6\n").unwrap();
     let eval = |extra: &[&str]| -> Vec<Vec<f64>> {
         let mut args = vec!["eval", s(&scene), "--points", s(&points)];
         args.extend_from_slice(extra);
@@ -150,9 +151,11 @@ fn apply_edits_and_internal_cages() {
         "--apply",
         "head: scale 1",
     ]);
+    // --apply moves in StarCages' Z-up frame (as the editor shows the scene): (0.5, 0, -1)
+    // there is (0.5, -1, 0) in the file's Y-up axes.
     for (a, b) in rest.iter().zip(&moved) {
         let shift = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        for (got, want) in shift.iter().zip([0.5, 0.0, -1.0]) {
+        for (got, want) in shift.iter().zip([0.5, -1.0, 0.0]) {
             assert!((got - want).abs() < 1e-6, "{shift:?}");
         }
     }

@@ -9,7 +9,7 @@ use glam::{DQuat, DVec3};
 use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
 use crate::mesh::Mesh;
-use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
+use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings, UpAxis};
 
 /// Names and one-line descriptions of the demo scenes.
 pub const DEMOS: [(&str, &str); 6] = [
@@ -40,7 +40,7 @@ pub const DEMOS: [(&str, &str); 6] = [
 /// triangles at detail 3). `None` for an unknown name.
 pub fn demo_scene(name: &str, detail: f64) -> Option<Scene> {
     let d = |n: f64| ((n * detail).round() as u32).max(1);
-    Some(match name {
+    let mut scene = match name {
         "bar" => bar([d(40.0), d(10.0), d(10.0)]),
         "prism" => prism([d(24.0), d(24.0), d(96.0)]),
         "egg" => egg(d(48.0)),
@@ -48,7 +48,10 @@ pub fn demo_scene(name: &str, detail: f64) -> Option<Scene> {
         "critter" => critter(d(40.0)),
         "creature" => super::creature::creature(detail),
         _ => return None,
-    })
+    };
+    // Files written from a demo are Y-up, as OBJ and glTF files are: the scene says so.
+    scene.mesh_up = UpAxis::Y;
+    Some(scene)
 }
 
 /// Triangulated surface of an axis-aligned box, `cells` quads along each axis per face.

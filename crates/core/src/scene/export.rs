@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{MeshSource, Scene};
+use super::{MeshSource, Scene, UpAxis};
 use crate::io::{
     FileError, SourceVertex, extension, read_text, source_vertex_list, write_mesh,
     write_obj_like_source,
@@ -16,7 +16,12 @@ use crate::io::{
 /// `path` (.obj or .glb), turned back to the mesh file's up axis ([`Scene::export_up`]). A
 /// rest-pose export is the source file's positions to float precision.
 pub fn write_deformed_mesh(path: &Path, scene: &Scene, welded: &[DVec3]) -> Result<(), FileError> {
-    let up = scene.export_up();
+    // glTF is Y-up by the format's rule; every other file in the mesh file's axes.
+    let up = if extension(path) == "glb" {
+        UpAxis::Y
+    } else {
+        scene.export_up()
+    };
     match &scene.mesh_source {
         MeshSource::File(source) if extension(path) == "obj" && extension(source) == "obj" => {
             write_obj_like_source(

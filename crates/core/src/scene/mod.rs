@@ -129,14 +129,12 @@ impl Scene {
         }
     }
 
-    /// The up axis files written from this scene use: the mesh file's for a scene made from a
-    /// file (a round trip is the identity), Y-up (the OBJ and glTF convention) for a generated
-    /// one.
+    /// The up axis files written from this scene use (OBJ meshes and cages, point caches,
+    /// points): the mesh file's, so that a round trip is the identity; for an embedded mesh,
+    /// the axis the scene declares for it (`mesh_up_axis`: generated demos declare Y, the OBJ
+    /// convention). glTF files are Y-up whatever this says (the format's rule).
     pub fn export_up(&self) -> UpAxis {
-        match self.mesh_source {
-            MeshSource::File(_) => self.mesh_up,
-            MeshSource::Embedded => UpAxis::Y,
-        }
+        self.mesh_up
     }
 
     /// h of leaf cage `index`: its own or the scene default.

@@ -1050,3 +1050,52 @@ fn glb_exports_keep_the_source_vertex_order_and_axes() {
     }
     assert_eq!(back.uvs().unwrap(), &uvs[..], "UVs and the seam kept");
 }
+
+/// One frame convention for written files (issue 26): an embedded mesh's files follow the axes
+/// the scene declares for it (`mesh_up_axis`), a demo declares Y-up, and GLB is Y-up whatever
+/// the scene says, also for a mesh read from a Z-up OBJ.
+#[test]
+fn written_meshes_follow_the_declared_axes_and_glb_is_always_y_up() {
+    let dir = scratch("declared-axes");
+    // A box taller along scene z than along x and y.
+    let mesh = box_mesh(
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 1.0, 3.0),
+        [1, 1, 1],
+    );
+    let mut scene = demo_scene("bar", 0.2).unwrap();
+    assert_eq!(scene.export_up(), UpAxis::Y, "demos declare Y-up");
+    scene.mesh = mesh.clone();
+    let welded = mesh.welded_positions().to_vec();
+    let tallest_axis = |path: &Path| {
+        let m = read_mesh(path).unwrap();
+        let (lo, hi) = m.bounds();
+        (hi - lo)
+            .to_array()
+            .iter()
+            .copied()
+            .enumerate()
+            .fold(
+                (0, 0.0),
+                |best, (k, e)| {
+                    if e > best.1 { (k, e) } else { best }
+                },
+            )
+            .0
+    };
+    for (up, obj_axis) in [(UpAxis::Z, 2), (UpAxis::Y, 1)] {
+        scene.mesh_up = up;
+        let obj = dir.join(format!("{}.obj", up.name()));
+        starcages_core::scene::write_deformed_mesh(&obj, &scene, &welded).unwrap();
+        // read_mesh reads the OBJ's numbers as they are: the tall side is the declared up.
+        assert_eq!(
+            tallest_axis(&obj),
+            obj_axis,
+            "OBJ of a scene declaring {up:?}"
+        );
+        let glb = dir.join(format!("{}.glb", up.name()));
+        starcages_core::scene::write_deformed_mesh(&glb, &scene, &welded).unwrap();
+        // read_mesh reads a GLB as it is too: Y-up whatever the scene declares.
+        assert_eq!(tallest_axis(&glb), 1, "GLB of a scene declaring {up:?}");
+    }
+}
