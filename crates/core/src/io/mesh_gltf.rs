@@ -26,11 +26,12 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         json_of(&bytes).and_then(|json| serde_json::from_slice::<serde_json::Value>(json).ok());
     check_container(path, &bytes, root.as_ref())?;
     if let Some(root) = &root {
+        check_required_extensions(path, root)?;
         check_primitive_references(path, root)?;
     }
     // The gltf crate's own validation indexes some arrays unchecked: a file that still trips it
     // is an error like any other, not a crash.
-    let parsed = std::panic::catch_unwind(|| gltf::Gltf::from_slice(&bytes)).map_err(|_| {
+    let parsed = std::panic::catch_unwind(|| parse_validated(&bytes)).map_err(|_| {
         FileError::format(
             path,
             format!("not a readable {kind} file (its structure is inconsistent); re-export it"),
@@ -39,7 +40,13 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
     let gltf =
         parsed.map_err(|e| FileError::format(path, format!("not a readable {kind} file ({e})")))?;
     let buffers = load_buffers(path, &gltf)?;
-    let mut out = Accumulator::default();
+    let mut out = Accumulator {
+        quantized: gltf
+            .extensions_used()
+            .chain(gltf.extensions_required())
+            .any(|e| e == QUANTIZATION),
+        ..Accumulator::default()
+    };
     let scenes: Vec<gltf::Scene> = match gltf.default_scene() {
         Some(scene) => vec![scene],
         None => gltf.scenes().collect(),
@@ -68,6 +75,7 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         all_normals,
         all_uvs,
         parts,
+        ..
     } = out;
     super::mesh_from_file(
         path,
@@ -426,6 +434,113 @@ struct Accumulator {
     all_uvs: bool,
     /// Each primitive (instance) read, in order.
     parts: Vec<crate::mesh::MeshPart>,
+    /// The file uses KHR_mesh_quantization: vertex attributes may be integers.
+    quantized: bool,
+}
+
+/// A file that requires an extension this reader does not handle (Draco or meshopt
+/// compression, …) is refused naming it and saying how to export without it.
+fn check_required_extensions(path: &Path, root: &serde_json::Value) -> Result<(), FileError> {
+    let required = root
+        .get("extensionsRequired")
+        .and_then(serde_json::Value::as_array);
+    let unread: Vec<&str> = required
+        .into_iter()
+        .flatten()
+        .filter_map(serde_json::Value::as_str)
+        .filter(|&e| e != QUANTIZATION)
+        .collect();
+    if unread.is_empty() {
+        return Ok(());
+    }
+    Err(FileError::format(
+        path,
+        format!(
+            "the file requires the glTF extension(s) {}, which StarCages does not read yet \
+             (of the required extensions it reads {QUANTIZATION}); export without them \
+             (gltfpack: leave out -cc; Blender: turn off mesh compression)",
+            unread.join(", ")
+        ),
+    ))
+}
+
+/// The extension that lets vertex attributes be 8- or 16-bit integers (gltfpack's default
+/// output, which game and web pipelines ship); the node transforms dequantise them.
+const QUANTIZATION: &str = "KHR_mesh_quantization";
+
+/// The document parsed and validated as the `gltf` crate does, except that requiring
+/// [`QUANTIZATION`], which this reader handles itself, is not an error.
+fn parse_validated(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
+    use gltf::json::validation::{Error, Validate};
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes)?;
+    let root = gltf.document.as_json();
+    let mut errors = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| {
+        errors.push((path(), error));
+    });
+    let handled = format!("= \"{QUANTIZATION}\"");
+    errors.retain(|(path, error)| {
+        !(matches!(error, Error::Unsupported)
+            && path.as_str().starts_with("extensionsRequired")
+            && path.as_str().ends_with(&handled))
+    });
+    if errors.is_empty() {
+        Ok(gltf)
+    } else {
+        Err(gltf::Error::Validation(errors))
+    }
+}
+
+/// The `N`-component elements of an accessor that [`check_accessor`] passed, as f64: floats as
+/// they are, integers as they are or, where the accessor is normalised, mapped to [0, 1]
+/// (unsigned) or [−1, 1] (signed) as the glTF specification says; `normalized` also where the
+/// core specification requires it without saying so (8- and 16-bit texture coordinates).
+fn read_elements<const N: usize>(
+    accessor: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+    normalized: bool,
+) -> Vec<[f64; N]> {
+    use gltf::accessor::DataType as T;
+    let Some(view) = accessor.view() else {
+        return Vec::new();
+    };
+    let Some(buffer) = buffers.get(view.buffer().index()) else {
+        return Vec::new();
+    };
+    let size = accessor.data_type().size();
+    let stride = view.stride().unwrap_or(size * N);
+    let start = view.offset() + accessor.offset();
+    let normalized = normalized || accessor.normalized();
+    let component = |at: usize| -> f64 {
+        let bytes = buffer.get(at..at + size).unwrap_or(&[0; 4][..size]);
+        match accessor.data_type() {
+            T::F32 => f64::from(f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])),
+            T::I8 => {
+                let v = f64::from(bytes[0] as i8);
+                if normalized { (v / 127.0).max(-1.0) } else { v }
+            }
+            T::U8 => {
+                let v = f64::from(bytes[0]);
+                if normalized { v / 255.0 } else { v }
+            }
+            T::I16 => {
+                let v = f64::from(i16::from_le_bytes([bytes[0], bytes[1]]));
+                if normalized {
+                    (v / 32767.0).max(-1.0)
+                } else {
+                    v
+                }
+            }
+            T::U16 => {
+                let v = f64::from(u16::from_le_bytes([bytes[0], bytes[1]]));
+                if normalized { v / 65535.0 } else { v }
+            }
+            T::U32 => f64::from(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])),
+        }
+    };
+    (0..accessor.count())
+        .map(|k| std::array::from_fn(|c| component(start + k * stride + c * size)))
+        .collect()
 }
 
 /// Most node instances a file may expand to (a node graph that shares subtrees can describe
@@ -524,21 +639,36 @@ fn add_node_mesh(
                     ),
                 )
             })?;
-            let count = check_accessor(
-                path,
-                &position,
-                buffers,
-                &[(T::F32, D::Vec3)],
-                &what("POSITION"),
-            )?;
-            if let Some(normal) = primitive.get(&Semantic::Normals) {
-                let n = check_accessor(
-                    path,
-                    &normal,
-                    buffers,
+            // KHR_mesh_quantization allows 8- and 16-bit integer attributes.
+            let (position_kinds, normal_kinds, uv_kinds): (&[_], &[_], &[_]) = if out.quantized {
+                (
+                    &[
+                        (T::F32, D::Vec3),
+                        (T::I8, D::Vec3),
+                        (T::U8, D::Vec3),
+                        (T::I16, D::Vec3),
+                        (T::U16, D::Vec3),
+                    ],
+                    &[(T::F32, D::Vec3), (T::I8, D::Vec3), (T::I16, D::Vec3)],
+                    &[
+                        (T::F32, D::Vec2),
+                        (T::I8, D::Vec2),
+                        (T::U8, D::Vec2),
+                        (T::I16, D::Vec2),
+                        (T::U16, D::Vec2),
+                    ],
+                )
+            } else {
+                (
                     &[(T::F32, D::Vec3)],
-                    &what("NORMAL"),
-                )?;
+                    &[(T::F32, D::Vec3)],
+                    &[(T::F32, D::Vec2), (T::U8, D::Vec2), (T::U16, D::Vec2)],
+                )
+            };
+            let count =
+                check_accessor(path, &position, buffers, position_kinds, &what("POSITION"))?;
+            if let Some(normal) = primitive.get(&Semantic::Normals) {
+                let n = check_accessor(path, &normal, buffers, normal_kinds, &what("NORMAL"))?;
                 if n != count {
                     return Err(FileError::format(
                         path,
@@ -550,8 +680,7 @@ fn add_node_mesh(
                 }
             }
             if let Some(uv) = primitive.get(&Semantic::TexCoords(0)) {
-                let kinds = [(T::F32, D::Vec2), (T::U8, D::Vec2), (T::U16, D::Vec2)];
-                let n = check_accessor(path, &uv, buffers, &kinds, &what("TEXCOORD_0"))?;
+                let n = check_accessor(path, &uv, buffers, uv_kinds, &what("TEXCOORD_0"))?;
                 if n != count {
                     return Err(FileError::format(
                         path,
@@ -567,30 +696,39 @@ fn add_node_mesh(
                 check_accessor(path, &indices, buffers, &kinds, &what("indices"))?;
             }
             let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-            let Some(positions) = reader.read_positions() else {
-                return Err(FileError::format(
-                    path,
-                    format!("{} cannot be read", what("POSITION")),
-                ));
-            };
+            let positions = read_elements::<3>(&position, buffers, false);
             let first = out.positions.len();
             if first == 0 && out.triangles.is_empty() {
                 out.all_normals = true;
                 out.all_uvs = true;
             }
-            out.positions
-                .extend(positions.map(|p| affine.transform_point3(DVec3::from(p.map(f64::from)))));
+            out.positions.extend(
+                positions
+                    .iter()
+                    .map(|&p| affine.transform_point3(DVec3::from(p))),
+            );
             let count = out.positions.len() - first;
-            match reader.read_normals() {
-                Some(normals) => out.normals.extend(normals.map(|n| {
-                    (normal_matrix * DVec3::from(n.map(f64::from)))
-                        .normalize_or_zero()
-                        .as_vec3()
-                })),
+            match primitive.get(&Semantic::Normals) {
+                Some(normals) => {
+                    out.normals
+                        .extend(
+                            read_elements::<3>(&normals, buffers, false)
+                                .iter()
+                                .map(|&n| {
+                                    (normal_matrix * DVec3::from(n))
+                                        .normalize_or_zero()
+                                        .as_vec3()
+                                }),
+                        )
+                }
                 None => out.all_normals = false,
             }
-            match reader.read_tex_coords(0) {
-                Some(uvs) => out.uvs.extend(uvs.into_f32().map(Vec2::from)),
+            match primitive.get(&Semantic::TexCoords(0)) {
+                Some(uvs) => out.uvs.extend(
+                    read_elements::<2>(&uvs, buffers, !out.quantized)
+                        .iter()
+                        .map(|&[u, v]| Vec2::new(u as f32, v as f32)),
+                ),
                 None => out.all_uvs = false,
             }
             let base = first as u32;

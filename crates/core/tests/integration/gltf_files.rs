@@ -297,3 +297,79 @@ fn primitives_come_back_as_primitives_in_order() {
         assert_eq!(document["accessors"][position]["count"], 3);
     }
 }
+
+/// gltfpack's default output (KHR_mesh_quantization): 16-bit integer positions dequantised by
+/// the node's scale and offset, 8-bit normalised normals. It reads as the float triangle does;
+/// integer positions without the extension are refused.
+#[test]
+fn quantized_attributes_read_as_their_float_values() {
+    let dir = scratch("quantized");
+    // Positions (u16, not normalised): (0,0,0), (65535,0,0), (0,65535,0), 2 bytes of padding;
+    // normals (i8, normalised): (0,0,127) three times, 1 byte of padding each (stride 4);
+    // indices (u32).
+    let mut bytes: Vec<u8> = [0u16, 0, 0, 65535, 0, 0, 0, 65535, 0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    bytes.extend([0, 0]);
+    for _ in 0..3 {
+        bytes.extend([0u8, 0, 127, 0]);
+    }
+    bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    let json = |extensions: &str| {
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},{extensions}"scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[{{"mesh":0,"scale":[{s},{s},{s}],"translation":[2,0,0]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5123,"count":3,"type":"VEC3","min":[0,0,0],"max":[65535,65535,0]}},
+{{"bufferView":1,"componentType":5120,"normalized":true,"count":3,"type":"VEC3"}},
+{{"bufferView":2,"componentType":5125,"count":3,"type":"SCALAR"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":18}},{{"buffer":0,"byteOffset":20,"byteLength":12,"byteStride":4}},
+{{"buffer":0,"byteOffset":32,"byteLength":12}}],
+"buffers":[{{"uri":"{uri}","byteLength":{}}}]}}"#,
+            bytes.len(),
+            s = 1.0 / 65535.0
+        )
+    };
+    let quantized = dir.join("quantized.gltf");
+    std::fs::write(
+        &quantized,
+        json(r#""extensionsUsed":["KHR_mesh_quantization"],"extensionsRequired":["KHR_mesh_quantization"],"#),
+    )
+    .unwrap();
+    let mesh = read_mesh(&quantized).unwrap();
+    let expected = [[2.0, 0.0, 0.0], [3.0, 0.0, 0.0], [2.0, 1.0, 0.0]];
+    for (p, e) in mesh.positions().iter().zip(expected) {
+        assert!(
+            (p.to_array().iter().zip(e).map(|(a, b)| (a - b).abs())).all(|d| d < 1e-9),
+            "{p}"
+        );
+    }
+    for n in mesh.normals().unwrap() {
+        assert!((n.z - 1.0).abs() < 1e-6 && n.x == 0.0 && n.y == 0.0, "{n}");
+    }
+    // Without the extension, integer positions are not glTF: refused naming the accessor.
+    let plain = dir.join("plain.gltf");
+    std::fs::write(&plain, json("")).unwrap();
+    let error = read_mesh(&plain).unwrap_err().to_string();
+    assert!(
+        error.contains("POSITION") && error.contains("accessor 0"),
+        "{error}"
+    );
+    // An extension this reader does not handle is named, with the way out.
+    let meshopt = dir.join("meshopt.gltf");
+    std::fs::write(
+        &meshopt,
+        json(r#""extensionsRequired":["KHR_mesh_quantization","EXT_meshopt_compression"],"#),
+    )
+    .unwrap();
+    let error = read_mesh(&meshopt).unwrap_err().to_string();
+    assert!(
+        error.contains("EXT_meshopt_compression") && error.contains("export without"),
+        "{error}"
+    );
+}
