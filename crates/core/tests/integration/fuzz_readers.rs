@@ -166,7 +166,7 @@ fn valid_gltf() -> Value {
 }
 
 /// Extreme and awkward replacements for a number.
-const NUMBERS: [f64; 10] = [
+const NUMBERS: [f64; 13] = [
     0.0,
     -1.0,
     1.0,
@@ -177,6 +177,9 @@ const NUMBERS: [f64; 10] = [
     1e300,
     5126.0,
     5121.0,
+    5120.0,
+    5122.0,
+    5123.0,
 ];
 /// Replacements for a string (glTF type and semantic names, URIs).
 const STRINGS: [&str; 7] = [
@@ -229,9 +232,15 @@ proptest! {
     fn gltf_and_glb_readers_never_panic(
         mutations in prop::collection::vec((0usize..200, any::<u8>(), any::<u8>()), 1..5),
         cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..4),
+        quantized in any::<bool>(),
     ) {
         let dir = scratch();
         let mut document = valid_gltf();
+        if quantized {
+            // KHR_mesh_quantization: integer component types become legal attributes.
+            document["extensionsUsed"] = serde_json::json!(["KHR_mesh_quantization"]);
+            document["extensionsRequired"] = serde_json::json!(["KHR_mesh_quantization"]);
+        }
         for (at, a, b) in mutations {
             let mut n = at;
             mutate(&mut document, &mut n, (a, b));
