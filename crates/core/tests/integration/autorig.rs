@@ -290,3 +290,41 @@ fn bad_settings_and_flat_meshes_are_refused_with_the_reason() {
         .to_string();
     assert!(e.contains("no volume"), "{e}");
 }
+
+/// Two legs joined below the body (a bar between the knees) are one connected limb region;
+/// each leg still gets a limb of its own (and so its own internal cage), the bar following one.
+#[test]
+fn legs_joined_below_the_body_are_limbs_of_their_own() {
+    let mesh = capsules(
+        &[
+            (v(-0.6, 0.0, 1.4), v(0.6, 0.0, 1.4), 0.5),
+            (v(-0.6, 0.0, 1.0), v(-0.6, 0.0, -1.6), 0.16),
+            (v(0.6, 0.0, 1.0), v(0.6, 0.0, -1.6), 0.16),
+            (v(-0.6, 0.0, -0.4), v(0.6, 0.0, -0.4), 0.12),
+        ],
+        0.04,
+    );
+    let settings = AutorigSettings {
+        internal: true,
+        ..AutorigSettings::default()
+    };
+    let scene = scene(&mesh, rig(&mesh, &settings));
+    assert!(validate_scene(&scene).is_valid());
+    let names: Vec<&str> = scene.cages.leaves.iter().map(|l| l.name.as_str()).collect();
+    // Root segments: one per leg, each of its own limb (no "limbL_1b").
+    let roots: Vec<&&str> = names
+        .iter()
+        .filter(|n| n.starts_with("limb") && n.contains("_1"))
+        .collect();
+    assert!(
+        roots.len() >= 2 && roots.iter().all(|n| n.ends_with("_1")),
+        "{names:?}"
+    );
+    let limb_boxes = scene
+        .cages
+        .internals
+        .iter()
+        .filter(|c| c.name.starts_with("limb"))
+        .count();
+    assert!(limb_boxes >= 2, "{limb_boxes} limb boxes: {names:?}");
+}

@@ -232,6 +232,7 @@ pub fn autorig(
     // Repairs move cells between parts, which may leave a part two pieces again.
     merges += repair::make_manifold(&grid, &mut parts);
     merges += pieces::merge_inseparable_pieces(&grid, &mut parts, mesh);
+    parts::one_limb_per_root(&grid, &mut parts);
     control.advance();
     check()?;
     // Build, validate, merge what a problem names, again.

@@ -276,6 +276,74 @@ fn merge_small_parts(grid: &Grid, parts: &mut Parts) {
     }
 }
 
+/// Gives each root segment of a limb its own limb, with the segments that grow from it: where
+/// the solid joins two limbs outside the body (legs touching at the crotch, an arm resting on
+/// a thigh), their cells form one limb whose segments split into pieces, and one internal cage
+/// would drive both. Each later segment follows the earlier neighbour it shares most faces
+/// with, so a hand's fingers stay in the hand's limb. Only roles change.
+pub(super) fn one_limb_per_root(grid: &Grid, parts: &mut Parts) {
+    let count = parts.roles.len();
+    let mut next_limb = parts
+        .roles
+        .iter()
+        .filter_map(|r| match r {
+            Role::Limb { limb, .. } => Some(limb + 1),
+            Role::Body { .. } => None,
+        })
+        .max()
+        .unwrap_or(0);
+    // Limb parts by (limb, segment), in label order.
+    let mut by_limb: BTreeMap<usize, BTreeMap<usize, Vec<u32>>> = BTreeMap::new();
+    for (p, role) in parts.roles.iter().enumerate() {
+        if let Role::Limb { limb, segment } = *role {
+            by_limb
+                .entry(limb)
+                .or_default()
+                .entry(segment)
+                .or_default()
+                .push(p as u32);
+        }
+    }
+    let mut new_limb: Vec<Option<usize>> = vec![None; count];
+    for (limb, segments) in &by_limb {
+        let Some(first) = segments.keys().next().copied() else {
+            continue;
+        };
+        // The first root keeps the limb's number; each other root starts a new limb.
+        for (k, &p) in segments[&first].iter().enumerate() {
+            new_limb[p as usize] = Some(if k == 0 {
+                *limb
+            } else {
+                next_limb += 1;
+                next_limb - 1
+            });
+        }
+        for (&segment, list) in segments.range(first + 1..) {
+            for &p in list {
+                let contacts = contacts_of(grid, &parts.label, p);
+                let parent = contacts
+                    .iter()
+                    .filter(|(q, _)| {
+                        matches!(parts.roles[**q as usize], Role::Limb { limb: l, segment: s }
+                            if l == *limb && s < segment)
+                            && new_limb[**q as usize].is_some()
+                    })
+                    .max_by_key(|(q, n)| (**n, Reverse(**q)));
+                new_limb[p as usize] = Some(
+                    parent
+                        .and_then(|(q, _)| new_limb[*q as usize])
+                        .unwrap_or(*limb),
+                );
+            }
+        }
+    }
+    for (p, role) in parts.roles.iter_mut().enumerate() {
+        if let (Role::Limb { limb, .. }, Some(l)) = (role, new_limb[p]) {
+            *limb = l;
+        }
+    }
+}
+
 /// Faces part `p` shares with each other part.
 pub(super) fn contacts_of(grid: &Grid, label: &[Option<u32>], p: u32) -> BTreeMap<u32, usize> {
     let mut contacts = BTreeMap::new();
