@@ -153,17 +153,10 @@ impl JoinWeights {
         };
         out.row_start.push(0);
         let copy = |out: &mut Self, from: &JoinWeights, range: std::ops::Range<usize>| {
-            let (a, b) = (
-                from.row_start[range.start] as usize,
-                from.row_start[range.end] as usize,
-            );
-            let (base, first) = (out.vertex.len() as u32, from.row_start[range.start]);
-            out.vertex.extend_from_slice(&from.vertex[a..b]);
-            out.weight.extend_from_slice(&from.weight[a..b]);
-            out.row_start.extend(
-                from.row_start[range.start + 1..=range.end]
-                    .iter()
-                    .map(|&s| s - first + base),
+            operator::append_csr_rows(
+                (&mut out.row_start, &mut out.vertex, &mut out.weight),
+                (&from.row_start, &from.vertex, &from.weight),
+                range,
             );
         };
         let mut kept_from = 0;

@@ -66,28 +66,38 @@ struct Csr {
 }
 
 impl Csr {
-    /// Appends the rows `range` of `from` unchanged: one slice copy each for columns, values
-    /// and offsets, the row starts shifted.
+    /// Appends the rows `range` of `from` unchanged, with their rest offsets.
     fn copy_rows(&mut self, from: &StarOperator, range: std::ops::Range<usize>) {
-        if range.is_empty() {
-            return;
-        }
-        let (a, b) = (
-            from.row_start[range.start] as usize,
-            from.row_start[range.end] as usize,
+        append_csr_rows(
+            (&mut self.row_start, &mut self.columns, &mut self.values),
+            (&from.row_start, &from.columns, &from.values),
+            range.clone(),
         );
-        let base = self.columns.len() as u32;
-        let first = from.row_start[range.start];
-        self.columns.extend_from_slice(&from.columns[a..b]);
-        self.values.extend_from_slice(&from.values[a..b]);
-        self.row_start.extend(
-            from.row_start[range.start + 1..=range.end]
-                .iter()
-                .map(|&s| s - first + base),
-        );
-        self.rest_offset
-            .extend_from_slice(&from.rest_offset[range.clone()]);
+        self.rest_offset.extend_from_slice(&from.rest_offset[range]);
     }
+}
+
+/// Appends the rows `range` of one CSR list (row starts over two parallel arrays) to another:
+/// one slice copy per array, the row starts shifted. Splices of the operator and of the join
+/// weights are made of these.
+pub(super) fn append_csr_rows<A: Copy, B: Copy>(
+    (start, a, b): (&mut Vec<u32>, &mut Vec<A>, &mut Vec<B>),
+    (from_start, from_a, from_b): (&[u32], &[A], &[B]),
+    range: std::ops::Range<usize>,
+) {
+    if range.is_empty() {
+        return;
+    }
+    let first = from_start[range.start];
+    let (lo, hi) = (first as usize, from_start[range.end] as usize);
+    let base = a.len() as u32;
+    a.extend_from_slice(&from_a[lo..hi]);
+    b.extend_from_slice(&from_b[lo..hi]);
+    start.extend(
+        from_start[range.start + 1..=range.end]
+            .iter()
+            .map(|&s| s - first + base),
+    );
 }
 
 impl StarOperator {

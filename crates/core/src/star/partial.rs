@@ -121,14 +121,19 @@ impl StarBinding {
         // Green columns: keep ours, append the part's new triangles.
         let vertex_count = scene.cages.vertices.len() as u32;
         let mut triangles = self.operator.green_dofs().triangles().to_vec();
+        // Our triangles by corners, so each of the part's is matched in log time (a scan per
+        // triangle was quadratic in a Green rig's faces).
+        let mut index_of = std::collections::BTreeMap::new();
+        for (i, t) in triangles.iter().enumerate() {
+            index_of.entry(*t).or_insert(i);
+        }
         let column_of: Vec<u32> = part
             .operator
             .green_dofs()
             .triangles()
             .iter()
             .map(|t| {
-                let existing = triangles.iter().position(|u| u == t);
-                let index = existing.unwrap_or_else(|| {
+                let index = *index_of.entry(*t).or_insert_with(|| {
                     triangles.push(*t);
                     triangles.len() - 1
                 });
