@@ -54,7 +54,7 @@ struct Term {
     v: u32,
     /// Index of Ω(v, ·) in the plan's `omega_joins`.
     omega: usize,
-    /// Per interior neighbour u of v: index of Ω(u, ·) and Ω(u, v), by index.
+    /// Per interior neighbour u of v: index of Ω(u, ·) and Ω(u, v), sorted by that index.
     interior_neighbours: Vec<(usize, f64)>,
     /// The table group of T_{jc(v)} (none where no point of the cage needed it).
     group: Option<usize>,

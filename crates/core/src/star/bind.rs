@@ -246,9 +246,9 @@ fn bind_rows_by(
     let mut all_points = points.to_vec();
     all_points.extend_from_slice(&set.vertices);
     let used_boundary: BTreeSet<u32> = need_transform.keys().copied().collect();
+    check_omega_work(topology, set, &need_omega, &used_boundary)?;
     // Whether v lies in jc(u), once per join cage: interior vertices over the same leaf cages
     // (a subdivided shared face holds thousands) have the same join cage.
-    check_omega_work(topology, set, &need_omega, &used_boundary)?;
     let mut within: BTreeMap<(&[usize], u32), bool> = BTreeMap::new();
     for &v in &used_boundary {
         // Ω(u, v) is read only for boundary vertices of the points' cages.

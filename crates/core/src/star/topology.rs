@@ -207,10 +207,9 @@ impl Topology {
         // Interior vertices by leaf cage, then their union per set of incident cages.
         let mut interior_in_cage: Vec<Vec<u32>> = vec![Vec::new(); n];
         for join in joins.values().filter(|j| j.interior) {
-            for (c, vertices) in cage_vertices.iter().enumerate() {
-                if vertices.contains(&join.vertex) {
-                    interior_in_cage[c].push(join.vertex);
-                }
+            // A join cage's cages are those holding its vertex.
+            for &c in &join.cages {
+                interior_in_cage[c].push(join.vertex);
             }
         }
         let mut near_of_cages: BTreeMap<&[usize], Arc<[u32]>> = BTreeMap::new();
