@@ -47,7 +47,7 @@ fn solve_field(
     settings: &HarmonicSettings,
     control: &BindControl,
 ) -> Result<HarmonicField, CoordError> {
-    let grid = CageGrid::build(cage, settings.resolution, &[]);
+    let grid = CageGrid::build(cage, settings.resolution);
     control.check()?;
     let unknown: Vec<bool> = grid.roles.iter().map(|r| *r == NodeRole::Unknown).collect();
     // Gibou et al. 2002: a neighbour across the cage at θh is replaced by the ghost value
@@ -67,13 +67,7 @@ fn solve_field(
     }
     let hierarchy = Hierarchy::new(grid.dims, &unknown, &diagonal);
     let triangles = cage.triangles();
-    let hat_at = |value: &super::grid::BoundaryValue, vertex: usize| -> f64 {
-        let tri = triangles[value.triangle as usize];
-        (0..3)
-            .filter(|&k| tri[k] as usize == vertex)
-            .map(|k| value.bary[k])
-            .sum()
-    };
+    let hat_at = |value: &super::grid::BoundaryValue, vertex: usize| value.hat(triangles, vertex);
     let links: Vec<(usize, f64, &super::grid::BoundaryValue)> = grid
         .interfaces
         .iter()

@@ -26,6 +26,18 @@ pub(super) struct BoundaryValue {
     pub bary: [f64; 3],
 }
 
+impl BoundaryValue {
+    /// The hat function of cage vertex `vertex` here: its barycentric weight in the closest
+    /// triangle (of `triangles`, the cage's), 0 where the triangle does not use it.
+    pub fn hat(&self, triangles: &[[u32; 3]], vertex: usize) -> f64 {
+        let tri = triangles[self.triangle as usize];
+        (0..3)
+            .filter(|&k| tri[k] as usize == vertex)
+            .map(|k| self.bary[k])
+            .sum()
+    }
+}
+
 /// A cage's grid: geometry and node roles.
 #[derive(Debug, Clone)]
 pub(super) struct CageGrid {
@@ -59,8 +71,7 @@ impl CageGrid {
     /// cells, centred on the cage's bounding box: a cage turned by a multiple of 90° or
     /// mirrored about its box's centre gets the same grid turned or mirrored, so congruent
     /// join cages can share one solve (`star::bind`).
-    /// `extra_corners` lists points whose cell corners must carry values (query points).
-    pub fn build(cage: &Cage, resolution: u32, extra_points: &[DVec3]) -> Self {
+    pub fn build(cage: &Cage, resolution: u32) -> Self {
         let (lo, hi) = cage.bounds();
         let extent = hi - lo;
         let spacing = extent.max_element() / resolution.max(2) as f64;
@@ -86,8 +97,8 @@ impl CageGrid {
             }
         }
         grid.unknown_count = inside.iter().filter(|&&b| b).count();
-        // Dirichlet band: non-inside nodes in the 26-neighbourhood of an inside node, and the
-        // corners of every query point's cell.
+        // Dirichlet band: non-inside nodes in the 26-neighbourhood of an inside node (query
+        // points' cell corners outside it are evaluated by the bind).
         let mut band = vec![false; inside.len()];
         let d = dims.as_ivec3();
         for k in 0..d.z {
@@ -106,13 +117,6 @@ impl CageGrid {
                         }
                     }
                 }
-            }
-        }
-        for &p in extra_points {
-            let (cell, _) = grid.cell_of(p);
-            for c in 0..8u32 {
-                let n = grid.index(cell.x + (c & 1), cell.y + ((c >> 1) & 1), cell.z + (c >> 2));
-                band[n] |= !inside[n];
             }
         }
         let band_nodes: Vec<usize> = (0..band.len()).filter(|&n| band[n]).collect();

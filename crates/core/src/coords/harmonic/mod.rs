@@ -160,13 +160,7 @@ pub(crate) fn harmonic_bind(
     let grid = &field.grid;
     control.check()?;
     let triangles = cage.triangles();
-    let hat_at = |value: &grid::BoundaryValue, vertex: usize| -> f64 {
-        let tri = triangles[value.triangle as usize];
-        (0..3)
-            .filter(|&k| tri[k] as usize == vertex)
-            .map(|k| value.bary[k])
-            .sum()
-    };
+    let hat_at = |value: &grid::BoundaryValue, vertex: usize| value.hat(triangles, vertex);
     // Corners of the points' cells outside the field's band (far out in a cell the cage
     // crosses) carry the hat functions at their closest cage point too.
     let mut far_corners: Vec<usize> = points
