@@ -7,6 +7,9 @@ use std::collections::HashMap;
 use glam::{DVec3, Vec2, Vec3};
 use thiserror::Error;
 
+mod subdivide;
+pub use subdivide::MAX_SEGMENTS as MAX_SUBDIVISION_SEGMENTS;
+
 /// Why vertex and triangle arrays are not a mesh.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum MeshError {

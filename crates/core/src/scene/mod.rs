@@ -33,6 +33,7 @@ pub use file::{
 };
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
+pub(crate) use settings::product_of;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;

@@ -37,29 +37,97 @@ impl Smoothing {
     }
 }
 
+impl Smoothing {
+    /// f_1(x) of every x in place (h = 1, as Ω's factors in eqs. 6 and 8 use it): the same
+    /// values as [`Smoothing::eval`], computed without branches so the loop runs in SIMD lanes
+    /// (the factors of Ω are most of a bind's row assembly).
+    pub fn eval_unit_in_place(self, xs: &mut [f64]) {
+        // Each kind's loop separately: the match stays outside the lanes.
+        fn each(xs: &mut [f64], f: impl Fn(f64) -> f64) {
+            for x in xs {
+                let t = x.clamp(0.0, 1.0);
+                let y = f(t);
+                *x = if *x <= 0.0 {
+                    0.0
+                } else if *x >= 1.0 {
+                    1.0
+                } else {
+                    y
+                };
+            }
+        }
+        match self {
+            Self::Sine => {
+                // Four at a time in `wide` lanes (the compiler kept the scalar loop scalar),
+                // with the same operations in the same order as `eval`: the same values.
+                use wide::f64x4;
+                let (zero, one, half) = (f64x4::ZERO, f64x4::ONE, f64x4::splat(0.5));
+                let mut chunks = xs.chunks_exact_mut(4);
+                for c in &mut chunks {
+                    let x = f64x4::from([c[0], c[1], c[2], c[3]]);
+                    let t = x.fast_max(zero).fast_min(one);
+                    let u = f64x4::splat(std::f64::consts::PI) * (t - half);
+                    let u2 = u * u;
+                    let series = SINE_COEFFICIENTS
+                        .iter()
+                        .fold(zero, |acc, &k| acc * u2 + f64x4::splat(k));
+                    let sine = (u * (series * u2 + one)).fast_max(-one).fast_min(one);
+                    let y = half * sine + half;
+                    let select = <f64x4 as wide::Select<f64x4>>::select;
+                    let y = select(x.simd_le(zero), zero, y);
+                    let y = select(x.simd_ge(one), one, y);
+                    // NaN stays NaN, as in `eval`.
+                    let y = select(x.simd_ne(x), x, y);
+                    c.copy_from_slice(&y.to_array());
+                }
+                each(chunks.into_remainder(), |t| {
+                    0.5 * sin_within_half_turn(std::f64::consts::PI * (t - 0.5)) + 0.5
+                });
+            }
+            Self::Cubic => each(xs, |t| t * t * (3.0 - 2.0 * t)),
+            Self::Quintic => each(xs, |t| t * t * (7.0 + t * (-18.0 + t * (20.0 - 8.0 * t)))),
+        }
+    }
+}
+
+/// The product of `xs` in four independent running products (the one chain of
+/// multiplications, each waiting on the last, was the bound).
+pub(crate) fn product_of(xs: &[f64]) -> f64 {
+    let mut lanes = [1.0; 4];
+    let mut chunks = xs.chunks_exact(4);
+    for c in &mut chunks {
+        for (lane, &x) in lanes.iter_mut().zip(c) {
+            *lane *= x;
+        }
+    }
+    let rest: f64 = chunks.remainder().iter().product();
+    (lanes[0] * lanes[1]) * (lanes[2] * lanes[3]) * rest
+}
+
 /// sin x for |x| ≤ π/2 by its Taylor series through x²¹ (the first term left out is below
 /// 2e-18 there): f_h is evaluated for every far face of every join cage at every point of a
 /// bind, where libm's sin, with its range reduction, was a fifth of the bind's time.
 fn sin_within_half_turn(x: f64) -> f64 {
-    // (−1)^k / (2k + 1)!, k = 10 … 1, in Horner order over x².
-    const COEFFICIENTS: [f64; 10] = [
-        1.0 / 51_090_942_171_709_440_000.0,
-        -1.0 / 121_645_100_408_832_000.0,
-        1.0 / 355_687_428_096_000.0,
-        -1.0 / 1_307_674_368_000.0,
-        1.0 / 6_227_020_800.0,
-        -1.0 / 39_916_800.0,
-        1.0 / 362_880.0,
-        -1.0 / 5_040.0,
-        1.0 / 120.0,
-        -1.0 / 6.0,
-    ];
     let x2 = x * x;
     // Plain multiply-adds: `mul_add` is a libm call where the build does not target FMA.
-    let series = COEFFICIENTS.iter().fold(0.0, |acc, &c| acc * x2 + c);
+    let series = SINE_COEFFICIENTS.iter().fold(0.0, |acc, &c| acc * x2 + c);
     // Rounding may pass ±1 by an ulp near ±π/2; f_h must stay within [0, 1].
     (x * (series * x2 + 1.0)).clamp(-1.0, 1.0)
 }
+
+/// (−1)^k / (2k + 1)!, k = 10 … 1, in Horner order over x²: sin x = x (1 + x² series).
+const SINE_COEFFICIENTS: [f64; 10] = [
+    1.0 / 51_090_942_171_709_440_000.0,
+    -1.0 / 121_645_100_408_832_000.0,
+    1.0 / 355_687_428_096_000.0,
+    -1.0 / 1_307_674_368_000.0,
+    1.0 / 6_227_020_800.0,
+    -1.0 / 39_916_800.0,
+    1.0 / 362_880.0,
+    -1.0 / 5_040.0,
+    1.0 / 120.0,
+    -1.0 / 6.0,
+];
 
 /// Coordinates used for join cages (section 3.1; Fig. 10).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -142,6 +210,38 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The in-place batch gives `eval`'s values bit for bit (lanes and the scalar remainder),
+    /// at the clamps, just inside them, and NaN.
+    #[test]
+    fn the_batch_of_factors_is_eval_bit_for_bit() {
+        let mut xs: Vec<f64> = (0..=4001)
+            .map(|k| -0.25 + 1.5 * k as f64 / 4001.0)
+            .collect();
+        xs.extend([
+            0.0,
+            -0.0,
+            1.0,
+            1e-300,
+            1.0 - f64::EPSILON,
+            f64::NAN,
+            2.0,
+            -3.0,
+        ]);
+        for smoothing in [Smoothing::Sine, Smoothing::Cubic, Smoothing::Quintic] {
+            let mut batch = xs.clone();
+            smoothing.eval_unit_in_place(&mut batch);
+            for (&x, &y) in xs.iter().zip(&batch) {
+                let expected = smoothing.eval(x, 1.0);
+                assert!(
+                    y.to_bits() == expected.to_bits() || (y.is_nan() && expected.is_nan()),
+                    "{smoothing:?} at {x}: {y} against {expected}"
+                );
+            }
+        }
+        assert_eq!(product_of(&[2.0, 3.0, 0.5, 4.0, 5.0, 0.1]), 6.0);
+        assert_eq!(product_of(&[]), 1.0);
     }
 
     #[test]

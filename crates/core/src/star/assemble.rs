@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 use super::tables::{JoinData, Placement, Row, Table, merge};
 use super::topology::Topology;
-use crate::scene::{LocalCage, Smoothing};
+use crate::scene::{LocalCage, Smoothing, product_of};
 
 /// Where the entries of one coordinate table's row go in a cage's accumulator.
 struct Slots {
@@ -126,33 +126,35 @@ impl OmegaGroup<'_> {
         );
         for (slot, far) in &self.interior {
             // Ω(u, p) = Π_{t ∌ u} f(d(t, p) / d(t, u))   (eq. 6)
-            omega[*slot] = far
-                .iter()
-                .map(|&(t, inverse)| smoothing.eval(distance[t] * inverse, 1.0))
-                .product();
+            factor.clear();
+            factor.extend(far.iter().map(|&(t, inverse)| distance[t] * inverse));
+            smoothing.eval_unit_in_place(factor);
+            omega[*slot] = product_of(factor);
         }
         if self.members.is_empty() {
             return;
         }
         factor.clear();
+        factor.extend_from_slice(distance);
+        smoothing.eval_unit_in_place(factor);
         small.clear();
         let mut product = 1.0;
-        for (t, &d) in distance.iter().enumerate() {
-            let f = smoothing.eval(d, 1.0);
+        for (t, &f) in factor.iter().enumerate() {
             if f > SMALL_FACTOR {
                 product *= f;
             } else {
                 small.push((t, f));
             }
-            factor.push(f);
         }
         for (slot, incident) in &self.members {
-            let mut value = product;
+            // One division per member: the product of its incident factors first.
+            let mut divisor = 1.0;
             for &t in incident {
                 if factor[t] > SMALL_FACTOR {
-                    value /= factor[t];
+                    divisor *= factor[t];
                 }
             }
+            let mut value = product / divisor;
             for &(t, f) in small.iter() {
                 if !incident.contains(&t) {
                     value *= f;
@@ -420,7 +422,8 @@ fn assemble_row(inputs: &Inputs, scratch: &mut Scratch, i: usize) -> (Row, Vec<(
     // b T_{c_i}(p): T of eq. 2 (or Lipman et al.'s GC map), b of eq. 11 (b = 1 where the point
     // is far from every border).
     plan.leaf.add(acc, if weighs { b } else { 1.0 }, t);
-    let mut normalised = Vec::new();
+    // Sized once: growing these per point was a tenth of a large bind's time.
+    let mut normalised = Vec::with_capacity(if weighs { plan.terms.len() } else { 0 });
     if weighs {
         let total: f64 = weight.iter().sum();
         group_scale.clear();
@@ -453,13 +456,14 @@ fn assemble_row(inputs: &Inputs, scratch: &mut Scratch, i: usize) -> (Row, Vec<(
             }
         }
     }
-    let row = plan
-        .columns
-        .iter()
-        .zip(acc.iter())
-        .filter(|(_, x)| **x != 0.0)
-        .map(|(&col, &x)| (col, x))
-        .collect();
+    let mut row = Vec::with_capacity(acc.iter().filter(|x| **x != 0.0).count());
+    row.extend(
+        plan.columns
+            .iter()
+            .zip(acc.iter())
+            .filter(|(_, x)| **x != 0.0)
+            .map(|(&col, &x)| (col, x)),
+    );
     (row, normalised)
 }
 
@@ -475,7 +479,9 @@ fn joins_weigh(inputs: &Inputs, plan: &CagePlan, scratch: &mut Scratch, i: usize
             .interp
             .as_ref()
             .and_then(|t| t.get(i))
-            .map_or(0.0, |(w, _)| data.omega(w, smoothing));
+            .map_or(0.0, |(w, _)| {
+                data.omega_with(w, smoothing, &mut scratch.factor)
+            });
     }
     for group in &plan.omega_shared {
         if let Some((w, _)) = group.data.interp.as_ref().and_then(|t| t.get(i)) {

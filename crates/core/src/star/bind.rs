@@ -46,6 +46,14 @@ fn interpolating(kind: CoordinateKind) -> CoordinateKind {
     }
 }
 
+/// What the binds of one scene's chunks of points share: whether a cage vertex lies in a join
+/// cage (per join cage, by its leaf cages, then per vertex). The same for every chunk, and on
+/// a rig with subdivided borders a tenth of a chunk's time.
+#[derive(Default)]
+pub(crate) struct JoinMemo {
+    within: BTreeMap<Vec<usize>, BTreeMap<u32, bool>>,
+}
+
 /// Binds `points` placed by `placement` to the leaf cages of `set`.
 pub(crate) fn bind_rows(
     set: &CageSet,
@@ -54,6 +62,7 @@ pub(crate) fn bind_rows(
     points: &[DVec3],
     placement: &[Placement],
     control: &BindControl,
+    memo: &mut JoinMemo,
 ) -> Result<BoundRows, StarError> {
     bind_rows_by(
         set,
@@ -63,10 +72,12 @@ pub(crate) fn bind_rows(
         placement,
         control,
         Sharing::Shared,
+        memo,
     )
 }
 
 /// [`bind_rows`], assembling the rows with or without the terms copies of a join cage share.
+#[allow(clippy::too_many_arguments)]
 fn bind_rows_by(
     set: &CageSet,
     topology: &Topology,
@@ -75,6 +86,7 @@ fn bind_rows_by(
     placement: &[Placement],
     control: &BindControl,
     sharing: Sharing,
+    memo: &mut JoinMemo,
 ) -> Result<BoundRows, StarError> {
     let coord_settings = BindSettings {
         harmonic: settings.harmonic,
@@ -249,15 +261,24 @@ fn bind_rows_by(
     check_omega_work(topology, set, &need_omega, &used_boundary)?;
     // Whether v lies in jc(u), once per join cage: interior vertices over the same leaf cages
     // (a subdivided shared face holds thousands) have the same join cage.
-    let mut within: BTreeMap<(&[usize], u32), bool> = BTreeMap::new();
     for &v in &used_boundary {
         // Ω(u, v) is read only for boundary vertices of the points' cages.
         for u in topology.interior_neighbours(v) {
             let join = &topology.joins[&u];
-            let inside = *within.entry((join.cages.as_slice(), v)).or_insert_with(|| {
+            let known = memo
+                .within
+                .get(join.cages.as_slice())
+                .and_then(|m| m.get(&v).copied());
+            let inside = known.unwrap_or_else(|| {
                 let cage = &join.local.cage;
                 let x = set.vertices[v as usize];
-                cage.winding_number(x) > 0.5 || cage.is_within(x, 1e-9 * cage.diagonal())
+                let inside =
+                    cage.winding_number(x) > 0.5 || cage.is_within(x, 1e-9 * cage.diagonal());
+                memo.within
+                    .entry(join.cages.clone())
+                    .or_default()
+                    .insert(v, inside);
+                inside
             });
             if inside {
                 need_omega.entry(u).or_default().push(offset + v as usize);
@@ -806,6 +827,7 @@ mod tests {
                     &placement,
                     &control,
                     sharing,
+                    &mut JoinMemo::default(),
                 )
                 .unwrap()
             });

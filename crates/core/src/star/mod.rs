@@ -169,19 +169,14 @@ impl JoinWeights {
         out
     }
 
-    fn from_rows(rows: &[Vec<(u32, f64)>]) -> Self {
-        let mut out = Self {
-            row_start: vec![0],
-            ..Self::default()
-        };
-        for row in rows {
-            for &(v, w) in row {
-                out.vertex.push(v);
-                out.weight.push(w as f32);
-            }
-            out.row_start.push(out.vertex.len() as u32);
+    /// The weights packed by `rows`.
+    fn from_appender(rows: operator::RowAppender) -> Self {
+        let (row_start, vertex, weight) = rows.finish();
+        Self {
+            row_start,
+            vertex,
+            weight,
         }
-        out
     }
 
     /// W_n(`vertex`, p) for every point p (0 where `vertex` has no say).
@@ -214,15 +209,64 @@ impl StarBinding {
         points: &[DVec3],
         control: &BindControl,
     ) -> Result<Self, StarError> {
+        Self::bind_points_in_chunks(scene, points, control, bind_chunk_points(points.len()))
+    }
+
+    /// [`StarBinding::bind_points`], `chunk` points at a time.
+    fn bind_points_in_chunks(
+        scene: &Scene,
+        points: &[DVec3],
+        control: &BindControl,
+        chunk: usize,
+    ) -> Result<Self, StarError> {
         let start = Instant::now();
         let pairs_before = control.kernel_pairs();
-        let (placement, rows) = bound_rows(scene, points, control)?;
-        let mut operator =
-            StarOperator::from_rows(&rows.rows, scene.cages.vertices.len(), rows.green);
+        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
+        let placement = place(scene, &topology, points)?;
+        // Streamed: each chunk's rows (dense coordinate tables, unpacked rows) are packed into
+        // the CSR arrays and freed before the next, so the bind's transient memory is one
+        // chunk's, whatever the mesh size (issue 29).
+        let chunk = chunk.max(1);
+        let chunks = points.len().div_ceil(chunk).max(1);
+        let mut operator_rows = operator::RowAppender::default();
+        let mut join_weights = operator::RowAppender::default();
+        let mut boundary_weight = Vec::with_capacity(points.len());
+        let (mut seconds_cage, mut seconds_join) = (0.0, 0.0);
+        let mut green = GreenDofs::default();
+        let stages = control.stages(chunks);
+        let mut memo = bind::JoinMemo::default();
+        for k in 0..chunks {
+            let range = k * chunk..((k + 1) * chunk).min(points.len());
+            stages.enter(k);
+            let rows = bind::bind_rows(
+                &scene.cages,
+                &topology,
+                &scene.settings,
+                &points[range.clone()],
+                &placement[range],
+                control,
+                &mut memo,
+            )?;
+            if k == 0 {
+                // The whole bind's size from its first chunk's.
+                let factor = points.len() as f64 / rows.rows.len().max(1) as f64;
+                operator_rows.reserve(&rows.rows, factor);
+                join_weights.reserve(&rows.join_weights, factor);
+            }
+            operator_rows.push(&rows.rows);
+            join_weights.push(&rows.join_weights);
+            boundary_weight.extend(rows.boundary_weight.iter().map(|&b| b as f32));
+            seconds_cage += rows.seconds_cage;
+            seconds_join += rows.seconds_join;
+            // Green DOFs are numbered from the cages alone: every chunk's are the same.
+            green = rows.green;
+        }
+        drop(stages);
+        let mut operator = operator_rows.into_operator(scene.cages.vertices.len(), green);
         operator.set_rest_offsets(points, &scene.cages.vertices);
         let stats = BindStats {
-            seconds_cage_coordinates: rows.seconds_cage,
-            seconds_join_cages: rows.seconds_join,
+            seconds_cage_coordinates: seconds_cage,
+            seconds_join_cages: seconds_join,
             seconds_total: start.elapsed().as_secs_f64(),
             operator_bytes: operator.byte_size(),
             transpose_bytes: operator.transpose_byte_size(),
@@ -231,8 +275,8 @@ impl StarBinding {
         };
         Ok(Self {
             operator,
-            boundary_weight: rows.boundary_weight.iter().map(|&b| b as f32).collect(),
-            join_weights: JoinWeights::from_rows(&rows.join_weights),
+            boundary_weight,
+            join_weights: JoinWeights::from_appender(join_weights),
             cage_of: placement
                 .iter()
                 .map(|p| match p {
@@ -296,8 +340,19 @@ fn bound_rows(
         points,
         &placement,
         control,
+        &mut bind::JoinMemo::default(),
     )?;
     Ok((placement, rows))
+}
+
+/// Points placed at a time (the containment lists are per point).
+const PLACE_CHUNK_POINTS: usize = 1 << 16;
+
+/// Points bound at a time by [`StarBinding::bind_points`]: an eighth of the points (so the
+/// transient tables stay a fraction of what the binding keeps), at least 4096 (each chunk
+/// re-derives the join cages' data at the cage vertices) and at most 32768.
+fn bind_chunk_points(points: usize) -> usize {
+    (points / 8).clamp(4096, 32768)
 }
 
 /// Places each point in the first leaf cage containing it (inside or on its surface), or in the
@@ -307,26 +362,30 @@ fn place(
     topology: &Topology,
     points: &[DVec3],
 ) -> Result<Vec<Placement>, StarError> {
-    let containment = leaf_containment(&topology.leaves, points);
     let mut outside = Vec::new();
-    let placement: Vec<Placement> = containment
-        .iter()
-        .enumerate()
-        .map(|(i, c)| match (c.inside.first(), c.on_surface.first()) {
-            (Some(&cage), _) | (None, Some(&cage)) => Placement::Cage(cage),
-            (None, None) => {
-                outside.push(i);
-                let nearest = topology
-                    .leaves
-                    .iter()
-                    .enumerate()
-                    .map(|(c, l)| (c, l.cage.closest_point(points[i]).2))
-                    .min_by(|a, b| a.1.total_cmp(&b.1))
-                    .map_or(0, |(c, _)| c);
-                Placement::Nearest(nearest)
+    let mut placement = Vec::with_capacity(points.len());
+    // In chunks: the containment lists are per point.
+    for (k, part) in points.chunks(PLACE_CHUNK_POINTS).enumerate() {
+        let first = k * PLACE_CHUNK_POINTS;
+        let containment = leaf_containment(&topology.leaves, part);
+        placement.extend(containment.iter().enumerate().map(|(j, c)| {
+            let i = first + j;
+            match (c.inside.first(), c.on_surface.first()) {
+                (Some(&cage), _) | (None, Some(&cage)) => Placement::Cage(cage),
+                (None, None) => {
+                    outside.push(i);
+                    let nearest = topology
+                        .leaves
+                        .iter()
+                        .enumerate()
+                        .map(|(c, l)| (c, l.cage.closest_point(points[i]).2))
+                        .min_by(|a, b| a.1.total_cmp(&b.1))
+                        .map_or(0, |(c, _)| c);
+                    Placement::Nearest(nearest)
+                }
             }
-        })
-        .collect();
+        }));
+    }
     if !outside.is_empty() && scene.settings.outside == OutsidePolicy::Error {
         let listed = crate::messages::list_first(&outside, 8);
         return Err(StarError::Outside {
@@ -371,4 +430,73 @@ pub fn single_cage_scene(scene: &Scene, kind: CoordinateKind) -> Scene {
         internals: Vec::new(),
     };
     single
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::demo::demo_scene;
+
+    /// A bind streamed chunk by chunk is the bind of all points at once: the same rows (every
+    /// chunk re-derives the join cages' data at the cage vertices the same way), rest offsets,
+    /// b, join weights, cages and Green DOFs. The egg's rig has interior join vertices (eq. 10)
+    /// and, with one leaf made Green, Green DOFs.
+    #[test]
+    fn a_bind_streamed_in_chunks_equals_the_bind_of_all_points_at_once() {
+        let mut scene = demo_scene("egg", 0.5).unwrap();
+        scene.cages.leaves[0].kind = CoordinateKind::Green;
+        let points = scene.mesh.welded_positions();
+        let control = BindControl::default();
+        let whole =
+            StarBinding::bind_points_in_chunks(&scene, points, &control, points.len()).unwrap();
+        let chunk = points.len() / 5 + 1;
+        let streamed = StarBinding::bind_points_in_chunks(&scene, points, &control, chunk).unwrap();
+        let (a, b) = (whole.operator.parts(), streamed.operator.parts());
+        assert_eq!(a.0, b.0, "Green DOFs");
+        assert_eq!(a.1, b.1, "row starts");
+        assert_eq!(a.2, b.2, "columns");
+        let largest =
+            a.3.iter()
+                .zip(b.3)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f32::max);
+        assert!(largest <= 1e-6, "weights differ by {largest}");
+        assert!(whole.operator.green_dofs().len() > 0);
+        assert_eq!(whole.cage_of, streamed.cage_of);
+        assert_eq!(
+            whole.join_weights.row_start,
+            streamed.join_weights.row_start
+        );
+        assert_eq!(whole.join_weights.vertex, streamed.join_weights.vertex);
+        assert!(
+            whole.join_weights.vertex.len() > 100,
+            "few points weigh joins"
+        );
+        for (x, y) in whole.boundary_weight.iter().zip(&streamed.boundary_weight) {
+            assert!((x - y).abs() <= 1e-6);
+        }
+        for (x, y) in whole
+            .operator
+            .rest_offsets()
+            .iter()
+            .zip(streamed.operator.rest_offsets())
+        {
+            assert!((*x - *y).length() <= 1e-5);
+        }
+    }
+
+    /// The progress of a streamed bind covers all its chunks: it ends the bind near 1 and never
+    /// above, and the stages are forgotten afterwards.
+    #[test]
+    fn a_streamed_bind_s_progress_spans_its_chunks() {
+        let scene = demo_scene("bar", 1.0).unwrap();
+        let points = scene.mesh.welded_positions();
+        let control = BindControl::default();
+        StarBinding::bind_points_in_chunks(&scene, points, &control, points.len() / 4 + 1).unwrap();
+        let stages = control.stages(4);
+        stages.enter(3);
+        assert!(control.progress() >= 0.75 && control.progress() <= 1.0);
+        drop(stages);
+        assert!(control.progress() <= 1.0);
+    }
 }

@@ -100,21 +100,58 @@ pub(super) fn append_csr_rows<A: Copy, B: Copy>(
     );
 }
 
-impl StarOperator {
-    pub(crate) fn from_rows(rows: &[Row], vertex_count: usize, green: GreenDofs) -> Self {
-        let mut row_start = Vec::with_capacity(rows.len() + 1);
-        let nnz: usize = rows.iter().map(Vec::len).sum();
-        let (mut columns, mut values) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
-        row_start.push(0);
+/// Sparse rows (a column or vertex index and an f32 weight per entry) packed into CSR arrays
+/// as they come, chunk by chunk (a streamed bind): the operator's rows and the join weights.
+#[derive(Default)]
+pub(crate) struct RowAppender {
+    pub(crate) row_start: Vec<u32>,
+    pub(crate) index: Vec<u32>,
+    pub(crate) value: Vec<f32>,
+}
+
+impl RowAppender {
+    /// Reserves room for `factor` × the rows and entries of `rows` more (a bind's first chunk
+    /// scaled to all its points): allocated once, where doubling growth would hold up to twice
+    /// the arrays at the last copy.
+    pub(crate) fn reserve(&mut self, rows: &[Row], factor: f64) {
+        let entries: usize = rows.iter().map(Vec::len).sum();
+        let entries = (entries as f64 * factor * 1.05) as usize + 16;
+        self.row_start
+            .reserve_exact((rows.len() as f64 * factor) as usize + 1);
+        self.index.reserve_exact(entries);
+        self.value.reserve_exact(entries);
+    }
+
+    /// Appends `rows`, weights rounded to f32.
+    pub(crate) fn push(&mut self, rows: &[Row]) {
+        if self.row_start.is_empty() {
+            self.row_start.push(0);
+        }
         for row in rows {
             for &(c, w) in row {
-                columns.push(c);
-                values.push(w as f32);
+                self.index.push(c);
+                self.value.push(w as f32);
             }
-            row_start.push(columns.len() as u32);
+            self.row_start.push(self.index.len() as u32);
         }
-        let rest_offset = vec![Vec3::ZERO; rows.len()];
-        Self::from_csr(
+    }
+
+    /// The arrays, trimmed to their length (row starts, indices, values).
+    pub(crate) fn finish(mut self) -> (Vec<u32>, Vec<u32>, Vec<f32>) {
+        if self.row_start.is_empty() {
+            self.row_start.push(0);
+        }
+        self.row_start.shrink_to_fit();
+        self.index.shrink_to_fit();
+        self.value.shrink_to_fit();
+        (self.row_start, self.index, self.value)
+    }
+
+    /// The operator over the rows appended (rest offsets zero until set).
+    pub(crate) fn into_operator(self, vertex_count: usize, green: GreenDofs) -> StarOperator {
+        let (row_start, columns, values) = self.finish();
+        let rest_offset = vec![Vec3::ZERO; row_start.len() - 1];
+        StarOperator::from_csr(
             vertex_count,
             green,
             Csr {
@@ -124,6 +161,16 @@ impl StarOperator {
                 rest_offset,
             },
         )
+    }
+}
+
+impl StarOperator {
+    #[cfg(test)]
+    pub(crate) fn from_rows(rows: &[Row], vertex_count: usize, green: GreenDofs) -> Self {
+        let mut appender = RowAppender::default();
+        appender.reserve(rows, 1.0);
+        appender.push(rows);
+        appender.into_operator(vertex_count, green)
     }
 
     /// The operator over CSR arrays whose indices are in range (callers check), with the

@@ -8,7 +8,7 @@ use glam::DVec3;
 use super::StarError;
 use super::topology::JoinCage;
 use crate::coords::{BindControl, BindSettings, CageWeights, CoordinateKind, bind};
-use crate::scene::{LocalCage, Smoothing};
+use crate::scene::{LocalCage, Smoothing, product_of};
 
 /// Where a point is bound.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -117,14 +117,21 @@ pub(super) struct JoinData<'a> {
 impl JoinData<'_> {
     /// Ω(v, p) (eq. 6) from p's interpolating weights in jc(v).
     pub(super) fn omega(&self, w: &[f64], smoothing: Smoothing) -> f64 {
-        self.far_faces
-            .iter()
-            .zip(&self.normaliser)
-            .map(|(face, &dv)| {
-                // d_{jc(v)}(t, p) = 1 − Σ_{u ∈ V(t)} w(u, p)   (eq. 7)
-                let d = 1.0 - face.iter().map(|&k| w[k]).sum::<f64>();
-                smoothing.eval(d / dv, 1.0)
-            })
-            .product()
+        self.omega_with(w, smoothing, &mut Vec::new())
+    }
+
+    /// [`JoinData::omega`] with a scratch list of the factors.
+    pub(super) fn omega_with(&self, w: &[f64], smoothing: Smoothing, xs: &mut Vec<f64>) -> f64 {
+        xs.clear();
+        // d_{jc(v)}(t, p) = 1 − Σ_{u ∈ V(t)} w(u, p)   (eq. 7), over d_{jc(v)}(t, v)
+        xs.extend(
+            self.far_faces
+                .iter()
+                .zip(&self.normaliser)
+                .map(|(face, &dv)| (1.0 - face.iter().map(|&k| w[k]).sum::<f64>()) / dv),
+        );
+        // Ω(v, p) = Π_{t ∈ F(jc(v), v)} f(d(t, p) / d(t, v))   (eq. 6)
+        smoothing.eval_unit_in_place(xs);
+        product_of(xs)
     }
 }
