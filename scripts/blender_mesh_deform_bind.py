@@ -10,11 +10,13 @@ The cage given to Mesh Deform is the union of the leaf cages: faces listed by tw
 shared faces) are dropped, as StarCages' single-cage baseline does (`--single-cage`). Both
 files are read as plain OBJ vertex and face lists into Blender meshes as they are (no axis
 conversion, so both stay in the same frame). Prints JSON: vertices, cage faces, precision, the
-bind's seconds (the operator plus the evaluation that computes the binding) and the seconds of
-one re-evaluation after moving one cage vertex.
+bind's seconds (the operator plus the evaluation that computes the binding), the seconds of
+one re-evaluation after moving one cage vertex, the process's peak resident memory and the part
+of it the bind added (MB, Linux).
 """
 
 import json
+import resource
 import sys
 import time
 
@@ -41,6 +43,15 @@ def union_faces(faces):
         key = tuple(sorted(f))
         count[key] = count.get(key, 0) + 1
     return [f for f in faces if count[tuple(sorted(f))] == 1]
+
+
+def current_rss_mb():
+    """Resident memory of this process now (Linux), in MB."""
+    with open("/proc/self/status", encoding="ascii") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+    return 0.0
 
 
 def make_object(name, positions, faces):
@@ -74,6 +85,7 @@ def main():
     modifier.precision = precision
     bpy.context.view_layer.objects.active = target
     target.select_set(True)
+    rss_before_mb = current_rss_mb()
     start = time.perf_counter()
     with bpy.context.temp_override(object=target, active_object=target):
         bpy.ops.object.meshdeform_bind(modifier=modifier.name)
@@ -81,6 +93,7 @@ def main():
     depsgraph.update()
     target.evaluated_get(depsgraph).data.vertices[0].co  # forces the evaluation
     bind_seconds = time.perf_counter() - start
+    peak_rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     if not modifier.is_bound:
         sys.exit("Mesh Deform did not bind (is the cage closed around the mesh?)")
     cage.data.vertices[0].co.x += 1e-3
@@ -98,6 +111,8 @@ def main():
                 "precision": precision,
                 "bind_seconds": round(bind_seconds, 4),
                 "move_seconds": round(move_seconds, 5),
+                "peak_rss_mb": round(peak_rss_mb, 1),
+                "bind_rss_mb": round(peak_rss_mb - rss_before_mb, 1),
             }
         )
     )

@@ -10,6 +10,13 @@ mod progress;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use peakmem_alloc::{INSTRUMENTED_SYSTEM, PeakMemAlloc};
+
+/// The system allocator, counting the heap's peak since a reset: `bench --scale` reports each
+/// bind's peak memory from it (two atomic adds per allocation; the binds allocate in large
+/// blocks).
+#[global_allocator]
+static ALLOCATOR: &PeakMemAlloc<std::alloc::System> = &INSTRUMENTED_SYSTEM;
 
 /// StarCages command-line tool: scenes, cages, coordinates.
 #[derive(Debug, Parser)]

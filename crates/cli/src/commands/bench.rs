@@ -54,6 +54,24 @@ pub struct BenchArgs {
     /// "Deform").
     #[arg(long)]
     table2: bool,
+    /// Instead of the tables above, the bind's scaling on this mesh: subdivided at each of
+    /// `--segments`, in the automatic 3×3×3 grid; bind time by phase, peak memory, single MVC
+    /// and (with `--blender`) Blender's Mesh Deform per size (docs/performance.md).
+    #[arg(long, value_name = "MESH")]
+    scale: Option<PathBuf>,
+    /// Edge cuts of each `--scale` size: n gives n² × the triangles (the armadillo's 25k
+    /// vertices: 1, 5, 10 give 25k, 625k and 2.5M).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,2,5,10",
+        value_name = "N,N,..."
+    )]
+    segments: Vec<u32>,
+    /// Python with Blender 5's `bpy` (a throw-away venv): `--scale` also times Mesh Deform
+    /// (precision 5) on each size, through scripts/blender_mesh_deform_bind.py.
+    #[arg(long, value_name = "PYTHON")]
+    blender: Option<PathBuf>,
 }
 
 /// One pair of the paper's Table II: *Cages with every leaf cage of one kind against the single
@@ -413,6 +431,9 @@ fn wave(scene: &Scene) -> Vec<DVec3> {
 
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(mesh) = &args.scale {
+        return super::bench_scale::run(mesh, &args.segments, args.blender.as_ref(), args.json);
+    }
     if !(0.1..=6.0).contains(&args.prism_detail) {
         return Err(crate::InputError(format!(
             "--prism-detail {} is out of range; use 0.1 to 6 (6: about 2 million triangles)",

@@ -5,6 +5,7 @@ pub mod autorig;
 pub mod bake;
 pub mod bench;
 pub mod bench_gpu;
+pub mod bench_scale;
 pub mod cages;
 pub mod deform;
 pub mod demo;

@@ -1,6 +1,7 @@
-//! `bench --h`: *Cages at each blending parameter (the paper's Table I), with bind ratios.
+//! `bench --h`: *Cages at each blending parameter (the paper's Table I), with bind ratios;
+//! `bench --scale`: the bind's time and memory against mesh size.
 
-use crate::common::{cli, stderr};
+use crate::common::{cli, dir, stderr};
 
 #[test]
 fn bench_sweeps_h_and_reports_bind_ratios() {
@@ -32,4 +33,51 @@ fn bench_sweeps_h_and_reports_bind_ratios() {
     assert!(nnz(0) >= nnz(1), "{} vs {}", nnz(0), nnz(1));
     let bad = cli(&["bench", "--h", "0"]);
     assert_eq!(bad.status.code(), Some(2));
+}
+
+/// `bench --scale` subdivides a mesh file and reports, per size, the bind's phases and its peak
+/// memory within twice what it keeps; bad sizes are refused.
+#[test]
+fn bench_scale_reports_each_size_s_bind_and_memory() {
+    let d = dir("bench-scale");
+    let mesh = d.join("tetra.obj");
+    // A small closed tetrahedron (Y-up OBJ), grown 1× and 4× by --segments 1,2.
+    std::fs::write(
+        &mesh,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let out = cli(&[
+        "bench",
+        "--scale",
+        mesh.to_str().unwrap(),
+        "--segments",
+        "8,16",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let sizes: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let sizes = sizes.as_array().unwrap();
+    assert_eq!(sizes.len(), 2);
+    let triangles: Vec<u64> = sizes
+        .iter()
+        .map(|s| s["mesh_triangles"].as_u64().unwrap())
+        .collect();
+    assert_eq!(triangles, [4 * 64, 4 * 256]);
+    for size in sizes {
+        let stars = &size["stars"];
+        assert!(stars["seconds"].as_f64().unwrap() > 0.0);
+        assert!(stars["peak_mb"].as_f64().unwrap() > 0.0, "{size}");
+        assert!(size["single_mvc"]["seconds"].as_f64().unwrap() > 0.0);
+        assert!(size.get("blender").is_none());
+    }
+    let bad = cli(&[
+        "bench",
+        "--scale",
+        mesh.to_str().unwrap(),
+        "--segments",
+        "0",
+    ]);
+    assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
+    assert!(stderr(&bad).contains("--segments 0"), "{}", stderr(&bad));
 }
