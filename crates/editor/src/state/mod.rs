@@ -370,6 +370,7 @@ impl EditorState {
                     bound_for: bound.bound_for,
                     preview,
                     coarse_leaves: bound.coarse_leaves,
+                    rest_view: std::sync::OnceLock::new(),
                 };
                 rig.redeform_all(&self.doc.scene);
                 self.rig = Some(rig);

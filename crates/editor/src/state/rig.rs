@@ -10,6 +10,9 @@ use starcages_core::star::StarBinding;
 
 use super::jobs::Scope;
 
+/// DOFs and deformed mesh positions of one pose.
+pub type RestView = (Arc<Vec<Vec3>>, Arc<Vec<Vec3>>);
+
 /// The binding in use and the deformation it gives.
 #[derive(Debug)]
 pub struct Rig {
@@ -28,9 +31,25 @@ pub struct Rig {
     pub preview: bool,
     /// The leaf cages a leaf preview bound coarsely (empty for a join-cage preview).
     pub coarse_leaves: Vec<usize>,
+    /// The rest pose's DOFs and deformed mesh, as Rig mode shows them: computed on the first
+    /// frame that needs them, not on every frame (a full product over a large mesh).
+    pub rest_view: std::sync::OnceLock<RestView>,
 }
 
 impl Rig {
+    /// The DOFs and the deformed mesh of the rest cages this binding was made for (computed
+    /// once per rig).
+    pub fn rest_view(&self) -> RestView {
+        let (dofs, deformed) = self.rest_view.get_or_init(|| {
+            let rest = &self.bound_for.0.vertices;
+            (
+                Arc::new(self.binding.operator.dofs(rest, rest)),
+                Arc::new(self.binding.deform(rest, rest)),
+            )
+        });
+        (Arc::clone(dofs), Arc::clone(deformed))
+    }
+
     /// Whether the binding still fits `scene`'s cages and settings.
     pub fn is_current_for(&self, scene: &Scene) -> bool {
         self.bound_for.0 == scene.cages && self.bound_for.1 == scene.settings

@@ -284,12 +284,8 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
         // Rig mode shows the mesh at rest: the binding's own rest positions (for the rest
         // cages it was made for), under a generation of their own.
         crate::state::EditMode::Rig => {
-            let rest = &rig.bound_for.0.vertices;
-            (
-                u64::MAX - 1,
-                Arc::new(rig.binding.operator.dofs(rest, rest)),
-                Arc::new(rig.binding.deform(rest, rest)),
-            )
+            let (dofs, deformed) = rig.rest_view();
+            (u64::MAX - 1, dofs, deformed)
         }
         crate::state::EditMode::Pose => (
             state.generations.deformation,
