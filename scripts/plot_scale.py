@@ -25,7 +25,7 @@ def finish(axes, unit, title):
     axes.set_ylabel(unit)
     axes.set_title(title)
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend()
+    axes.legend(loc="upper left", fontsize="small")
 
 
 def main():
