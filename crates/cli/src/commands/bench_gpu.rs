@@ -40,6 +40,9 @@ struct Report {
     device_type: String,
     backend: String,
     compute: bool,
+    /// Whether the operator fit the device's buffer limits and deformed on the GPU; when not,
+    /// `gpu_deform_ms` times the CPU path's upload.
+    deforms_on_gpu: bool,
     triangles: usize,
     vertices: usize,
     nonzeros: usize,
@@ -136,6 +139,7 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
         device_type: format!("{:?}", info.device_type),
         backend: format!("{:?}", info.backend),
         compute: gpu.compute,
+        deforms_on_gpu: renderer.deforms_on_gpu(),
         triangles: triangles.len(),
         vertices: rest_mesh.len(),
         nonzeros: binding.operator.nonzeros(),
@@ -147,6 +151,12 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
         gpu_frame_fps: 1e3 / (gpu_deform_ms + gpu_draw_ms).max(1e-6),
         cpu_to_gpu_deform_ratio: (cpu_deform_ms + cpu_normals_ms) / gpu_deform_ms.max(1e-9),
     };
+    if !report.deforms_on_gpu {
+        crate::note!(
+            "the operator does not fit this device's buffer limits (or it has no compute): \
+             the GPU deformation column times the CPU path's upload"
+        );
+    }
     if args.json {
         crate::output::line(serde_json::to_string_pretty(&report)?)?;
     } else {

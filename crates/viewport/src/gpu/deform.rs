@@ -40,6 +40,38 @@ fn storage(device: &wgpu::Device, label: &str, contents: &[u8]) -> wgpu::Buffer 
     })
 }
 
+/// Bytes of the largest storage buffer a [`GpuDeformer`] of `operator` over `triangle_count`
+/// triangles creates (the operator's columns or values, the triangle lists, the rest offsets or
+/// the DOFs).
+pub fn largest_buffer_bytes(operator: &StarOperator, triangle_count: usize) -> u64 {
+    let rows = operator.row_count() as u64;
+    [
+        operator.nonzeros() as u64 * 4,
+        (rows + 1) * 4,
+        rows * 12,
+        triangle_count as u64 * 12,
+        operator.dof_count() as u64 * 12,
+    ]
+    .into_iter()
+    .max()
+    .unwrap_or(0)
+}
+
+/// Whether a [`GpuDeformer`] of `operator` fits the device's limits: every storage buffer
+/// within both the largest buffer and the largest storage binding. A larger operator (a
+/// million-triangle mesh in a fine rig: 390 MB of columns against lavapipe's 256 MiB, or
+/// wgpu's default 128 MiB binding) deforms on the CPU instead of failing to create.
+pub fn deformer_fits(
+    limits: &wgpu::Limits,
+    operator: &StarOperator,
+    triangle_count: usize,
+) -> bool {
+    let bound = limits
+        .max_buffer_size
+        .min(limits.max_storage_buffer_binding_size);
+    largest_buffer_bytes(operator, triangle_count) <= bound
+}
+
 /// Incident triangles of each vertex, CSR: (start per vertex + 1, triangle indices).
 pub fn vertex_triangles(vertex_count: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
     let mut start = vec![0u32; vertex_count + 1];
@@ -260,5 +292,34 @@ impl GpuDeformer {
         pass.set_bind_group(0, &self.normals_group, &[]);
         pass.set_pipeline(&self.normals);
         pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use starcages_core::BindControl;
+    use starcages_core::generate::demo::demo_scene;
+    use starcages_core::star::StarBinding;
+
+    /// An operator whose largest buffer passes a device's buffer or binding limit does not get
+    /// a GPU deformer (the CPU path draws it); within both limits it does.
+    #[test]
+    fn an_operator_past_the_device_s_buffer_limits_deforms_on_the_cpu() {
+        let scene = demo_scene("bar", 1.0).unwrap();
+        let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+        let triangles = scene.mesh.welded_triangles().len();
+        let largest = largest_buffer_bytes(&binding.operator, triangles);
+        assert_eq!(largest, binding.operator.nonzeros() as u64 * 4);
+        let limits = |buffer: u64, binding: u64| wgpu::Limits {
+            max_buffer_size: buffer,
+            max_storage_buffer_binding_size: binding,
+            ..wgpu::Limits::default()
+        };
+        let fits = |l: wgpu::Limits| deformer_fits(&l, &binding.operator, triangles);
+        let exact = largest;
+        assert!(fits(limits(largest, exact)));
+        assert!(!fits(limits(largest - 1, exact)));
+        assert!(!fits(limits(largest, exact - 1)));
     }
 }

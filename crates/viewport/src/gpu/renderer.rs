@@ -346,6 +346,7 @@ impl SceneRenderer {
         );
         let deformer = operator
             .filter(|_| gpu.compute)
+            .filter(|op| super::deform::deformer_fits(&device.limits(), op, triangles.len()))
             .map(|op| GpuDeformer::new(gpu, op, triangles, &positions_buffer, &normals_buffer));
         self.mesh = Some(MeshBuffers {
             positions: positions_buffer,
