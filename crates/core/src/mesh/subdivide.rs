@@ -127,7 +127,7 @@ mod tests {
             assert!((volume(&fine) - volume(&mesh)).abs() < 1e-12, "n = {n}");
             assert_eq!(fine.bounds(), mesh.bounds());
             // Every edge is used by exactly two triangles, in opposite directions.
-            let mut directed = std::collections::HashSet::new();
+            let mut directed = std::collections::BTreeSet::new();
             for t in fine.triangles() {
                 for k in 0..3 {
                     assert!(

@@ -461,7 +461,7 @@ mod tests {
                 .map(|(x, y)| (x - y).abs())
                 .fold(0.0, f32::max);
         assert!(largest <= 1e-6, "weights differ by {largest}");
-        assert!(whole.operator.green_dofs().len() > 0);
+        assert!(!whole.operator.green_dofs().is_empty());
         assert_eq!(whole.cage_of, streamed.cage_of);
         assert_eq!(
             whole.join_weights.row_start,
