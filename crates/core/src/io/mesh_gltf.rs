@@ -45,6 +45,7 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
             .extensions_used()
             .chain(gltf.extensions_required())
             .any(|e| e == QUANTIZATION),
+        node_worlds: super::gltf_skin::node_worlds(&gltf),
         ..Accumulator::default()
     };
     let scenes: Vec<gltf::Scene> = match gltf.default_scene() {
@@ -275,7 +276,7 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileErro
 /// component type and element type among `kinds`, no sparse storage, a buffer view, a stride at
 /// least the element size, and every element inside the view and the view inside its buffer.
 /// Returns the element count.
-fn check_accessor(
+pub(super) fn check_accessor(
     path: &Path,
     accessor: &gltf::Accessor,
     buffers: &[Vec<u8>],
@@ -436,6 +437,8 @@ struct Accumulator {
     parts: Vec<crate::mesh::MeshPart>,
     /// The file uses KHR_mesh_quantization: vertex attributes may be integers.
     quantized: bool,
+    /// World matrix of every node (skins place their meshes by their joints' worlds).
+    node_worlds: Vec<DMat4>,
 }
 
 /// A file that requires an extension this reader does not handle (Draco or meshopt
@@ -495,7 +498,7 @@ fn parse_validated(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
 /// they are, integers as they are or, where the accessor is normalised, mapped to [0, 1]
 /// (unsigned) or [−1, 1] (signed) as the glTF specification says; `normalized` also where the
 /// core specification requires it without saying so (8- and 16-bit texture coordinates).
-fn read_elements<const N: usize>(
+pub(super) fn read_elements<const N: usize>(
     accessor: &gltf::Accessor,
     buffers: &[Vec<u8>],
     normalized: bool,
@@ -695,6 +698,17 @@ fn add_node_mesh(
                 let kinds = [(T::U8, D::Scalar), (T::U16, D::Scalar), (T::U32, D::Scalar)];
                 check_accessor(path, &indices, buffers, &kinds, &what("indices"))?;
             }
+            // A skinned mesh is placed by its joints (glTF 2.0 "Skins"), not by its node.
+            let skinning = match node.skin() {
+                Some(skin) => {
+                    let joints =
+                        super::gltf_skin::joint_matrices(path, &skin, buffers, &out.node_worlds)?;
+                    Some(super::gltf_skin::vertex_transforms(
+                        path, &primitive, buffers, &joints, count, affine, &what,
+                    )?)
+                }
+                None => None,
+            };
             let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
             let positions = read_elements::<3>(&position, buffers, false);
             let first = out.positions.len();
@@ -702,25 +716,27 @@ fn add_node_mesh(
                 out.all_normals = true;
                 out.all_uvs = true;
             }
+            let transform_of = |k: usize| skinning.as_ref().map_or(&affine, |t| &t[k]);
             out.positions.extend(
                 positions
                     .iter()
-                    .map(|&p| affine.transform_point3(DVec3::from(p))),
+                    .enumerate()
+                    .map(|(k, &p)| transform_of(k).transform_point3(DVec3::from(p))),
             );
             let count = out.positions.len() - first;
             match primitive.get(&Semantic::Normals) {
-                Some(normals) => {
-                    out.normals
-                        .extend(
-                            read_elements::<3>(&normals, buffers, false)
-                                .iter()
-                                .map(|&n| {
-                                    (normal_matrix * DVec3::from(n))
-                                        .normalize_or_zero()
-                                        .as_vec3()
-                                }),
-                        )
-                }
+                Some(normals) => out.normals.extend(
+                    read_elements::<3>(&normals, buffers, false)
+                        .iter()
+                        .enumerate()
+                        .map(|(k, &n)| {
+                            let matrix = match &skinning {
+                                Some(t) => t[k].matrix3.inverse().transpose(),
+                                None => normal_matrix,
+                            };
+                            (matrix * DVec3::from(n)).normalize_or_zero().as_vec3()
+                        }),
+                ),
                 None => out.all_normals = false,
             }
             match primitive.get(&Semantic::TexCoords(0)) {
@@ -733,8 +749,11 @@ fn add_node_mesh(
             }
             let base = first as u32;
             let first_triangle = out.triangles.len() as u32;
-            let flip = affine.matrix3.determinant() < 0.0;
+            // Winding stays outward where the placement mirrors (per triangle for a skin: the
+            // majority of its corners' transforms).
+            let mirrored = |k: u32| transform_of(k as usize).matrix3.determinant() < 0.0;
             let mut push = |t: [u32; 3]| {
+                let flip = t.iter().filter(|&&k| mirrored(k)).count() >= 2;
                 let t = t.map(|v| v + base);
                 out.triangles
                     .push(if flip { [t[0], t[2], t[1]] } else { t });

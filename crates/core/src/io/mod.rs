@@ -6,6 +6,7 @@
 mod atomic;
 mod cage_set_obj;
 mod gltf_animation;
+mod gltf_skin;
 mod mesh_gltf;
 mod mesh_obj;
 mod mesh_off;

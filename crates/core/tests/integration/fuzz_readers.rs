@@ -165,6 +165,60 @@ fn valid_gltf() -> Value {
     })
 }
 
+/// [`valid_gltf`]'s triangle skinned to two joints under a transformed armature node (JOINTS_0,
+/// WEIGHTS_0, inverse bind matrices), so mutations reach the skin reader.
+fn valid_skinned_gltf() -> Value {
+    use base64::Engine as _;
+    let mut bytes: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
+    bytes.extend([0u8, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0]);
+    for w in [
+        [0.5f32, 0.5, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+    ] {
+        bytes.extend(w.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    let identity = glam::Mat4::IDENTITY.to_cols_array();
+    bytes.extend(
+        identity
+            .iter()
+            .chain(&identity)
+            .flat_map(|x| x.to_le_bytes()),
+    );
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 3]}],
+        "nodes": [{"children": [1, 2], "scale": [2, 1, 1]}, {}, {"translation": [0, 1, 0]},
+                  {"mesh": 0, "skin": 0}],
+        "skins": [{"joints": [1, 2], "inverseBindMatrices": 4}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "JOINTS_0": 2,
+                                                    "WEIGHTS_0": 3}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"},
+            {"bufferView": 2, "componentType": 5121, "count": 3, "type": "VEC4"},
+            {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC4"},
+            {"bufferView": 4, "componentType": 5126, "count": 2, "type": "MAT4"}
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 36},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 12},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 12},
+            {"buffer": 0, "byteOffset": 60, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 108, "byteLength": 128}
+        ],
+        "buffers": [{"uri": uri, "byteLength": bytes.len()}]
+    })
+}
+
 /// Extreme and awkward replacements for a number.
 const NUMBERS: [f64; 13] = [
     0.0,
@@ -233,9 +287,10 @@ proptest! {
         mutations in prop::collection::vec((0usize..200, any::<u8>(), any::<u8>()), 1..5),
         cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..4),
         quantized in any::<bool>(),
+        skinned in any::<bool>(),
     ) {
         let dir = scratch();
-        let mut document = valid_gltf();
+        let mut document = if skinned { valid_skinned_gltf() } else { valid_gltf() };
         if quantized {
             // KHR_mesh_quantization: integer component types become legal attributes.
             document["extensionsUsed"] = serde_json::json!(["KHR_mesh_quantization"]);
@@ -333,4 +388,25 @@ proptest! {
             let _ = binding.deform(&scene.cages.vertices, &scene.pose);
         }
     }
+}
+
+/// The skinned fixture reads (so the fuzz starts from a valid skin): its first vertex weighs
+/// both joints half and half, the others the first joint, all under the armature's x scale.
+#[test]
+fn the_skinned_fuzz_fixture_reads_by_its_joints() {
+    let dir = scratch();
+    let path = dir.join(format!("{}-skinned.gltf", std::process::id()));
+    std::fs::write(&path, valid_skinned_gltf().to_string()).unwrap();
+    let mesh = read_mesh(&path).unwrap();
+    let p = mesh.positions();
+    assert!(
+        (p[0] - glam::DVec3::new(0.0, 0.5, 0.0)).length() < 1e-9,
+        "{}",
+        p[0]
+    );
+    assert!(
+        (p[1] - glam::DVec3::new(2.0, 0.0, 0.0)).length() < 1e-9,
+        "{}",
+        p[1]
+    );
 }

@@ -371,3 +371,96 @@ fn quantized_attributes_read_as_their_float_values() {
         "{error}"
     );
 }
+
+/// A skinned triangle under a transformed armature: placed by its joints (world × inverse
+/// bind, glTF 2.0 "Skins"), the mesh node's own transform ignored; a moved joint carries its
+/// vertex; a mirrored armature keeps the winding outward; a joint index past the skin's joints
+/// is refused naming the attribute.
+#[test]
+fn skinned_meshes_are_placed_by_their_joints_not_their_node() {
+    let dir = scratch("skinned");
+    // Positions (36 bytes), JOINTS_0 u8 (12), WEIGHTS_0 f32 (48), two inverse bind matrices
+    // (128), indices u32 (12).
+    let mut bytes: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let joints = |last: u8| [0u8, 0, 0, 0, 0, 0, 0, 0, last, 0, 0, 0];
+    bytes.extend(joints(1));
+    for _ in 0..3 {
+        bytes.extend([1.0f32, 0.0, 0.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
+    }
+    // Joint 0 binds at the armature's origin, joint 1 at z = 5 (its inverse: z − 5).
+    let identity = glam::Mat4::IDENTITY.to_cols_array();
+    let down = glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, -5.0)).to_cols_array();
+    bytes.extend(identity.iter().chain(&down).flat_map(|x| x.to_le_bytes()));
+    bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
+    let write = |name: &str, armature_scale: &str, joint_z: f64, joint_bytes: [u8; 12]| {
+        let mut bytes = bytes.clone();
+        bytes[36..48].copy_from_slice(&joint_bytes);
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&bytes)
+        );
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,3]}}],
+"nodes":[{{"name":"armature","translation":[10,0,0],"scale":{armature_scale},"children":[1,2]}},
+{{"name":"root"}},{{"name":"tip","translation":[0,0,{joint_z}]}},
+{{"name":"limb","mesh":0,"skin":0,"translation":[100,100,100],"scale":[3,3,3]}}],
+"skins":[{{"joints":[1,2],"inverseBindMatrices":3}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}},"indices":4}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+{{"bufferView":1,"componentType":5121,"count":3,"type":"VEC4"}},
+{{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"}},
+{{"bufferView":3,"componentType":5126,"count":2,"type":"MAT4"}},
+{{"bufferView":4,"componentType":5125,"count":3,"type":"SCALAR"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":12}},
+{{"buffer":0,"byteOffset":48,"byteLength":48}},{{"buffer":0,"byteOffset":96,"byteLength":128}},
+{{"buffer":0,"byteOffset":224,"byteLength":12}}],
+"buffers":[{{"uri":"{uri}","byteLength":{}}}]}}"#,
+            bytes.len()
+        );
+        let path = dir.join(name);
+        std::fs::write(&path, json).unwrap();
+        read_mesh(&path)
+    };
+    let close = |mesh: &starcages_core::mesh::Mesh, expected: [[f64; 3]; 3]| {
+        for (p, e) in mesh.positions().iter().zip(expected) {
+            let d = (*p - glam::DVec3::from(e)).length();
+            assert!(d < 1e-6, "{p} against {e:?}");
+        }
+    };
+    // At the bind pose every joint matrix is the armature's: translate 10 in x, scale 2.
+    let rest = write("rest.gltf", "[2,2,2]", 5.0, joints(1)).unwrap();
+    close(
+        &rest,
+        [[10.0, 0.0, 0.0], [12.0, 0.0, 0.0], [10.0, 2.0, 0.0]],
+    );
+    // The tip joint raised by 1 (2 after the armature's scale) carries the vertex it weighs.
+    let posed = write("posed.gltf", "[2,2,2]", 6.0, joints(1)).unwrap();
+    close(
+        &posed,
+        [[10.0, 0.0, 0.0], [12.0, 0.0, 0.0], [10.0, 2.0, 2.0]],
+    );
+    // A mirrored armature (scale −2 in x): positions mirrored, the winding kept outward (the
+    // triangle's geometric normal is +z before and after).
+    let mirrored = write("mirrored.gltf", "[-2,2,2]", 5.0, joints(1)).unwrap();
+    close(
+        &mirrored,
+        [[10.0, 0.0, 0.0], [8.0, 0.0, 0.0], [10.0, 2.0, 0.0]],
+    );
+    let normal = |mesh: &starcages_core::mesh::Mesh| {
+        let p = mesh.positions();
+        let t = mesh.triangles()[0].map(|i| p[i as usize]);
+        (t[1] - t[0]).cross(t[2] - t[0]).z
+    };
+    assert!(normal(&rest) > 0.0 && normal(&mirrored) > 0.0);
+    // Joint 7 of a two-joint skin: refused, naming the attribute and the vertex.
+    let error = write("bad.gltf", "[2,2,2]", 5.0, joints(7))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("JOINTS_0") && error.contains("joint 7") && error.contains("vertex 2"),
+        "{error}"
+    );
+}

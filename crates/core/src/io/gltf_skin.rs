@@ -1,0 +1,195 @@
+//! Skinned glTF meshes placed as the specification places them: by their joints, not by the
+//! mesh node's transform. Each vertex goes to Σ_k w_k (J_k · IBM_k) v, with J_k the world
+//! matrix of joint k in the file's node graph as it stands (the pose the file was saved in: for
+//! an export at rest, the bind pose) and IBM_k its inverse bind matrix (glTF 2.0, "Skins").
+//! An armature object that is rotated, scaled and moved (FBX-born and Mixamo rigs) then places
+//! the mesh where Blender and every engine show it.
+
+use std::path::Path;
+
+use glam::{DAffine3, DMat4};
+
+use super::FileError;
+use super::mesh_gltf::{check_accessor, read_elements};
+
+/// World matrix of every node of the document, by node index, through its parents (the node
+/// graph as the file stands; a node reached through no parent is a root). A node with several
+/// parents (invalid glTF) takes the first; a cycle (refused by the walk) ends the chain.
+pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
+    let count = gltf.nodes().count();
+    let mut parent: Vec<Option<usize>> = vec![None; count];
+    for node in gltf.nodes() {
+        for child in node.children() {
+            if let Some(slot) = parent.get_mut(child.index())
+                && slot.is_none()
+                && child.index() != node.index()
+            {
+                *slot = Some(node.index());
+            }
+        }
+    }
+    let local: Vec<DMat4> = gltf
+        .nodes()
+        .map(|n| DMat4::from_cols_array_2d(&n.transform().matrix().map(|c| c.map(f64::from))))
+        .collect();
+    (0..count)
+        .map(|mut i| {
+            let mut world = local[i];
+            // At most `count` steps: a cycle cannot loop forever.
+            for _ in 0..count {
+                match parent[i] {
+                    Some(p) => {
+                        world = local[p] * world;
+                        i = p;
+                    }
+                    None => break,
+                }
+            }
+            world
+        })
+        .collect()
+}
+
+/// The joint matrices J_k · IBM_k of `skin` (IBM the identity where the skin has none).
+pub(super) fn joint_matrices(
+    path: &Path,
+    skin: &gltf::Skin,
+    buffers: &[Vec<u8>],
+    worlds: &[DMat4],
+) -> Result<Vec<DMat4>, FileError> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+    let what = format!(
+        "skin {} ('{}')",
+        skin.index(),
+        skin.name().unwrap_or("unnamed")
+    );
+    let inverse_bind: Vec<DMat4> = match skin.inverse_bind_matrices() {
+        Some(accessor) => {
+            let count = check_accessor(
+                path,
+                &accessor,
+                buffers,
+                &[(T::F32, D::Mat4)],
+                &format!("{what}, inverseBindMatrices"),
+            )?;
+            if count < joints.len() {
+                return Err(FileError::format(
+                    path,
+                    format!(
+                        "{what} has {} joints but {count} inverse bind matrices; re-export the file",
+                        joints.len()
+                    ),
+                ));
+            }
+            read_elements::<16>(&accessor, buffers, false)
+                .iter()
+                .map(DMat4::from_cols_array)
+                .collect()
+        }
+        None => vec![DMat4::IDENTITY; joints.len()],
+    };
+    Ok(joints
+        .iter()
+        .zip(&inverse_bind)
+        .map(|(&j, ibm)| worlds.get(j).copied().unwrap_or(DMat4::IDENTITY) * *ibm)
+        .collect())
+}
+
+/// The skinning transform of each of a primitive's `count` vertices: Σ_k w_k (J_k · IBM_k)
+/// over its JOINTS_n / WEIGHTS_n sets. A vertex whose weights sum to nothing (unweighted) keeps
+/// `unweighted` (the mesh node's own placement, as Blender leaves such vertices).
+pub(super) fn vertex_transforms(
+    path: &Path,
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    joints: &[DMat4],
+    count: usize,
+    unweighted: DAffine3,
+    what: &dyn Fn(&str) -> String,
+) -> Result<Vec<DAffine3>, FileError> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    use gltf::mesh::Semantic;
+    let mut sums: Vec<DMat4> = vec![DMat4::ZERO; count];
+    let mut totals: Vec<f64> = vec![0.0; count];
+    for set in 0.. {
+        let (Some(joint_accessor), Some(weight_accessor)) = (
+            primitive.get(&Semantic::Joints(set)),
+            primitive.get(&Semantic::Weights(set)),
+        ) else {
+            break;
+        };
+        let (joint_name, weight_name) = (format!("JOINTS_{set}"), format!("WEIGHTS_{set}"));
+        let joint_kinds = [(T::U8, D::Vec4), (T::U16, D::Vec4)];
+        let weight_kinds = [(T::F32, D::Vec4), (T::U8, D::Vec4), (T::U16, D::Vec4)];
+        let n = check_accessor(
+            path,
+            &joint_accessor,
+            buffers,
+            &joint_kinds,
+            &what(&joint_name),
+        )?;
+        let m = check_accessor(
+            path,
+            &weight_accessor,
+            buffers,
+            &weight_kinds,
+            &what(&weight_name),
+        )?;
+        if n != count || m != count {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "{} and {} have {n} and {m} entries for {count} positions; re-export the file",
+                    what(&joint_name),
+                    what(&weight_name)
+                ),
+            ));
+        }
+        let joint_lists = read_elements::<4>(&joint_accessor, buffers, false);
+        let weight_lists = read_elements::<4>(&weight_accessor, buffers, true);
+        for (v, (js, ws)) in joint_lists.iter().zip(&weight_lists).enumerate() {
+            for (&j, &w) in js.iter().zip(ws) {
+                if w == 0.0 {
+                    continue;
+                }
+                let matrix = joints.get(j as usize).ok_or_else(|| {
+                    FileError::format(
+                        path,
+                        format!(
+                            "{} names joint {j} at vertex {v}, but the skin has {} joints; \
+                             re-export the file",
+                            what(&joint_name),
+                            joints.len()
+                        ),
+                    )
+                })?;
+                if !w.is_finite() || w < 0.0 {
+                    return Err(FileError::format(
+                        path,
+                        format!(
+                            "{} holds weight {w} at vertex {v}; weights must be finite and not \
+                             negative, re-export the file",
+                            what(&weight_name)
+                        ),
+                    ));
+                }
+                sums[v] += *matrix * w;
+                totals[v] += w;
+            }
+        }
+    }
+    Ok(sums
+        .iter()
+        .zip(&totals)
+        .map(|(sum, &total)| {
+            if total > 1e-9 {
+                // Weights normalised as engines do: the specification asks writers for a sum
+                // of 1, and quantised weights miss it by rounding.
+                DAffine3::from_mat4(*sum * (1.0 / total))
+            } else {
+                unweighted
+            }
+        })
+        .collect())
+}
