@@ -114,6 +114,20 @@ impl Scene {
         scene
     }
 
+    /// Replaces the whole rig by `cages` at rest (an auto rig): the poses, their hierarchy
+    /// states and the animation's keys were of the old cage vertices, so they go with them
+    /// (the playback range and frame rate stay). Returns how many poses and keys went.
+    pub fn replace_rig(&mut self, cages: CageSet) -> (usize, usize) {
+        let dropped = (self.poses.len(), self.animation.keys.len());
+        self.pose = cages.vertices.clone();
+        self.cages = cages;
+        self.poses.clear();
+        self.pose_state = HierarchyState::default();
+        self.pose_states.clear();
+        self.animation.keys.clear();
+        dropped
+    }
+
     /// The positions of a named pose, or the current pose for `None`.
     pub fn pose_named(&self, name: Option<&str>) -> Option<&[DVec3]> {
         match name {

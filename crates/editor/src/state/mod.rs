@@ -412,8 +412,8 @@ impl EditorState {
     }
 
     /// Takes the auto rig's cages once they are made: they replace the rig as one undo step
-    /// (poses are of the old cages, so they go; undo brings them back), with mean value join
-    /// cages as [`starcages_core::generate::autorig_settings`] says.
+    /// (poses and animation keys are of the old cages, so they go; undo brings them back), with
+    /// mean value join cages as [`starcages_core::generate::autorig_settings`] says.
     fn poll_autorig(&mut self, wait: bool) {
         let Some(job) = &self.autorig_job else {
             return;
@@ -427,17 +427,20 @@ impl EditorState {
             Ok(cages) => {
                 let (leaves, vertices) = (cages.leaves.len(), cages.vertices.len());
                 self.selection = Selection::default();
+                let mut dropped = (0, 0);
                 self.edit_scene("auto rig", |scene| {
                     scene.settings.join_coordinates =
                         starcages_core::generate::autorig_settings().join_coordinates;
-                    scene.pose = cages.vertices.clone();
-                    scene.cages = cages;
-                    scene.poses.clear();
-                    scene.pose_state = Default::default();
-                    scene.pose_states.clear();
+                    dropped = scene.replace_rig(cages);
                 });
+                let went = match dropped {
+                    (0, 0) => String::new(),
+                    (poses, keys) => format!(
+                        "; the old rig's {poses} pose(s) and {keys} animation key(s) went with it"
+                    ),
+                };
                 self.info(format!(
-                    "auto rig: {leaves} leaf cages, {vertices} cage vertices (Ctrl+Z brings the old rig back)"
+                    "auto rig: {leaves} leaf cages, {vertices} cage vertices{went} (Ctrl+Z brings the old rig back)"
                 ));
             }
             Err(e) => self.error(e),

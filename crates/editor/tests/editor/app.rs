@@ -684,8 +684,17 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     use starcages_editor::state::NewMeshOptions;
     let dir = scratch("auto-rig");
     let mesh = dir.join("bar.obj");
-    let bar = starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap();
+    let mut bar = starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap();
     starcages_core::scene::write_deformed_mesh(&mesh, &bar, bar.mesh.welded_positions()).unwrap();
+    // An animation of the old rig's pose: its keys go with the rig (a key naming a pose the
+    // scene no longer has left the scene invalid, the binding stuck on the old rig).
+    bar.animation.keys.push(starcages_core::anim::Key {
+        frame: 1.0,
+        pose: "bend".into(),
+        interpolation: Default::default(),
+        h: Default::default(),
+    });
+    let old_animation = bar.animation.clone();
     let doc = Document {
         scene: bar,
         path: None,
@@ -701,7 +710,18 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     assert!(app.state.autorig_job.is_some(), "runs on a worker");
     app.wait_for_jobs();
     let scene = &app.state.doc.scene;
-    assert!(validate_scene(scene).is_valid());
+    assert!(
+        validate_scene(scene).is_valid(),
+        "{:?}",
+        validate_scene(scene).errors
+    );
+    assert!(scene.animation.keys.is_empty() && scene.poses.is_empty());
+    assert!(
+        app.state
+            .message
+            .as_ref()
+            .is_some_and(|m| m.text.contains("1 animation key"))
+    );
     assert_ne!(scene.cages, grid_cages);
     assert!(
         scene
@@ -714,6 +734,8 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     assert!(app.state.rig.is_some(), "bound after the auto rig");
     app.run(Command::Undo);
     assert_eq!(app.state.doc.scene.cages, grid_cages, "one undo step back");
+    assert_eq!(app.state.doc.scene.animation, old_animation);
+    assert!(app.state.doc.scene.poses.contains_key("bend"));
     app.run(Command::Redo);
     assert_ne!(app.state.doc.scene.cages, grid_cages);
     // New from mesh: the auto rig by default.
