@@ -15,7 +15,11 @@ use super::mesh_gltf::{check_accessor, read_elements};
 /// World matrix of every node of the document, by node index, through its parents (the node
 /// graph as the file stands; a node reached through no parent is a root). A node with several
 /// parents (invalid glTF) takes the first; a cycle (refused by the walk) ends the chain.
+/// Empty for a document without skins (nothing reads them).
 pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
+    if gltf.skins().next().is_none() {
+        return Vec::new();
+    }
     let count = gltf.nodes().count();
     let mut parent: Vec<Option<usize>> = vec![None; count];
     for node in gltf.nodes() {
@@ -32,21 +36,40 @@ pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
         .nodes()
         .map(|n| DMat4::from_cols_array_2d(&n.transform().matrix().map(|c| c.map(f64::from))))
         .collect();
-    (0..count)
-        .map(|mut i| {
-            let mut world = local[i];
-            // At most `count` steps: a cycle cannot loop forever.
-            for _ in 0..count {
-                match parent[i] {
-                    Some(p) => {
-                        world = local[p] * world;
-                        i = p;
-                    }
-                    None => break,
-                }
+    // Each node's world once, from its nearest ancestor already known: linear in the nodes
+    // whatever the depth (a chain of a million nodes is a valid file).
+    let mut world: Vec<Option<DMat4>> = vec![None; count];
+    let mut on_path = vec![false; count];
+    let mut path: Vec<usize> = Vec::new();
+    for start in 0..count {
+        let mut i = start;
+        // Up to a known world, a root, or a node already on this path (a cycle: cut there).
+        let mut above = DMat4::IDENTITY;
+        loop {
+            if let Some(w) = world[i] {
+                above = w;
+                break;
             }
-            world
-        })
+            if on_path[i] {
+                break;
+            }
+            on_path[i] = true;
+            path.push(i);
+            match parent[i] {
+                Some(p) => i = p,
+                None => break,
+            }
+        }
+        for &node in path.iter().rev() {
+            above *= local[node];
+            world[node] = Some(above);
+            on_path[node] = false;
+        }
+        path.clear();
+    }
+    world
+        .into_iter()
+        .map(|w| w.unwrap_or(DMat4::IDENTITY))
         .collect()
 }
 

@@ -395,18 +395,30 @@ fn skinned_meshes_are_placed_by_their_joints_not_their_node() {
     let down = glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, -5.0)).to_cols_array();
     bytes.extend(identity.iter().chain(&down).flat_map(|x| x.to_le_bytes()));
     bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
-    let write = |name: &str, armature_scale: &str, joint_z: f64, joint_bytes: [u8; 12]| {
+    let write_under = |name: &str,
+                       armature_scale: &str,
+                       joint_z: f64,
+                       joint_bytes: [u8; 12],
+                       chain: usize| {
         let mut bytes = bytes.clone();
         bytes[36..48].copy_from_slice(&joint_bytes);
         let uri = format!(
             "data:application/octet-stream;base64,{}",
             base64::engine::general_purpose::STANDARD.encode(&bytes)
         );
+        // `chain` plain nodes above the armature (nodes 4, 5, …, the last holding node 0).
+        let chain_nodes: String = (0..chain)
+            .map(|k| {
+                let child = if k + 1 == chain { 0 } else { 5 + k };
+                format!(r#",{{"children":[{child}]}}"#)
+            })
+            .collect();
+        let roots = if chain == 0 { "0,3" } else { "4,3" };
         let json = format!(
-            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,3]}}],
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{roots}]}}],
 "nodes":[{{"name":"armature","translation":[10,0,0],"scale":{armature_scale},"children":[1,2]}},
 {{"name":"root"}},{{"name":"tip","translation":[0,0,{joint_z}]}},
-{{"name":"limb","mesh":0,"skin":0,"translation":[100,100,100],"scale":[3,3,3]}}],
+{{"name":"limb","mesh":0,"skin":0,"translation":[100,100,100],"scale":[3,3,3]}}{chain_nodes}],
 "skins":[{{"joints":[1,2],"inverseBindMatrices":3}}],
 "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}},"indices":4}}]}}],
 "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
@@ -423,6 +435,9 @@ fn skinned_meshes_are_placed_by_their_joints_not_their_node() {
         let path = dir.join(name);
         std::fs::write(&path, json).unwrap();
         read_mesh(&path)
+    };
+    let write = |name: &str, armature_scale: &str, joint_z: f64, joint_bytes: [u8; 12]| {
+        write_under(name, armature_scale, joint_z, joint_bytes, 0)
     };
     let close = |mesh: &starcages_core::mesh::Mesh, expected: [[f64; 3]; 3]| {
         for (p, e) in mesh.positions().iter().zip(expected) {
@@ -455,6 +470,13 @@ fn skinned_meshes_are_placed_by_their_joints_not_their_node() {
         (t[1] - t[0]).cross(t[2] - t[0]).z
     };
     assert!(normal(&rest) > 0.0 && normal(&mirrored) > 0.0);
+    // Under a chain of 100,000 plain nodes: the joints' worlds are found in linear time
+    // (walking each node's ancestors anew was quadratic: minutes).
+    let deep = write_under("deep.gltf", "[2,2,2]", 5.0, joints(1), 100_000).unwrap();
+    close(
+        &deep,
+        [[10.0, 0.0, 0.0], [12.0, 0.0, 0.0], [10.0, 2.0, 0.0]],
+    );
     // Joint 7 of a two-joint skin: refused, naming the attribute and the vertex.
     let error = write("bad.gltf", "[2,2,2]", 5.0, joints(7))
         .unwrap_err()
