@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::{DAffine3, DMat4};
 
 use super::FileError;
-use super::mesh_gltf::{check_accessor, read_elements};
+use super::gltf_accessor::{check_accessor, read_elements};
 
 /// World matrix of every node of the document, by node index, through its parents (the node
 /// graph as the file stands; a node reached through no parent is a root). A node with several

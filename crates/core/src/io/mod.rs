@@ -5,6 +5,7 @@
 
 mod atomic;
 mod cage_set_obj;
+mod gltf_accessor;
 mod gltf_animation;
 mod gltf_skin;
 mod mesh_gltf;
