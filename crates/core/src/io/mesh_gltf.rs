@@ -40,7 +40,10 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
     })?;
     let gltf =
         parsed.map_err(|e| FileError::format(path, format!("not a readable {kind} file ({e})")))?;
-    let buffers = load_buffers(path, &gltf)?;
+    let mut buffers = load_buffers(path, &gltf, root.as_ref(), bytes.len())?;
+    if let Some(root) = &root {
+        super::gltf_meshopt::decode_views(path, root, &mut buffers)?;
+    }
     let mut out = Accumulator {
         quantized: gltf
             .extensions_used()
@@ -228,10 +231,22 @@ fn check_primitive_references(path: &Path, root: &serde_json::Value) -> Result<(
     Ok(())
 }
 
-fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, FileError> {
+fn load_buffers(
+    path: &Path,
+    gltf: &gltf::Gltf,
+    root: Option<&serde_json::Value>,
+    file_length: usize,
+) -> Result<Vec<Vec<u8>>, FileError> {
+    use super::gltf_meshopt::{fallback_bytes, is_fallback};
     gltf.buffers()
         .map(|buffer| {
             let data = match buffer.source() {
+                // EXT_meshopt_compression: the decoded views fill it.
+                gltf::buffer::Source::Bin
+                    if root.is_some_and(|r| is_fallback(r, buffer.index())) =>
+                {
+                    fallback_bytes(path, buffer.index(), buffer.length(), file_length)?
+                }
                 gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| {
                     FileError::format(path, "the GLB has no binary chunk for its buffer")
                 })?,
@@ -379,7 +394,7 @@ fn check_required_extensions(path: &Path, root: &serde_json::Value) -> Result<()
         .into_iter()
         .flatten()
         .filter_map(serde_json::Value::as_str)
-        .filter(|&e| e != QUANTIZATION)
+        .filter(|&e| e != QUANTIZATION && e != super::gltf_meshopt::MESHOPT)
         .collect();
     if unread.is_empty() {
         return Ok(());
@@ -388,9 +403,10 @@ fn check_required_extensions(path: &Path, root: &serde_json::Value) -> Result<()
         path,
         format!(
             "the file requires the glTF extension(s) {}, which StarCages does not read yet \
-             (of the required extensions it reads {QUANTIZATION}); export without them \
-             (gltfpack: leave out -cc; Blender: turn off mesh compression)",
-            unread.join(", ")
+             (of the required extensions it reads {QUANTIZATION} and {}); export without \
+             them (Blender: turn off mesh compression)",
+            unread.join(", "),
+            super::gltf_meshopt::MESHOPT
         ),
     ))
 }
@@ -400,7 +416,8 @@ fn check_required_extensions(path: &Path, root: &serde_json::Value) -> Result<()
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
 /// The document parsed and validated as the `gltf` crate does, except that requiring
-/// [`QUANTIZATION`], which this reader handles itself, is not an error.
+/// [`QUANTIZATION`] or `EXT_meshopt_compression`, which this reader handles itself, is not an
+/// error.
 fn parse_validated(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
     use gltf::json::validation::{Error, Validate};
     let gltf = gltf::Gltf::from_slice_without_validation(bytes)?;
@@ -409,11 +426,11 @@ fn parse_validated(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
     root.validate(root, gltf::json::Path::new, &mut |path, error| {
         errors.push((path(), error));
     });
-    let handled = format!("= \"{QUANTIZATION}\"");
+    let handled = [QUANTIZATION, super::gltf_meshopt::MESHOPT].map(|e| format!("= \"{e}\""));
     errors.retain(|(path, error)| {
         !(matches!(error, Error::Unsupported)
             && path.as_str().starts_with("extensionsRequired")
-            && path.as_str().ends_with(&handled))
+            && handled.iter().any(|h| path.as_str().ends_with(h)))
     });
     if errors.is_empty() {
         Ok(gltf)

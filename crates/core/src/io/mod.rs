@@ -7,6 +7,7 @@ mod atomic;
 mod cage_set_obj;
 mod gltf_accessor;
 mod gltf_animation;
+mod gltf_meshopt;
 mod gltf_skin;
 mod mesh_gltf;
 mod mesh_obj;

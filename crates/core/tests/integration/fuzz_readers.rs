@@ -219,6 +219,38 @@ fn valid_skinned_gltf() -> Value {
     })
 }
 
+/// [`valid_gltf`]'s triangle as `EXT_meshopt_compression` streams in a fallback buffer
+/// (gltfpack's `-cc` layout), so mutations reach the decoder and the fallback handling.
+fn valid_compressed_gltf() -> Value {
+    use base64::Engine as _;
+    let positions: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let mut bytes = meshopt::encode_vertex_buffer(&positions).unwrap();
+    let vertex_length = bytes.len();
+    bytes.extend(meshopt::encode_index_buffer(&[0, 1, 2], 3).unwrap());
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    let ext = |offset: usize, length: usize, stride: usize, mode: &str| {
+        serde_json::json!({"EXT_meshopt_compression": {"buffer": 0, "byteOffset": offset,
+            "byteLength": length, "byteStride": stride, "mode": mode, "count": 3}})
+    };
+    let mut document = valid_gltf();
+    document["extensionsUsed"] = serde_json::json!(["EXT_meshopt_compression"]);
+    document["extensionsRequired"] = serde_json::json!(["EXT_meshopt_compression"]);
+    document["bufferViews"] = serde_json::json!([
+        {"buffer": 1, "byteOffset": 0, "byteLength": 36, "byteStride": 12,
+         "extensions": ext(0, vertex_length, 12, "ATTRIBUTES")},
+        {"buffer": 1, "byteOffset": 36, "byteLength": 12,
+         "extensions": ext(vertex_length, bytes.len() - vertex_length, 4, "TRIANGLES")}
+    ]);
+    document["buffers"] = serde_json::json!([
+        {"uri": uri, "byteLength": bytes.len()},
+        {"byteLength": 48, "extensions": {"EXT_meshopt_compression": {"fallback": true}}}
+    ]);
+    document
+}
+
 /// Extreme and awkward replacements for a number.
 const NUMBERS: [f64; 13] = [
     0.0,
@@ -287,10 +319,14 @@ proptest! {
         mutations in prop::collection::vec((0usize..200, any::<u8>(), any::<u8>()), 1..5),
         cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..4),
         quantized in any::<bool>(),
-        skinned in any::<bool>(),
+        variant in 0u8..3,
     ) {
         let dir = scratch();
-        let mut document = if skinned { valid_skinned_gltf() } else { valid_gltf() };
+        let mut document = match variant {
+            0 => valid_gltf(),
+            1 => valid_skinned_gltf(),
+            _ => valid_compressed_gltf(),
+        };
         if quantized {
             // KHR_mesh_quantization: integer component types become legal attributes.
             document["extensionsUsed"] = serde_json::json!(["KHR_mesh_quantization"]);
@@ -388,6 +424,18 @@ proptest! {
             let _ = binding.deform(&scene.cages.vertices, &scene.pose);
         }
     }
+}
+
+/// The compressed fixture reads as the plain triangle (so the fuzz starts from a valid file).
+#[test]
+fn the_compressed_fuzz_fixture_reads() {
+    let dir = scratch();
+    let path = dir.join(format!("{}-compressed.gltf", std::process::id()));
+    std::fs::write(&path, valid_compressed_gltf().to_string()).unwrap();
+    let mesh = read_mesh(&path).unwrap();
+    assert_eq!(mesh.positions()[1], glam::DVec3::X);
+    // valid_gltf's two instances of the triangle.
+    assert_eq!(mesh.triangles(), [[0, 1, 2], [3, 4, 5]].as_slice());
 }
 
 /// The skinned fixture reads (so the fuzz starts from a valid skin): its first vertex weighs

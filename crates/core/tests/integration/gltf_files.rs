@@ -486,3 +486,72 @@ fn skinned_meshes_are_placed_by_their_joints_not_their_node() {
         "{error}"
     );
 }
+
+/// A triangle whose positions and indices are `EXT_meshopt_compression` streams (encoded here
+/// with the same library's encoder), in a fallback buffer without data, as gltfpack's `-cc`
+/// writes: it reads as the plain triangle. A corrupt stream, a stream that does not fit its
+/// view and a fallback claiming gigabytes are refused naming the buffer view or buffer.
+#[test]
+fn meshopt_compressed_views_decode_into_their_fallback_buffer() {
+    let dir = scratch("meshopt");
+    let positions: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0]];
+    let vertices = meshopt::encode_vertex_buffer(&positions).unwrap();
+    let indices = meshopt::encode_index_buffer(&[0, 1, 2], 3).unwrap();
+    let document = |vertex_stream: &[u8], fallback_length: usize, view_length: usize| {
+        let mut bytes = vertex_stream.to_vec();
+        let index_offset = bytes.len();
+        bytes.extend(&indices);
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&bytes)
+        );
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["EXT_meshopt_compression"],
+"extensionsRequired":["EXT_meshopt_compression"],"scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[2,3,0]}},
+{{"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}}],
+"bufferViews":[{{"buffer":1,"byteOffset":0,"byteLength":{view_length},"byteStride":12,
+"extensions":{{"EXT_meshopt_compression":{{"buffer":0,"byteOffset":0,"byteLength":{},"byteStride":12,"mode":"ATTRIBUTES","count":3}}}}}},
+{{"buffer":1,"byteOffset":36,"byteLength":12,
+"extensions":{{"EXT_meshopt_compression":{{"buffer":0,"byteOffset":{index_offset},"byteLength":{},"byteStride":4,"mode":"TRIANGLES","count":3}}}}}}],
+"buffers":[{{"uri":"{uri}","byteLength":{}}},
+{{"byteLength":{fallback_length},"extensions":{{"EXT_meshopt_compression":{{"fallback":true}}}}}}]}}"#,
+            vertex_stream.len(),
+            indices.len(),
+            bytes.len()
+        )
+    };
+    let read_doc = |name: &str, json: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, json).unwrap();
+        read_mesh(&path)
+    };
+    let mesh = read_doc("good.gltf", document(&vertices, 48, 36)).unwrap();
+    let expected = positions.map(|p| glam::DVec3::new(p[0].into(), p[1].into(), p[2].into()));
+    assert_eq!(mesh.positions(), expected.as_slice());
+    assert_eq!(mesh.triangles(), [[0, 1, 2]].as_slice());
+    // A damaged vertex stream (its header byte) does not decode.
+    let mut damaged = vertices.clone();
+    damaged[0] ^= 0xff;
+    let error = read_doc("damaged.gltf", document(&damaged, 48, 36))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("buffer view 0") && error.contains("EXT_meshopt_compression"),
+        "{error}"
+    );
+    // The fallback buffer too small for the decoded views.
+    let error = read_doc("small.gltf", document(&vertices, 40, 36))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("do not fit buffer 1"), "{error}");
+    // A fallback claiming 4 GB from a file of a few hundred bytes.
+    let error = read_doc("huge.gltf", document(&vertices, 4_000_000_000, 36))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("buffer 1") && error.contains("fallback"),
+        "{error}"
+    );
+}
