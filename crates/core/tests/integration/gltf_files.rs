@@ -359,15 +359,15 @@ fn quantized_attributes_read_as_their_float_values() {
         "{error}"
     );
     // An extension this reader does not handle is named, with the way out.
-    let meshopt = dir.join("meshopt.gltf");
+    let draco = dir.join("draco.gltf");
     std::fs::write(
-        &meshopt,
-        json(r#""extensionsRequired":["KHR_mesh_quantization","EXT_meshopt_compression"],"#),
+        &draco,
+        json(r#""extensionsRequired":["KHR_mesh_quantization","KHR_draco_mesh_compression"],"#),
     )
     .unwrap();
-    let error = read_mesh(&meshopt).unwrap_err().to_string();
+    let error = read_mesh(&draco).unwrap_err().to_string();
     assert!(
-        error.contains("EXT_meshopt_compression") && error.contains("export without"),
+        error.contains("KHR_draco_mesh_compression") && error.contains("export without"),
         "{error}"
     );
 }
