@@ -174,6 +174,9 @@ pub struct EditorState {
     pub load_job: Option<Job<LoadResult>>,
     /// Rig ▸ Auto rig running on the current mesh (dropping it cancels it).
     pub autorig_job: Option<Job<Result<starcages_core::scene::CageSet, EditorError>>>,
+    /// The auto rig New from mesh asked for: started once the mesh (in the grid, at once) is
+    /// open.
+    pending_autorig: Option<starcages_core::generate::AutorigSettings>,
     /// The influence map.
     pub map: InfluenceMap,
     /// The status message.
@@ -228,6 +231,7 @@ impl EditorState {
             bind_job: None,
             load_job: None,
             autorig_job: None,
+            pending_autorig: None,
             map: InfluenceMap::default(),
             message: None,
             stats: Stats::default(),
@@ -401,13 +405,21 @@ impl EditorState {
         match result.and_then(|r| r) {
             Ok(doc) => {
                 let path = doc.path.clone();
+                // Taken first: installing the document starts a fresh state.
+                let autorig = self.pending_autorig.take();
                 self.install_document(doc);
                 if let Some(path) = path {
                     self.remember(&path);
                     self.info(format!("opened {}", path.display()));
                 }
+                if let Some(settings) = autorig {
+                    self.start_autorig(settings);
+                }
             }
-            Err(e) => self.error(e),
+            Err(e) => {
+                self.pending_autorig = None;
+                self.error(e);
+            }
         }
     }
 
@@ -457,15 +469,36 @@ impl EditorState {
         ));
     }
 
-    /// Starts reading a mesh and rigging it on a worker, as [`Self::start_load`].
-    pub fn start_new_from_mesh(&mut self, path: PathBuf, options: NewMeshOptions) {
-        self.info(format!("rigging {}…", path.display()));
+    /// Starts reading a mesh and rigging it on a worker, as [`Self::start_load`]. With the auto
+    /// rig, the mesh opens at once in the automatic grid and the auto rig follows in the
+    /// background, replacing the grid as one undo step (Ctrl+Z brings the grid back; Cancel or
+    /// a mesh the auto rig cannot rig keeps it): a million-triangle mesh shows while its rig is
+    /// made.
+    pub fn start_new_from_mesh(&mut self, path: PathBuf, mut options: NewMeshOptions) {
+        self.info(format!("reading {}…", path.display()));
+        self.pending_autorig = match options.rig {
+            NewRig::Auto => {
+                options.rig = NewRig::Grid;
+                Some(starcages_core::generate::AutorigSettings {
+                    detail: options.detail,
+                    ..starcages_core::generate::AutorigSettings::default()
+                })
+            }
+            NewRig::Grid => None,
+        };
         self.load_job = Some(jobs::new_from_mesh(path, options, self.waker.clone()));
     }
 
     /// Starts opening `path` on a worker; the current document stays until it has loaded,
-    /// and for good if it fails.
+    /// and for good if it fails. A mesh (not a `.json` scene) opens as File ▸ New from mesh
+    /// does: at once in the grid, its auto rig following.
     pub fn start_load(&mut self, path: PathBuf) {
+        let scene = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        if !scene {
+            return self.start_new_from_mesh(path, NewMeshOptions::default());
+        }
         self.info(format!("opening {}…", path.display()));
         self.load_job = Some(jobs::load(path, self.waker.clone()));
     }

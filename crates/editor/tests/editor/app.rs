@@ -703,6 +703,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     let mut app = starcages_editor::EditorApp::new(doc, None, false);
     app.wait_for_jobs();
     let grid_cages = app.state.doc.scene.cages.clone();
+    let grid_mesh_vertices = app.state.doc.scene.mesh.welded_positions().len();
     app.run(Command::AutoRig {
         detail: 2,
         internal: true,
@@ -738,7 +739,8 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     assert!(app.state.doc.scene.poses.contains_key("bend"));
     app.run(Command::Redo);
     assert_ne!(app.state.doc.scene.cages, grid_cages);
-    // New from mesh: the auto rig by default.
+    // New from mesh: the auto rig by default. The mesh opens at once in the grid, the auto
+    // rig follows on a worker and replaces it as one undo step.
     app.run(Command::NewFromMesh(
         mesh.clone(),
         NewMeshOptions::default(),
@@ -746,6 +748,17 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     app.run(Command::AnswerUnsaved(
         starcages_editor::commands::UnsavedAnswer::Discard,
     ));
+    while app.state.load_job.is_some() {
+        app.state.poll_jobs(false);
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let opened = app.state.doc.scene.clone();
+    assert_eq!(
+        opened.mesh.welded_positions().len(),
+        grid_mesh_vertices,
+        "the mesh is open before its rig is made"
+    );
+    assert!(app.state.autorig_job.is_some(), "the auto rig runs after");
     app.wait_for_jobs();
     let scene = &app.state.doc.scene;
     assert!(
@@ -758,6 +771,9 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
         app.state.message
     );
     assert!(validate_scene(scene).is_valid());
+    // The grid is one undo step away.
+    app.run(Command::Undo);
+    assert_eq!(app.state.doc.scene.cages, opened.cages);
 }
 
 /// Where no native file dialog can be shown, File ▸ Open… opens the in-app one, and choosing a
