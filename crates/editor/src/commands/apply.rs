@@ -125,6 +125,7 @@ pub fn apply(state: &mut EditorState, command: Command) {
         Command::CancelAutoRig => {
             if state.autorig_job.take().is_some() {
                 state.info("auto rig cancelled; the rig is unchanged");
+                state.bind_if_unbound();
             }
         }
         Command::CancelLoad => {

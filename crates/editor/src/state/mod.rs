@@ -413,6 +413,9 @@ impl EditorState {
                     self.info(format!("opened {}", path.display()));
                 }
                 if let Some(settings) = autorig {
+                    // The grid is not bound meanwhile: the auto rig gets every core, and its
+                    // rig is bound when it arrives (the grid is, should it not).
+                    self.bind_job = None;
                     self.start_autorig(settings);
                 }
             }
@@ -455,7 +458,18 @@ impl EditorState {
                     "auto rig: {leaves} leaf cages, {vertices} cage vertices{went} (Ctrl+Z brings the old rig back)"
                 ));
             }
-            Err(e) => self.error(e),
+            Err(e) => {
+                self.error(e);
+                self.bind_if_unbound();
+            }
+        }
+    }
+
+    /// Binds the scene if nothing is bound or binding (a mesh whose auto rig did not come:
+    /// its grid was left unbound while the auto rig ran).
+    pub fn bind_if_unbound(&mut self) {
+        if self.rig.is_none() && self.bind_job.is_none() {
+            self.start_bind("binding the scene");
         }
     }
 

@@ -759,6 +759,10 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
         "the mesh is open before its rig is made"
     );
     assert!(app.state.autorig_job.is_some(), "the auto rig runs after");
+    assert!(
+        app.state.bind_job.is_none(),
+        "the grid is not bound meanwhile"
+    );
     app.wait_for_jobs();
     let scene = &app.state.doc.scene;
     assert!(
@@ -774,6 +778,25 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     // The grid is one undo step away.
     app.run(Command::Undo);
     assert_eq!(app.state.doc.scene.cages, opened.cages);
+    // Cancelling the auto rig keeps the grid, and binds it.
+    app.run(Command::NewFromMesh(
+        mesh.clone(),
+        NewMeshOptions::default(),
+    ));
+    app.run(Command::AnswerUnsaved(
+        starcages_editor::commands::UnsavedAnswer::Discard,
+    ));
+    while app.state.load_job.is_some() {
+        app.state.poll_jobs(false);
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    app.run(Command::CancelAutoRig);
+    app.wait_for_jobs();
+    assert_eq!(app.state.doc.scene.cages, opened.cages);
+    assert!(
+        app.state.rig.is_some(),
+        "the grid is bound after the cancel"
+    );
 }
 
 /// Where no native file dialog can be shown, File ▸ Open… opens the in-app one, and choosing a
