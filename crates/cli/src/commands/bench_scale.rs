@@ -20,6 +20,10 @@ use starcages_core::mesh::Mesh;
 use starcages_core::scene::{Scene, SceneSettings};
 use starcages_core::star::{StarBinding, single_cage_scene};
 
+/// Most triangles a size of the series may have (about 5 million vertices: a bind of those
+/// needs about 4 GB).
+const MAX_SCALE_TRIANGLES: u64 = 10_000_000;
+
 /// One bind of one size.
 #[derive(Serialize)]
 struct Bind {
@@ -201,6 +205,21 @@ pub fn run(
         .into());
     }
     let (base, up) = super::read_new_scene_mesh(mesh_path, None)?;
+    // Refused before any work: each size must fit this machine (a 25k-vertex mesh at 64 cuts
+    // would be 200 million triangles).
+    for &n in segments {
+        let triangles = base.welded_triangles().len() as u64 * u64::from(n) * u64::from(n);
+        if triangles > MAX_SCALE_TRIANGLES {
+            return Err(crate::InputError(format!(
+                "--segments {n} would make {triangles} triangles of {}'s {}, past the {} this \
+                 benchmark allows; use fewer cuts",
+                mesh_path.display(),
+                base.welded_triangles().len(),
+                MAX_SCALE_TRIANGLES
+            ))
+            .into());
+        }
+    }
     let mut sizes = Vec::new();
     for &n in segments {
         let mesh = base.subdivided(n)?;

@@ -80,4 +80,33 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
     ]);
     assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("--segments 0"), "{}", stderr(&bad));
+    // A size past the benchmark's bound is refused before any work: 3,000 tetrahedra (12,000
+    // triangles) cut 64 ways would be 49 million triangles.
+    let fine = d.join("fine.obj");
+    let mut text = String::new();
+    for k in 0..3000 {
+        let (x, b) = (k as f64 * 2.0, 4 * k + 1);
+        text.push_str(&format!(
+            "v {x} 0 0\nv {} 0 0\nv {x} 1 0\nv {x} 0 1\n",
+            x + 1.0
+        ));
+        let [p, q, r, s] = [b, b + 1, b + 2, b + 3];
+        text.push_str(&format!(
+            "f {p} {r} {q}\nf {p} {q} {s}\nf {p} {s} {r}\nf {q} {r} {s}\n"
+        ));
+    }
+    std::fs::write(&fine, text).unwrap();
+    let huge = cli(&[
+        "bench",
+        "--scale",
+        fine.to_str().unwrap(),
+        "--segments",
+        "64",
+    ]);
+    assert_eq!(huge.status.code(), Some(2), "{}", stderr(&huge));
+    assert!(
+        stderr(&huge).contains("use fewer cuts"),
+        "{}",
+        stderr(&huge)
+    );
 }
