@@ -82,14 +82,14 @@ impl Rig {
     }
 
     /// Updates the deformation after the cage vertices `changed` moved: only the mesh rows
-    /// they touch are recomputed.
+    /// they touch are recomputed, or all of them in one parallel product where those are
+    /// most of the mesh (`StarOperator::apply_after_move`).
     pub fn redeform_rows(&mut self, scene: &Scene, changed: &[u32]) {
         let operator = &self.binding.operator;
         let dofs = operator.dofs(&scene.cages.vertices, &scene.pose);
-        let rows = operator.rows_touched(&operator.columns_of_moved_vertices(changed));
         let deformed = Arc::make_mut(&mut self.deformed);
         if deformed.len() == operator.row_count() {
-            operator.apply_rows(&rows, &dofs, deformed);
+            operator.apply_after_move(changed, &dofs, deformed);
         } else {
             *deformed = self.binding.deform(&scene.cages.vertices, &scene.pose);
         }
