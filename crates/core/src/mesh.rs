@@ -66,6 +66,41 @@ pub struct MeshPart {
     pub triangles: std::ops::Range<u32>,
 }
 
+/// Coincident positions welded: per position its welded vertex, numbered in order of first
+/// occurrence, and the welded positions. By a parallel sort of the positions' bits (a hash
+/// map of millions of corners was most of reading a large STL file, and a sort cannot be
+/// driven quadratic by crafted positions).
+fn weld_coincident(positions: &[DVec3]) -> (Vec<u32>, Vec<DVec3>) {
+    use rayon::prelude::*;
+    // -0.0 and 0.0 coincide.
+    let keys: Vec<[u64; 3]> = positions
+        .par_iter()
+        .map(|p| (*p + DVec3::ZERO).to_array().map(f64::to_bits))
+        .collect();
+    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (keys[i as usize], i));
+    // Each position's first occurrence (ties sort by index: the group's first).
+    let mut first = vec![0u32; positions.len()];
+    for group in order.chunk_by(|&a, &b| keys[a as usize] == keys[b as usize]) {
+        for &i in group {
+            first[i as usize] = group[0];
+        }
+    }
+    let mut welded_of = vec![0u32; positions.len()];
+    let mut welded_positions = Vec::new();
+    let weld = (0..positions.len())
+        .map(|i| {
+            let f = first[i] as usize;
+            if f == i {
+                welded_of[i] = welded_positions.len() as u32;
+                welded_positions.push(positions[i]);
+            }
+            welded_of[f]
+        })
+        .collect();
+    (weld, welded_positions)
+}
+
 /// A triangle mesh: original layout plus its welded view.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
@@ -123,19 +158,7 @@ impl Mesh {
                 });
             }
         }
-        let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
-        let mut welded_positions = Vec::new();
-        let weld: Vec<u32> = positions
-            .iter()
-            .map(|p| {
-                // -0.0 and 0.0 coincide.
-                let key = (*p + DVec3::ZERO).to_array().map(f64::to_bits);
-                *index.entry(key).or_insert_with(|| {
-                    welded_positions.push(*p);
-                    welded_positions.len() as u32 - 1
-                })
-            })
-            .collect();
+        let (weld, welded_positions) = weld_coincident(&positions);
         let welded_triangles = triangles
             .iter()
             .map(|t| t.map(|v| weld[v as usize]))
@@ -282,6 +305,35 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The sort-based weld numbers welded vertices in order of first occurrence, exactly as a
+    /// map from position to first index would, on many duplicates in scrambled order.
+    #[test]
+    fn the_weld_numbers_vertices_by_first_occurrence() {
+        let pool: Vec<DVec3> = (0..97)
+            .map(|k| DVec3::new(f64::from(k % 7), f64::from(k), -0.5))
+            .collect();
+        let positions: Vec<DVec3> = (0..20_000u32)
+            .map(|i| pool[(i.wrapping_mul(2_654_435_761) >> 7) as usize % pool.len()])
+            .collect();
+        let (weld, welded) = weld_coincident(&positions);
+        let mut index = HashMap::new();
+        let mut expected_positions = Vec::new();
+        let expected: Vec<u32> = positions
+            .iter()
+            .map(|p| {
+                *index
+                    .entry(p.to_array().map(f64::to_bits))
+                    .or_insert_with(|| {
+                        expected_positions.push(*p);
+                        expected_positions.len() as u32 - 1
+                    })
+            })
+            .collect();
+        assert_eq!(weld, expected);
+        assert_eq!(welded, expected_positions);
+        assert_eq!(welded.len(), pool.len());
+    }
 
     #[test]
     fn welds_coincident_vertices_and_keeps_layout() {
