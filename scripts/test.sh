@@ -15,6 +15,14 @@ if ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq mesa-vulkan-drivers >/dev/null
 fi
+# The meshopt crate (EXT_meshopt_compression) builds meshoptimizer's C++ sources: a C++
+# compiler must exist. Debian images without one get g++.
+if ! command -v c++ >/dev/null 2>&1; then
+    echo "scripts/test.sh: installing a C++ compiler (g++) for the meshopt crate" >&2
+    if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq g++ >/dev/null
+fi
 # lavapipe complains without a runtime dir; give it one.
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 jobs="${CARGO_BUILD_JOBS:-$(nproc)}"
