@@ -117,6 +117,14 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// Bytes of the positions, triangles and weld map held in both layouts (normals and UVs
+    /// left out): what a bind's memory is measured against.
+    pub fn byte_size(&self) -> usize {
+        (self.positions.len() + self.welded_positions.len()) * 24
+            + (self.triangles.len() + self.welded_triangles.len()) * 12
+            + self.weld.len() * 4
+    }
+
     /// Builds a mesh, validating indices and values and welding coincident vertices.
     pub fn new(
         positions: Vec<DVec3>,

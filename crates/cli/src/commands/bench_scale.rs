@@ -16,7 +16,6 @@ use serde::Serialize;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::generate::{AutocageOptions, autocage};
-use starcages_core::mesh::Mesh;
 use starcages_core::scene::{Scene, SceneSettings};
 use starcages_core::star::{StarBinding, single_cage_scene};
 
@@ -68,22 +67,6 @@ struct Size {
     blender: Option<Blender>,
 }
 
-fn mesh_bytes(mesh: &Mesh) -> usize {
-    mesh.positions().len() * 24
-        + mesh.triangles().len() * 12
-        + mesh.welded_positions().len() * 24
-        + mesh.welded_triangles().len() * 12
-        + mesh.weld_map().len() * 4
-}
-
-fn stored_bytes(binding: &StarBinding) -> usize {
-    binding.stats.operator_bytes
-        + binding.stats.transpose_bytes
-        + binding.join_weights.byte_size()
-        + binding.boundary_weight.len() * 4
-        + binding.cage_of.len() * 4
-}
-
 /// Binds `scene` from scratch and measures it.
 fn bind(scene: &Scene, what: &str) -> anyhow::Result<Bind> {
     starcages_core::coords::clear_harmonic_cache();
@@ -118,7 +101,7 @@ fn bind(scene: &Scene, what: &str) -> anyhow::Result<Bind> {
         seconds_other: (seconds - stats.seconds_cage_coordinates - stats.seconds_join_cages)
             .max(0.0),
         peak_mb: peak as f64 / 1e6,
-        stored_mb: stored_bytes(&binding) as f64 / 1e6,
+        stored_mb: binding.byte_size() as f64 / 1e6,
         move_s,
     })
 }
@@ -229,7 +212,7 @@ pub fn run(
             mesh.welded_positions().len()
         );
         let cages = autocage(&mesh, &AutocageOptions::default());
-        let mesh_mb = mesh_bytes(&mesh) as f64 / 1e6;
+        let mesh_mb = mesh.byte_size() as f64 / 1e6;
         let (vertices, triangles) = (mesh.welded_positions().len(), mesh.welded_triangles().len());
         let scene = Scene::from_mesh_file(
             mesh_path.to_owned(),

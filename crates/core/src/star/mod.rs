@@ -287,6 +287,16 @@ impl StarBinding {
         })
     }
 
+    /// Bytes the binding keeps: the operator and its transpose, the join weights, b and the
+    /// cage of each point.
+    pub fn byte_size(&self) -> usize {
+        self.stats.operator_bytes
+            + self.stats.transpose_bytes
+            + self.join_weights.byte_size()
+            + self.boundary_weight.len() * 4
+            + self.cage_of.len() * 4
+    }
+
     /// Deformed positions of the bound points for the posed cage vertices `posed`.
     pub fn deform(&self, rest: &[DVec3], posed: &[DVec3]) -> Vec<Vec3> {
         let x = self.operator.dofs(rest, posed);
