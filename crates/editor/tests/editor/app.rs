@@ -676,12 +676,27 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
     }
 }
 
+/// New from mesh on `mesh` (discarding the open document), returning once the mesh is read
+/// and installed, while its auto rig may still run.
+fn open_mesh_until_read(app: &mut starcages_editor::EditorApp, mesh: &std::path::Path) {
+    app.run(Command::NewFromMesh(
+        mesh.to_path_buf(),
+        starcages_editor::state::NewMeshOptions::default(),
+    ));
+    app.run(Command::AnswerUnsaved(
+        starcages_editor::commands::UnsavedAnswer::Discard,
+    ));
+    while app.state.load_job.is_some() {
+        app.state.poll_jobs(false);
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
 /// New from mesh gives the auto rig by default, on a worker; Rig ▸ Auto rig replaces a rig
 /// with it as one undo step (poses of the old cages go, and come back with undo).
 #[test]
 fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     use starcages_core::scene::validate_scene;
-    use starcages_editor::state::NewMeshOptions;
     let dir = scratch("auto-rig");
     let mesh = dir.join("bar.obj");
     let mut bar = starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap();
@@ -741,17 +756,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     assert_ne!(app.state.doc.scene.cages, grid_cages);
     // New from mesh: the auto rig by default. The mesh opens at once in the grid, the auto
     // rig follows on a worker and replaces it as one undo step.
-    app.run(Command::NewFromMesh(
-        mesh.clone(),
-        NewMeshOptions::default(),
-    ));
-    app.run(Command::AnswerUnsaved(
-        starcages_editor::commands::UnsavedAnswer::Discard,
-    ));
-    while app.state.load_job.is_some() {
-        app.state.poll_jobs(false);
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    open_mesh_until_read(&mut app, &mesh);
     let opened = app.state.doc.scene.clone();
     assert_eq!(
         opened.mesh.welded_positions().len(),
@@ -779,17 +784,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     app.run(Command::Undo);
     assert_eq!(app.state.doc.scene.cages, opened.cages);
     // Cancelling the auto rig keeps the grid, and binds it.
-    app.run(Command::NewFromMesh(
-        mesh.clone(),
-        NewMeshOptions::default(),
-    ));
-    app.run(Command::AnswerUnsaved(
-        starcages_editor::commands::UnsavedAnswer::Discard,
-    ));
-    while app.state.load_job.is_some() {
-        app.state.poll_jobs(false);
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    open_mesh_until_read(&mut app, &mesh);
     app.run(Command::CancelAutoRig);
     app.wait_for_jobs();
     assert_eq!(app.state.doc.scene.cages, opened.cages);
