@@ -30,6 +30,7 @@ import subprocess
 import sys
 
 import bpy
+from plain_obj import read_obj  # noqa: E402  (beside this script)
 
 
 def build_scene():
@@ -144,20 +145,6 @@ def in_file_axes(points, ext):
     if ext in (".ply", ".stl"):
         return points
     return [(x, z, -y) for x, y, z in points]
-
-
-def read_obj(path):
-    vertices, faces = [], []
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                vertices.append(tuple(float(c) for c in parts[1:4]))
-            elif parts[0] == "f":
-                faces.append([int(p.split("/")[0]) - 1 for p in parts[1:]])
-    return vertices, faces
 
 
 def signed_volume(vertices, faces):

@@ -18,21 +18,13 @@ hand-built rig posed alike (docs/autorig.md).
 import json
 import math
 import sys
+from plain_obj import read_obj as read_polygons  # noqa: E402  (beside this script)
 
 
 def read_obj(path):
-    positions, faces = [], []
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                positions.append(tuple(float(x) for x in parts[1:4]))
-            elif parts[0] == "f":
-                corners = [int(p.split("/")[0]) - 1 for p in parts[1:]]
-                for k in range(1, len(corners) - 1):
-                    faces.append((corners[0], corners[k], corners[k + 1]))
+    """Positions and triangles (polygons fanned) of an OBJ file."""
+    positions, polygons = read_polygons(path)
+    faces = [(f[0], f[k], f[k + 1]) for f in polygons for k in range(1, len(f) - 1)]
     return positions, faces
 
 
