@@ -124,6 +124,18 @@ fn scene(mesh: &Mesh, cages: CageSet) -> Scene {
     )
 }
 
+/// The rig of `mesh` at `detail` with internal cages, checked valid.
+fn rig_with_internal_cages(mesh: &Mesh, detail: u32) -> Scene {
+    let settings = AutorigSettings {
+        detail,
+        internal: true,
+        ..AutorigSettings::default()
+    };
+    let scene = scene(mesh, rig(mesh, &settings));
+    assert!(validate_scene(&scene).is_valid());
+    scene
+}
+
 /// Properties 1 and 2 of the issue: a valid scene, one piece of surface in every leaf cage.
 fn check_rig(name: &str, mesh: &Mesh, least_cages: usize) -> Scene {
     let scene = scene(mesh, rig(mesh, &AutorigSettings::default()));
@@ -246,12 +258,7 @@ fn the_same_mesh_gives_the_same_rig_on_any_thread_count() {
 #[test]
 fn internal_cages_drive_each_limb() {
     let mesh = shape_star();
-    let settings = AutorigSettings {
-        internal: true,
-        ..AutorigSettings::default()
-    };
-    let scene = scene(&mesh, rig(&mesh, &settings));
-    assert!(validate_scene(&scene).is_valid());
+    let scene = rig_with_internal_cages(&mesh, 3);
     let names: Vec<&str> = scene
         .cages
         .internals
@@ -304,12 +311,7 @@ fn legs_joined_below_the_body_are_limbs_of_their_own() {
         ],
         0.04,
     );
-    let settings = AutorigSettings {
-        internal: true,
-        ..AutorigSettings::default()
-    };
-    let scene = scene(&mesh, rig(&mesh, &settings));
-    assert!(validate_scene(&scene).is_valid());
+    let scene = rig_with_internal_cages(&mesh, 3);
     let names: Vec<&str> = scene.cages.leaves.iter().map(|l| l.name.as_str()).collect();
     // Root segments: one per leg, each of its own limb (no "limbL_1b").
     let roots: Vec<&&str> = names
@@ -327,4 +329,99 @@ fn legs_joined_below_the_body_are_limbs_of_their_own() {
         .filter(|c| c.name.starts_with("limb"))
         .count();
     assert!(limb_boxes >= 2, "{limb_boxes} limb boxes: {names:?}");
+}
+
+/// A neck that forks into two horns, and a tail beside two legs, all joined to each other
+/// outside the body: each horn, leg and the tail is a limb of its own, and the horns' boxes are
+/// driven by the neck's box (posing the neck carries the horns).
+#[test]
+fn a_limb_that_forks_gets_a_limb_per_branch_under_the_limb_it_grows_from() {
+    let mesh = capsules(
+        &[
+            // Body, lying along x.
+            (v(-1.0, 0.0, 0.0), v(1.0, 0.0, 0.0), 0.55),
+            // Neck up from the front, forking into two horns.
+            (v(1.0, 0.0, 0.3), v(1.4, 0.0, 1.3), 0.2),
+            (v(1.4, 0.0, 1.3), v(1.0, -0.7, 2.3), 0.12),
+            (v(1.4, 0.0, 1.3), v(1.0, 0.7, 2.3), 0.12),
+        ],
+        0.04,
+    );
+    let scene = rig_with_internal_cages(&mesh, 3);
+    assert!(surface_pieces_per_leaf(&scene).iter().all(|&n| n <= 1));
+    // The limb holding the horn tips (the highest cage vertices on either side of y = 0).
+    let limb_at = |side: f64| -> String {
+        let set = &scene.cages;
+        let leaf = set
+            .leaves
+            .iter()
+            .filter(|l| l.name.starts_with("limb"))
+            .max_by(|a, b| {
+                let top = |l: &starcages_core::scene::LeafCage| {
+                    l.faces
+                        .iter()
+                        .flatten()
+                        .map(|&i| set.vertices[i as usize])
+                        .filter(|p| p.y * side > 0.3)
+                        .map(|p| p.z)
+                        .fold(f64::NEG_INFINITY, f64::max)
+                };
+                top(a).total_cmp(&top(b))
+            })
+            .unwrap();
+        leaf.name.split('_').next().unwrap().to_owned()
+    };
+    let (left, right) = (limb_at(-1.0), limb_at(1.0));
+    assert_ne!(left, right, "both horns in one limb");
+    // Each horn's box is owned by another limb's box (the neck's), not by the rig's box.
+    let internals = &scene.cages.internals;
+    let vertices_of = |name: &str| -> std::collections::BTreeSet<u32> {
+        internals
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap()
+            .faces
+            .iter()
+            .flatten()
+            .copied()
+            .collect()
+    };
+    for horn in [&left, &right] {
+        let own = vertices_of(&format!("{horn}_ctrl"));
+        let owner = internals
+            .iter()
+            .find(|c| c.owns.iter().any(|v| own.contains(v)))
+            .unwrap();
+        assert!(
+            owner.name.starts_with("limb") && owner.name != format!("{horn}_ctrl"),
+            "{horn}_ctrl is driven by {}",
+            owner.name
+        );
+    }
+}
+
+/// A lumpy blob (as scans are: lumps reaching out less than half their thickness) is a body
+/// at every detail: the lumps get no chain of cages and no internal box of their own.
+#[test]
+fn lumps_on_a_body_are_not_limbs() {
+    let field = |p: DVec3| {
+        p.length() - 0.8 + 0.05 * (9.0 * p.x).sin() * (9.0 * p.y).sin() * (9.0 * p.z).sin()
+    };
+    let (positions, triangles) = surface_nets(field, DVec3::splat(-1.0), DVec3::splat(1.0), 0.03);
+    let mesh = Mesh::new(positions, triangles, None, None).unwrap();
+    for detail in [3, 4] {
+        let scene = rig_with_internal_cages(&mesh, detail);
+        let names: Vec<&str> = scene.cages.leaves.iter().map(|l| l.name.as_str()).collect();
+        assert!(
+            names.iter().all(|n| n.starts_with("body")),
+            "detail {detail}: {names:?}"
+        );
+        let boxes: Vec<&str> = scene
+            .cages
+            .internals
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect();
+        assert_eq!(boxes, ["rig_ctrl"], "detail {detail}");
+    }
 }

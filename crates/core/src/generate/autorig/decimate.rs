@@ -44,12 +44,14 @@ const INNER_ERROR: f64 = 1.5;
 /// The decimated complex: the triangles of `faces` (polygons over `vertices`, each with the
 /// part it bounds and the part behind it), with fewer vertices. Returns the triangles as
 /// (corners, front, back) over the same vertex numbering; vertices no triangle uses are gone
-/// from every triangle.
+/// from every triangle. The faces of the parts in `frozen` stay as they are (grid-stepped):
+/// the auto rig freezes a cage whose decimated surface did not validate.
 pub(super) fn decimate(
     grid: &Grid,
     vertices: &[IVec3],
     faces: &[(Vec<u32>, Option<u32>, Option<u32>)],
     mesh_points: &[DVec3],
+    frozen: &BTreeSet<u32>,
 ) -> Vec<([u32; 3], Option<u32>, Option<u32>)> {
     let mut triangles: Vec<Triangle> = Vec::new();
     for (corners, front, back) in faces {
@@ -86,6 +88,17 @@ pub(super) fn decimate(
         let mut changed = false;
         for v in 0..vertices.len() as u32 {
             if removed[v as usize] {
+                continue;
+            }
+            let touches_frozen = star[v as usize].iter().any(|&t| {
+                let t = &triangles[t];
+                t.alive
+                    && [t.front, t.back]
+                        .iter()
+                        .flatten()
+                        .any(|p| frozen.contains(p))
+            });
+            if touches_frozen {
                 continue;
             }
             let Some(targets) = targets_of(v, &triangles, &star) else {
@@ -480,7 +493,7 @@ mod tests {
             }
         }
         let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None);
-        let triangles = decimate(&grid, &vertices, &faces, &[]);
+        let triangles = decimate(&grid, &vertices, &faces, &[], &BTreeSet::new());
         let used: BTreeSet<u32> = triangles.iter().flat_map(|(c, _, _)| *c).collect();
         assert!(used.len() < 16, "{used:?}");
         for corner in [id(0, 0), id(3, 0), id(0, 3), id(3, 3)] {

@@ -6,8 +6,10 @@
 //! 1. the mesh's solid as cells of a regular grid (`voxels`): cells the surface passes
 //!    through, and enclosed regions whose generalised winding number is above ½;
 //! 2. parts (`parts`): in each connected piece, the body is the union of the balls inscribed
-//!    at its thickest cells, cut into slabs across its longest axis; the rest are limbs, each
-//!    cut into a chain of segments by geodesic distance from the body;
+//!    at its thickest cells, cut into slabs across its longest axis; the rest are limbs: each
+//!    region split into branches where it forks (`branches`: legs and a tail from one hip band,
+//!    ears from a head top), each branch cut into a chain of segments by geodesic distance;
+//!    a region reaching out less than half its thickness is a bump of the body;
 //!    a part holding two separate pieces of the surface is split between them, or merged with
 //!    the parts that join them where they share cells (`pieces`);
 //! 3. repairs (`repair`) until every part and every union of parts meeting at a grid vertex is
@@ -16,6 +18,7 @@
 //!    opposite directions by the two parts;
 //! 5. validation of the scene; parts named by a problem are merged and the cages rebuilt.
 
+mod branches;
 mod decimate;
 mod parts;
 mod pieces;
@@ -23,6 +26,7 @@ mod polycube;
 mod repair;
 mod voxels;
 
+use std::cmp::Reverse;
 use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
@@ -237,9 +241,9 @@ pub fn autorig(
     check()?;
     // Build, validate, merge what a problem names, again.
     let mut rounds = 0;
+    // Parts whose decimated cage did not validate keep their grid-stepped faces.
+    let mut frozen: BTreeSet<u32> = BTreeSet::new();
     let cages = loop {
-        // Decimated cages first; the grid-stepped ones where those do not validate.
-        let decimated = leaf_cages(&grid, &parts, settings, Some(mesh));
         let problem_of = |set: &CageSet| {
             let scene = Scene::new(
                 MeshSource::Embedded,
@@ -249,9 +253,24 @@ pub fn autorig(
             );
             validate_scene(&scene).errors.into_iter().next()
         };
-        let Some(_) = problem_of(&decimated) else {
+        // Decimated cages first; a cage named by a problem is kept grid-stepped and the rest
+        // decimated again; all grid-stepped where that does not validate either.
+        let decimated = leaf_cages(&grid, &parts, settings, Some((mesh, &frozen)));
+        let Some(problem) = problem_of(&decimated) else {
             break decimated;
         };
+        let named: Vec<u32> = problem
+            .elements(&decimated)
+            .leaf_cages
+            .into_iter()
+            .map(|l| l as u32)
+            .filter(|l| !frozen.contains(l))
+            .collect();
+        if !named.is_empty() {
+            frozen.extend(named);
+            check()?;
+            continue;
+        }
         let set = leaf_cages(&grid, &parts, settings, None);
         let Some(problem) = problem_of(&set) else {
             break set;
@@ -269,13 +288,14 @@ pub fn autorig(
         }
         parts::compact(&mut parts);
         merges += repair::make_manifold(&grid, &mut parts) + 1;
+        frozen.clear();
         check()?;
     };
     control.advance();
     let mut cages = cages;
     if settings.internal {
         let roles = parts_of_leaves(&parts, &cages);
-        add_internal_cages(&mut cages, &roles);
+        add_internal_cages(&mut cages, &roles, &parts.parent_limb);
     }
     control.advance();
     let report = AutorigReport {
@@ -304,20 +324,23 @@ pub fn autorig(
     Ok(Autorig { cages, report })
 }
 
-/// The leaf cages of the parts, named by role; decimated around `mesh` where given.
+/// The leaf cages of the parts, named by role; decimated around the mesh where given, except
+/// the frozen parts' faces.
 fn leaf_cages(
     grid: &Grid,
     parts: &Parts,
     settings: &AutorigSettings,
-    mesh: Option<&Mesh>,
+    decimate_around: Option<(&Mesh, &BTreeSet<u32>)>,
 ) -> CageSet {
     let faces = polycube::boundary_faces(grid, parts);
     let (vertices, faces) = polycube::indexed_faces(&faces);
-    let faces = match mesh {
-        Some(mesh) => decimate::decimate(grid, &vertices, &faces, mesh.welded_positions())
-            .into_iter()
-            .map(|(corners, front, back)| (corners.to_vec(), front, back))
-            .collect(),
+    let faces = match decimate_around {
+        Some((mesh, frozen)) => {
+            decimate::decimate(grid, &vertices, &faces, mesh.welded_positions(), frozen)
+                .into_iter()
+                .map(|(corners, front, back)| (corners.to_vec(), front, back))
+                .collect()
+        }
         None => faces,
     };
     let (vertices, per_part) = polycube::part_faces(&vertices, &faces, parts.roles.len());
@@ -398,9 +421,12 @@ fn parts_of_leaves(parts: &Parts, cages: &CageSet) -> Vec<Role> {
         .collect()
 }
 
-/// One internal box per limb owning its cages' vertices that no body cage has, and one box
-/// over the whole rig owning every other leaf vertex and the limb boxes' vertices.
-fn add_internal_cages(cages: &mut CageSet, roles: &[Role]) {
+/// One internal box per limb owning its cages' vertices that no body cage (and no cage of the
+/// limb it branches from) has, and one box over the whole rig owning every other leaf vertex.
+/// The box of a branch (an ear, a leg from a hip band) is owned by the box of the limb it grows
+/// from, so posing a head top carries its ears; the other limb boxes are owned by the rig's
+/// box. Boxes are named after their limb's cages (`limb3_ctrl` drives `limb3_*`).
+fn add_internal_cages(cages: &mut CageSet, roles: &[Role], parent_limb: &BTreeMap<usize, usize>) {
     let vertices_of =
         |leaf: &LeafCage| -> BTreeSet<u32> { leaf.faces.iter().flatten().copied().collect() };
     let body_vertices: BTreeSet<u32> = cages
@@ -411,36 +437,88 @@ fn add_internal_cages(cages: &mut CageSet, roles: &[Role]) {
         .flat_map(|(l, _)| vertices_of(l))
         .collect();
     let mut limbs: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    let mut prefix_of: BTreeMap<usize, String> = BTreeMap::new();
     for (leaf, role) in cages.leaves.iter().zip(roles) {
         if let Role::Limb { limb, .. } = role {
             limbs
                 .entry(*limb)
                 .or_default()
                 .extend(vertices_of(leaf).difference(&body_vertices));
+            if let Some((prefix, _)) = leaf.name.split_once('_') {
+                prefix_of.entry(*limb).or_insert_with(|| prefix.to_owned());
+            }
         }
+    }
+    // The nearest ancestor that still has cages (merges may have taken a parent's).
+    let parent_of = |limb: usize| {
+        let mut at = parent_limb.get(&limb).copied();
+        for _ in 0..=parent_limb.len() {
+            match at {
+                Some(p) if !limbs.contains_key(&p) => at = parent_limb.get(&p).copied(),
+                _ => break,
+            }
+        }
+        at.filter(|p| limbs.contains_key(p))
+    };
+    let depth_of = |limb: usize| {
+        let mut depth = 0;
+        let mut at = parent_of(limb);
+        while let Some(p) = at {
+            depth += 1;
+            if depth > limbs.len() {
+                break;
+            }
+            at = parent_of(p);
+        }
+        depth
+    };
+    // Vertices each box owns: parents first, so the joint between a limb and its branch stays
+    // with the limb, as the joint between a body and a limb stays with the body.
+    let mut order: Vec<usize> = limbs.keys().copied().collect();
+    order.sort_by_key(|&l| (depth_of(l), l));
+    let mut owned_by_limbs: BTreeSet<u32> = BTreeSet::new();
+    let mut owned_of: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
+    for &limb in &order {
+        let owned: Vec<u32> = limbs[&limb].difference(&owned_by_limbs).copied().collect();
+        owned_by_limbs.extend(&owned);
+        owned_of.insert(limb, owned);
     }
     let diagonal = {
         let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
         (hi - lo).length()
     };
-    let mut owned_by_limbs: BTreeSet<u32> = BTreeSet::new();
-    let mut limb_box_vertices: Vec<u32> = Vec::new();
-    let mut number = 0;
-    for owned in limbs.values() {
-        // A limb whose vertices are all shared with bodies has nothing of its own to drive.
-        let owned: Vec<u32> = owned.difference(&owned_by_limbs).copied().collect();
+    // Boxes deepest first, each owning its limb's vertices and its branches' boxes. A limb
+    // with nothing to drive gets no box.
+    let mut boxes_under: BTreeMap<Option<usize>, Vec<u32>> = BTreeMap::new();
+    let number_of = |limb: usize| {
+        prefix_of
+            .get(&limb)
+            .and_then(|p| p.trim_start_matches("limb").parse::<usize>().ok())
+            .unwrap_or(usize::MAX)
+    };
+    let mut deepest_first = order.clone();
+    deepest_first.sort_by_key(|&l| (Reverse(depth_of(l)), number_of(l), l));
+    for &limb in &deepest_first {
+        let mut owned = owned_of.remove(&limb).unwrap_or_default();
+        owned.extend(boxes_under.remove(&Some(limb)).unwrap_or_default());
         if owned.is_empty() {
             continue;
         }
-        number += 1;
+        owned.sort_unstable();
         let first = cages.vertices.len() as u32;
-        push_box(cages, &format!("limb{number}_ctrl"), &owned, 0.1, diagonal);
-        limb_box_vertices.extend(first..cages.vertices.len() as u32);
-        owned_by_limbs.extend(owned);
+        let name = match prefix_of.get(&limb) {
+            Some(prefix) => format!("{prefix}_ctrl"),
+            None => format!("limb_{limb}_ctrl"),
+        };
+        push_box(cages, &name, &owned, 0.1, diagonal);
+        boxes_under
+            .entry(parent_of(limb))
+            .or_default()
+            .extend(first..cages.vertices.len() as u32);
     }
     let leaf_vertices: BTreeSet<u32> = cages.leaves.iter().flat_map(vertices_of).collect();
     let mut rest: Vec<u32> = leaf_vertices.difference(&owned_by_limbs).copied().collect();
-    rest.extend(limb_box_vertices);
+    rest.extend(boxes_under.into_values().flatten());
     rest.sort_unstable();
     if !rest.is_empty() {
         push_box(cages, "rig_ctrl", &rest, 0.05, diagonal);

@@ -8,6 +8,7 @@ use std::collections::{BTreeMap, BinaryHeap};
 
 use glam::IVec3;
 
+use super::branches::branches;
 use super::voxels::{FACE_STEPS, Grid, components};
 
 /// What a part is, for its name and for the internal cages.
@@ -36,6 +37,9 @@ pub(super) struct Parts {
     pub label: Vec<Option<u32>>,
     /// Role of each part.
     pub roles: Vec<Role>,
+    /// The limb each branching limb grows from (an ear from the head top, a leg from the hip
+    /// band it shares with the other leg); limbs growing from a body are not listed.
+    pub parent_limb: BTreeMap<usize, usize>,
 }
 
 /// How parts are cut.
@@ -79,22 +83,41 @@ pub(super) fn cut_into_parts(
             });
         }
     }
-    // Chains along each limb by geodesic distance from its body.
+    // Each limb region's branches (one per limb: legs joined at the hip, ears on a head top),
+    // each cut into a chain of segments by geodesic distance from where it starts.
+    let mut next_limb = 0;
+    let mut parent_limb = BTreeMap::new();
     for l in 0..limbs {
         let cells: Vec<usize> = (0..grid.len()).filter(|&i| limb_of[i] == Some(l)).collect();
         let distance = geodesic_from_body(grid, &cells, &limb_of, l, &body);
-        let longest = cells.iter().map(|&i| distance[&i]).fold(0.0, f64::max);
         let thickness = 2.0 * mean_depth(depth, &cells);
-        let count = slab_count(longest, cutting.segment_length * thickness);
-        // The root segment is two segments long: a turn of the whole limb shears it most.
-        let units = (count + 1) as f64;
-        for &i in &cells {
-            let unit = ((distance[&i] / longest.max(1e-9)) * units) as usize;
-            let segment = unit.max(1) - 1;
-            group[i] = Some(Role::Limb {
-                limb: l,
-                segment: segment.min(count - 1),
-            });
+        let first = next_limb;
+        if let Some(role) = stub_body(grid, &distance, thickness, &group) {
+            for &i in &cells {
+                group[i] = Some(role);
+            }
+            continue;
+        }
+        for branch in branches(grid, &cells, &distance, thickness) {
+            let limb = next_limb;
+            next_limb += 1;
+            if let Some(p) = branch.parent {
+                parent_limb.insert(limb, first + p);
+            }
+            let own: Vec<usize> = branch.cells.iter().map(|&(i, _)| i).collect();
+            let longest = branch.cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
+            let thickness = 2.0 * mean_depth(depth, &own);
+            let count = slab_count(longest, cutting.segment_length * thickness);
+            // The first segment is two segments long: a turn of the whole limb shears it most.
+            let units = (count + 1) as f64;
+            for &(i, d) in &branch.cells {
+                let unit = ((d / longest.max(1e-9)) * units) as usize;
+                let segment = unit.max(1) - 1;
+                group[i] = Some(Role::Limb {
+                    limb,
+                    segment: segment.min(count - 1),
+                });
+            }
         }
     }
     // Parts: face-connected cells of one group.
@@ -108,10 +131,46 @@ pub(super) fn cut_into_parts(
     let mut parts = Parts {
         label: part_of,
         roles,
+        parent_limb,
     };
     merge_small_parts(grid, &mut parts);
     parts
 }
+
+/// A limb region that reaches out from the body no further than it is thick ([`STUB_LENGTH`]
+/// thicknesses; its reach in cells is its cells' greatest geodesic `distance` from the body,
+/// plus the cell touching the body) is a bump of the body: a scan's lump, a shoulder blade.
+/// The body slab it touches most takes it, so it gets no chain of cages and no internal cage
+/// of its own. Returns that slab.
+fn stub_body(
+    grid: &Grid,
+    distance: &BTreeMap<usize, f64>,
+    thickness: f64,
+    group: &[Option<Role>],
+) -> Option<Role> {
+    let longest = distance.values().copied().fold(0.0, f64::max);
+    if longest + 1.0 > STUB_LENGTH * thickness {
+        return None;
+    }
+    let mut contacts: BTreeMap<Role, usize> = BTreeMap::new();
+    for &i in distance.keys() {
+        let c = grid.cell_of(i);
+        for s in FACE_STEPS {
+            if let Some(n) = grid.index(c + s)
+                && let Some(role @ Role::Body { .. }) = group[n]
+            {
+                *contacts.entry(role).or_insert(0) += 1;
+            }
+        }
+    }
+    contacts
+        .into_iter()
+        .max_by_key(|&(role, n)| (n, Reverse(role)))
+        .map(|(role, _)| role)
+}
+
+/// Longest reach of a limb region that is a bump of the body, in thicknesses of the region.
+const STUB_LENGTH: f64 = 1.0;
 
 /// Face-connected components of cells with equal `key` (None: not a member).
 fn components_within<K: PartialEq + Copy>(
@@ -243,8 +302,9 @@ fn geodesic_from_body(
     distance
 }
 
-/// Parts smaller than a fifth of the median part (or than 4 cells) join the neighbour they
-/// share most faces with, so no sliver becomes a cage of its own.
+/// Parts smaller than a fifth of the median part of their kind (body slabs or limb segments),
+/// or than 4 cells, join the neighbour they share most faces with, so no sliver becomes a cage
+/// of its own. The median is per kind: a limb is small beside a body slab and is not a sliver.
 fn merge_small_parts(grid: &Grid, parts: &mut Parts) {
     loop {
         let count = parts.roles.len();
@@ -252,13 +312,20 @@ fn merge_small_parts(grid: &Grid, parts: &mut Parts) {
         for p in parts.label.iter().flatten() {
             size[*p as usize] += 1;
         }
-        let mut sorted: Vec<usize> = size.iter().copied().filter(|&s| s > 0).collect();
-        sorted.sort_unstable();
-        let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0);
-        let small = (median / 5).max(4);
+        let is_limb = |p: usize| matches!(parts.roles[p], Role::Limb { .. });
+        let small_of = |limb: bool| {
+            let mut sorted: Vec<usize> = (0..count)
+                .filter(|&p| size[p] > 0 && is_limb(p) == limb)
+                .map(|p| size[p])
+                .collect();
+            sorted.sort_unstable();
+            let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0);
+            (median / 5).max(4)
+        };
+        let small = [small_of(false), small_of(true)];
         // The first small part with a neighbour (an isolated piece stays a part of its own).
         let Some((victim, into)) = (0..count)
-            .filter(|&p| size[p] > 0 && size[p] < small)
+            .filter(|&p| size[p] > 0 && size[p] < small[usize::from(is_limb(p))])
             .find_map(|p| {
                 let contacts = contacts_of(grid, &parts.label, p as u32);
                 let best = contacts.iter().max_by_key(|(q, n)| (**n, Reverse(**q)))?;
@@ -290,6 +357,7 @@ pub(super) fn one_limb_per_root(grid: &Grid, parts: &mut Parts) {
             Role::Limb { limb, .. } => Some(limb + 1),
             Role::Body { .. } => None,
         })
+        .chain(parts.parent_limb.iter().map(|(c, p)| c.max(p) + 1))
         .max()
         .unwrap_or(0);
     // Limb parts by (limb, segment), in label order.
@@ -315,6 +383,10 @@ pub(super) fn one_limb_per_root(grid: &Grid, parts: &mut Parts) {
                 *limb
             } else {
                 next_limb += 1;
+                // A second root of a branch grows from the same limb.
+                if let Some(&parent) = parts.parent_limb.get(limb) {
+                    parts.parent_limb.insert(next_limb - 1, parent);
+                }
                 next_limb - 1
             });
         }
