@@ -26,8 +26,8 @@ pub struct AutorigArgs {
     /// bounding-box diagonal (0: as tight as the detail's grid allows).
     #[arg(long, default_value_t = 0.0)]
     margin: f64,
-    /// Make the grid symmetric across the plane through the mesh's centre across this axis of
-    /// the mesh file (x, y or z), or find the most symmetric one (auto).
+    /// Make the rig its own mirror image across the plane through the mesh's centre across this
+    /// axis of the mesh file (x, y or z), or across the most symmetric one (auto).
     #[arg(long, value_name = "x|y|z|auto")]
     mirror: Option<String>,
     /// Leaf cages whose name starts with one of these (comma-separated, e.g. body_3,limb2) get
@@ -99,7 +99,8 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
         },
         report
             .mirror_axis
-            .map(|a| format!(", symmetric across {}", ["x", "y", "z"][a]))
+            // In the mesh file's axes, as the option takes it (the swap is its own inverse).
+            .map(|a| format!(", symmetric across {}", ["x", "y", "z"][scene_axis(a, up)]))
             .unwrap_or_default(),
     );
     let pieces = surface_pieces_per_leaf(&scene);

@@ -5,7 +5,7 @@
 use glam::DVec3;
 use starcages_core::BindControl;
 use starcages_core::generate::{AutocageOptions, autocage};
-use starcages_core::generate::{AutorigSettings, autorig, surface_pieces_per_leaf};
+use starcages_core::generate::{AutorigSettings, Mirror, autorig, surface_pieces_per_leaf};
 use starcages_core::mesh::Mesh;
 use starcages_core::scene::{CageSet, MeshSource, Scene, SceneSettings, validate_scene};
 use starcages_core::surface_nets::surface_nets;
@@ -83,19 +83,22 @@ fn two_blobs() -> Mesh {
     )
 }
 
-/// A standing figure: a torso, a head, two arms out to the sides and two legs 0.3 apart.
+/// The capsules of a standing figure: a torso, a head, two arms out to the sides (left, right)
+/// and two legs 0.3 apart (left, right).
+fn figure_parts() -> Vec<(DVec3, DVec3, f64)> {
+    vec![
+        (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
+        (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
+        (v(-0.3, 0.0, 1.1), v(-1.5, 0.0, 0.9), 0.14),
+        (v(0.3, 0.0, 1.1), v(1.5, 0.0, 0.9), 0.14),
+        (v(-0.3, 0.0, 0.1), v(-0.3, 0.0, -1.6), 0.15),
+        (v(0.3, 0.0, 0.1), v(0.3, 0.0, -1.6), 0.15),
+    ]
+}
+
+/// A standing figure (see [`figure_parts`]).
 fn figure() -> Mesh {
-    capsules(
-        &[
-            (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
-            (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
-            (v(-0.3, 0.0, 1.1), v(-1.5, 0.0, 0.9), 0.14),
-            (v(0.3, 0.0, 1.1), v(1.5, 0.0, 0.9), 0.14),
-            (v(-0.3, 0.0, 0.1), v(-0.3, 0.0, -1.6), 0.15),
-            (v(0.3, 0.0, 0.1), v(0.3, 0.0, -1.6), 0.15),
-        ],
-        0.04,
-    )
+    capsules(&figure_parts(), 0.04)
 }
 
 /// A hand: a palm with four fingers whose sides lie closer than one cell of the auto rig's
@@ -134,6 +137,16 @@ fn rig_with_internal_cages(mesh: &Mesh, detail: u32) -> Scene {
     let scene = scene(mesh, rig(mesh, &settings));
     assert!(validate_scene(&scene).is_valid());
     scene
+}
+
+/// The internal boxes that drive a limb (`limbN_ctrl`).
+fn limb_boxes(scene: &Scene) -> usize {
+    scene
+        .cages
+        .internals
+        .iter()
+        .filter(|c| c.name.starts_with("limb"))
+        .count()
 }
 
 /// Properties 1 and 2 of the issue: a valid scene, one piece of surface in every leaf cage.
@@ -322,12 +335,7 @@ fn legs_joined_below_the_body_are_limbs_of_their_own() {
         roots.len() >= 2 && roots.iter().all(|n| n.ends_with("_1")),
         "{names:?}"
     );
-    let limb_boxes = scene
-        .cages
-        .internals
-        .iter()
-        .filter(|c| c.name.starts_with("limb"))
-        .count();
+    let limb_boxes = limb_boxes(&scene);
     assert!(limb_boxes >= 2, "{limb_boxes} limb boxes: {names:?}");
 }
 
@@ -423,5 +431,80 @@ fn lumps_on_a_body_are_not_limbs() {
             .map(|c| c.name.as_str())
             .collect();
         assert_eq!(boxes, ["rig_ctrl"], "detail {detail}");
+    }
+}
+
+/// The cage vertices of `set` with no mirror image across x = `centre` among them (to 1e-12 of
+/// the bounds), and its leaf cages with no mirror twin.
+fn asymmetry(set: &CageSet, centre: f64) -> (usize, usize) {
+    let key = |p: DVec3| ((p * 1e9).round().as_i64vec3()).to_array();
+    let leaf_vertices: std::collections::BTreeSet<u32> = set
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten().copied())
+        .collect();
+    let at: std::collections::BTreeMap<[i64; 3], u32> = leaf_vertices
+        .iter()
+        .map(|&i| (key(set.vertices[i as usize]), i))
+        .collect();
+    let image = |i: u32| {
+        let p = set.vertices[i as usize];
+        at.get(&key(DVec3::new(2.0 * centre - p.x, p.y, p.z)))
+            .copied()
+    };
+    let lonely = leaf_vertices
+        .iter()
+        .filter(|&&i| image(i).is_none())
+        .count();
+    type FaceSet = std::collections::BTreeSet<std::collections::BTreeSet<Option<u32>>>;
+    let faces_of = |faces: &[Vec<u32>], map: &dyn Fn(u32) -> Option<u32>| -> FaceSet {
+        faces
+            .iter()
+            .map(|f| f.iter().map(|&v| map(v)).collect())
+            .collect()
+    };
+    let leaves: Vec<FaceSet> = set
+        .leaves
+        .iter()
+        .map(|l| faces_of(&l.faces, &Some))
+        .collect();
+    let twinless = set
+        .leaves
+        .iter()
+        .filter(|l| !leaves.contains(&faces_of(&l.faces, &image)))
+        .count();
+    (lonely, twinless)
+}
+
+/// `--mirror`: on a figure whose two sides differ (one arm lower, one foot out, one leg thicker),
+/// the rig is a mirror image of itself across the plane through the mesh's centre: every leaf
+/// vertex has its image among the leaf vertices and every leaf cage a mirror twin. Without the
+/// option, the same figure's rig is not symmetric (the negative control).
+#[test]
+fn a_mirrored_rig_is_its_own_mirror_image_on_a_lopsided_figure() {
+    let mut parts = figure_parts();
+    parts[3] = (v(0.3, 0.0, 1.0), v(1.5, 0.0, 0.6), 0.14);
+    parts[4].1 = v(-0.35, 0.0, -1.6);
+    parts[5].2 = 0.19;
+    let mesh = capsules(&parts, 0.04);
+    let (lo, hi) = mesh.bounds();
+    let centre = 0.5 * (lo.x + hi.x);
+    for (mirror, symmetric) in [(Mirror::Axis(0), true), (Mirror::None, false)] {
+        let settings = AutorigSettings {
+            mirror,
+            internal: true,
+            ..AutorigSettings::default()
+        };
+        let scene = scene(&mesh, rig(&mesh, &settings));
+        assert!(validate_scene(&scene).is_valid(), "{mirror:?}");
+        let (lonely, twinless) = asymmetry(&scene.cages, centre);
+        if symmetric {
+            assert_eq!((lonely, twinless), (0, 0));
+            let pieces = surface_pieces_per_leaf(&scene);
+            assert!(pieces.iter().all(|&n| n <= 1), "{pieces:?}");
+            assert!(limb_boxes(&scene) >= 4, "two arms and two legs");
+        } else {
+            assert!(lonely > 0 && twinless > 0, "{lonely} {twinless}");
+        }
     }
 }

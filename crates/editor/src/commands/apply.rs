@@ -115,10 +115,15 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 state.close_confirmed = true;
             }
         }
-        Command::AutoRig { detail, internal } => {
+        Command::AutoRig {
+            detail,
+            internal,
+            mirror,
+        } => {
             state.start_autorig(starcages_core::generate::AutorigSettings {
                 detail,
                 internal,
+                mirror,
                 ..Default::default()
             });
         }

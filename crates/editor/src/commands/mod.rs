@@ -70,6 +70,8 @@ pub enum Command {
         detail: u32,
         /// Also internal cages per limb and over the rig.
         internal: bool,
+        /// A plane the rig is a mirror image of itself across (scene axes, Z-up).
+        mirror: starcages_core::generate::Mirror,
     },
     /// Stop the auto rig in progress.
     CancelAutoRig,

@@ -7,6 +7,7 @@ use super::inspector::{KINDS, kind_name};
 use crate::commands::{Command, CommandSender, UnsavedAnswer};
 use crate::state::document::is_gltf;
 use crate::state::{EditorState, NewRig};
+use starcages_core::generate::Mirror;
 use starcages_core::scene::UpAxis;
 
 /// "Unsaved changes" while an action waits for the answer.
@@ -142,6 +143,8 @@ pub struct AutorigDialog {
     pub detail: u32,
     /// Also an internal cage per limb and one over the rig.
     pub internal: bool,
+    /// A plane the rig is a mirror image of itself across.
+    pub mirror: Mirror,
 }
 
 impl Default for AutorigDialog {
@@ -149,11 +152,23 @@ impl Default for AutorigDialog {
         Self {
             detail: starcages_core::generate::AutorigSettings::default().detail,
             internal: true,
+            mirror: Mirror::None,
         }
     }
 }
 
-/// Rig ▸ Auto rig: detail and internal cages, then the rig replaces the current one (one undo
+/// What the symmetry choice says, in the viewport's axes (Z-up).
+fn mirror_label(mirror: Mirror) -> &'static str {
+    match mirror {
+        Mirror::None => "None",
+        Mirror::Auto => "Detect",
+        Mirror::Axis(0) => "Across x",
+        Mirror::Axis(1) => "Across y",
+        Mirror::Axis(_) => "Across z",
+    }
+}
+
+/// Rig ▸ Auto rig: detail, internal cages and symmetry, then the rig replaces the current one (one undo
 /// step, on a worker).
 pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
     let Some(dialog) = &mut ui_state.autorig_dialog else {
@@ -167,6 +182,24 @@ pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut 
             .on_hover_text("1: few, coarse cages; 5: many, tight ones");
         ui.checkbox(&mut dialog.internal, "Internal cages")
             .on_hover_text("an internal cage per limb to pose it, and one over the whole rig");
+        egui::ComboBox::from_label("Symmetry")
+            .selected_text(mirror_label(dialog.mirror))
+            .show_ui(ui, |ui| {
+                for choice in [
+                    Mirror::None,
+                    Mirror::Auto,
+                    Mirror::Axis(0),
+                    Mirror::Axis(1),
+                    Mirror::Axis(2),
+                ] {
+                    ui.selectable_value(&mut dialog.mirror, choice, mirror_label(choice));
+                }
+            })
+            .response
+            .on_hover_text(
+                "make the rig its own mirror image across the plane through the mesh's centre \
+                 (Detect: across the axis the mesh is most symmetric about, if any)",
+            );
         ui.horizontal(|ui| {
             if ui.button("Make rig").clicked() {
                 answer = Some(true);
@@ -182,6 +215,7 @@ pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut 
                 sender.send(Command::AutoRig {
                     detail: dialog.detail,
                     internal: dialog.internal,
+                    mirror: dialog.mirror,
                 });
             }
         }

@@ -722,6 +722,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     app.run(Command::AutoRig {
         detail: 2,
         internal: true,
+        mirror: starcages_core::generate::Mirror::None,
     });
     assert!(app.state.autorig_job.is_some(), "runs on a worker");
     app.wait_for_jobs();
@@ -2534,10 +2535,11 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
 }
 
-/// Rig ▸ Auto rig… asks for the detail and internal cages first; Cancel changes nothing, Make
-/// rig starts the auto rig with what was chosen.
+/// Rig ▸ Auto rig… asks for the detail, internal cages and symmetry first; Cancel changes
+/// nothing, Make rig starts the auto rig with what was chosen (no internal cages, symmetric
+/// across x: every leaf vertex has its mirror image among the leaf vertices).
 #[test]
-fn rig_auto_rig_asks_for_detail_and_internal_cages_first() {
+fn rig_auto_rig_asks_for_detail_internal_cages_and_symmetry_first() {
     let mut harness = harness();
     let before = harness.state().state.doc.scene.cages.clone();
     harness.get_by_label("Rig").click();
@@ -2561,6 +2563,14 @@ fn rig_auto_rig_asks_for_detail_and_internal_cages_first() {
         .as_mut()
         .unwrap()
         .internal = false;
+    harness.get_by_label("Symmetry").click();
+    harness.run_steps(2);
+    harness.get_by_label("Across x").click();
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().ui.autorig_dialog.map(|d| d.mirror),
+        Some(starcages_core::generate::Mirror::Axis(0))
+    );
     harness.get_by_label("Make rig").click();
     harness.run_steps(2);
     settle(&mut harness);
@@ -2569,5 +2579,23 @@ fn rig_auto_rig_asks_for_detail_and_internal_cages_first() {
     assert!(
         scene.cages.internals.is_empty(),
         "no internal cages, as chosen"
+    );
+    let (lo, hi) = scene.mesh.bounds();
+    let centre = 0.5 * (lo.x + hi.x);
+    let key = |p: glam::DVec3| (p * 1e9).round().as_i64vec3().to_array();
+    let leaf_vertices: Vec<glam::DVec3> = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten())
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    let keys: std::collections::BTreeSet<[i64; 3]> =
+        leaf_vertices.iter().map(|&p| key(p)).collect();
+    assert!(
+        leaf_vertices
+            .iter()
+            .all(|p| keys.contains(&key(glam::DVec3::new(2.0 * centre - p.x, p.y, p.z)))),
+        "the rig is its own mirror image across x"
     );
 }

@@ -15,6 +15,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::{DVec3, I64Vec3, IVec3};
 
+use super::symmetry::MirrorPlane;
 use super::voxels::Grid;
 
 /// The labels on the two sides of a triangle (a part, or None outside).
@@ -52,6 +53,7 @@ pub(super) fn decimate(
     faces: &[(Vec<u32>, Option<u32>, Option<u32>)],
     mesh_points: &[DVec3],
     frozen: &BTreeSet<u32>,
+    mirror: Option<&MirrorPlane>,
 ) -> Vec<([u32; 3], Option<u32>, Option<u32>)> {
     let mut triangles: Vec<Triangle> = Vec::new();
     for (corners, front, back) in faces {
@@ -80,9 +82,26 @@ pub(super) fn decimate(
     let mut points: BTreeMap<(i32, i32, i32), Vec<DVec3>> = BTreeMap::new();
     for &p in mesh_points {
         let q = (p - grid.origin) / grid.cell;
-        let c = q.floor().as_ivec3();
-        points.entry((c.x, c.y, c.z)).or_default().push(q);
+        // With a mirror, the images of the mesh points too: no collapse sweeps over either.
+        let image = mirror.map(|m| {
+            let mut r = q;
+            r[m.axis] = f64::from(2 * m.half) - r[m.axis];
+            r
+        });
+        for q in std::iter::once(q).chain(image) {
+            let c = q.floor().as_ivec3();
+            points.entry((c.x, c.y, c.z)).or_default().push(q);
+        }
     }
+    let index_of = at.clone();
+    // The image of each vertex (itself on the plane), where it is a vertex.
+    let image_of = |v: u32| -> Option<u32> {
+        let m = mirror?;
+        let c = m.vertex(vertices[v as usize]);
+        index_of.get(&(c.x, c.y, c.z)).copied()
+    };
+    // Along the mirror axis: below the plane (-1), on it (0) or above (1).
+    let side_of = |v: u32| mirror.map_or(-1, |m| (vertices[v as usize][m.axis] - m.half).signum());
     let mut removed = vec![false; vertices.len()];
     for _round in 0..8 {
         let mut changed = false;
@@ -101,17 +120,47 @@ pub(super) fn decimate(
             if touches_frozen {
                 continue;
             }
+            // With a mirror, the low side and the plane lead; each collapse is made with its
+            // image or not at all, and a vertex on the plane stays on it.
+            if side_of(v) > 0 {
+                continue;
+            }
             let Some(targets) = targets_of(v, &triangles, &star) else {
                 continue;
             };
             for u in targets {
-                if try_collapse(v, u, &mut triangles, &mut star, &position, &at, &points) {
-                    removed[v as usize] = true;
-                    let p = vertices[v as usize];
-                    at.remove(&(p.x, p.y, p.z));
-                    changed = true;
-                    break;
+                if mirror.is_some() && (side_of(u) > 0 || (side_of(v) == 0 && side_of(u) != 0)) {
+                    continue;
                 }
+                let Some(undo) =
+                    try_collapse(v, u, &mut triangles, &mut star, &position, &at, &points)
+                else {
+                    continue;
+                };
+                let p = vertices[v as usize];
+                at.remove(&(p.x, p.y, p.z));
+                let image = match (mirror, image_of(v), image_of(u)) {
+                    (None, _, _) => Some(None),
+                    (Some(_), Some(mv), _) if mv == v => Some(None),
+                    (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => {
+                        try_collapse(mv, mu, &mut triangles, &mut star, &position, &at, &points)
+                            .map(|_| Some(mv))
+                    }
+                    _ => None,
+                };
+                let Some(image) = image else {
+                    undo.apply(&mut triangles, &mut star);
+                    at.insert((p.x, p.y, p.z), v);
+                    continue;
+                };
+                removed[v as usize] = true;
+                if let Some(mv) = image {
+                    removed[mv as usize] = true;
+                    let q = vertices[mv as usize];
+                    at.remove(&(q.x, q.y, q.z));
+                }
+                changed = true;
+                break;
             }
         }
         if !changed {
@@ -158,7 +207,35 @@ fn targets_of(v: u32, triangles: &[Triangle], star: &[Vec<usize>]) -> Option<Vec
     (curve.len() == 2 && curve.iter().all(|u| edge_sheets[u] == sheets)).then_some(curve)
 }
 
-/// Collapses `v` into `u` if every check passes (see the module); returns whether it did.
+/// What a collapse changed, to take it back.
+struct Undo {
+    v: u32,
+    u: u32,
+    dying: Vec<usize>,
+    moving: Vec<usize>,
+    star_v: Vec<usize>,
+    star_u_len: usize,
+}
+
+impl Undo {
+    /// Takes the collapse back.
+    fn apply(self, triangles: &mut [Triangle], star: &mut [Vec<usize>]) {
+        for &t in &self.dying {
+            triangles[t].alive = true;
+        }
+        for &t in &self.moving {
+            for c in triangles[t].corners.iter_mut() {
+                if *c == self.u {
+                    *c = self.v;
+                }
+            }
+        }
+        star[self.u as usize].truncate(self.star_u_len);
+        star[self.v as usize] = self.star_v;
+    }
+}
+
+/// Collapses `v` into `u` if every check passes (see the module); returns how to take it back.
 fn try_collapse(
     v: u32,
     u: u32,
@@ -167,7 +244,7 @@ fn try_collapse(
     position: &[I64Vec3],
     at: &BTreeMap<(i32, i32, i32), u32>,
     points: &BTreeMap<(i32, i32, i32), Vec<DVec3>>,
-) -> bool {
+) -> Option<Undo> {
     let around_v: Vec<usize> = star[v as usize]
         .iter()
         .copied()
@@ -177,7 +254,7 @@ fn try_collapse(
         .iter()
         .partition(|&&t| triangles[t].corners.contains(&u));
     if dying.is_empty() {
-        return false;
+        return None;
     }
     // Link condition: the vertices next to both u and v are the third corners of the
     // triangles on edge uv.
@@ -197,7 +274,7 @@ fn try_collapse(
         .filter(|&c| c != u && c != v)
         .collect();
     if common != opposite {
-        return false;
+        return None;
     }
     let (pv, pu) = (position[v as usize], position[u as usize]);
     let limit = if dying.iter().chain(&moving).all(|&t| {
@@ -216,12 +293,12 @@ fn try_collapse(
         let n_old = (b - a).cross(c - a);
         let n_new = (nb - na).cross(nc - na);
         if n_new == I64Vec3::ZERO || n_old.dot(n_new) <= 0 {
-            return false;
+            return None;
         }
         // How far the surface moves from v: v's distance to the new triangle's plane.
         let distance = ((pv - na).dot(n_new) as f64).abs() / n_new.as_dvec3().length();
         if distance > limit {
-            return false;
+            return None;
         }
         // The tetrahedron the triangle sweeps must hold no other vertex and no mesh point.
         let others: Vec<I64Vec3> = old
@@ -243,7 +320,7 @@ fn try_collapse(
                         continue;
                     }
                     if at.contains_key(&(x as i32, y as i32, z as i32)) && in_tetra(q, &tetra) {
-                        return false;
+                        return None;
                     }
                 }
             }
@@ -256,7 +333,7 @@ fn try_collapse(
                         continue;
                     };
                     if list.iter().any(|&p| in_tetra_f(p, &tetra_f)) {
-                        return false;
+                        return None;
                     }
                 }
             }
@@ -272,7 +349,7 @@ fn try_collapse(
         .iter()
         .any(|&tri| meets_other_edges(tri, v, triangles, position))
     {
-        return false;
+        return None;
     }
     let mut around: BTreeMap<u32, Vec<Sides>> = BTreeMap::new();
     // u's star and the moving triangles, each once.
@@ -288,12 +365,20 @@ fn try_collapse(
         }
     }
     if around.values().any(|sides| pinched(sides)) {
-        return false;
+        return None;
     }
-    for &t in &dying {
+    let undo = Undo {
+        v,
+        u,
+        star_v: star[v as usize].clone(),
+        star_u_len: star[u as usize].len(),
+        dying,
+        moving,
+    };
+    for &t in &undo.dying {
         triangles[t].alive = false;
     }
-    for &t in &moving {
+    for &t in &undo.moving {
         for c in triangles[t].corners.iter_mut() {
             if *c == v {
                 *c = u;
@@ -302,7 +387,7 @@ fn try_collapse(
         star[u as usize].push(t);
     }
     star[v as usize].clear();
-    true
+    Some(undo)
 }
 
 /// Whether the triangles around one edge (each by the labels on its two sides) leave some part,
@@ -493,7 +578,7 @@ mod tests {
             }
         }
         let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None);
-        let triangles = decimate(&grid, &vertices, &faces, &[], &BTreeSet::new());
+        let triangles = decimate(&grid, &vertices, &faces, &[], &BTreeSet::new(), None);
         let used: BTreeSet<u32> = triangles.iter().flat_map(|(c, _, _)| *c).collect();
         assert!(used.len() < 16, "{used:?}");
         for corner in [id(0, 0), id(3, 0), id(0, 3), id(3, 3)] {

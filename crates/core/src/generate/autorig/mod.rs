@@ -17,6 +17,9 @@
 //! 4. cages (`polycube`): each part's surface as merged rectangles, shared rectangles run in
 //!    opposite directions by the two parts;
 //! 5. validation of the scene; parts named by a problem are merged and the cages rebuilt.
+//!
+//! With a mirror plane (`symmetry`), the solid is made symmetric and the low side's parts,
+//! faces and collapses decide the high side's.
 
 mod branches;
 mod decimate;
@@ -24,6 +27,7 @@ mod parts;
 mod pieces;
 mod polycube;
 mod repair;
+mod symmetry;
 mod voxels;
 
 use std::cmp::Reverse;
@@ -39,6 +43,7 @@ use crate::scene::{
     CageSet, InternalCage, LeafCage, MeshSource, Scene, SceneSettings, validate_scene,
 };
 use parts::{Parts, Role};
+use symmetry::MirrorPlane;
 use voxels::Grid;
 
 /// The mirror plane the rig is made symmetric across.
@@ -63,7 +68,8 @@ pub struct AutorigSettings {
     /// Least distance from every mesh vertex to the cages' outer surface, as a fraction of the
     /// mesh's bounding-box diagonal (0: the cells the surface passes through are enough).
     pub margin: f64,
-    /// Symmetry of the grid the cages are made on.
+    /// A plane the rig is a mirror image of itself across (cage vertices and cages, to
+    /// rounding); the cages then enclose the mesh and its mirror image.
     pub mirror: Mirror,
     /// Coordinates of every leaf cage.
     pub kind: CoordinateKind,
@@ -216,6 +222,10 @@ pub fn autorig(
             settings.margin * extent.length(),
         );
     }
+    let mirror = mirror_axis.map(|a| MirrorPlane::of(&grid, a));
+    if let Some(m) = &mirror {
+        symmetry::symmetric_solid(&grid, m, &mut occupied);
+    }
     control.advance();
     check()?;
     let depth = voxels::distance_to_outside(&grid, &occupied);
@@ -237,6 +247,9 @@ pub fn autorig(
     merges += repair::make_manifold(&grid, &mut parts);
     merges += pieces::merge_inseparable_pieces(&grid, &mut parts, mesh);
     parts::one_limb_per_root(&grid, &mut parts);
+    if let Some(m) = &mirror {
+        merges += make_symmetric(&grid, m, &mut parts, mesh);
+    }
     control.advance();
     check()?;
     // Build, validate, merge what a problem names, again.
@@ -255,7 +268,13 @@ pub fn autorig(
         };
         // Decimated cages first; a cage named by a problem is kept grid-stepped and the rest
         // decimated again; all grid-stepped where that does not validate either.
-        let decimated = leaf_cages(&grid, &parts, settings, Some((mesh, &frozen)));
+        let decimated = leaf_cages(
+            &grid,
+            &parts,
+            settings,
+            mirror.as_ref(),
+            Some((mesh, &frozen)),
+        );
         let Some(problem) = problem_of(&decimated) else {
             break decimated;
         };
@@ -267,11 +286,20 @@ pub fn autorig(
             .filter(|l| !frozen.contains(l))
             .collect();
         if !named.is_empty() {
+            // A frozen cage's image is frozen with it.
+            let partner = mirror
+                .as_ref()
+                .map(|m| symmetry::partners(&grid, m, &parts));
+            let images: Vec<u32> = named
+                .iter()
+                .filter_map(|&l| partner.as_ref()?.get(l as usize).copied())
+                .collect();
             frozen.extend(named);
+            frozen.extend(images);
             check()?;
             continue;
         }
-        let set = leaf_cages(&grid, &parts, settings, None);
+        let set = leaf_cages(&grid, &parts, settings, mirror.as_ref(), None);
         let Some(problem) = problem_of(&set) else {
             break set;
         };
@@ -281,13 +309,28 @@ pub fn autorig(
             return Err(AutorigError::Invalid(problem.to_string()));
         }
         let into = named[0] as u32;
+        // With a mirror, the parts merge on the low side (the images follow).
+        let partner = mirror
+            .as_ref()
+            .map(|m| symmetry::partners(&grid, m, &parts));
+        let low = |l: u32| -> u32 {
+            partner
+                .as_ref()
+                .and_then(|p| p.get(l as usize).copied())
+                .map_or(l, |q| q.min(l))
+        };
+        let named: Vec<u32> = named.iter().map(|&l| low(l as u32)).collect();
+        let into = if mirror.is_some() { named[0] } else { into };
         for l in parts.label.iter_mut().flatten() {
-            if named.contains(&(*l as usize)) {
+            if named.contains(l) {
                 *l = into;
             }
         }
         parts::compact(&mut parts);
         merges += repair::make_manifold(&grid, &mut parts) + 1;
+        if let Some(m) = &mirror {
+            merges += make_symmetric(&grid, m, &mut parts, mesh);
+        }
         frozen.clear();
         check()?;
     };
@@ -330,17 +373,23 @@ fn leaf_cages(
     grid: &Grid,
     parts: &Parts,
     settings: &AutorigSettings,
+    mirror: Option<&MirrorPlane>,
     decimate_around: Option<(&Mesh, &BTreeSet<u32>)>,
 ) -> CageSet {
-    let faces = polycube::boundary_faces(grid, parts);
+    let faces = polycube::boundary_faces(grid, parts, mirror);
     let (vertices, faces) = polycube::indexed_faces(&faces);
     let faces = match decimate_around {
-        Some((mesh, frozen)) => {
-            decimate::decimate(grid, &vertices, &faces, mesh.welded_positions(), frozen)
-                .into_iter()
-                .map(|(corners, front, back)| (corners.to_vec(), front, back))
-                .collect()
-        }
+        Some((mesh, frozen)) => decimate::decimate(
+            grid,
+            &vertices,
+            &faces,
+            mesh.welded_positions(),
+            frozen,
+            mirror,
+        )
+        .into_iter()
+        .map(|(corners, front, back)| (corners.to_vec(), front, back))
+        .collect(),
         None => faces,
     };
     let (vertices, per_part) = polycube::part_faces(&vertices, &faces, parts.roles.len());
@@ -367,7 +416,13 @@ fn leaf_cages(
         })
         .collect();
     CageSet {
-        vertices: vertices.iter().map(|&v| grid.vertex(v)).collect(),
+        vertices: vertices
+            .iter()
+            .map(|&v| match mirror {
+                Some(m) => symmetry::vertex_position(grid, m, v),
+                None => grid.vertex(v),
+            })
+            .collect(),
         leaves,
         internals: Vec::new(),
     }
@@ -547,6 +602,45 @@ fn push_box(cages: &mut CageSet, name: &str, owned: &[u32], padding: f64, diagon
             .collect(),
         owns: owned.to_vec(),
     });
+}
+
+/// Mirrors the low side's parts onto the high side and repairs, until the repairs leave the
+/// parts symmetric (a few rounds; repairs across the plane are symmetric in practice). Where
+/// the mesh is not symmetric, a high-side copy of a part may hold two pieces of the surface
+/// that its low twin does not: the parts such pieces call to merge are merged on the low side
+/// too (`symmetry::merge_low_twins`) and the whole mirrored again, kept only where that leaves
+/// fewer extra pieces over the whole rig (on a lopsided figure it can join a leg to the body).
+/// Returns the merges made.
+fn make_symmetric(grid: &Grid, mirror: &MirrorPlane, parts: &mut Parts, mesh: &Mesh) -> usize {
+    let mirror_and_repair = |parts: &mut Parts| {
+        let mut merges = 0;
+        for _ in 0..4 {
+            symmetry::mirror_parts(grid, mirror, parts);
+            let before = parts.label.clone();
+            merges += repair::make_manifold(grid, parts);
+            if parts.label == before {
+                break;
+            }
+        }
+        merges
+    };
+    let mut merges = mirror_and_repair(parts);
+    for _ in 0..4 {
+        let extra = pieces::extra_pieces_total(grid, parts, mesh);
+        let mut trial = parts.clone();
+        if extra == 0 || pieces::merge_inseparable_pieces(grid, &mut trial, mesh) == 0 {
+            break;
+        }
+        let mut candidate = parts.clone();
+        let twins = symmetry::merge_low_twins(grid, mirror, &mut candidate, &trial);
+        let repairs = mirror_and_repair(&mut candidate);
+        if twins == 0 || pieces::extra_pieces_total(grid, &candidate, mesh) >= extra {
+            break;
+        }
+        *parts = candidate;
+        merges += twins + repairs;
+    }
+    merges
 }
 
 /// Adds every cell within `distance` of a mesh vertex to the solid.

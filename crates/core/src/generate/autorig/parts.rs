@@ -42,6 +42,21 @@ pub(super) struct Parts {
     pub parent_limb: BTreeMap<usize, usize>,
 }
 
+impl Parts {
+    /// A limb number no part and no branch record uses, nor any above it.
+    pub fn unused_limb(&self) -> usize {
+        self.roles
+            .iter()
+            .filter_map(|r| match r {
+                Role::Limb { limb, .. } => Some(limb + 1),
+                Role::Body { .. } => None,
+            })
+            .chain(self.parent_limb.iter().map(|(c, p)| c.max(p) + 1))
+            .max()
+            .unwrap_or(0)
+    }
+}
+
 /// How parts are cut.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Cutting {
@@ -350,16 +365,7 @@ fn merge_small_parts(grid: &Grid, parts: &mut Parts) {
 /// with, so a hand's fingers stay in the hand's limb. Only roles change.
 pub(super) fn one_limb_per_root(grid: &Grid, parts: &mut Parts) {
     let count = parts.roles.len();
-    let mut next_limb = parts
-        .roles
-        .iter()
-        .filter_map(|r| match r {
-            Role::Limb { limb, .. } => Some(limb + 1),
-            Role::Body { .. } => None,
-        })
-        .chain(parts.parent_limb.iter().map(|(c, p)| c.max(p) + 1))
-        .max()
-        .unwrap_or(0);
+    let mut next_limb = parts.unused_limb();
     // Limb parts by (limb, segment), in label order.
     let mut by_limb: BTreeMap<usize, BTreeMap<usize, Vec<u32>>> = BTreeMap::new();
     for (p, role) in parts.roles.iter().enumerate() {

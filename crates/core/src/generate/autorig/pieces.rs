@@ -271,6 +271,18 @@ impl Surface {
     }
 }
 
+/// The pieces of the surface beyond one per part, over all parts (slivers left out as in
+/// [`merge_inseparable_pieces`]): 0 when every part holds one piece.
+pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, mesh: &Mesh) -> usize {
+    let surface = Surface::new(grid, mesh);
+    let mut mark = vec![false; surface.cell_of.len()];
+    let by_part = surface.vertices_by_part(parts);
+    by_part
+        .keys()
+        .map(|&p| surface.extra_pieces(parts, &by_part, &[p], &mut mark))
+        .sum()
+}
+
 /// Merges each part that still holds more than one piece of the surface (pieces sharing cells,
 /// which [`split_by_surface_pieces`] cannot separate) with the neighbour part that removes most
 /// extra pieces or, where no one neighbour does (two fingers meeting only at the palm), with
@@ -296,7 +308,7 @@ pub(super) fn merge_inseparable_pieces(grid: &Grid, parts: &mut Parts, mesh: &Me
                 .filter_map(|(q, faces)| {
                     let before = extra_of(&[p, q]);
                     let after = surface.extra_pieces(parts, &by_part, &[p, q], &mut mark);
-                    (after < before).then_some((before - after, faces, Reverse(q)))
+                    (after < before).then(|| (before - after, faces, Reverse(q)))
                 })
                 .max()
                 .map(|(_, _, Reverse(q))| vec![p, q]);

@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::IVec3;
 
 use super::parts::Parts;
+use super::symmetry::{MirrorPlane, partners};
 use super::voxels::Grid;
 
 /// A face polygon over grid vertices, counter-clockwise seen from the side of `front`.
@@ -24,8 +25,13 @@ pub(super) struct GridFace {
 
 /// The merged rectangles of every boundary between two labels, as polygons with the grid
 /// vertices that other rectangles put on their edges. Polygons whose fan from the first corner
-/// would hold a degenerate triangle are split.
-pub(super) fn boundary_faces(grid: &Grid, parts: &Parts) -> Vec<GridFace> {
+/// would hold a degenerate triangle are split. With a `mirror` plane, the faces on the high side
+/// are the images of those on the low side (no rectangle crosses the plane).
+pub(super) fn boundary_faces(
+    grid: &Grid,
+    parts: &Parts,
+    mirror: Option<&MirrorPlane>,
+) -> Vec<GridFace> {
     let mut rectangles = Vec::new();
     for axis in 0..3 {
         let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
@@ -40,9 +46,16 @@ pub(super) fn boundary_faces(grid: &Grid, parts: &Parts) -> Vec<GridFace> {
                 grid.index(c).and_then(|i| parts.label[i])
             };
             let (nu, nv) = (d[u], d[v]);
-            let key = |a: i32, b: i32| -> Option<(Option<u32>, Option<u32>)> {
+            // With a mirror, the side of the mirror plane is part of the key: no rectangle
+            // crosses it.
+            let high = |a: i32, b: i32| match mirror {
+                Some(m) if m.axis == u => a >= m.half,
+                Some(m) if m.axis == v => b >= m.half,
+                _ => false,
+            };
+            let key = |a: i32, b: i32| -> Option<(Option<u32>, Option<u32>, bool)> {
                 let (below, above) = (side(a, b, plane - 1), side(a, b, plane));
-                (below != above).then_some((below, above))
+                (below != above).then_some((below, above, high(a, b)))
             };
             let mut used = vec![false; (nu * nv) as usize];
             for b in 0..nv {
@@ -79,14 +92,24 @@ pub(super) fn boundary_faces(grid: &Grid, parts: &Parts) -> Vec<GridFace> {
                     };
                     // Counter-clockwise seen from +axis (u × v = axis).
                     let ring = [corner(a, b), corner(a1, b), corner(a1, b1), corner(a, b1)];
-                    rectangles.push((ring, k.0, k.1));
+                    let low = match mirror {
+                        Some(m) if m.axis == axis => plane <= m.half,
+                        Some(_) => !k.2,
+                        None => true,
+                    };
+                    if low {
+                        rectangles.push((ring, k.0, k.1));
+                    }
                 }
             }
         }
     }
     let corners: BTreeSet<(i32, i32, i32)> = rectangles
         .iter()
-        .flat_map(|(ring, _, _)| ring.iter().map(|c| (c.x, c.y, c.z)))
+        .flat_map(|(ring, _, _)| ring.iter())
+        .flat_map(|&c| [Some(c), mirror.map(|m| m.vertex(c))])
+        .flatten()
+        .map(|c| (c.x, c.y, c.z))
         .collect();
     let mut faces = Vec::with_capacity(rectangles.len());
     for (ring, below, above) in rectangles {
@@ -111,6 +134,25 @@ pub(super) fn boundary_faces(grid: &Grid, parts: &Parts) -> Vec<GridFace> {
                 back: above,
             });
         }
+    }
+    if let Some(m) = mirror {
+        // The images: corners mirrored, turned (keeping the first, so the fan from it is the
+        // mirror image of the original's), each side's part its partner.
+        let partner = partners(grid, m, parts);
+        let image_of = |p: Option<u32>| p.map(|p| partner.get(p as usize).copied().unwrap_or(p));
+        let images: Vec<GridFace> = faces
+            .iter()
+            .map(|f| {
+                let mut corners: Vec<IVec3> = f.corners.iter().map(|&c| m.vertex(c)).collect();
+                corners[1..].reverse();
+                GridFace {
+                    corners,
+                    front: image_of(f.front),
+                    back: image_of(f.back),
+                }
+            })
+            .collect();
+        faces.extend(images);
     }
     faces
 }
