@@ -26,8 +26,9 @@ pub struct AutorigArgs {
     /// bounding-box diagonal (0: as tight as the detail's grid allows).
     #[arg(long, default_value_t = 0.0)]
     margin: f64,
-    /// Make the rig its own mirror image across the plane through the mesh's centre across this
-    /// axis of the mesh file (x, y or z), or across the most symmetric one (auto).
+    /// Make the rig its own mirror image across this axis of the mesh file (x, y or z), or the
+    /// most symmetric one (auto): across the plane through the origin where the mesh is centred
+    /// on it (within 1 % of its width), else through the mesh's centre.
     #[arg(long, value_name = "x|y|z|auto")]
     mirror: Option<String>,
     /// Leaf cages whose name starts with one of these (comma-separated, e.g. body_3,limb2) get

@@ -197,8 +197,9 @@ pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut 
             })
             .response
             .on_hover_text(
-                "make the rig its own mirror image across the plane through the mesh's centre \
-                 (Detect: across the axis the mesh is most symmetric about, if any)",
+                "make the rig its own mirror image across the plane through the origin (the \
+                 mesh's centre where the mesh is not centred on the origin); Detect: across the \
+                 axis the mesh is most symmetric about, if any",
             );
         ui.horizontal(|ui| {
             if ui.button("Make rig").clicked() {

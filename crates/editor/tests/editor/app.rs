@@ -2537,7 +2537,7 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
 
 /// Rig ▸ Auto rig… asks for the detail, internal cages and symmetry first; Cancel changes
 /// nothing, Make rig starts the auto rig with what was chosen (no internal cages, symmetric
-/// across x: every leaf vertex has its mirror image among the leaf vertices).
+/// across x: every leaf vertex has the twin X mirror editing moves with it).
 #[test]
 fn rig_auto_rig_asks_for_detail_internal_cages_and_symmetry_first() {
     let mut harness = harness();
@@ -2580,22 +2580,16 @@ fn rig_auto_rig_asks_for_detail_internal_cages_and_symmetry_first() {
         scene.cages.internals.is_empty(),
         "no internal cages, as chosen"
     );
-    let (lo, hi) = scene.mesh.bounds();
-    let centre = 0.5 * (lo.x + hi.x);
-    let key = |p: glam::DVec3| (p * 1e9).round().as_i64vec3().to_array();
-    let leaf_vertices: Vec<glam::DVec3> = scene
-        .cages
-        .leaves
-        .iter()
-        .flat_map(|l| l.faces.iter().flatten())
-        .map(|&v| scene.cages.vertices[v as usize])
-        .collect();
-    let keys: std::collections::BTreeSet<[i64; 3]> =
-        leaf_vertices.iter().map(|&p| key(p)).collect();
+    // X mirror editing finds every leaf vertex's twin (the mesh is centred on x = 0, so the
+    // rig is symmetric across that plane, as mirror editing takes it).
+    let partners = starcages_editor::state::mirror::partners(&scene.cages.vertices);
     assert!(
-        leaf_vertices
+        scene
+            .cages
+            .leaves
             .iter()
-            .all(|p| keys.contains(&key(glam::DVec3::new(2.0 * centre - p.x, p.y, p.z)))),
-        "the rig is its own mirror image across x"
+            .flat_map(|l| l.faces.iter().flatten())
+            .all(|&v| partners[v as usize].is_some()),
+        "the rig is its own mirror image across x = 0"
     );
 }

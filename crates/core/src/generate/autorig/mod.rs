@@ -55,8 +55,8 @@ pub enum Mirror {
     /// The axis (0 = x, 1 = y, 2 = z) across whose centre plane the mesh is most symmetric,
     /// if it is symmetric enough (otherwise none).
     Auto,
-    /// The plane through the mesh's centre across this axis (0 = x, 1 = y, 2 = z, in the
-    /// scene's Z-up frame).
+    /// The plane across this axis (0 = x, 1 = y, 2 = z, in the scene's Z-up frame) through the
+    /// origin where the mesh is centred on it, else through the mesh's centre.
     Axis(usize),
 }
 
@@ -212,7 +212,12 @@ pub fn autorig(
         Mirror::Axis(a) => Some(a),
         Mirror::Auto => most_symmetric_axis(mesh),
     };
-    let grid = Grid::around(lo, hi, cells, mirror_axis);
+    let grid = Grid::around(
+        lo,
+        hi,
+        cells,
+        mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a]))),
+    );
     let mut occupied = voxels::solid_cells(&grid, mesh);
     if settings.margin > 0.0 {
         widen(
@@ -603,6 +608,21 @@ fn push_box(cages: &mut CageSet, name: &str, owned: &[u32], padding: f64, diagon
         owns: owned.to_vec(),
     });
 }
+
+/// Where the mirror plane lies along its axis, given the mesh's bounds along it: at the mesh's
+/// origin (0, where Blender's X-mirror and the editor's mirror editing put it) when the
+/// bounds' centre lies within [`ORIGIN_TOLERANCE`] of their width from it, else at the centre.
+fn mirror_plane(lo: f64, hi: f64) -> f64 {
+    let centre = 0.5 * (lo + hi);
+    if centre.abs() <= ORIGIN_TOLERANCE * (hi - lo) {
+        0.0
+    } else {
+        centre
+    }
+}
+
+/// See [`mirror_plane`].
+const ORIGIN_TOLERANCE: f64 = 0.01;
 
 /// Mirrors the low side's parts onto the high side and repairs, until the repairs leave the
 /// parts symmetric (a few rounds; repairs across the plane are symmetric in practice). Where

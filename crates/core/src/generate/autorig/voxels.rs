@@ -30,14 +30,14 @@ pub(super) const FACE_STEPS: [IVec3; 6] = [
 
 impl Grid {
     /// A grid over the mesh's bounds with `cells_along_longest` cells along its longest side,
-    /// two empty cells beyond the bounds on every side. With `mirror_axis`, the grid is placed
-    /// so that the plane through the bounds' centre across that axis is a grid plane, and the
-    /// cells on either side of it mirror each other.
+    /// two empty cells beyond the bounds on every side. With `mirror` (an axis and a coordinate
+    /// along it), the grid is placed so that that plane is a grid plane and the cells on either
+    /// side of it mirror each other, covering the bounds and their mirror image.
     pub fn around(
         lo: DVec3,
         hi: DVec3,
         cells_along_longest: u32,
-        mirror_axis: Option<usize>,
+        mirror: Option<(usize, f64)>,
     ) -> Self {
         let extent = (hi - lo).max(DVec3::splat(1e-12));
         let cell = extent.max_element() / f64::from(cells_along_longest.max(1));
@@ -45,11 +45,12 @@ impl Grid {
         let jitter = DVec3::new(0.2137, 0.3271, 0.1193) * cell;
         let mut origin = lo - DVec3::splat(2.0 * cell) - jitter;
         let mut dims = ((hi - origin) / cell).ceil().as_ivec3() + IVec3::splat(2);
-        if let Some(a) = mirror_axis {
-            // Symmetric around the centre: an even number of cells, the centre on a plane.
-            let centre = 0.5 * (lo[a] + hi[a]);
-            let half = ((centre - origin[a]) / cell).ceil() as i32;
-            origin[a] = centre - f64::from(half) * cell;
+        if let Some((a, plane)) = mirror {
+            // Symmetric around the plane: an even number of cells, the plane between two.
+            let below = plane - origin[a];
+            let above = hi[a] + 2.0 * cell - plane;
+            let half = (below.max(above) / cell).ceil() as i32;
+            origin[a] = plane - f64::from(half) * cell;
             dims[a] = 2 * half;
         }
         Self { origin, cell, dims }
