@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Fuzzes every reader (scene JSON with its animation, mesh OBJ, PLY, STL, OFF, glTF/GLB, cage OBJ,
-# points, point caches, binding cache) for a while: the
-# proptest harnesses of crates/core/tests/integration/fuzz_readers.rs and mesh_formats.rs, run again and again with
-# fresh random seeds, until the time is up or something panics, hangs or fails.
+# points, point caches, binding cache) and the auto rig's settings for a while: the
+# proptest harnesses of crates/core/tests/integration/fuzz_readers.rs and mesh_formats.rs, and the
+# auto rig on random unions of capsules under random detail, mirror and internal-cage settings
+# (autorig.rs: valid, and symmetric when asked), run again and again with fresh random seeds,
+# until the time is up or something panics, hangs or fails.
 #
 #   bash scripts/fuzz.sh [SECONDS]      (default 600: ten minutes)
 #
@@ -11,6 +13,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-600}"
 cases=2000
+# Random shapes the auto rig is tried on per run (each a fraction of a second).
+rig_cases=40
 # Inputs per case: scene (damaged + raw), OBJ (2 files × 4 readers), glTF (mutated + GLB),
 # binding cache (damaged + crafted), point caches (2 formats × 2 files × 2 reads), PLY, STL and
 # OFF (6 damaged files).
@@ -25,6 +29,12 @@ while [ $(( $(date +%s) - start )) -lt "$seconds" ]; do
         echo "fuzz: FAILED after $runs runs ($((runs * cases * per_case)) inputs); see above" >&2
         exit 1
     fi
+    if ! STARCAGES_AUTORIG_CASES=$rig_cases timeout 600 \
+        cargo test -p starcages-core --test integration --quiet -- random_shapes >/tmp/starcages-fuzz.log 2>&1; then
+        cat /tmp/starcages-fuzz.log
+        echo "fuzz: the auto rig FAILED after $runs runs; see above" >&2
+        exit 1
+    fi
     runs=$((runs + 1))
 done
-echo "fuzz: $((runs * cases * per_case)) inputs in $runs runs over $(( $(date +%s) - start )) s: no panic, hang or failure"
+echo "fuzz: $((runs * cases * per_case)) inputs and $((runs * rig_cases)) auto rigs in $runs runs over $(( $(date +%s) - start )) s: no panic, hang or failure"

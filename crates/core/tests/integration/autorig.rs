@@ -3,6 +3,8 @@
 //! number of threads; the 3×3×3 box grid as the negative control of the one-piece check.
 
 use glam::DVec3;
+use proptest::array::uniform3;
+use proptest::prelude::*;
 use starcages_core::BindControl;
 use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::generate::{AutorigSettings, Mirror, autorig, surface_pieces_per_leaf};
@@ -434,9 +436,9 @@ fn lumps_on_a_body_are_not_limbs() {
     }
 }
 
-/// The cage vertices of `set` with no mirror image across x = `centre` among them (to 1e-12 of
-/// the bounds), and its leaf cages with no mirror twin.
-fn asymmetry(set: &CageSet, centre: f64) -> (usize, usize) {
+/// The cage vertices of `set` with no mirror image across the plane `axis` = `centre` among
+/// them (to 1e-9), and its leaf cages with no mirror twin.
+fn asymmetry(set: &CageSet, axis: usize, centre: f64) -> (usize, usize) {
     let key = |p: DVec3| ((p * 1e9).round().as_i64vec3()).to_array();
     let leaf_vertices: std::collections::BTreeSet<u32> = set
         .leaves
@@ -448,9 +450,9 @@ fn asymmetry(set: &CageSet, centre: f64) -> (usize, usize) {
         .map(|&i| (key(set.vertices[i as usize]), i))
         .collect();
     let image = |i: u32| {
-        let p = set.vertices[i as usize];
-        at.get(&key(DVec3::new(2.0 * centre - p.x, p.y, p.z)))
-            .copied()
+        let mut p = set.vertices[i as usize];
+        p[axis] = 2.0 * centre - p[axis];
+        at.get(&key(p)).copied()
     };
     let lonely = leaf_vertices
         .iter()
@@ -497,7 +499,7 @@ fn a_mirrored_rig_is_its_own_mirror_image_on_a_lopsided_figure() {
         };
         let scene = scene(&mesh, rig(&mesh, &settings));
         assert!(validate_scene(&scene).is_valid(), "{mirror:?}");
-        let (lonely, twinless) = asymmetry(&scene.cages, centre);
+        let (lonely, twinless) = asymmetry(&scene.cages, 0, centre);
         if symmetric {
             assert_eq!((lonely, twinless), (0, 0));
             let pieces = surface_pieces_per_leaf(&scene);
@@ -505,6 +507,72 @@ fn a_mirrored_rig_is_its_own_mirror_image_on_a_lopsided_figure() {
             assert!(limb_boxes(&scene) >= 4, "two arms and two legs");
         } else {
             assert!(lonely > 0 && twinless > 0, "{lonely} {twinless}");
+        }
+    }
+}
+
+/// The plane a mirrored rig is symmetric about along an axis of bounds `lo`..`hi`: the origin
+/// where the mesh is centred on it within 1 % of its width, else the centre (docs/autorig.md).
+fn mirror_plane(lo: f64, hi: f64) -> f64 {
+    let centre = 0.5 * (lo + hi);
+    if centre.abs() <= 0.01 * (hi - lo) {
+        0.0
+    } else {
+        centre
+    }
+}
+
+/// Cases of the random-shape property: 6 in the test suite, more with
+/// `STARCAGES_AUTORIG_CASES` (each case rigs a mesh of a few thousand triangles).
+fn random_shape_cases() -> u32 {
+    std::env::var("STARCAGES_AUTORIG_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(6)
+}
+
+fn mirror_choice() -> impl Strategy<Value = Mirror> {
+    prop_oneof![
+        Just(Mirror::None),
+        Just(Mirror::Auto),
+        (0usize..3).prop_map(Mirror::Axis),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(random_shape_cases()))]
+
+    /// Random unions of capsules under random settings: the auto rig never panics; it gives a
+    /// valid scene (or says why not), and with a mirror axis a rig that is its own mirror image.
+    #[test]
+    fn random_shapes_get_a_valid_rig_symmetric_when_asked(
+        capsule_list in proptest::collection::vec(
+            (uniform3(-1.0f64..1.0), uniform3(-1.0f64..1.0), 0.12f64..0.4),
+            1..5,
+        ),
+        detail in 1u32..=3,
+        mirror in mirror_choice(),
+        internal in any::<bool>(),
+    ) {
+        let parts: Vec<(DVec3, DVec3, f64)> = capsule_list
+            .iter()
+            .map(|&(a, b, r)| (DVec3::from_array(a), DVec3::from_array(b), r))
+            .collect();
+        let mesh = capsules(&parts, 0.07);
+        let settings = AutorigSettings { detail, mirror, internal, ..AutorigSettings::default() };
+        match autorig(&mesh, &settings, &BindControl::default()) {
+            Ok(rig) => {
+                let axis = rig.report.mirror_axis;
+                let scene = scene(&mesh, rig.cages);
+                let report = validate_scene(&scene);
+                prop_assert!(report.is_valid(), "{:?}", report.errors);
+                if let Some(axis) = axis {
+                    let (lo, hi) = mesh.bounds();
+                    let plane = mirror_plane(lo[axis], hi[axis]);
+                    prop_assert_eq!(asymmetry(&scene.cages, axis, plane), (0, 0));
+                }
+            }
+            Err(e) => prop_assert!(!e.to_string().is_empty()),
         }
     }
 }
