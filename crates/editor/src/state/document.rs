@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use starcages_core::BindControl;
 use starcages_core::generate::demo::demo_scene;
 use starcages_core::generate::{AutocageOptions, autocage};
-use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
+use starcages_core::generate::{AutorigSettings, Mirror, autorig, autorig_settings};
 use starcages_core::io::read_mesh_as;
 use starcages_core::scene::{Scene, SceneSettings, UpAxis, load_scene, save_scene, validate_scene};
 
@@ -127,6 +127,8 @@ pub struct NewMeshOptions {
     pub cages: AutocageOptions,
     /// Up axis of an OBJ file (glTF is always Y-up).
     pub up: UpAxis,
+    /// A plane the auto rig is a mirror image of itself across (scene axes).
+    pub mirror: Mirror,
 }
 
 impl Default for NewMeshOptions {
@@ -136,6 +138,7 @@ impl Default for NewMeshOptions {
             detail: AutorigSettings::default().detail,
             cages: AutocageOptions::default(),
             up: UpAxis::Y,
+            mirror: Mirror::None,
         }
     }
 }
@@ -159,6 +162,7 @@ pub fn scene_from_mesh(
         NewRig::Auto => {
             let settings = AutorigSettings {
                 detail: options.detail,
+                mirror: options.mirror,
                 ..AutorigSettings::default()
             };
             let cages = autorig(&mesh, &settings, control)

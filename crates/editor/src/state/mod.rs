@@ -495,6 +495,7 @@ impl EditorState {
                 options.rig = NewRig::Grid;
                 Some(starcages_core::generate::AutorigSettings {
                     detail: options.detail,
+                    mirror: options.mirror,
                     ..starcages_core::generate::AutorigSettings::default()
                 })
             }

@@ -61,7 +61,7 @@ fn up_name(up: UpAxis) -> &'static str {
     }
 }
 
-/// File ▸ New from mesh: the auto rig (its detail) or the automatic grid (size, padding,
+/// File ▸ New from mesh: the auto rig (its detail and symmetry) or the automatic grid (size, padding,
 /// coordinates), and the file's up axis.
 pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
     let Some((path, options)) = &mut ui_state.new_mesh_dialog else {
@@ -82,6 +82,7 @@ pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut
             NewRig::Auto => {
                 ui.add(egui::Slider::new(&mut options.detail, 1..=5).text("detail"))
                     .on_hover_text("1: few, coarse cages; 5: many, tight ones");
+                symmetry_choice(ui, &mut options.mirror);
             }
             NewRig::Grid => {
                 ui.horizontal(|ui| {
@@ -157,6 +158,29 @@ impl Default for AutorigDialog {
     }
 }
 
+/// The auto rig's Symmetry choice (Rig ▸ Auto rig and New from mesh).
+fn symmetry_choice(ui: &mut egui::Ui, mirror: &mut Mirror) {
+    egui::ComboBox::from_label("Symmetry")
+        .selected_text(mirror_label(*mirror))
+        .show_ui(ui, |ui| {
+            for choice in [
+                Mirror::None,
+                Mirror::Auto,
+                Mirror::Axis(0),
+                Mirror::Axis(1),
+                Mirror::Axis(2),
+            ] {
+                ui.selectable_value(mirror, choice, mirror_label(choice));
+            }
+        })
+        .response
+        .on_hover_text(
+            "make the rig its own mirror image across the plane through the origin (the \
+             mesh's centre where the mesh is not centred on the origin); Detect: across the \
+             axis the mesh is most symmetric about, if any",
+        );
+}
+
 /// What the symmetry choice says, in the viewport's axes (Z-up).
 fn mirror_label(mirror: Mirror) -> &'static str {
     match mirror {
@@ -182,25 +206,7 @@ pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut 
             .on_hover_text("1: few, coarse cages; 5: many, tight ones");
         ui.checkbox(&mut dialog.internal, "Internal cages")
             .on_hover_text("an internal cage per limb to pose it, and one over the whole rig");
-        egui::ComboBox::from_label("Symmetry")
-            .selected_text(mirror_label(dialog.mirror))
-            .show_ui(ui, |ui| {
-                for choice in [
-                    Mirror::None,
-                    Mirror::Auto,
-                    Mirror::Axis(0),
-                    Mirror::Axis(1),
-                    Mirror::Axis(2),
-                ] {
-                    ui.selectable_value(&mut dialog.mirror, choice, mirror_label(choice));
-                }
-            })
-            .response
-            .on_hover_text(
-                "make the rig its own mirror image across the plane through the origin (the \
-                 mesh's centre where the mesh is not centred on the origin); Detect: across the \
-                 axis the mesh is most symmetric about, if any",
-            );
+        symmetry_choice(ui, &mut dialog.mirror);
         ui.horizontal(|ui| {
             if ui.button("Make rig").clicked() {
                 answer = Some(true);

@@ -679,10 +679,16 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
 /// New from mesh on `mesh` (discarding the open document), returning once the mesh is read
 /// and installed, while its auto rig may still run.
 fn open_mesh_until_read(app: &mut starcages_editor::EditorApp, mesh: &std::path::Path) {
-    app.run(Command::NewFromMesh(
-        mesh.to_path_buf(),
-        starcages_editor::state::NewMeshOptions::default(),
-    ));
+    open_mesh_with_until_read(app, mesh, Default::default());
+}
+
+/// [`open_mesh_until_read`] with the dialog's `options`.
+fn open_mesh_with_until_read(
+    app: &mut starcages_editor::EditorApp,
+    mesh: &std::path::Path,
+    options: starcages_editor::state::NewMeshOptions,
+) {
+    app.run(Command::NewFromMesh(mesh.to_path_buf(), options));
     app.run(Command::AnswerUnsaved(
         starcages_editor::commands::UnsavedAnswer::Discard,
     ));
@@ -690,6 +696,18 @@ fn open_mesh_until_read(app: &mut starcages_editor::EditorApp, mesh: &std::path:
         app.state.poll_jobs(false);
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
+}
+
+/// An editor on `scene` (not saved anywhere), its first bind done.
+fn app_on(scene: starcages_core::scene::Scene) -> starcages_editor::EditorApp {
+    let doc = Document {
+        scene,
+        path: None,
+        dirty: false,
+    };
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    app.wait_for_jobs();
+    app
 }
 
 /// New from mesh gives the auto rig by default, on a worker; Rig ▸ Auto rig replaces a rig
@@ -710,13 +728,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
         h: Default::default(),
     });
     let old_animation = bar.animation.clone();
-    let doc = Document {
-        scene: bar,
-        path: None,
-        dirty: false,
-    };
-    let mut app = starcages_editor::EditorApp::new(doc, None, false);
-    app.wait_for_jobs();
+    let mut app = app_on(bar);
     let grid_cages = app.state.doc.scene.cages.clone();
     let grid_mesh_vertices = app.state.doc.scene.mesh.welded_positions().len();
     app.run(Command::AutoRig {
@@ -2592,4 +2604,37 @@ fn rig_auto_rig_asks_for_detail_internal_cages_and_symmetry_first() {
             .all(|&v| partners[v as usize].is_some()),
         "the rig is its own mirror image across x = 0"
     );
+}
+
+/// File ▸ New from mesh with Symmetry "Across x": the auto rig that follows the grid is its own
+/// mirror image across x = 0, so X mirror editing finds every leaf vertex's twin.
+#[test]
+fn a_new_mesh_can_open_in_a_symmetric_auto_rig() {
+    let dir = scratch("new-mesh-mirror");
+    let mesh = dir.join("critter.obj");
+    let critter = starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap();
+    starcages_core::scene::write_deformed_mesh(&mesh, &critter, critter.mesh.welded_positions())
+        .unwrap();
+    let mut app = app_on(critter);
+    let options = starcages_editor::state::NewMeshOptions {
+        mirror: starcages_core::generate::Mirror::Axis(0),
+        ..Default::default()
+    };
+    open_mesh_with_until_read(&mut app, &mesh, options);
+    app.wait_for_jobs();
+    let scene = &app.state.doc.scene;
+    let names: Vec<&str> = scene.cages.leaves.iter().map(|l| l.name.as_str()).collect();
+    assert!(
+        names.contains(&"body_1"),
+        "the auto rig replaced the grid: {names:?}"
+    );
+    let partners = starcages_editor::state::mirror::partners(&scene.cages.vertices);
+    let lonely = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten())
+        .filter(|&&v| partners[v as usize].is_none())
+        .count();
+    assert_eq!(lonely, 0, "leaf vertices without a mirror twin");
 }
