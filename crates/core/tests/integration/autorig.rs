@@ -141,6 +141,16 @@ fn rig_with_internal_cages(mesh: &Mesh, detail: u32) -> Scene {
     scene
 }
 
+/// The names of the internal cages.
+fn internal_names(scene: &Scene) -> Vec<&str> {
+    scene
+        .cages
+        .internals
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect()
+}
+
 /// The internal boxes that drive a limb (`limbN_ctrl`).
 fn limb_boxes(scene: &Scene) -> usize {
     scene
@@ -274,12 +284,7 @@ fn the_same_mesh_gives_the_same_rig_on_any_thread_count() {
 fn internal_cages_drive_each_limb() {
     let mesh = shape_star();
     let scene = rig_with_internal_cages(&mesh, 3);
-    let names: Vec<&str> = scene
-        .cages
-        .internals
-        .iter()
-        .map(|c| c.name.as_str())
-        .collect();
+    let names = internal_names(&scene);
     assert_eq!(
         names
             .iter()
@@ -426,13 +431,7 @@ fn lumps_on_a_body_are_not_limbs() {
             names.iter().all(|n| n.starts_with("body")),
             "detail {detail}: {names:?}"
         );
-        let boxes: Vec<&str> = scene
-            .cages
-            .internals
-            .iter()
-            .map(|c| c.name.as_str())
-            .collect();
-        assert_eq!(boxes, ["rig_ctrl"], "detail {detail}");
+        assert_eq!(internal_names(&scene), ["rig_ctrl"], "detail {detail}");
     }
 }
 

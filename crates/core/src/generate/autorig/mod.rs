@@ -313,19 +313,20 @@ pub fn autorig(
         if rounds > 32 || named.len() < 2 {
             return Err(AutorigError::Invalid(problem.to_string()));
         }
-        let into = named[0] as u32;
         // With a mirror, the parts merge on the low side (the images follow).
-        let partner = mirror
+        let twins = mirror
             .as_ref()
-            .map(|m| symmetry::partners(&grid, m, &parts));
-        let low = |l: u32| -> u32 {
-            partner
-                .as_ref()
-                .and_then(|p| p.get(l as usize).copied())
-                .map_or(l, |q| q.min(l))
-        };
-        let named: Vec<u32> = named.iter().map(|&l| low(l as u32)).collect();
-        let into = if mirror.is_some() { named[0] } else { into };
+            .map(|m| symmetry::low_twins(&grid, m, &parts));
+        let named: Vec<u32> = named
+            .iter()
+            .map(|&l| {
+                twins
+                    .as_ref()
+                    .and_then(|t| t.get(l).copied())
+                    .unwrap_or(l as u32)
+            })
+            .collect();
+        let into = named[0];
         for l in parts.label.iter_mut().flatten() {
             if named.contains(l) {
                 *l = into;

@@ -89,6 +89,23 @@ pub(super) fn partners(grid: &Grid, plane: &MirrorPlane, parts: &Parts) -> Vec<u
     partner
 }
 
+/// The low-side twin of each part: itself for a part with cells on the low side, its partner
+/// for a part wholly on the high side. Meaningful once [`mirror_parts`] has run.
+pub(super) fn low_twins(grid: &Grid, plane: &MirrorPlane, parts: &Parts) -> Vec<u32> {
+    let partner = partners(grid, plane, parts);
+    let mut low = vec![false; parts.roles.len()];
+    for (i, label) in parts.label.iter().enumerate() {
+        if let Some(p) = *label
+            && plane.is_low_cell(grid.cell_of(i))
+        {
+            low[p as usize] = true;
+        }
+    }
+    (0..parts.roles.len())
+        .map(|p| if low[p] { p as u32 } else { partner[p] })
+        .collect()
+}
+
 /// Relabels the high side as the mirror image of the low side (see the module). Limbs of the
 /// low side that do not cross the plane get a new limb for their images, branching from the
 /// image of the limb they branch from.
@@ -174,20 +191,14 @@ pub(super) fn merge_low_twins(
     merged: &Parts,
 ) -> usize {
     let count = parts.roles.len();
-    let partner = partners(grid, plane, parts);
-    let mut low = vec![false; count];
+    let twins = low_twins(grid, plane, parts);
     let mut group_of: Vec<Option<u32>> = vec![None; count];
     for (i, label) in parts.label.iter().enumerate() {
-        let Some(p) = *label else { continue };
-        if plane.is_low_cell(grid.cell_of(i)) {
-            low[p as usize] = true;
-        }
-        if let Some(g) = merged.label[i] {
+        if let (Some(p), Some(g)) = (*label, merged.label[i]) {
             group_of[p as usize] = Some(g);
         }
     }
-    // The low twin of each part (itself for a part with low cells).
-    let twin = |p: usize| if low[p] { p } else { partner[p] as usize };
+    let twin = |p: usize| twins[p] as usize;
     // Each merged group's low twins become the group's first.
     let mut into: Vec<usize> = (0..count).collect();
     let mut first_of: BTreeMap<u32, usize> = BTreeMap::new();
@@ -202,9 +213,9 @@ pub(super) fn merge_low_twins(
     }
     let mut merges = 0;
     let mut roles = parts.roles.clone();
-    for (p, &is_low) in low.iter().enumerate() {
+    for p in 0..count {
         let r = find(&mut into, p);
-        if r != p && is_low {
+        if r != p && twin(p) == p {
             roles[r] = roles[r].min(parts.roles[p]);
             merges += 1;
         }
