@@ -17,9 +17,10 @@ signed volume of StarCages' mesh (positive: outward winding). A file StarCages r
 its message. 2026-11-26 (Blender 5.0.1, gltfpack 0.24): GLB, .gltf, OBJ and gltfpack's GLB
 within 7e-8 of the diagonal, -cc within 3e-5 (its 14-bit position quantization), PLY and STL
 exact (STL keeps the file's three corners per triangle: 1,998 vertices where Blender merges to
-347); FBX refused (not read yet). Blender's PLY export writes the mirrored cone inside out
+347); FBX within 8e-8 with outward winding (1,128 vertices: Blender writes a normal per
+polygon corner and the flat-shaded primitives split at their hard edges; welded for binding). Blender's PLY export writes the mirrored cone inside out
 (its volume counts negative in ours and in Blender's import alike). Blender cannot import EXT_meshopt_compression: the `-cc` file is compared with
-Blender's import of the GLB it was packed from. Positions are compared in the file's own axes: glTF and OBJ are Y-up (Blender's
+Blender's import of the GLB it was packed from. Positions are compared in the file's own axes: glTF, OBJ and FBX are Y-up (Blender's
 exporters turn its Z-up world), PLY and STL Z-up as Blender writes them (read with --up z).
 """
 

@@ -70,20 +70,35 @@ pub struct MeshPart {
 /// occurrence, and the welded positions. By a parallel sort of the positions' bits (a hash
 /// map of millions of corners was most of reading a large STL file, and a sort cannot be
 /// driven quadratic by crafted positions).
-fn weld_coincident(positions: &[DVec3]) -> (Vec<u32>, Vec<DVec3>) {
+///
+/// `known[i]`, where given, is a vertex at or before `i` that the reader knows coincides with
+/// it (a file's shared position split by normals or UVs): only those representatives are
+/// sorted, the rest follow them.
+fn weld_coincident(positions: &[DVec3], known: Option<&[u32]>) -> (Vec<u32>, Vec<DVec3>) {
     use rayon::prelude::*;
     // -0.0 and 0.0 coincide.
     let keys: Vec<[u64; 3]> = positions
         .par_iter()
         .map(|p| (*p + DVec3::ZERO).to_array().map(f64::to_bits))
         .collect();
-    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    let mut order: Vec<u32> = match known {
+        Some(known) => (0..positions.len() as u32)
+            .filter(|&i| known[i as usize] == i)
+            .collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
     order.par_sort_unstable_by_key(|&i| (keys[i as usize], i));
     // Each position's first occurrence (ties sort by index: the group's first).
     let mut first = vec![0u32; positions.len()];
     for group in order.chunk_by(|&a, &b| keys[a as usize] == keys[b as usize]) {
         for &i in group {
             first[i as usize] = group[0];
+        }
+    }
+    if let Some(known) = known {
+        // Representatives come first, so theirs is already set.
+        for i in 0..positions.len() {
+            first[i] = first[known[i] as usize];
         }
     }
     let mut welded_of = vec![0u32; positions.len()];
@@ -132,6 +147,20 @@ impl Mesh {
         normals: Option<Vec<Vec3>>,
         uvs: Option<Vec<Vec2>>,
     ) -> Result<Self, MeshError> {
+        Self::new_with_known_coincident(positions, triangles, normals, uvs, None)
+    }
+
+    /// [`Self::new`] where the reader knows some coincident vertices already: `known[i]` is a
+    /// vertex at or before `i` at exactly the same position (the file's one position split by
+    /// per-corner normals or UVs), which spares sorting them when welding. A `known` that is
+    /// not such a map (wrong length, a later vertex, another position) is ignored.
+    pub fn new_with_known_coincident(
+        positions: Vec<DVec3>,
+        triangles: Vec<[u32; 3]>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        known: Option<Vec<u32>>,
+    ) -> Result<Self, MeshError> {
         if triangles.is_empty() {
             return Err(MeshError::Empty);
         }
@@ -166,7 +195,15 @@ impl Mesh {
                 });
             }
         }
-        let (weld, welded_positions) = weld_coincident(&positions);
+        let known = known.filter(|known| {
+            known.len() == positions.len()
+                && known.iter().enumerate().all(|(i, &k)| {
+                    (k as usize) <= i
+                        && known[k as usize] == k
+                        && positions[k as usize] == positions[i]
+                })
+        });
+        let (weld, welded_positions) = weld_coincident(&positions, known.as_deref());
         let welded_triangles = triangles
             .iter()
             .map(|t| t.map(|v| weld[v as usize]))
@@ -324,7 +361,7 @@ mod tests {
         let positions: Vec<DVec3> = (0..20_000u32)
             .map(|i| pool[(i.wrapping_mul(2_654_435_761) >> 7) as usize % pool.len()])
             .collect();
-        let (weld, welded) = weld_coincident(&positions);
+        let (weld, welded) = weld_coincident(&positions, None);
         let mut index = HashMap::new();
         let mut expected_positions = Vec::new();
         let expected: Vec<u32> = positions

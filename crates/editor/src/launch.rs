@@ -22,7 +22,7 @@ pub fn usage() -> String {
     format!(
         "starcages {} — the StarCages cage editor\n\n\
          Usage: starcages [FILE]\n\n\
-         FILE  a scene (.json) to open, or a mesh (.obj, .gltf, .glb, .ply, .stl, .off) to rig\n      \
+         FILE  a scene (.json) to open, or a mesh (.obj, .gltf, .glb, .fbx, .ply, .stl, .off) to rig\n      \
          automatically: a chain of cages along each limb (OBJ, PLY, STL and OFF meshes are read\n      \
          Y-up and turned to Z-up); without\n      \
          FILE the built-in demo opens\n\n\

@@ -10,7 +10,7 @@ use starcages_core::scene::{Scene, SceneSettings, UpAxis};
 /// Arguments of `autocage`.
 #[derive(Debug, Args)]
 pub struct AutocageArgs {
-    /// Mesh file (OBJ, glTF, GLB, PLY, STL or OFF; see docs/cli.md for axes).
+    /// Mesh file (OBJ, glTF, GLB, FBX, PLY, STL or OFF; see docs/cli.md for axes).
     mesh: PathBuf,
     /// Cells along x, y and z.
     #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID)]

@@ -17,7 +17,7 @@ use crate::progress::with_progress;
 /// Arguments of `autorig`.
 #[derive(Debug, Args)]
 pub struct AutorigArgs {
-    /// Mesh file (OBJ, glTF, GLB, PLY, STL or OFF; see docs/cli.md for axes).
+    /// Mesh file (OBJ, glTF, GLB, FBX, PLY, STL or OFF; see docs/cli.md for axes).
     mesh: PathBuf,
     /// How fine the rig is: 1 (few, coarse cages) to 5 (many, tight ones).
     #[arg(long, default_value_t = 3)]

@@ -87,20 +87,20 @@ pub fn three_counts(values: &[u32], flag: &str, max: u32) -> anyhow::Result<[u32
 }
 
 /// Reads a mesh file for a new scene, turned to the scene's Z-up: glTF is Y-up by
-/// specification; OBJ by `--up` (Y-up, the convention, unless told otherwise). Returns the mesh
-/// and the up axis the scene records.
+/// specification and FBX is read Y-up from the axes it declares; OBJ, PLY, STL and OFF by
+/// `--up` (Y-up, the convention, unless told otherwise). Returns the mesh and the up axis the
+/// scene records.
 pub fn read_new_scene_mesh(
     path: &std::path::Path,
     up: Option<starcages_core::scene::UpAxis>,
 ) -> anyhow::Result<(starcages_core::mesh::Mesh, starcages_core::scene::UpAxis)> {
     use starcages_core::scene::UpAxis;
-    let gltf = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
-    let up = match (gltf, up) {
+    let up = match (starcages_core::io::declares_axes(path), up) {
         (true, Some(UpAxis::Z)) => {
             return Err(crate::InputError(format!(
-                "--up z: {} is glTF, which is Y-up by specification; --up applies to OBJ files",
+                "--up z: {} declares its own axes (glTF is Y-up by specification; FBX is read \
+                 Y-up from the axes its header names); --up applies to OBJ, PLY, STL and OFF \
+                 files",
                 path.display()
             ))
             .into());

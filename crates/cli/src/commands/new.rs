@@ -19,7 +19,7 @@ enum Outside {
 /// Arguments of `new`.
 #[derive(Debug, Args)]
 pub struct NewArgs {
-    /// Mesh file (OBJ, glTF, GLB, PLY, STL or OFF; see docs/cli.md for axes).
+    /// Mesh file (OBJ, glTF, GLB, FBX, PLY, STL or OFF; see docs/cli.md for axes).
     mesh: PathBuf,
     /// Cage OBJ file: each `o`/`g` group is one leaf cage; shared positions are welded.
     #[arg(long)]

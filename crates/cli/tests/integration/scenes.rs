@@ -261,6 +261,15 @@ fn y_up_obj_files_stand_up_and_round_trip_unchanged() {
     let refused = cli(&["autocage", s(&glb), "--up", "z", "--out", s(&as_is)]);
     assert_eq!(refused.status.code(), Some(2));
     assert!(stderr(&refused).contains("Y-up by specification"));
+    // FBX declares its axes too; a file that is not one is refused naming it.
+    let fbx = d.join("tower.fbx");
+    std::fs::write(&fbx, b"Kaydara FBX Binary").unwrap();
+    let refused = cli(&["autocage", s(&fbx), "--up", "z", "--out", s(&as_is)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(stderr(&refused).contains("declares its own axes"));
+    let refused = cli(&["autorig", s(&fbx), "--out", s(&as_is)]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(stderr(&refused).contains("tower.fbx: not a readable FBX file"));
 }
 
 /// `edit` builds a rig from nothing around a mesh with a script of operations, validates and

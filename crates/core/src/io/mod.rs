@@ -1,4 +1,4 @@
-//! Reading and writing files: meshes (OBJ, glTF, GLB), cage OBJ files, point lists, point
+//! Reading and writing files: meshes (OBJ, glTF, GLB, FBX, PLY, STL, OFF), cage OBJ files, point lists, point
 //! caches (PC2, MDD) and baked glTF animation; atomic saves.
 //!
 //! Every error names the file, and for text formats the 1-based line, with the reason.
@@ -9,6 +9,7 @@ mod gltf_accessor;
 mod gltf_animation;
 mod gltf_meshopt;
 mod gltf_skin;
+mod mesh_fbx;
 mod mesh_gltf;
 mod mesh_obj;
 mod mesh_off;
@@ -31,6 +32,7 @@ use crate::mesh::{Mesh, MeshError};
 pub use atomic::{AtomicWriter, is_same_file, remove_unfinished_saves, write_atomic};
 pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
 pub use gltf_animation::{MAX_GLTF_BYTES, MAX_GLTF_FRAMES, MorphAnimation};
+pub use mesh_fbx::parse_fbx;
 pub use mesh_off::parse_off;
 pub use mesh_ply::parse_ply;
 pub use mesh_stl::parse_stl;
@@ -44,14 +46,22 @@ pub use point_cache::{
 pub use points::{parse_points, read_points};
 
 /// The mesh file types StarCages reads, by extension.
-pub const MESH_EXTENSIONS: [&str; 6] = ["obj", "gltf", "glb", "ply", "stl", "off"];
-const MESH_EXTENSIONS_TEXT: &str = "obj, gltf, glb, ply, stl, off";
+pub const MESH_EXTENSIONS: [&str; 7] = ["obj", "gltf", "glb", "fbx", "ply", "stl", "off"];
+const MESH_EXTENSIONS_TEXT: &str = "obj, gltf, glb, fbx, ply, stl, off";
 
-/// Reads a mesh from an OBJ, glTF, GLB, PLY, STL or OFF file (by extension).
+/// Whether the mesh file at `path` declares its own axes, so that StarCages reads it Y-up
+/// whatever `--up` says: glTF (Y-up by specification) and FBX (turned to Y-up from the axes
+/// its header declares).
+pub fn declares_axes(path: &Path) -> bool {
+    matches!(extension(path).as_str(), "gltf" | "glb" | "fbx")
+}
+
+/// Reads a mesh from an OBJ, glTF, GLB, FBX, PLY, STL or OFF file (by extension).
 pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
     match extension(path).as_str() {
         "obj" => mesh_obj::read_obj_mesh(path),
         "gltf" | "glb" => mesh_gltf::read_gltf_mesh(path),
+        "fbx" => mesh_fbx::read_fbx_mesh(path),
         "ply" => mesh_ply::read_ply_mesh(path),
         "stl" => mesh_stl::read_stl_mesh(path),
         "off" => mesh_off::read_off_mesh(path),

@@ -5,6 +5,7 @@
 mod animation;
 mod autorig;
 mod common;
+mod fbx;
 mod fuzz_readers;
 mod gltf_buffers;
 mod gltf_files;

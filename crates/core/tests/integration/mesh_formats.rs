@@ -20,7 +20,7 @@ const CORNERS: [[f64; 3]; 8] = [
     [0.0, 1.0, 1.0],
     [1.0, 1.0, 1.0],
 ];
-const QUADS: [[u32; 4]; 6] = [
+pub(crate) const QUADS: [[u32; 4]; 6] = [
     [0, 2, 3, 1],
     [4, 5, 7, 6],
     [0, 1, 5, 4],
@@ -187,8 +187,8 @@ fn the_same_cube_reads_from_every_format() {
             "{name}"
         );
     }
-    let error = read_mesh(&dir.join("cube.fbx")).unwrap_err().to_string();
-    assert!(error.contains("ply, stl, off"), "{error}");
+    let error = read_mesh(&dir.join("cube.3ds")).unwrap_err().to_string();
+    assert!(error.contains("fbx, ply, stl, off"), "{error}");
 }
 
 #[test]

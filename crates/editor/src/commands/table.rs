@@ -230,7 +230,7 @@ impl UiCommand {
     pub fn tooltip(self) -> &'static str {
         match self {
             Self::NewFromMesh => {
-                "Rig a mesh (OBJ, glTF, GLB, PLY, STL, OFF): the auto rig (chains of cages along its limbs) or a \
+                "Rig a mesh (OBJ, glTF, GLB, FBX, PLY, STL, OFF): the auto rig (chains of cages along its limbs) or a \
                  grid of box cages"
             }
             Self::Open => "Open a scene (.json) or a mesh, which gets automatic cages",

@@ -7,7 +7,7 @@ use starcages_core::BindControl;
 use starcages_core::generate::demo::demo_scene;
 use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::generate::{AutorigSettings, Mirror, autorig, autorig_settings};
-use starcages_core::io::read_mesh_as;
+use starcages_core::io::{declares_axes, read_mesh_as};
 use starcages_core::scene::{Scene, SceneSettings, UpAxis, load_scene, save_scene, validate_scene};
 
 use super::EditorError;
@@ -143,12 +143,6 @@ impl Default for NewMeshOptions {
     }
 }
 
-/// Whether `path` names a glTF file (Y-up by specification, whatever the up option says).
-pub fn is_gltf(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
-}
-
 /// A new scene around the mesh at `path`, turned to Z-up, in the auto rig or a grid of box
 /// cages (`control` reports the auto rig's progress and cancels it).
 pub fn scene_from_mesh(
@@ -156,7 +150,11 @@ pub fn scene_from_mesh(
     options: &NewMeshOptions,
     control: &BindControl,
 ) -> Result<Scene, EditorError> {
-    let up = if is_gltf(path) { UpAxis::Y } else { options.up };
+    let up = if declares_axes(path) {
+        UpAxis::Y
+    } else {
+        options.up
+    };
     let mesh = read_mesh_as(path, up).map_err(EditorError::OpenMesh)?;
     let (cages, settings) = match options.rig {
         NewRig::Auto => {

@@ -56,7 +56,7 @@ impl FilePurpose {
     /// The file kinds offered.
     pub fn extensions(self) -> &'static [&'static str] {
         match self {
-            Self::Open => &["json", "obj", "gltf", "glb", "ply", "stl", "off"],
+            Self::Open => &["json", "obj", "gltf", "glb", "fbx", "ply", "stl", "off"],
             Self::NewFromMesh => &starcages_core::io::MESH_EXTENSIONS,
             Self::SaveScene | Self::SaveBeforeContinuing => &["json"],
             Self::ExportMesh => &["obj", "glb"],

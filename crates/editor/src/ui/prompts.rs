@@ -5,9 +5,9 @@ use super::UiState;
 use super::file_dialog::FilePurpose;
 use super::inspector::{KINDS, kind_name};
 use crate::commands::{Command, CommandSender, UnsavedAnswer};
-use crate::state::document::is_gltf;
 use crate::state::{EditorState, NewRig};
 use starcages_core::generate::Mirror;
+use starcages_core::io::declares_axes;
 use starcages_core::scene::UpAxis;
 
 /// "Unsaved changes" while an action waits for the answer.
@@ -101,8 +101,11 @@ pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut
                     });
             }
         }
-        if is_gltf(path) {
-            ui.label("Up axis: Y (glTF is Y-up by specification), turned to Z-up");
+        if declares_axes(path) {
+            ui.label(
+                "Up axis: Y (glTF is Y-up by specification; FBX is turned to Y-up from the axes \
+                 it declares), turned to Z-up",
+            );
         } else {
             egui::ComboBox::from_label("Up axis of the file")
                 .selected_text(up_name(options.up))

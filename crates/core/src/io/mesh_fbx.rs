@@ -1,0 +1,317 @@
+//! FBX meshes (Maya, Mixamo, Unity, Unreal, Blender), binary and ASCII, read through the
+//! `ufbx` crate (the ufbx C library: fuzzed, and bounded here by memory limits).
+//!
+//! Every mesh node's geometry is placed in world space as Blender's importer shows it: units
+//! converted to metres and the file's declared axes to glTF's (+Y up, +Z front, right-handed),
+//! so an FBX is Y-up to the rest of StarCages as glTF is. A skinned mesh is placed at its bind
+//! pose (the mesh matrix its skin clusters were bound with), so the rest pose is the file's
+//! bind pose whatever the armature's current pose. Polygons are triangulated (ufbx's ear
+//! clipping); a node whose transform mirrors (negative determinant) has its triangles turned,
+//! so the surface stays outward. Per-corner UVs and normals split a vertex only where their
+//! values differ (a seam, a hard edge); the mesh welds coincident positions for binding.
+
+use std::path::Path;
+
+use glam::{DAffine3, DMat3, DVec3, Vec2, Vec3};
+
+use super::FileError;
+use crate::mesh::Mesh;
+
+/// Memory ufbx may use while reading: generous for real files (a 1M-triangle binary FBX of
+/// about 60 MB needs a few hundred megabytes), bounded for forged ones (compressed arrays that
+/// promise gigabytes).
+fn memory_limit(file_bytes: usize) -> usize {
+    (64usize << 20).saturating_add(file_bytes.saturating_mul(48))
+}
+
+/// Reads an FBX mesh.
+pub(super) fn read_fbx_mesh(path: &Path) -> Result<Mesh, FileError> {
+    let bytes = super::read_file_bytes(path)?;
+    parse_fbx(path, &bytes)
+}
+
+/// Parses the bytes of an FBX file (`path` names it in errors): every mesh node's triangles in
+/// world space, metres, +Y up.
+pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
+    let limit = memory_limit(bytes.len());
+    let allocator = || ufbx::AllocatorOpts {
+        memory_limit: limit,
+        ..Default::default()
+    };
+    let options = ufbx::LoadOpts {
+        temp_allocator: allocator(),
+        result_allocator: allocator(),
+        ignore_animation: true,
+        ignore_embedded: true,
+        load_external_files: false,
+        target_axes: ufbx::CoordinateAxes::right_handed_y_up(),
+        target_unit_meters: 1.0,
+        space_conversion: ufbx::SpaceConversion::ModifyGeometry,
+        file_format: ufbx::FileFormat::Fbx,
+        no_format_from_content: true,
+        no_format_from_extension: true,
+        ..Default::default()
+    };
+    let scene = ufbx::load_memory(bytes, options).map_err(|error| {
+        let info = error.info();
+        let detail = if info.is_empty() {
+            String::new()
+        } else {
+            format!(": {info}")
+        };
+        FileError::format(
+            path,
+            format!(
+                "not a readable FBX file ({}{detail}); re-export it from the program that made it",
+                &*error.description
+            ),
+        )
+    })?;
+    let mut out = Accumulator::default();
+    for node in &scene.nodes {
+        if let Some(mesh) = &node.mesh {
+            add_node_mesh(path, node, mesh, &mut out)?;
+        }
+    }
+    if out.triangles.is_empty() {
+        return Err(FileError::format(
+            path,
+            if scene.meshes.is_empty() {
+                "the file has no mesh (only cameras, lights, bones or empties); export the \
+                 mesh objects too"
+                    .to_owned()
+            } else {
+                "the file's meshes have no polygon with three or more corners (only points or \
+                 lines); export a surface"
+                    .to_owned()
+            },
+        ));
+    }
+    let Accumulator {
+        positions,
+        triangles,
+        normals,
+        uvs,
+        all_normals,
+        all_uvs,
+        same_position_as,
+        ..
+    } = out;
+    Mesh::new_with_known_coincident(
+        positions,
+        triangles,
+        all_normals.then_some(normals),
+        all_uvs.then_some(uvs),
+        Some(same_position_as),
+    )
+    .map_err(|problem| FileError::InvalidMesh {
+        path: path.to_path_buf(),
+        problem,
+    })
+}
+
+/// The triangles of every node read so far, with one vertex per distinct (position, normal,
+/// UV) corner of each node.
+#[derive(Default)]
+struct Accumulator {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    normals: Vec<Vec3>,
+    uvs: Vec<Vec2>,
+    /// Whether every node so far had normals (resp. UVs); otherwise none are kept.
+    all_normals: bool,
+    all_uvs: bool,
+    /// Mesh nodes read so far.
+    nodes: usize,
+    /// Per vertex, the first vertex made from the same position of the same node (itself
+    /// for the first): known coincident, so welding need not sort them.
+    same_position_as: Vec<u32>,
+}
+
+/// Adds one node's instance of `mesh`, placed in world space.
+fn add_node_mesh(
+    path: &Path,
+    node: &ufbx::Node,
+    mesh: &ufbx::Mesh,
+    out: &mut Accumulator,
+) -> Result<(), FileError> {
+    // A skinned mesh rests where its clusters were bound (FBX's bind pose: the bone's world
+    // matrix then, times the geometry's matrix relative to it), not where its node or its bones
+    // stand now (ufbx's `geometry_to_world` of a cluster follows the bone's current pose).
+    let bound = mesh.skin_deformers.iter().find_map(|skin| {
+        skin.clusters
+            .iter()
+            .next()
+            .map(|c| affine(&c.bind_to_world) * affine(&c.geometry_to_bone))
+    });
+    let world = bound.unwrap_or_else(|| affine(&node.geometry_to_world));
+    let name = &*node.element.name;
+    if !world.is_finite() || world.matrix3.determinant() == 0.0 {
+        return Err(FileError::format(
+            path,
+            format!(
+                "node '{name}' has a transform that is not finite or flattens its mesh \
+                 (scale 0); fix the node's scale and re-export"
+            ),
+        ));
+    }
+    let mirrored = world.matrix3.determinant() < 0.0;
+    let normal_matrix = world.matrix3.inverse().transpose();
+    let has_normals = mesh.vertex_normal.exists;
+    let has_uvs = mesh.vertex_uv.exists;
+    out.all_normals = has_normals && (out.all_normals || out.nodes == 0);
+    out.all_uvs = has_uvs && (out.all_uvs || out.nodes == 0);
+    out.nodes += 1;
+
+    // Every attribute's index of every corner, checked once.
+    let corners = mesh.num_indices;
+    let indices = |attribute: &[u32], values: usize, what: &str| -> Result<Vec<u32>, FileError> {
+        let indices = attribute.get(..corners).ok_or_else(|| {
+            FileError::format(
+                path,
+                format!(
+                    "mesh of node '{name}': {} {what} indices for {corners} polygon corners; \
+                     re-export the file",
+                    attribute.len()
+                ),
+            )
+        })?;
+        if let Some(bad) = indices.iter().find(|&&i| i as usize >= values) {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "mesh of node '{name}': {what} index {bad} is out of range ({values} \
+                     values); re-export the file"
+                ),
+            ));
+        }
+        Ok(indices.to_vec())
+    };
+    let positions = &mesh.vertex_position.values;
+    let position_of = indices(&mesh.vertex_position.indices, positions.len(), "position")?;
+    let normal_of = if has_normals {
+        indices(
+            &mesh.vertex_normal.indices,
+            mesh.vertex_normal.values.len(),
+            "normal",
+        )?
+    } else {
+        vec![0; corners]
+    };
+    let uv_of = if has_uvs {
+        indices(&mesh.vertex_uv.indices, mesh.vertex_uv.values.len(), "UV")?
+    } else {
+        vec![0; corners]
+    };
+    let normal = |corner: usize| {
+        let n = mesh.vertex_normal.values.get(normal_of[corner] as usize);
+        n.map_or([0.0; 3], |n| [n.x, n.y, n.z])
+    };
+    let uv = |corner: usize| {
+        let t = mesh.vertex_uv.values.get(uv_of[corner] as usize);
+        t.map_or([0.0; 2], |t| [t.x, t.y])
+    };
+
+    // The corners of polygons with a surface (three or more corners), grouped by position.
+    let mut used = vec![false; corners];
+    for face in mesh.faces.iter().filter(|f| f.num_indices >= 3) {
+        let range = face.index_begin as usize..(face.index_begin + face.num_indices) as usize;
+        used.get_mut(range)
+            .into_iter()
+            .flatten()
+            .for_each(|u| *u = true);
+    }
+    let mut first_of_position = vec![0u32; positions.len() + 1];
+    for c in (0..corners).filter(|&c| used[c]) {
+        first_of_position[position_of[c] as usize + 1] += 1;
+    }
+    for p in 0..positions.len() {
+        first_of_position[p + 1] += first_of_position[p];
+    }
+    let mut next = first_of_position.clone();
+    let mut by_position = vec![0u32; first_of_position[positions.len()] as usize];
+    for c in (0..corners).filter(|&c| used[c]) {
+        let slot = &mut next[position_of[c] as usize];
+        by_position[*slot as usize] = c as u32;
+        *slot += 1;
+    }
+
+    // One vertex per distinct (position, normal, UV): exporters write normals per polygon
+    // corner, so a position's corners are matched by value (a seam or a hard edge splits it).
+    // Vertices follow the file's position order.
+    let mut vertex_of_corner = vec![u32::MAX; corners];
+    let mut distinct: Vec<([f64; 3], [f64; 2], u32)> = Vec::new();
+    for p in 0..positions.len() {
+        let group = &by_position[first_of_position[p] as usize..first_of_position[p + 1] as usize];
+        distinct.clear();
+        let representative = out.positions.len() as u32;
+        for &c in group {
+            let c = c as usize;
+            let (n, t) = (normal(c), uv(c));
+            if let Some(&(_, _, v)) = distinct.iter().find(|(dn, dt, _)| *dn == n && *dt == t) {
+                vertex_of_corner[c] = v;
+                continue;
+            }
+            let v = u32::try_from(out.positions.len()).map_err(|_| {
+                FileError::format(path, "more than 4 billion vertices; split the file")
+            })?;
+            let at = positions[p];
+            out.positions
+                .push(world.transform_point3(DVec3::new(at.x, at.y, at.z)));
+            if has_normals {
+                let turned = (normal_matrix * DVec3::from_array(n)).normalize_or_zero();
+                out.normals.push(turned.as_vec3());
+            }
+            if has_uvs {
+                out.uvs.push(Vec2::new(t[0] as f32, t[1] as f32));
+            }
+            out.same_position_as.push(representative);
+            distinct.push((n, t, v));
+            vertex_of_corner[c] = v;
+        }
+    }
+
+    // Triangles: a polygon of more than three corners by ufbx's ear clipping.
+    let mut fan: Vec<u32> = Vec::new();
+    for face in mesh.faces.iter().filter(|f| f.num_indices >= 3) {
+        let count = if face.num_indices == 3 {
+            fan.clear();
+            fan.extend(face.index_begin..face.index_begin + 3);
+            1
+        } else {
+            fan.resize((face.num_indices as usize - 2) * 3, 0);
+            ufbx::triangulate_face(&mut fan, mesh, *face) as usize
+        };
+        for triangle in fan.chunks_exact(3).take(count) {
+            let [a, b, c] = [triangle[0], triangle[1], triangle[2]].map(|corner| {
+                vertex_of_corner
+                    .get(corner as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX)
+            });
+            if [a, b, c].contains(&u32::MAX) {
+                return Err(FileError::format(
+                    path,
+                    format!(
+                        "mesh of node '{name}': a polygon names a corner it does not have; re-export the file"
+                    ),
+                ));
+            }
+            out.triangles
+                .push(if mirrored { [a, c, b] } else { [a, b, c] });
+        }
+    }
+    Ok(())
+}
+
+/// An FBX matrix (column-major 3×4) as an affine map.
+fn affine(m: &ufbx::Matrix) -> DAffine3 {
+    DAffine3 {
+        matrix3: DMat3::from_cols(
+            DVec3::new(m.m00, m.m10, m.m20),
+            DVec3::new(m.m01, m.m11, m.m21),
+            DVec3::new(m.m02, m.m12, m.m22),
+        ),
+        translation: DVec3::new(m.m03, m.m13, m.m23),
+    }
+}
