@@ -76,23 +76,28 @@ pub struct MeshPart {
 /// sorted, the rest follow them.
 fn weld_coincident(positions: &[DVec3], known: Option<&[u32]>) -> (Vec<u32>, Vec<DVec3>) {
     use rayon::prelude::*;
-    // -0.0 and 0.0 coincide.
-    let keys: Vec<[u64; 3]> = positions
-        .par_iter()
-        .map(|p| (*p + DVec3::ZERO).to_array().map(f64::to_bits))
-        .collect();
-    let mut order: Vec<u32> = match known {
-        Some(known) => (0..positions.len() as u32)
-            .filter(|&i| known[i as usize] == i)
-            .collect(),
-        None => (0..positions.len() as u32).collect(),
+    // -0.0 and 0.0 coincide. Keys sit beside their index, so sorting reads no other array.
+    let key = |i: u32| {
+        let p = positions[i as usize] + DVec3::ZERO;
+        (p.to_array().map(f64::to_bits), i)
     };
-    order.par_sort_unstable_by_key(|&i| (keys[i as usize], i));
+    let mut sorted: Vec<([u64; 3], u32)> = match known {
+        Some(known) => (0..positions.len() as u32)
+            .into_par_iter()
+            .filter(|&i| known[i as usize] == i)
+            .map(key)
+            .collect(),
+        None => (0..positions.len() as u32)
+            .into_par_iter()
+            .map(key)
+            .collect(),
+    };
+    sorted.par_sort_unstable();
     // Each position's first occurrence (ties sort by index: the group's first).
     let mut first = vec![0u32; positions.len()];
-    for group in order.chunk_by(|&a, &b| keys[a as usize] == keys[b as usize]) {
-        for &i in group {
-            first[i as usize] = group[0];
+    for group in sorted.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, i) in group {
+            first[i as usize] = group[0].1;
         }
     }
     if let Some(known) = known {
@@ -255,6 +260,26 @@ impl Mesh {
         self
     }
 
+    /// This mesh with every position (original and welded) and normal mapped by `axes`, which
+    /// must keep coincident points coincident and distinct points distinct (a permutation of
+    /// the axes with signs, as turning a file's up axis to the scene's): the weld, triangles,
+    /// UVs and parts stay as they are, so nothing is welded again.
+    pub fn with_axes_mapped(mut self, axes: impl Fn(DVec3) -> DVec3) -> Self {
+        for p in self
+            .positions
+            .iter_mut()
+            .chain(self.welded_positions.iter_mut())
+        {
+            *p = axes(*p);
+        }
+        if let Some(normals) = &mut self.normals {
+            for n in normals.iter_mut() {
+                *n = axes(n.as_dvec3()).as_vec3();
+            }
+        }
+        self
+    }
+
     /// The parts of the source file (empty: one part).
     pub fn parts(&self) -> &[MeshPart] {
         &self.parts
@@ -397,6 +422,62 @@ mod tests {
         let normals = mesh.recompute_normals(mesh.positions());
         assert!(normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
         assert_eq!(mesh.unweld(mesh.welded_positions()), mesh.positions());
+    }
+
+    /// A reader's known coincident vertices give the weld a full sort gives (coincident
+    /// vertices it did not know about, at other file positions, still weld); a map that is not
+    /// one (a vertex said to coincide with another elsewhere) is ignored.
+    #[test]
+    fn known_coincident_vertices_weld_as_a_full_sort_does() {
+        // Vertices 0-1 and 3-4 share a file position each; 5 lies where 0 does without the
+        // reader knowing.
+        let p = vec![
+            DVec3::ZERO,
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::Y,
+            DVec3::ZERO,
+        ];
+        let triangles = vec![[0, 2, 3], [1, 4, 2], [5, 2, 4]];
+        let full = Mesh::new(p.clone(), triangles.clone(), None, None).unwrap();
+        let known = vec![0, 0, 2, 3, 3, 5];
+        let told =
+            Mesh::new_with_known_coincident(p.clone(), triangles.clone(), None, None, Some(known))
+                .unwrap();
+        assert_eq!(told, full);
+        assert_eq!(told.welded_positions().len(), 3);
+        let wrong = vec![0, 0, 0, 3, 3, 5]; // vertex 2 is not at vertex 0
+        let ignored =
+            Mesh::new_with_known_coincident(p, triangles, None, None, Some(wrong)).unwrap();
+        assert_eq!(ignored, full);
+    }
+
+    /// Turning a mesh's axes keeps its weld, and gives what welding the turned positions
+    /// afresh gives.
+    #[test]
+    fn mapping_the_axes_keeps_the_weld_of_a_fresh_mesh() {
+        let p = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(-0.0, 1.0, 0.0),
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(0.0, 0.0, -0.0),
+        ];
+        let triangles = vec![[0, 1, 2], [3, 2, 4]];
+        let turn = |v: DVec3| DVec3::new(v.x, -v.z, v.y);
+        let mesh = Mesh::new(p.clone(), triangles.clone(), None, None).unwrap();
+        let turned = mesh.with_axes_mapped(turn);
+        let fresh = Mesh::new(p.into_iter().map(turn).collect(), triangles, None, None).unwrap();
+        assert_eq!(turned.weld_map(), fresh.weld_map());
+        assert_eq!(turned.welded_triangles(), fresh.welded_triangles());
+        for (a, b) in turned
+            .welded_positions()
+            .iter()
+            .zip(fresh.welded_positions())
+        {
+            assert_eq!(*a, *b);
+        }
     }
 
     #[test]

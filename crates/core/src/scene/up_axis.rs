@@ -3,7 +3,7 @@
 //! of +90° about X, as Blender's importers do) and turned back on export, and a round trip is
 //! the identity.
 
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::mesh::Mesh;
@@ -37,23 +37,10 @@ impl UpAxis {
     }
 
     /// `mesh` (read from a file with this up axis) in scene coordinates: positions and normals
-    /// turned; triangles, their order and UVs unchanged. A rotation keeps the mesh valid.
+    /// turned; triangles, their order, the weld and UVs unchanged. The turn only swaps and
+    /// negates coordinates, so the mesh stays valid and its weld exact (0 and −0 weld alike).
     pub fn mesh_to_scene(self, mesh: Mesh) -> Mesh {
-        if self == Self::Z {
-            return mesh;
-        }
-        let positions = mesh.positions().iter().map(|&p| self.to_scene(p)).collect();
-        let normals = mesh.normals().map(|n| {
-            n.iter()
-                .map(|v| self.to_scene(v.as_dvec3()).as_vec3())
-                .collect::<Vec<Vec3>>()
-        });
-        let uvs = mesh.uvs().map(<[glam::Vec2]>::to_vec);
-        // Rotating finite positions keeps them finite and the triangles valid.
-        let parts = mesh.parts().to_vec();
-        Mesh::new(positions, mesh.triangles().to_vec(), normals, uvs)
-            .map(|turned| turned.with_parts(parts))
-            .unwrap_or(mesh)
+        mesh.with_axes_mapped(|p| self.to_scene(p))
     }
 
     /// The name used on the command line and in scene files.

@@ -48,8 +48,8 @@ impl Document {
         })
     }
 
-    /// Opens a scene (`.json`) or a mesh (`.obj`, `.gltf`, `.glb`; boxed in automatic grid
-    /// cages). The error names the file, what is wrong and what to do.
+    /// Opens a scene (`.json`) or a mesh (any format `read_mesh` reads: OBJ, glTF, GLB, FBX,
+    /// PLY, STL, OFF; boxed in automatic grid cages). The error names the file, what is wrong and what to do.
     pub fn open(path: &Path, control: &BindControl) -> Result<Self, EditorError> {
         let extension = path
             .extension()
