@@ -587,7 +587,7 @@ fn the_one_entry_point_reads_fbx_and_refuses_what_it_cannot() {
         vec![connect(20, 0), connect(10, 20)],
     );
     says(&ascii(&flat), "node 'flat'");
-    // A node graph with a cycle (a parent of its own parent) is an error or a mesh, never a hang.
+    // A node graph with a cycle (a parent of its own parent) is an error, not a hang.
     let cyclic = document(
         2,
         1.0,
@@ -598,7 +598,10 @@ fn the_one_entry_point_reads_fbx_and_refuses_what_it_cannot() {
         ],
         vec![connect(20, 21), connect(21, 20), connect(10, 20)],
     );
-    let _ = parse_fbx(Path::new("cyclic.fbx"), &binary(&cyclic));
+    let error = parse_fbx(Path::new("cyclic.fbx"), &binary(&cyclic))
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("Cyclic node hierarchy"), "{error}");
 }
 
 #[test]
