@@ -219,6 +219,26 @@ fn two_blobs_get_cages_of_their_own() {
     check_rig("two blobs", &two_blobs(), 2);
 }
 
+/// A head with two eyes that are separate spheres set half into it (Suzanne's, a character's
+/// eyeballs): no cage boundary can pass where the surfaces cross, so each eye is one piece with
+/// the head around it, and every cage holds one piece.
+#[test]
+fn eyes_set_into_a_head_are_one_piece_with_it() {
+    let head = capsules(&[(v(0.0, 0.0, 0.0), v(0.0, 0.0, 0.6), 0.7)], 0.05);
+    let eye = |x: f64| capsules(&[(v(x, -0.68, 0.45), v(x, -0.68, 0.47), 0.18)], 0.03);
+    let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+    for part in [head, eye(-0.25), eye(0.25)] {
+        let base = positions.len() as u32;
+        positions.extend_from_slice(part.positions());
+        triangles.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+    }
+    check_rig(
+        "head and eyes",
+        &Mesh::new(positions, triangles, None, None).unwrap(),
+        1,
+    );
+}
+
 #[test]
 fn a_figure_with_legs_close_together_keeps_them_apart_where_a_box_grid_does_not() {
     let mesh = figure();

@@ -27,6 +27,7 @@ mod parts;
 mod pieces;
 mod polycube;
 mod repair;
+mod surface;
 mod symmetry;
 mod voxels;
 
@@ -739,7 +740,8 @@ pub const SLIVER_VERTICES: usize = 20;
 /// For each leaf cage of `scene`, the number of connected pieces of the mesh surface among the
 /// mesh vertices it holds (inside or on it), slivers left out (see [`SLIVER_VERTICES`]). A
 /// rig that follows the shape has 1 everywhere: two legs, or an arm and the torso beside it,
-/// never share a cage.
+/// never share a cage. Vertices are joined by mesh edges and where separate components pass
+/// through each other (an eye set into its socket): those are one piece as a set of points.
 pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
     let set = &scene.cages;
     let locals: Vec<Option<crate::scene::LocalCage>> = set
@@ -756,18 +758,7 @@ pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
         .map(|(i, _)| i)
         .collect();
     let containment = crate::scene::leaf_containment(&valid, points);
-    // Mesh edges once each.
-    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
-    for &[a, b, c] in scene.mesh.welded_triangles() {
-        for (x, y) in [(a, b), (b, c), (c, a)] {
-            if let (Some(nx), Some(_)) = (neighbours.get_mut(x as usize), points.get(y as usize)) {
-                nx.push(y);
-            }
-            if let (Some(ny), Some(_)) = (neighbours.get_mut(y as usize), points.get(x as usize)) {
-                ny.push(x);
-            }
-        }
-    }
+    let neighbours = surface::surface_neighbours(&scene.mesh);
     let mut pieces = vec![0; set.leaves.len()];
     let mut member = vec![false; points.len()];
     let mut seen = vec![false; points.len()];

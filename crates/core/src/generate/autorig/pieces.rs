@@ -121,28 +121,20 @@ pub(super) fn split_by_surface_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mes
 struct Surface {
     /// Cell (grid index) of each welded mesh vertex.
     cell_of: Vec<Option<usize>>,
-    /// Mesh edges at each welded vertex.
+    /// Mesh edges at each welded vertex, and links where components cross
+    /// ([`super::surface::surface_neighbours`]).
     neighbours: Vec<Vec<u32>>,
 }
 
 impl Surface {
     fn new(grid: &Grid, mesh: &Mesh) -> Self {
-        let points = mesh.welded_positions();
-        let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
-        for &[a, b, c] in mesh.welded_triangles() {
-            for (x, y) in [(a, b), (b, c), (c, a)] {
-                if (x as usize) < points.len() && (y as usize) < points.len() {
-                    neighbours[x as usize].push(y);
-                    neighbours[y as usize].push(x);
-                }
-            }
-        }
         Self {
-            cell_of: points
+            cell_of: mesh
+                .welded_positions()
                 .iter()
                 .map(|&p| grid.index(grid.cell_at(p)))
                 .collect(),
-            neighbours,
+            neighbours: super::surface::surface_neighbours(mesh),
         }
     }
 
