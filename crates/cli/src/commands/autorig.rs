@@ -6,9 +6,7 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use clap::Args;
 use starcages_core::BindControl;
-use starcages_core::generate::{
-    AutorigError, AutorigSettings, Mirror, autorig, autorig_settings, surface_pieces_per_leaf,
-};
+use starcages_core::generate::{AutorigError, AutorigSettings, Mirror, autorig, autorig_settings};
 use starcages_core::scene::{Scene, UpAxis};
 
 use crate::InputError;
@@ -89,7 +87,7 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
     let report = rig.report.clone();
     let scene = Scene::from_mesh_file(source, up, mesh, rig.cages, autorig_settings());
     let summary = format!(
-        "{} leaf cages ({} vertices) along {} limbs{}{}",
+        "{} leaf cages ({} vertices) along {} limbs{}{}{}",
         report.leaf_cages,
         report.leaf_vertices,
         report.limbs,
@@ -103,15 +101,19 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
             // In the mesh file's axes, as the option takes it (the swap is its own inverse).
             .map(|a| format!(", symmetric across {}", ["x", "y", "z"][scene_axis(a, up)]))
             .unwrap_or_default(),
+        match report.refinements {
+            0 => String::new(),
+            n => format!(
+                ", on a grid refined {n}× (by a quarter each) to give separate parts closer \
+                 than a cell cages of their own"
+            ),
+        },
     );
-    let pieces = surface_pieces_per_leaf(&scene);
-    let shared: Vec<&str> = scene
-        .cages
-        .leaves
+    let shared: Vec<&str> = report
+        .shared_cages
         .iter()
-        .zip(&pieces)
-        .filter(|(_, n)| **n > 1)
-        .map(|(l, _)| l.name.as_str())
+        .filter_map(|&l| scene.cages.leaves.get(l))
+        .map(|l| l.name.as_str())
         .collect();
     if !shared.is_empty() {
         crate::note!(

@@ -219,6 +219,31 @@ fn two_blobs_get_cages_of_their_own() {
     check_rig("two blobs", &two_blobs(), 2);
 }
 
+/// The meshes of several shapes as one mesh of separate components.
+fn components(meshes: &[Mesh]) -> Mesh {
+    let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+    for part in meshes {
+        let base = positions.len() as u32;
+        positions.extend_from_slice(part.positions());
+        triangles.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+    }
+    Mesh::new(positions, triangles, None, None).unwrap()
+}
+
+/// Two separate bars closer than a cell of the detail's grid (letters of a word, the parts of
+/// a kit) share cells there; the grid is refined until each has cages of its own.
+#[test]
+fn separate_parts_closer_than_a_cell_get_cages_of_their_own_on_a_finer_grid() {
+    let bar = |y: f64, r: f64| capsules(&[(v(-1.0, y, 0.0), v(1.0, y, 0.0), r)], 0.02);
+    // Surfaces 0.07 apart (-0.02 and 0.05), off the grid's middle: about one cell of the
+    // detail-3 grid, whose cells straddle the gap.
+    let mesh = components(&[bar(-0.17, 0.15), bar(0.05 + 0.1, 0.1)]);
+    let made = autorig(&mesh, &AutorigSettings::default(), &BindControl::default()).unwrap();
+    assert!(made.report.refinements >= 1, "{:?}", made.report);
+    assert!(made.report.shared_cages.is_empty(), "{:?}", made.report);
+    check_rig("two bars", &mesh, 2);
+}
+
 /// A head with two eyes that are separate spheres set half into it (Suzanne's, a character's
 /// eyeballs): no cage boundary can pass where the surfaces cross, so each eye is one piece with
 /// the head around it, and every cage holds one piece.
@@ -226,15 +251,9 @@ fn two_blobs_get_cages_of_their_own() {
 fn eyes_set_into_a_head_are_one_piece_with_it() {
     let head = capsules(&[(v(0.0, 0.0, 0.0), v(0.0, 0.0, 0.6), 0.7)], 0.05);
     let eye = |x: f64| capsules(&[(v(x, -0.68, 0.45), v(x, -0.68, 0.47), 0.18)], 0.03);
-    let (mut positions, mut triangles) = (Vec::new(), Vec::new());
-    for part in [head, eye(-0.25), eye(0.25)] {
-        let base = positions.len() as u32;
-        positions.extend_from_slice(part.positions());
-        triangles.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
-    }
     check_rig(
         "head and eyes",
-        &Mesh::new(positions, triangles, None, None).unwrap(),
+        &components(&[head, eye(-0.25), eye(0.25)]),
         1,
     );
 }

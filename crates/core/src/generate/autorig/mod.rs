@@ -136,6 +136,13 @@ pub struct AutorigReport {
     pub merges: usize,
     /// The mirror axis used, if any.
     pub mirror_axis: Option<usize>,
+    /// Times the detail's grid was refined (by a quarter each) so that separate components
+    /// closer than a cell fall in cages of their own (0: the detail's grid).
+    pub refinements: u32,
+    /// Leaf cages (indices) that hold more than one piece of the surface
+    /// ([`surface_pieces_per_leaf`]): separate components that stay closer than a cell on the
+    /// finest grid tried, or set into one another without crossing (teeth in a mouth).
+    pub shared_cages: Vec<usize>,
 }
 
 /// The rig and its report.
@@ -198,6 +205,57 @@ pub fn autorig(
     if !has_volume || mesh.welded_positions().is_empty() {
         return Err(AutorigError::NoVolume);
     }
+    // Separate components closer than a cell (letters of a word, parts of a kit) share cells,
+    // so a cage may hold two of them: the grid is refined (at most three times, by a quarter) until
+    // every cage holds one piece, else the rig with fewest such cages is kept. Parts of one
+    // component are never the reason: their cells merge with what joins them (the palm).
+    let (cells, _) = resolution(settings.detail);
+    let mut best: Option<Autorig> = None;
+    for refinement in 0..=MAX_REFINEMENTS {
+        let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
+        let mut rig = match rig_on_grid(mesh, settings, cells, refinement, control) {
+            Ok(rig) => rig,
+            Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
+            Err(_) => continue,
+        };
+        let scene = Scene::new(
+            MeshSource::Embedded,
+            mesh.clone(),
+            rig.cages.clone(),
+            SceneSettings::default(),
+        );
+        rig.report.shared_cages = surface_pieces_per_leaf(&scene)
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| **n > 1)
+            .map(|(leaf, _)| leaf)
+            .collect();
+        if rig.report.shared_cages.is_empty() {
+            return Ok(rig);
+        }
+        let fewer = |best: &Autorig| rig.report.shared_cages.len() < best.report.shared_cages.len();
+        if best.as_ref().is_none_or(fewer) {
+            best = Some(rig);
+        }
+    }
+    best.ok_or(AutorigError::Cancelled)
+}
+
+/// Times the grid may be refined to give every cage one piece of surface, and by how much.
+const MAX_REFINEMENTS: u32 = 3;
+const REFINEMENT: f64 = 1.25;
+
+/// [`autorig`] on a grid of `cells` along the mesh's longest side (`refinement`: how many
+/// times the detail's grid was refined to reach it).
+fn rig_on_grid(
+    mesh: &Mesh,
+    settings: &AutorigSettings,
+    cells: u32,
+    refinement: u32,
+    control: &BindControl,
+) -> Result<Autorig, AutorigError> {
+    let (lo, hi) = mesh.bounds();
+    let extent = hi - lo;
     control.set_total(STEPS);
 
     let check = || {
@@ -207,7 +265,7 @@ pub fn autorig(
             Ok(())
         }
     };
-    let (cells, segment_length) = resolution(settings.detail);
+    let (_, segment_length) = resolution(settings.detail);
     let mirror_axis = match settings.mirror {
         Mirror::None => None,
         Mirror::Axis(a) => Some(a),
@@ -369,6 +427,8 @@ pub fn autorig(
             .len(),
         merges,
         mirror_axis,
+        refinements: refinement,
+        shared_cages: Vec::new(),
     };
     control.advance();
     Ok(Autorig { cages, report })
