@@ -1,6 +1,6 @@
 //! Keys: while G / R / S runs, X / Y / Z, digits, Backspace, Enter and Esc drive the tool;
 //! otherwise each key press looks up its action in the [`UiCommand`] table. Nothing happens
-//! while a text field has the keyboard.
+//! while a text field has the keyboard or a dialog is open.
 
 use egui::{Event, Key};
 use glam::Vec2;
@@ -25,8 +25,10 @@ pub fn shortcuts(
             }
         });
     }
-    // A text field, or the open add menu (which answers Esc itself), has the keys.
-    if ctx.egui_wants_keyboard_input() || ui_state.add_menu.is_some() {
+    // A text field, the open add menu (which answers Esc itself) or a dialog has the keys:
+    // typing a file name where the dialog's field lost focus must not rotate the rig.
+    if ctx.egui_wants_keyboard_input() || ui_state.add_menu.is_some() || ui_state.dialog_open(state)
+    {
         return;
     }
     let (events, pointer, ctrl) = ctx.input(|i| {

@@ -87,6 +87,16 @@ pub struct UiState {
 }
 
 impl UiState {
+    /// Whether a dialog is open (a file dialog, New from mesh, Auto rig, a question about poses
+    /// or unsaved changes): the editor's shortcuts wait until it is answered.
+    pub fn dialog_open(&self, state: &EditorState) -> bool {
+        self.files.is_open()
+            || self.new_mesh_dialog.is_some()
+            || self.autorig_dialog.is_some()
+            || self.pose_prompt.is_some()
+            || state.pending.is_some()
+    }
+
     /// A UI with nothing in progress; `gpu`: whether the 3D view can draw.
     pub fn new(gpu: bool) -> Self {
         Self {
