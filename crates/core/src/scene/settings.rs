@@ -20,7 +20,7 @@ pub enum Smoothing {
 }
 
 impl Smoothing {
-    /// f_h(x), clamped: 0 for x ≤ 0 and 1 for x ≥ h (paper-notes item 3).
+    /// f_h(x), clamped: 0 for x ≤ 0 and 1 for x ≥ h (docs/math.md, reading 3).
     pub fn eval(self, x: f64, h: f64) -> f64 {
         if x <= 0.0 {
             return 0.0;

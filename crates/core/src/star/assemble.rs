@@ -441,7 +441,7 @@ fn assemble_row(inputs: &Inputs, scratch: &mut Scratch, i: usize) -> (Row, Vec<(
             group_scale[g] += scale;
             if let Some((v_slot, vertex_row)) = &term.interior {
                 // … + W(v, p) (v' − T_{jc(v)}(v)) for interior v (eq. 10; the raw W,
-                // paper-notes 5).
+                // docs/math.md, reading 5).
                 acc[*v_slot as usize] += scale * w;
                 for &(s, x) in vertex_row {
                     acc[s as usize] -= scale * w * x;

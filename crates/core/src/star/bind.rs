@@ -2,7 +2,7 @@
 //! degrees of freedom, with every coordinate computed in batches (per leaf cage, per join cage).
 //!
 //! S_{c_i}(p) = b T_{c_i}(p) + (1 − b) Σ_{v ∈ B_{c_i}} W_n(v, p) L_v(p), and T, L_v are linear in
-//! the posed vertices and Green face terms (paper-notes item 9), so the row is
+//! the posed vertices and Green face terms (docs/math.md, reading 9), so the row is
 //! b·row(T) + (1 − b)·Σ W_n(v, p)·row(L_v), with b, W, Ω and I from rest positions only.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -38,7 +38,7 @@ pub(crate) struct BoundRows {
 type Needs = BTreeMap<u32, Vec<usize>>;
 
 /// The interpolating kind used for d (eq. 7) in a cage of kind `kind`: Green φ do not
-/// interpolate (paper-notes item 4), so Green cages use MVC there.
+/// interpolate (docs/math.md, reading 4), so Green cages use MVC there.
 fn interpolating(kind: CoordinateKind) -> CoordinateKind {
     match kind {
         CoordinateKind::Green => CoordinateKind::MeanValue,
