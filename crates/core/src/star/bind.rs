@@ -88,39 +88,119 @@ fn bind_rows_by(
     sharing: Sharing,
     memo: &mut JoinMemo,
 ) -> Result<BoundRows, StarError> {
-    let coord_settings = BindSettings {
-        harmonic: settings.harmonic,
+    let cx = BindContext {
+        set,
+        topology,
+        settings,
+        coord_settings: BindSettings {
+            harmonic: settings.harmonic,
+        },
+        placement,
+        control,
     };
-    let vertex_count = set.vertices.len() as u32;
-    let smoothing = settings.smoothing;
     let start = Instant::now();
     let mut green = GreenDofs::default();
+    let leaves = leaf_tables(&cx, points, &mut green)?;
+    let seconds_cage = start.elapsed().as_secs_f64();
+    let boundary_weight = boundary_weights(&cx, points.len(), &leaves);
 
-    // Leaf cages: T coordinates and interpolating weights for b (eq. 11).
+    let join_start = Instant::now();
+    let needs = join_needs(&cx, points, &boundary_weight, memo)?;
+    let offset = points.len();
+    let tables = join_cage_tables(&cx, &needs)?;
+    let joins = join_data(&cx, tables, offset, &mut green)?;
+    let omega_at_vertex = omega_at_vertices(&cx, &joins, offset)?;
+    let seconds_join = join_start.elapsed().as_secs_f64();
+
+    // Assemble every row (eqs. 3–10), one plan of columns per leaf cage.
+    let plans: Vec<CagePlan> = (0..set.leaves.len())
+        .into_par_iter()
+        .map(|c| {
+            CagePlan::new(
+                c,
+                topology,
+                &joins,
+                &omega_at_vertex,
+                &leaves.dofs[c],
+                set.vertices.len() as u32,
+                sharing,
+            )
+        })
+        .collect();
+    let (rows, join_weights) = assemble_rows(
+        &Inputs {
+            topology,
+            points: &needs.points,
+            placement,
+            cage_t: &leaves.t,
+            plans: &plans,
+            boundary_weight: &boundary_weight,
+            smoothing: settings.smoothing,
+        },
+        offset,
+    );
+    Ok(BoundRows {
+        rows,
+        boundary_weight,
+        join_weights,
+        green,
+        seconds_cage,
+        seconds_join,
+    })
+}
+
+/// What every phase of a bind reads.
+struct BindContext<'a> {
+    set: &'a CageSet,
+    topology: &'a Topology,
+    settings: &'a SceneSettings,
+    coord_settings: BindSettings,
+    placement: &'a [Placement],
+    control: &'a BindControl,
+}
+
+/// Each leaf cage's coordinate tables of the points placed in it.
+struct LeafTables {
+    /// T_{c_i}(p) (eq. 3): coordinates of the cage's own kind.
+    t: Vec<Table>,
+    /// Interpolating weights for b (eq. 11) where the cage's kind does not interpolate (Green).
+    w: Vec<Option<Table>>,
+    /// The Green face degrees of freedom of each Green cage (empty for the others).
+    dofs: Vec<Vec<u32>>,
+}
+
+/// Phase 1, the leaf cages: T_{c_i} of the points each holds (eq. 3), and the interpolating
+/// weights b is made of (eq. 11; docs/math.md, reading 4). Congruent harmonic leaves (a rig's
+/// mirrored limbs) share one solve.
+fn leaf_tables(
+    cx: &BindContext,
+    points: &[DVec3],
+    green: &mut GreenDofs,
+) -> Result<LeafTables, StarError> {
+    let (set, topology, placement, control) = (cx.set, cx.topology, cx.placement, cx.control);
     let n_cages = set.leaves.len();
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n_cages];
-    let mut rigid: Vec<usize> = Vec::new();
     for (i, p) in placement.iter().enumerate() {
         match *p {
             Placement::Cage(c) => members[c].push(i),
-            Placement::Nearest(c) if set.leaves[c].kind == CoordinateKind::Harmonic => {
-                rigid.push(i)
-            }
+            // A harmonic cage has no coordinates outside: such points follow it rigidly.
+            Placement::Nearest(c) if set.leaves[c].kind == CoordinateKind::Harmonic => {}
             Placement::Nearest(c) => members[c].push(i),
         }
     }
-    // Congruent harmonic leaves (a rig's mirrored limbs) share one solve.
     let mut shared_leaves =
-        shared_leaf_tables(set, topology, &members, points, &coord_settings, control)?;
-    let mut cage_t = Vec::with_capacity(n_cages);
-    let mut cage_w = Vec::with_capacity(n_cages);
-    let mut cage_dofs = Vec::with_capacity(n_cages);
+        shared_leaf_tables(set, topology, &members, points, &cx.coord_settings, control)?;
+    let mut tables = LeafTables {
+        t: Vec::with_capacity(n_cages),
+        w: Vec::with_capacity(n_cages),
+        dofs: Vec::with_capacity(n_cages),
+    };
     for (c, list) in members.iter().enumerate() {
         control.check().map_err(|_| StarError::Cancelled)?;
         let kind = set.leaves[c].kind;
         let local = &topology.leaves[c];
         let name = format!("leaf cage '{}'", set.leaves[c].name);
-        cage_dofs.push(if kind == CoordinateKind::Green {
+        tables.dofs.push(if kind == CoordinateKind::Green {
             green.register(local)
         } else {
             Vec::new()
@@ -132,7 +212,7 @@ fn bind_rows_by(
                 local,
                 points,
                 list.clone(),
-                &coord_settings,
+                &cx.coord_settings,
                 control,
                 &name,
             )?,
@@ -151,18 +231,25 @@ fn bind_rows_by(
                 local,
                 points,
                 inside,
-                &coord_settings,
+                &cx.coord_settings,
                 control,
                 &name,
             )?)
         };
-        cage_t.push(t);
-        cage_w.push(w);
+        tables.t.push(t);
+        tables.w.push(w);
     }
-    let seconds_cage = start.elapsed().as_secs_f64();
+    Ok(tables)
+}
 
-    // b per point (eq. 11), from the interpolating weights of its cage.
-    let border_local: Vec<Vec<(usize, Vec<usize>, f64)>> = (0..n_cages)
+/// Phase 2, b per point (eq. 11): f_h of the product over the cage's borders of
+/// 1 − Σ_{v ∈ B_{c_i c_j}} w_{c_i}(v, p), from the interpolating weights of its cage (with a
+/// border's own h, each border's factor smoothed alone). 1 for points outside every cage and
+/// in cages with no neighbour (section 3.2).
+fn boundary_weights(cx: &BindContext, point_count: usize, leaves: &LeafTables) -> Vec<f64> {
+    let (set, topology) = (cx.set, cx.topology);
+    let smoothing = cx.settings.smoothing;
+    let border_local: Vec<Vec<(usize, Vec<usize>, f64)>> = (0..set.leaves.len())
         .map(|c| {
             let local = &topology.leaves[c];
             let cage = &set.leaves[c];
@@ -181,20 +268,20 @@ fn bind_rows_by(
                 .collect()
         })
         .collect();
-    let boundary_weight: Vec<f64> = (0..points.len())
+    (0..point_count)
         .into_par_iter()
         .map(|i| {
-            let Placement::Cage(c) = placement[i] else {
+            let Placement::Cage(c) = cx.placement[i] else {
                 return 1.0;
             };
             if border_local[c].is_empty() {
                 return 1.0; // no neighbour: b = 1 (section 3.2)
             }
-            let table = cage_w[c].as_ref().unwrap_or(&cage_t[c]);
+            let table = leaves.w[c].as_ref().unwrap_or(&leaves.t[c]);
             let Some((w, _)) = table.get(i) else {
                 return 1.0;
             };
-            let h = set.leaves[c].h.unwrap_or(settings.default_h);
+            let h = set.leaves[c].h.unwrap_or(cx.settings.default_h);
             // 1 − Σ_{v ∈ B_{c_i c_j}} w_{c_i}(v, p) per border.
             let factors = border_local[c]
                 .iter()
@@ -208,15 +295,36 @@ fn bind_rows_by(
                 smoothing.eval(factors.map(|(x, _)| x).product(), h)
             }
         })
-        .collect();
+        .collect()
+}
 
-    // Which join cages each point needs.
-    let join_start = Instant::now();
+/// The points each join cage must be evaluated at.
+struct JoinNeeds {
+    /// Per boundary vertex v, the points that need L_v (eq. 10).
+    transform: Needs,
+    /// Per join vertex u, the points that need Ω(u, ·) (eqs. 6–8).
+    omega: Needs,
+    /// The mesh points, then the cage vertices as extra points (index `offset + v`).
+    points: Vec<DVec3>,
+}
+
+/// Phase 3, which join cages each point needs: every point with b < 1 reads L_v and Ω(v, ·)
+/// of its cage's boundary vertices, and Ω(u, ·) of their interior neighbours u whose join cage
+/// holds the cage (Ω(u, ·) vanishes outside jc(u), the union of the cages incident at u:
+/// docs/math.md, reading 6). Cage vertices become extra points: an interior vertex's own
+/// coordinates in its join cage (d(t, v) and T_{jc(v)}(v), eqs. 6 and 10), and each boundary
+/// vertex v inside jc(u) of an interior neighbour u (Ω(u, v) in eq. 8). Only the join cages
+/// the points use are listed, so a partial bind solves only those near its rows.
+fn join_needs(
+    cx: &BindContext,
+    points: &[DVec3],
+    boundary_weight: &[f64],
+    memo: &mut JoinMemo,
+) -> Result<JoinNeeds, StarError> {
+    let (set, topology) = (cx.set, cx.topology);
     let mut need_transform = Needs::new();
     let mut need_omega = Needs::new();
-    // Per leaf cage, the join vertices whose Ω its points read: its boundary vertices and their
-    // interior neighbours whose join cage holds it (Ω(u, ·) vanishes outside jc(u), the union
-    // of the cages incident at u). The same for every point of the cage, so listed once.
+    // The same for every point of a cage, so listed once per cage.
     let omega_of_cage: Vec<Vec<u32>> = (0..topology.leaves.len())
         .map(|c| {
             let mut list: BTreeSet<u32> = topology.boundary[c].iter().copied().collect();
@@ -236,7 +344,7 @@ fn bind_rows_by(
         })
         .collect();
     for (i, &b) in boundary_weight.iter().enumerate() {
-        let Placement::Cage(c) = placement[i] else {
+        let Placement::Cage(c) = cx.placement[i] else {
             continue;
         };
         if b >= 1.0 {
@@ -249,11 +357,6 @@ fn bind_rows_by(
             need_omega.entry(*u).or_default().push(i);
         }
     }
-    // Cage vertices as extra points (index `offset + v`), bound in the same batches: an
-    // interior vertex's own coordinates in its join cage (d(t, v), T_{jc(v)}(v)), and each
-    // boundary vertex v inside jc(u) of an interior neighbour u (Ω(u, v) in eq. 8).
-    // Only for the join cages the points use: a partial bind (a few rows re-bound after an
-    // edit) then solves only the join cages near those rows.
     let offset = points.len();
     let mut all_points = points.to_vec();
     all_points.extend_from_slice(&set.vertices);
@@ -294,14 +397,21 @@ fn bind_rows_by(
         list.sort_unstable();
         list.dedup();
     }
-    let points = &all_points[..];
-    // Harmonic join cages congruent up to translation, quarter turns and mirrors share one
-    // solve.
-    let classes = harmonic_classes(topology, &need_omega);
+    Ok(JoinNeeds {
+        transform: need_transform,
+        omega: need_omega,
+        points: all_points,
+    })
+}
+
+/// Phase 4, the join cages' coordinate tables at the points that need them. Harmonic join
+/// cages congruent up to translation, quarter turns and mirrors share one solve (returned
+/// apart, by vertex); join cages over the same leaf cages are one cage (jc(v) is the union of
+/// the cages incident at v, eq. 8), its tables computed once for every point any copy needs.
+fn join_cage_tables(cx: &BindContext, needs: &JoinNeeds) -> Result<JoinCageTables, StarError> {
+    let topology = cx.topology;
+    let classes = harmonic_classes(topology, &needs.omega);
     let in_a_class: BTreeSet<u32> = classes.iter().flatten().map(|(v, _)| *v).collect();
-    // Join cages over the same leaf cages are one cage (jc(v) is the union of the cages
-    // incident at v, eq. 8): its tables are computed once, for every point any of them needs
-    // (on a rig whose borders hold many vertices, most join cages are such copies).
     let mut copies: BTreeMap<(&[usize], bool), Vec<u32>> = BTreeMap::new();
     for (&v, join) in &topology.joins {
         copies
@@ -327,11 +437,11 @@ fn bind_rows_by(
             v,
             &topology.joins[&v],
             shared_interp,
-            union_of(members, &need_omega),
-            union_of(members, &need_transform),
-            points,
-            &coord_settings,
-            control,
+            union_of(members, &needs.omega),
+            union_of(members, &needs.transform),
+            &needs.points,
+            &cx.coord_settings,
+            cx.control,
         )
     };
     // The class solves (in parallel with each other), then every other join cage's tables
@@ -340,10 +450,10 @@ fn bind_rows_by(
     let shared = solve_harmonic_classes(
         &classes,
         topology,
-        &need_omega,
-        points,
-        &coord_settings,
-        control,
+        &needs.omega,
+        &needs.points,
+        &cx.coord_settings,
+        cx.control,
     );
     let tables = copies
         .par_iter()
@@ -352,7 +462,7 @@ fn bind_rows_by(
                 .map(|t| members.iter().map(|&v| (v, t.clone())).collect::<Vec<_>>())
         })
         .collect::<Result<Vec<Vec<(u32, JoinTables)>>, StarError>>();
-    let (mut shared, tables) = (shared?, tables?);
+    let (shared, tables) = (shared?, tables?);
     let mut tables: BTreeMap<u32, JoinTables> = tables.into_iter().flatten().collect();
     // Members of a class whose shared solve failed bind alone.
     for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
@@ -361,6 +471,31 @@ fn bind_rows_by(
             entry.0 = interp;
         }
     }
+    Ok(JoinCageTables { tables, shared })
+}
+
+/// Every join cage's tables (phase 4).
+struct JoinCageTables {
+    /// By join vertex, its interpolating and own-kind tables.
+    tables: BTreeMap<u32, JoinTables>,
+    /// Interpolating tables of congruent harmonic join cages from their shared solve.
+    shared: BTreeMap<u32, Table>,
+}
+
+/// Phase 5, each join cage's data (eqs. 6 and 10): its far faces F(jc(v), v), and for an
+/// interior v the normalisers d(t, v) and the row of T_{jc(v)}(v) from v's own coordinates in
+/// jc(v) (docs/math.md, reading 1); 1 and no row for a boundary vertex of its join cage.
+fn join_data<'t>(
+    cx: &BindContext<'t>,
+    JoinCageTables {
+        mut tables,
+        mut shared,
+    }: JoinCageTables,
+    offset: usize,
+    green: &mut GreenDofs,
+) -> Result<BTreeMap<u32, JoinData<'t>>, StarError> {
+    let (set, topology, control) = (cx.set, cx.topology, cx.control);
+    let vertex_count = set.vertices.len() as u32;
     let mut joins: BTreeMap<u32, JoinData> = BTreeMap::new();
     for (&v, join) in &topology.joins {
         control.check().map_err(|_| StarError::Cancelled)?;
@@ -397,7 +532,7 @@ fn bind_rows_by(
                     add_row(&mut row, 1.0, (w0, None), local, &dofs, vertex_count);
                 } else {
                     let x = [set.vertices[v as usize]];
-                    let t = bind(join.kind, &local.cage, &x, &coord_settings, control).map_err(
+                    let t = bind(join.kind, &local.cage, &x, &cx.coord_settings, control).map_err(
                         |source| StarError::Coordinates {
                             what: what.clone(),
                             source,
@@ -426,8 +561,18 @@ fn bind_rows_by(
             },
         );
     }
-    // Ω(u, v) for interior u at each boundary vertex v that has u as an interior neighbour
-    // (0 where v lies outside jc(u)).
+    Ok(joins)
+}
+
+/// Phase 6, Ω(u, v) (eqs. 6–7) for interior u at each boundary vertex v that has u as an
+/// interior neighbour: the values eq. 8's I(v, p) multiplies (0 where v lies outside jc(u)).
+fn omega_at_vertices(
+    cx: &BindContext,
+    joins: &BTreeMap<u32, JoinData>,
+    offset: usize,
+) -> Result<BTreeMap<(u32, u32), f64>, StarError> {
+    let topology = cx.topology;
+    let smoothing = cx.settings.smoothing;
     let pairs: Vec<(u32, u32)> = topology
         .interior_near
         .keys()
@@ -444,45 +589,8 @@ fn bind_rows_by(
                 .map_or(0.0, |(w, _)| data.omega(w, smoothing))
         })
         .collect();
-    control.check().map_err(|_| StarError::Cancelled)?;
-    let omega_at_vertex: BTreeMap<(u32, u32), f64> = pairs.into_iter().zip(values).collect();
-    let seconds_join = join_start.elapsed().as_secs_f64();
-
-    // Assemble every row (eqs. 3–10), one plan of columns per leaf cage.
-    let plans: Vec<CagePlan> = (0..n_cages)
-        .into_par_iter()
-        .map(|c| {
-            CagePlan::new(
-                c,
-                topology,
-                &joins,
-                &omega_at_vertex,
-                &cage_dofs[c],
-                vertex_count,
-                sharing,
-            )
-        })
-        .collect();
-    let (rows, join_weights) = assemble_rows(
-        &Inputs {
-            topology,
-            points,
-            placement,
-            cage_t: &cage_t,
-            plans: &plans,
-            boundary_weight: &boundary_weight,
-            smoothing,
-        },
-        offset,
-    );
-    Ok(BoundRows {
-        rows,
-        boundary_weight,
-        join_weights,
-        green,
-        seconds_cage,
-        seconds_join,
-    })
+    cx.control.check().map_err(|_| StarError::Cancelled)?;
+    Ok(pairs.into_iter().zip(values).collect())
 }
 
 /// A join cage's tables: interpolating weights (for Ω) and weights of its own kind (for L_v),
