@@ -5,6 +5,24 @@ use egui::{Key, KeyboardShortcut, Modifiers};
 
 use crate::state::EditMode;
 
+/// Declares [`UiCommand`] and [`UiCommand::ALL`] from one list of variants, so no action can
+/// be left out of the menus, the key table or Help.
+macro_rules! ui_commands {
+    (
+        $(#[$enum_meta:meta])*
+        pub enum $name:ident { $( $(#[$meta:meta])* $variant:ident, )* }
+    ) => {
+        $(#[$enum_meta])*
+        pub enum $name { $( $(#[$meta])* $variant, )* }
+
+        impl $name {
+            /// Every action, in menu order (the order they are declared in).
+            pub const ALL: [Self; [$(stringify!($variant)),*].len()] = [$(Self::$variant),*];
+        }
+    };
+}
+
+ui_commands! {
 /// An action from a menu or a key. The UI layer carries it out (some need a file dialog or
 /// the pointer) by sending [`super::Command`]s.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -108,6 +126,7 @@ pub enum UiCommand {
     /// File ▸ Import cage animation…
     ImportCageAnimation,
 }
+}
 
 const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
     KeyboardShortcut::new(modifiers, key)
@@ -118,59 +137,6 @@ const CMD: Modifiers = Modifiers::COMMAND;
 const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {
-    /// Every action, in menu order.
-    pub const ALL: [Self; 49] = [
-        Self::NewFromMesh,
-        Self::Open,
-        Self::Save,
-        Self::SaveAs,
-        Self::ExportMesh,
-        Self::ExportCages,
-        Self::ImportCages,
-        Self::ImportInternalCages,
-        Self::Undo,
-        Self::Redo,
-        Self::ToggleMirrorX,
-        Self::SelectAll,
-        Self::SelectNone,
-        Self::Grab,
-        Self::Rotate,
-        Self::Scale,
-        Self::FrameAll,
-        Self::FrameSelection,
-        Self::ViewFront,
-        Self::ViewSide,
-        Self::ViewTop,
-        Self::ViewBack,
-        Self::ViewLeft,
-        Self::ViewBottom,
-        Self::ToggleOrthographic,
-        Self::ToggleItemPanel,
-        Self::ShowShortcuts,
-        Self::ToggleMode,
-        Self::Extrude,
-        Self::InsetFaces,
-        Self::LoopCut,
-        Self::AddBox,
-        Self::DeleteCage,
-        Self::MergeCages,
-        Self::MirrorCage,
-        Self::FitCage,
-        Self::SubdivideCages,
-        Self::AutoRig,
-        Self::PlayPause,
-        Self::JumpToStart,
-        Self::JumpToEnd,
-        Self::NextFrame,
-        Self::PreviousFrame,
-        Self::NextKey,
-        Self::PreviousKey,
-        Self::InsertKey,
-        Self::DeleteKey,
-        Self::ToggleAutoKey,
-        Self::ImportCageAnimation,
-    ];
-
     /// The label in menus ("…" where a dialog follows).
     pub fn label(self) -> &'static str {
         match self {
