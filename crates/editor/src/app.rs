@@ -62,13 +62,13 @@ impl eframe::App for EditorApp {
         if busy {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }
+        // The window's close button is a command like File ▸ Quit: `apply` confirms it at
+        // once for a saved document and asks first otherwise (the close waits for the answer).
         if ctx.input(|i| i.viewport().close_requested()) && !self.state.close_confirmed {
             if self.state.doc.dirty {
                 ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
-                self.commands.send(Command::RequestClose);
-            } else {
-                self.state.close_confirmed = true;
             }
+            self.commands.send(Command::RequestClose);
         }
         frame_ui(&self.state, &mut self.ui, ui, &mut self.commands);
         let commands = self.commands.take();

@@ -485,6 +485,46 @@ fn opening_over_unsaved_work_asks_first() {
     assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
 }
 
+/// The window's close button goes through the same command as every other action: a saved
+/// document closes at once, unsaved work asks first and the window stays until the answer.
+#[test]
+fn closing_the_window_asks_over_unsaved_work_and_closes_a_saved_one() {
+    let close = |harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        harness
+            .input_mut()
+            .viewports
+            .entry(egui::ViewportId::ROOT)
+            .or_default()
+            .events
+            .push(egui::ViewportEvent::Close);
+        harness.run_steps(1);
+    };
+    let mut harness = harness();
+    close(&mut harness);
+    assert!(
+        harness.state().state.close_confirmed,
+        "a saved document closes"
+    );
+    let mut harness = self::harness();
+    {
+        let app = harness.state_mut();
+        let to = app.state.doc.scene.pose[0] + DVec3::Z * 0.2;
+        app.run(Command::MoveVertices(vec![(0, to)]));
+    }
+    close(&mut harness);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(
+        !state.close_confirmed && state.pending.is_some(),
+        "unsaved work asks"
+    );
+    harness.get_by_label("Don't save");
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(!state.close_confirmed && state.pending.is_none() && state.doc.dirty);
+}
+
 #[test]
 fn menus_show_the_table_labels_and_shortcuts() {
     let mut harness = harness();
