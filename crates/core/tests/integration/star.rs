@@ -298,6 +298,49 @@ fn c1_across_borders_where_plain_t_is_only_c0() {
     }
 }
 
+mod random_h {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(8))]
+
+        /// C0 and C1 across a border whatever h each side has and whatever h either side gives
+        /// that one border (docs/math.md's per-border h row): the jump of the difference
+        /// quotients shrinks with the step, at a random point of the shared face.
+        #[test]
+        fn c1_across_a_border_with_random_per_side_and_per_border_h(
+            h in (0.1f64..1.0, 0.1f64..1.0),
+            border in (prop::option::of(0.1f64..1.0), prop::option::of(0.1f64..1.0)),
+            at in (-0.35f64..0.35, -0.35f64..0.35),
+        ) {
+            let mut scene = row_scene(
+                &[CoordinateKind::MeanValue, CoordinateKind::MeanValue],
+                JoinPolicy::Mvc,
+            );
+            scene.cages.leaves[0].h = Some(h.0);
+            scene.cages.leaves[1].h = Some(h.1);
+            if let Some(hb) = border.0 {
+                scene.cages.leaves[0].border_h.insert("c1".into(), hb);
+            }
+            if let Some(hb) = border.1 {
+                scene.cages.leaves[1].border_h.insert("c0".into(), hb);
+            }
+            let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| wavy(p)).collect();
+            let (y, z) = at;
+            let star = |p: DVec3| evaluate_points(&scene, &[p], &posed, &control()).unwrap()[0];
+            let e = 1e-9;
+            let gap = (star(DVec3::new(-e, y, z)) - star(DVec3::new(e, y, z))).length();
+            prop_assert!(gap < 1e-6, "C0 gap {gap}");
+            let (j1, j2) = (
+                derivative_jump(star, 0.0, y, z, 1e-2),
+                derivative_jump(star, 0.0, y, z, 1e-3),
+            );
+            prop_assert!(j2 < 0.2 * j1 + 1e-5, "jump {j1} at 1e-2, {j2} at 1e-3");
+        }
+    }
+}
+
 #[test]
 fn free_faces_are_interpolated_and_borders_get_b_zero() {
     let scene = row_scene(
