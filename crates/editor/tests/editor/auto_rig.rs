@@ -1,0 +1,275 @@
+//! A new mesh in the editor: New from mesh stands a Y-up file up, opens in the auto rig (or a
+//! symmetric one), and Rig ▸ Auto rig asks for its settings and is one undo step.
+
+use egui_kittest::kittest::Queryable as _;
+use starcages_editor::{Command, Document};
+
+use crate::common::{harness, scratch, settle};
+
+/// New from mesh reads an OBJ Y-up (the convention) and stands it up along Z; the dialog's
+/// "Z up" reads it as it is.
+#[test]
+fn new_from_mesh_stands_a_y_up_obj_up() {
+    use starcages_core::scene::UpAxis;
+    use starcages_editor::state::NewMeshOptions;
+    let dir = scratch("new-from-y-up");
+    let mesh = dir.join("tall.obj");
+    std::fs::write(
+        &mesh,
+        "v 0 0 0\nv 1 0 0\nv 0 4 0\nv 1 4 0\nv 0 0 1\nv 1 0 1\nv 0 4 1\nv 1 4 1\n\
+         f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+    )
+    .unwrap();
+    let doc = Document {
+        scene: starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
+        path: None,
+        dirty: false,
+    };
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    app.wait_for_jobs();
+    for (up, tall_axis) in [(UpAxis::Y, 2), (UpAxis::Z, 1)] {
+        let options = NewMeshOptions {
+            up,
+            rig: starcages_editor::state::NewRig::Grid,
+            ..NewMeshOptions::default()
+        };
+        app.run(Command::NewFromMesh(mesh.clone(), options));
+        app.run(Command::AnswerUnsaved(
+            starcages_editor::commands::UnsavedAnswer::Discard,
+        ));
+        app.wait_for_jobs();
+        let scene = &app.state.doc.scene;
+        assert_eq!(scene.mesh_up, up);
+        let (lo, hi) = scene.mesh.bounds();
+        assert!(
+            ((hi - lo)[tall_axis] - 4.0).abs() < 1e-9,
+            "{up:?}: {:?}",
+            hi - lo
+        );
+        // The default grid everywhere.
+        assert!(scene.cages.leaves.len() <= 27 && scene.cages.leaves.len() > 8);
+    }
+}
+
+/// New from mesh on `mesh` (discarding the open document), returning once the mesh is read
+/// and installed, while its auto rig may still run.
+fn open_mesh_until_read(app: &mut starcages_editor::EditorApp, mesh: &std::path::Path) {
+    open_mesh_with_until_read(app, mesh, Default::default());
+}
+
+/// [`open_mesh_until_read`] with the dialog's `options`.
+fn open_mesh_with_until_read(
+    app: &mut starcages_editor::EditorApp,
+    mesh: &std::path::Path,
+    options: starcages_editor::state::NewMeshOptions,
+) {
+    app.run(Command::NewFromMesh(mesh.to_path_buf(), options));
+    app.run(Command::AnswerUnsaved(
+        starcages_editor::commands::UnsavedAnswer::Discard,
+    ));
+    while app.state.load_job.is_some() {
+        app.state.poll_jobs(false);
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+/// An editor on `scene` (not saved anywhere), its first bind done.
+fn app_on(scene: starcages_core::scene::Scene) -> starcages_editor::EditorApp {
+    let doc = Document {
+        scene,
+        path: None,
+        dirty: false,
+    };
+    let mut app = starcages_editor::EditorApp::new(doc, None, false);
+    app.wait_for_jobs();
+    app
+}
+
+/// New from mesh gives the auto rig by default, on a worker; Rig ▸ Auto rig replaces a rig
+/// with it as one undo step (poses of the old cages go, and come back with undo).
+#[test]
+fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
+    use starcages_core::scene::validate_scene;
+    let dir = scratch("auto-rig");
+    let mesh = dir.join("bar.obj");
+    let mut bar = starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap();
+    starcages_core::scene::write_deformed_mesh(&mesh, &bar, bar.mesh.welded_positions()).unwrap();
+    // An animation of the old rig's pose: its keys go with the rig (a key naming a pose the
+    // scene no longer has left the scene invalid, the binding stuck on the old rig).
+    bar.animation.keys.push(starcages_core::anim::Key {
+        frame: 1.0,
+        pose: "bend".into(),
+        interpolation: Default::default(),
+        h: Default::default(),
+    });
+    let old_animation = bar.animation.clone();
+    let mut app = app_on(bar);
+    let grid_cages = app.state.doc.scene.cages.clone();
+    let grid_mesh_vertices = app.state.doc.scene.mesh.welded_positions().len();
+    app.run(Command::AutoRig {
+        detail: 2,
+        internal: true,
+        mirror: starcages_core::generate::Mirror::None,
+    });
+    assert!(app.state.autorig_job.is_some(), "runs on a worker");
+    app.wait_for_jobs();
+    let scene = &app.state.doc.scene;
+    assert!(
+        validate_scene(scene).is_valid(),
+        "{:?}",
+        validate_scene(scene).errors
+    );
+    assert!(scene.animation.keys.is_empty() && scene.poses.is_empty());
+    assert!(
+        app.state
+            .message
+            .as_ref()
+            .is_some_and(|m| m.text.contains("1 animation key"))
+    );
+    assert_ne!(scene.cages, grid_cages);
+    assert!(
+        scene
+            .cages
+            .leaves
+            .iter()
+            .all(|l| l.name.starts_with("body") || l.name.starts_with("limb"))
+    );
+    assert!(scene.cages.internals.iter().any(|c| c.name == "rig_ctrl"));
+    assert!(app.state.rig.is_some(), "bound after the auto rig");
+    app.run(Command::Undo);
+    assert_eq!(app.state.doc.scene.cages, grid_cages, "one undo step back");
+    assert_eq!(app.state.doc.scene.animation, old_animation);
+    assert!(app.state.doc.scene.poses.contains_key("bend"));
+    app.run(Command::Redo);
+    assert_ne!(app.state.doc.scene.cages, grid_cages);
+    // New from mesh: the auto rig by default. The mesh opens at once in the grid, the auto
+    // rig follows on a worker and replaces it as one undo step.
+    open_mesh_until_read(&mut app, &mesh);
+    let opened = app.state.doc.scene.clone();
+    assert_eq!(
+        opened.mesh.welded_positions().len(),
+        grid_mesh_vertices,
+        "the mesh is open before its rig is made"
+    );
+    assert!(app.state.autorig_job.is_some(), "the auto rig runs after");
+    assert!(
+        app.state.bind_job.is_none(),
+        "the grid is not bound meanwhile"
+    );
+    app.wait_for_jobs();
+    let scene = &app.state.doc.scene;
+    assert!(
+        scene
+            .cages
+            .leaves
+            .iter()
+            .all(|l| l.name.starts_with("body") || l.name.starts_with("limb")),
+        "{:?}",
+        app.state.message
+    );
+    assert!(validate_scene(scene).is_valid());
+    // The grid is one undo step away.
+    app.run(Command::Undo);
+    assert_eq!(app.state.doc.scene.cages, opened.cages);
+    // Cancelling the auto rig keeps the grid, and binds it.
+    open_mesh_until_read(&mut app, &mesh);
+    app.run(Command::CancelAutoRig);
+    app.wait_for_jobs();
+    assert_eq!(app.state.doc.scene.cages, opened.cages);
+    assert!(
+        app.state.rig.is_some(),
+        "the grid is bound after the cancel"
+    );
+}
+
+/// Rig ▸ Auto rig… asks for the detail, internal cages and symmetry first; Cancel changes
+/// nothing, Make rig starts the auto rig with what was chosen (no internal cages, symmetric
+/// across x: every leaf vertex has the twin X mirror editing moves with it).
+#[test]
+fn rig_auto_rig_asks_for_detail_internal_cages_and_symmetry_first() {
+    let mut harness = harness();
+    let before = harness.state().state.doc.scene.cages.clone();
+    harness.get_by_label("Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label("Auto rig…").click();
+    harness.run_steps(2);
+    assert!(harness.state().ui.autorig_dialog.is_some());
+    harness.get_by_label("Cancel").click();
+    harness.run_steps(2);
+    assert!(harness.state().ui.autorig_dialog.is_none());
+    assert!(harness.state().state.autorig_job.is_none());
+    assert_eq!(harness.state().state.doc.scene.cages, before);
+    harness.get_by_label("Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label("Auto rig…").click();
+    harness.run_steps(2);
+    harness
+        .state_mut()
+        .ui
+        .autorig_dialog
+        .as_mut()
+        .unwrap()
+        .internal = false;
+    harness.get_by_label("Symmetry").click();
+    harness.run_steps(2);
+    harness.get_by_label("Across x").click();
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().ui.autorig_dialog.map(|d| d.mirror),
+        Some(starcages_core::generate::Mirror::Axis(0))
+    );
+    harness.get_by_label("Make rig").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_ne!(scene.cages, before, "the auto rig replaced the rig");
+    assert!(
+        scene.cages.internals.is_empty(),
+        "no internal cages, as chosen"
+    );
+    // X mirror editing finds every leaf vertex's twin (the mesh is centred on x = 0, so the
+    // rig is symmetric across that plane, as mirror editing takes it).
+    let partners = starcages_editor::state::mirror::partners(&scene.cages.vertices);
+    assert!(
+        scene
+            .cages
+            .leaves
+            .iter()
+            .flat_map(|l| l.faces.iter().flatten())
+            .all(|&v| partners[v as usize].is_some()),
+        "the rig is its own mirror image across x = 0"
+    );
+}
+
+/// File ▸ New from mesh with Symmetry "Across x": the auto rig that follows the grid is its own
+/// mirror image across x = 0, so X mirror editing finds every leaf vertex's twin.
+#[test]
+fn a_new_mesh_can_open_in_a_symmetric_auto_rig() {
+    let dir = scratch("new-mesh-mirror");
+    let mesh = dir.join("critter.obj");
+    let critter = starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap();
+    starcages_core::scene::write_deformed_mesh(&mesh, &critter, critter.mesh.welded_positions())
+        .unwrap();
+    let mut app = app_on(critter);
+    let options = starcages_editor::state::NewMeshOptions {
+        mirror: starcages_core::generate::Mirror::Axis(0),
+        ..Default::default()
+    };
+    open_mesh_with_until_read(&mut app, &mesh, options);
+    app.wait_for_jobs();
+    let scene = &app.state.doc.scene;
+    let names: Vec<&str> = scene.cages.leaves.iter().map(|l| l.name.as_str()).collect();
+    assert!(
+        names.contains(&"body_1"),
+        "the auto rig replaced the grid: {names:?}"
+    );
+    let partners = starcages_editor::state::mirror::partners(&scene.cages.vertices);
+    let lonely = scene
+        .cages
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten())
+        .filter(|&&v| partners[v as usize].is_none())
+        .count();
+    assert_eq!(lonely, 0, "leaf vertices without a mirror twin");
+}

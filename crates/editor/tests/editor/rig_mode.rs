@@ -1,0 +1,1178 @@
+//! Rig mode through egui_kittest: extrude, loop cut, inset, delete, merge, mirror, fit,
+//! subdivide, face and mesh selection, snapping and welding, imported cages, and how an
+//! invalid rig is shown.
+
+use egui::accesskit::Role;
+use egui_kittest::SnapshotOptions;
+use egui_kittest::kittest::Queryable as _;
+use glam::DVec3;
+use starcages_core::coords::CoordinateKind;
+use starcages_editor::ui::vertex_on_screen;
+use starcages_editor::{CageId, Command};
+
+use crate::common::{leaf, scratch, settle};
+
+/// Rig mode: Tab enters it; E extrudes the selected face into a new cage sharing it; X
+/// deletes the inspected cage and undo brings it back; Ctrl+R cuts a cage; moving vertices
+/// edits the rest cages (the poses follow); the binding follows every change.
+#[test]
+fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
+    let mut harness = crate::common::bar_harness(true);
+    // The +x face of the right cage.
+    let app = harness.state_mut();
+    let scene = &app.state.doc.scene;
+    let right = scene.cages.leaf_index("cage_1_0_0").unwrap();
+    let face: Vec<u32> = scene.cages.leaves[right]
+        .faces
+        .iter()
+        .find(|f| f.iter().all(|&v| scene.cages.vertices[v as usize].x > 1.0))
+        .unwrap()
+        .clone();
+    app.run(Command::Select {
+        vertices: face.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    // E continues as G along the face's normal (x here) on the new cap, as Blender's extrude.
+    assert!(harness.state().ui.tool.is_some(), "E starts G");
+    let state = &harness.state().state;
+    let cap: Vec<u32> = state.selection.vertices.iter().copied().collect();
+    assert_eq!(cap.len(), 4, "the new cap is selected");
+    assert!(cap.iter().all(|v| !face.contains(v)));
+    let cap_before: Vec<DVec3> = cap
+        .iter()
+        .map(|&v| state.doc.scene.cages.vertices[v as usize])
+        .collect();
+    for text in ["0", ".", "2", "5"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.get_by_label_contains("Grab along X: 0.250");
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert!(harness.state().ui.tool.is_none());
+    for (&v, before) in cap.iter().zip(&cap_before) {
+        let moved = state.doc.scene.cages.vertices[v as usize] - *before;
+        assert!(
+            (moved - DVec3::new(0.25, 0.0, 0.0)).length() < 1e-12,
+            "the cap moves along x in the rest cages: {moved}"
+        );
+    }
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert_eq!(state.doc.scene.cages.adjacency().len(), 2);
+    assert!(starcages_core::scene::validate_scene(&state.doc.scene).is_valid());
+    assert_eq!(
+        state.rig.as_ref().unwrap().bound_for.0.leaves.len(),
+        3,
+        "the binding follows"
+    );
+    // E and its grab are one undo step (Blender's "extrude and move"); redo brings both back.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3);
+    for (&v, before) in cap.iter().zip(&cap_before) {
+        let moved = state.doc.scene.cages.vertices[v as usize] - *before;
+        assert!((moved - DVec3::new(0.25, 0.0, 0.0)).length() < 1e-12);
+    }
+    // X deletes the inspected (new) cage; undo brings it back.
+    let new_cage = CageId::Leaf(2);
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(new_cage)));
+    harness.key_press(egui::Key::X);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
+    // Ctrl+R places a cut across the inspected cage's longest side; Enter makes it.
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(0))));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    harness.run_steps(2);
+    assert!(
+        harness.state().ui.loop_cut.is_some(),
+        "the cut is being placed"
+    );
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves.len(),
+        4,
+        "{:?}",
+        harness.state().state.message
+    );
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    // Moving a vertex in Rig mode moves its rest position; the poses follow.
+    let v = face[0];
+    let before_rest = scene.cages.vertices[v as usize];
+    let before_pose = scene.pose[v as usize];
+    let to = before_pose + DVec3::new(0.1, 0.0, 0.0);
+    harness
+        .state_mut()
+        .run(Command::MoveVertices(vec![(v, to)]));
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert!(
+        (scene.cages.vertices[v as usize] - before_rest - DVec3::new(0.1, 0.0, 0.0)).length()
+            < 1e-12
+    );
+    assert!((scene.pose[v as usize] - to).length() < 1e-12);
+}
+
+/// An invalid rig (a box overlapping the cages) shows a banner with the first problem, keeps
+/// the last valid binding and refuses Pose mode until it is fixed (here by undo).
+#[test]
+fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
+    let mut harness = crate::common::bar_harness(false);
+    let binding = std::sync::Arc::clone(&harness.state().state.rig.as_ref().unwrap().binding);
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(1);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.get_by_label("Box around the whole mesh").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3);
+    assert!(
+        !state.rig_problems.is_empty(),
+        "a box over the cages overlaps them"
+    );
+    harness.get_by_label_contains("The rig has");
+    assert!(
+        std::sync::Arc::ptr_eq(
+            &binding,
+            &harness.state().state.rig.as_ref().unwrap().binding
+        ),
+        "the last valid binding stays"
+    );
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.mode, starcages_editor::state::EditMode::Rig);
+    assert!(
+        state
+            .message
+            .as_ref()
+            .unwrap()
+            .text
+            .contains("fix the rig before posing")
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert!(harness.state().state.rig_problems.is_empty());
+    assert!(harness.query_by_label_contains("The rig has").is_none());
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.mode,
+        starcages_editor::state::EditMode::Pose
+    );
+}
+
+/// File > Import cages adds an OBJ's cages to the rig, in the mesh file's axes, sharing the
+/// faces where they meet the rig; undo removes them.
+#[test]
+fn importing_cages_adds_them_to_the_rig_sharing_faces() {
+    let mut harness = crate::common::bar_harness(false);
+    // A box beside the bar's +x face, written Y-up (OBJ convention); the bar is symmetric in
+    // y and z, so the box is the same in both axes.
+    let path = box_obj(
+        "import-cages",
+        "tip",
+        [1.1, -0.35, -0.35],
+        [2.0, 0.35, 0.35],
+    );
+    harness.state_mut().run(Command::ImportCages(path));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert_eq!(scene.cages.leaves[2].name, "tip");
+    assert_eq!(
+        scene.cages.adjacency().len(),
+        2,
+        "the tip shares the bar's end face"
+    );
+    assert!(state.rig_problems.is_empty(), "{:?}", state.rig_problems);
+    harness.state_mut().run(Command::Undo);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+}
+
+/// An OBJ holding one box group called `name` from `lo` to `hi`, in a scratch folder.
+fn box_obj(folder: &str, name: &str, lo: [f64; 3], hi: [f64; 3]) -> std::path::PathBuf {
+    let corners: Vec<String> = (0..8)
+        .map(|c: usize| {
+            let at = |axis: usize| {
+                if c >> axis & 1 == 0 {
+                    lo[axis]
+                } else {
+                    hi[axis]
+                }
+            };
+            format!("v {} {} {}", at(0), at(1), at(2))
+        })
+        .collect();
+    let faces = starcages_core::cage::shapes::box_faces(std::array::from_fn(|c| c as u32 + 1));
+    let mut text = corners.join("\n") + &format!("\no {name}\n");
+    for f in faces {
+        let corners: Vec<String> = f.iter().map(|v| v.to_string()).collect();
+        text += &format!("f {}\n", corners.join(" "));
+    }
+    let path = scratch(folder).join(format!("{name}.obj"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// File ▸ Import internal cages: a box around the bar's right cage becomes its parent (an
+/// internal cage driving its eight corners), in one undo step; one holding nothing free is
+/// refused with the reason.
+#[test]
+fn importing_internal_cages_drives_the_cage_vertices_inside_them() {
+    let mut harness = crate::common::bar_harness(false);
+    // The bar's right cage spans x 0..1.1 and y, z -0.35..0.35 at this detail (symmetric in y
+    // and z, so the same Y-up or Z-up).
+    let path = box_obj(
+        "import-internal",
+        "driver",
+        [-0.1, -0.5, -0.5],
+        [1.3, 0.5, 0.5],
+    );
+    harness
+        .state_mut()
+        .run(Command::ImportInternalCages(path.clone()));
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let set = &state.doc.scene.cages;
+    assert_eq!(set.internals.len(), 1, "{:?}", state.message);
+    assert_eq!(set.internals[0].name, "driver");
+    let right = leaf(harness.state(), "cage_1_0_0");
+    let corners: std::collections::BTreeSet<u32> =
+        set.leaves[right].faces.iter().flatten().copied().collect();
+    let owned: std::collections::BTreeSet<u32> = set.internals[0].owns.iter().copied().collect();
+    assert_eq!(owned, corners, "it drives the right cage's corners");
+    assert!(
+        state
+            .rig
+            .as_ref()
+            .unwrap()
+            .hierarchy
+            .parent_of(*corners.first().unwrap())
+            .is_some()
+    );
+    assert_eq!(
+        state.selection.cage(),
+        Some(CageId::Internal(0)),
+        "shown in the inspector"
+    );
+    // Again: nothing inside is free any more.
+    harness.state_mut().run(Command::ImportInternalCages(path));
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.internals.len(), 1);
+    let message = format!("{:?}", state.message);
+    assert!(
+        message.contains("holds no cage vertex without a parent"),
+        "{message}"
+    );
+    harness.state_mut().run(Command::Undo);
+    settle(&mut harness);
+    assert!(harness.state().state.doc.scene.cages.internals.is_empty());
+}
+
+/// Rig mode's merge (M), mirror (Ctrl+M) and Fit to mesh work on the inspected cage.
+#[test]
+fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
+    let mut harness = crate::common::bar_harness(true);
+    // Fit the left cage: it shrinks toward the bar, its shared face stays.
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(0))));
+    let before = harness.state().state.doc.scene.clone();
+    harness.state_mut().ui.show_shortcuts = false;
+    harness.get_by_role_and_label(Role::Button, "Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Fit to mesh").click();
+    harness.run_steps(2);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_ne!(
+        scene.cages.vertices,
+        before.cages.vertices,
+        "{:?}",
+        harness.state().state.message
+    );
+    assert!(
+        harness.state().state.rig_problems.is_empty(),
+        "{:?}",
+        harness.state().state.rig_problems
+    );
+    // M merges the two cages (the left one has one neighbour).
+    harness.key_press(egui::Key::M);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 1);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // Ctrl+M mirrors the inspected cage across x = 0: a copy that overlaps the other half of
+    // the bar, which the live validation reports.
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(1))));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::M);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert!(state.doc.scene.cages.leaves[2].name.contains("mirror"));
+    assert!(
+        !state.rig_problems.is_empty(),
+        "a mirror over the other half overlaps it"
+    );
+}
+
+/// Rig mode shows, picks and moves the rest cages even while a pose is active; Pose mode shows
+/// the pose again.
+#[test]
+fn rig_mode_shows_the_rest_cages_while_a_pose_is_active() {
+    let mut harness = crate::common::bar_harness(false);
+    let pose = harness
+        .state()
+        .state
+        .doc
+        .scene
+        .poses
+        .keys()
+        .next()
+        .unwrap()
+        .clone();
+    harness.state_mut().run(Command::SwitchPose(Some(pose)));
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    let v = (0..scene.pose.len())
+        .find(|&v| scene.pose[v] != scene.cages.vertices[v])
+        .expect("the pose moves some vertex") as u32;
+    let on_screen = |h: &egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        vertex_on_screen(&h.state().state, v).unwrap()
+    };
+    let posed_at = on_screen(&harness);
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.shown_positions(), &scene.cages.vertices[..]);
+    let rest_at = on_screen(&harness);
+    assert!(rest_at.distance(posed_at) > 1.0, "the rest cage is shown");
+    // Picking in Rig mode finds the vertex where its rest position is drawn.
+    harness.hover_at(rest_at);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.selection.hovered, Some(v));
+    // The pose is ghosted over the rest cages: faint lines in the ghost colour.
+    let ghost_pixels = |h: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        let [r, g, b, _] = starcages_viewport::colors::to_u8(starcages_viewport::colors::GHOST);
+        h.render()
+            .unwrap()
+            .pixels()
+            .filter(|p| p.0[0].abs_diff(r) < 6 && p.0[1].abs_diff(g) < 6 && p.0[2].abs_diff(b) < 6)
+            .count()
+    };
+    let in_rig_mode = ghost_pixels(&mut harness);
+    harness.key_press(egui::Key::Tab);
+    harness.run_steps(2);
+    assert!(on_screen(&harness).distance(posed_at) < 1e-3);
+    let in_pose_mode = ghost_pixels(&mut harness);
+    assert!(
+        in_rig_mode > in_pose_mode + 100,
+        "ghost pixels: {in_rig_mode} in Rig mode, {in_pose_mode} in Pose mode"
+    );
+}
+
+/// Rig ▸ Subdivide cuts every face of every leaf cage into quads in one undo step; the rig
+/// stays valid and bound, and undo gives back the cages.
+#[test]
+fn rig_menu_subdivides_every_cage_in_one_undo_step() {
+    use egui::accesskit::Role;
+    let mut harness = crate::common::bar_harness(true);
+    let before = harness.state().state.doc.scene.clone();
+    harness.get_by_role_and_label(Role::Button, "Rig").click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Subdivide").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert!(scene.cages.leaves.iter().all(|c| c.faces.len() == 24));
+    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert_eq!(
+        state.rig.as_ref().unwrap().bound_for.0.vertices.len(),
+        scene.cages.vertices.len(),
+        "the binding follows"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages, before.cages);
+}
+
+/// Live validation draws what is wrong: a box added over the bar's cages overlaps them, so it
+/// (and the cages it overlaps) are drawn in the warning colour, the offending vertices as large
+/// warning dots, and the pointer over one of them says why.
+#[test]
+fn an_invalid_rig_draws_its_problem_cages_in_the_warning_colour_with_the_reason_on_hover() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.get_by_label("Box around the whole mesh").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    assert!(!state.rig_problems.is_empty());
+    let added = state.doc.scene.cages.leaves.len() - 1;
+    assert!(
+        state.rig_warnings.cages.contains_key(&added),
+        "the new box is warned: {:?}",
+        state.rig_warnings
+    );
+    // The pointer over a vertex of the warned box: the reason next to it.
+    let v = state.doc.scene.cages.leaves[added].faces[0][0];
+    let rect = state.view.viewport;
+    let at = state.shown_positions()[v as usize].as_vec3();
+    let (pixel, _) = state.view.camera.project(at, rect.size).unwrap();
+    let pointer = rect.min + pixel;
+    harness.hover_at(egui::pos2(pointer.x, pointer.y));
+    harness.run_steps(3);
+    assert!(harness.state().state.selection.hovered.is_some());
+    harness.get_by_label_contains("Problem here: ");
+    // The warning colour is on screen.
+    let image = harness.render().unwrap();
+    let [r, g, b, _] = starcages_viewport::colors::to_u8(starcages_viewport::colors::WARNING);
+    let warned = image
+        .pixels()
+        .filter(|p| p.0[0].abs_diff(r) < 30 && p.0[1].abs_diff(g) < 30 && p.0[2].abs_diff(b) < 40)
+        .count();
+    assert!(warned > 100, "{warned} warning-coloured pixels");
+    harness.snapshot_options(
+        "rig_mode_warnings",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // Undo: the rig is valid again and nothing is warned.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.rig_warnings,
+        starcages_editor::state::rig_warnings::RigWarnings::default()
+    );
+}
+
+/// Ctrl+R's cut slides with the mouse before it is made: the preview follows the pointer along
+/// the cage, a typed fraction overrides it, Esc drops the cut and Enter makes it there.
+#[test]
+fn the_loop_cut_slides_with_the_mouse_and_a_typed_fraction_places_it() {
+    let mut harness = crate::common::bar_harness(true);
+    harness
+        .state_mut()
+        .run(Command::InspectCage(Some(CageId::Leaf(0))));
+    let rect = harness.state().state.view.viewport;
+    let centre = rect.center();
+    // Esc drops the cut: nothing changes.
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    harness.run_steps(2);
+    harness.get_by_label_contains("Loop cut 'cage_0_0_0' across X");
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.loop_cut.is_none());
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // The pointer at either side of the view slides the cut to different places.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
+    let mut fractions = Vec::new();
+    for x in [
+        rect.min.x + 0.2 * rect.size.x,
+        rect.min.x + 0.8 * rect.size.x,
+    ] {
+        harness.hover_at(egui::pos2(x, centre.y));
+        harness.run_steps(2);
+        fractions.push(harness.state().ui.loop_cut.as_ref().unwrap().t);
+    }
+    assert!(
+        (fractions[0] - fractions[1]).abs() > 0.05,
+        "the cut follows the pointer: {fractions:?}"
+    );
+    harness.snapshot_options(
+        "rig_mode_loop_cut",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // A typed fraction wins; Enter cuts there.
+    for text in ["0", ".", "2", "5"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.get_by_label_contains("0.25 of the way  [typed 0.25]");
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3);
+    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    // The left cage spans x in [-1.1, 0] in the bar demo at this detail: the cut's vertices
+    // sit a quarter of the way along it.
+    let xs: Vec<f64> = scene.cages.vertices.iter().map(|p| p.x).collect();
+    let (lo, hi) = (-1.1_f64, 0.0_f64);
+    let expected = lo + 0.25 * (hi - lo);
+    assert!(
+        xs.iter().any(|x| (x - expected).abs() < 1e-9)
+            || xs
+                .iter()
+                .any(|x| (x - (hi - 0.25 * (hi - lo))).abs() < 1e-9),
+        "{xs:?}"
+    );
+}
+
+/// The screen position of a leaf-cage face's centre, and the face of `cage` that looks most
+/// toward the camera.
+fn front_face_on_screen(
+    state: &starcages_editor::state::EditorState,
+    cage: usize,
+) -> (usize, egui::Pos2) {
+    let set = &state.doc.scene.cages;
+    let eye = state.view.camera.eye().as_dvec3();
+    let rest = &set.vertices;
+    let (f, face) = set.leaves[cage]
+        .faces
+        .iter()
+        .enumerate()
+        .max_by(|(_, a), (_, b)| {
+            let facing = |face: &Vec<u32>| {
+                let p: Vec<DVec3> = face.iter().map(|&v| rest[v as usize]).collect();
+                let centre = p.iter().sum::<DVec3>() / p.len() as f64;
+                let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+                normal.dot((eye - centre).normalize())
+            };
+            facing(a).total_cmp(&facing(b))
+        })
+        .unwrap();
+    let corners: Vec<egui::Pos2> = face
+        .iter()
+        .map(|&v| vertex_on_screen(state, v).unwrap())
+        .collect();
+    let centre = corners
+        .iter()
+        .fold(egui::Vec2::ZERO, |sum, p| sum + p.to_vec2())
+        / corners.len() as f32;
+    (f, centre.to_pos2())
+}
+
+/// Face select mode: a click picks a leaf-cage face, Shift+click adds one, E extrudes every
+/// selected face into its own cage in one undo step; a face shared with a neighbour is refused.
+#[test]
+fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.run_steps(2);
+    harness.get_by_label("Face select").click();
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().state.view.select_element,
+        starcages_editor::state::SelectElement::CageFaces
+    );
+    let (left, right) = {
+        let app = harness.state();
+        (leaf(app, "cage_0_0_0"), leaf(app, "cage_1_0_0"))
+    };
+    let (left_face, left_at) = front_face_on_screen(&harness.state().state, left);
+    let (right_face, right_at) = front_face_on_screen(&harness.state().state, right);
+    harness.hover_at(left_at);
+    harness.run_steps(1);
+    harness.drag_at(left_at);
+    harness.run_steps(1);
+    harness.drop_at(left_at);
+    harness.run_steps(2);
+    let picked = harness
+        .state()
+        .state
+        .selection
+        .face_indices(&harness.state().state.doc.scene.cages);
+    assert_eq!(
+        picked,
+        vec![(left, left_face)],
+        "a click picks the face under it"
+    );
+    let shift = egui::Modifiers::SHIFT;
+    harness.hover_at(right_at);
+    harness.run_steps(1);
+    for pressed in [true, false] {
+        harness.event_modifiers(
+            egui::Event::PointerButton {
+                pos: right_at,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers: shift,
+            },
+            shift,
+        );
+        harness.run_steps(1);
+    }
+    harness.run_steps(1);
+    let state = &harness.state().state;
+    let mut picked = state.selection.face_indices(&state.doc.scene.cages);
+    picked.sort_unstable();
+    assert_eq!(
+        picked,
+        vec![(left, left_face), (right, right_face)],
+        "Shift adds"
+    );
+    assert_eq!(
+        state.selection.vertices.len(),
+        6,
+        "their corners (one edge shared) are selected"
+    );
+    harness.snapshot_options(
+        "rig_mode_face_select",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // E: one new cage per face, each sharing its face with its parent, as one undo step.
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves.len(),
+        4,
+        "{:?}",
+        harness.state().state.message
+    );
+    // Each new cage shares its face with its parent; the two new cages, pushed out of
+    // neighbouring faces by the same distance, share the wall between them (as Blender's region
+    // extrude keeps the common edge joined).
+    assert_eq!(scene.cages.adjacency().len(), 4);
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    assert_eq!(
+        harness.state().state.selection.vertices.len(),
+        6,
+        "the two new caps are selected"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(
+        harness.state().state.doc.scene.cages.leaves.len(),
+        2,
+        "one step"
+    );
+    // One face: E goes on as G; Esc keeps the extrusion at its default depth, as its own
+    // undo step.
+    harness.state_mut().run(Command::SelectFaces {
+        faces: vec![(right, right_face)],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    assert!(harness.state().ui.tool.is_some(), "E starts G");
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // The face the two cages share cannot be extruded.
+    let state = &harness.state().state;
+    let set = &state.doc.scene.cages;
+    let shared = set.leaves[left]
+        .faces
+        .iter()
+        .position(|face| {
+            let mut key = face.clone();
+            key.sort_unstable();
+            set.faces_by_vertex_set()
+                .get(&key)
+                .is_some_and(|cages| cages.len() > 1)
+        })
+        .unwrap();
+    harness.state_mut().run(Command::SelectFaces {
+        faces: vec![(left, shared)],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.doc.scene.cages.leaves.len(), 2);
+    let message = format!("{:?}", state.message);
+    assert!(message.contains("shared with a neighbour"), "{message}");
+    // A selects every face in face select mode.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    let total: usize = state
+        .doc
+        .scene
+        .cages
+        .leaves
+        .iter()
+        .map(|c| c.faces.len())
+        .sum();
+    assert_eq!(
+        state.selection.face_indices(&state.doc.scene.cages).len(),
+        total
+    );
+}
+
+/// I starts sizing an inset of the selected faces: the header says how thick, Esc drops it, a
+/// typed thickness sets it exactly, Enter makes it (one undo step); the inner face stays
+/// selected, so E then grows a cage that shares only the inner face's corners with its parent
+/// (Blender's I then E).
+#[test]
+fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.run_steps(2);
+    let left = leaf(harness.state(), "cage_0_0_0");
+    let (face, _) = front_face_on_screen(&harness.state().state, left);
+    let before = harness.state().state.doc.scene.clone();
+    harness.state_mut().run(Command::SetSelectElement(
+        starcages_editor::state::SelectElement::CageFaces,
+    ));
+    harness.state_mut().run(Command::SelectFaces {
+        faces: vec![(left, face)],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    assert!(harness.state().ui.inset.is_some(), "I starts sizing");
+    harness.get_by_label_contains("Inset 1 face");
+    harness.snapshot_options(
+        "rig_mode_inset",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.inset.is_none());
+    assert_eq!(
+        harness.state().state.doc.scene.cages,
+        before.cages,
+        "Esc drops it"
+    );
+    harness.key_press(egui::Key::I);
+    harness.run_steps(2);
+    harness.event(egui::Event::Text("0.05".into()));
+    harness.run_steps(1);
+    harness.get_by_label_contains("thickness 0.05");
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves[left].faces.len(),
+        before.cages.leaves[left].faces.len() + 4,
+        "{:?}",
+        harness.state().state.message
+    );
+    assert_eq!(scene.cages.vertices.len(), before.cages.vertices.len() + 4);
+    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    let inner: std::collections::BTreeSet<u32> = scene.cages.leaves[left].faces[face]
+        .iter()
+        .copied()
+        .collect();
+    assert!(
+        inner
+            .iter()
+            .all(|&v| v as usize >= before.cages.vertices.len())
+    );
+    // Each inner corner lies 0.05 inside both edges at its corner: 0.05·√2 from it on a
+    // rectangle.
+    let outer = &before.cages.leaves[left].faces[face];
+    for (k, &v) in scene.cages.leaves[left].faces[face].iter().enumerate() {
+        let from = before.cages.vertices[outer[k] as usize];
+        let distance = scene.cages.vertices[v as usize].distance(from);
+        assert!(
+            (distance - 0.05 * 2f64.sqrt()).abs() < 1e-9,
+            "corner {k}: {distance}"
+        );
+    }
+    harness.key_press(egui::Key::E);
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = harness.state().state.doc.scene.clone();
+    assert_eq!(
+        scene.cages.leaves.len(),
+        before.cages.leaves.len() + 1,
+        "{:?}",
+        harness.state().state.message
+    );
+    let grown: std::collections::BTreeSet<u32> = scene
+        .cages
+        .leaves
+        .last()
+        .unwrap()
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let others: std::collections::BTreeSet<u32> = scene.cages.leaves
+        [..scene.cages.leaves.len() - 1]
+        .iter()
+        .flat_map(|c| c.faces.iter().flatten().copied())
+        .collect();
+    assert_eq!(
+        grown
+            .intersection(&others)
+            .copied()
+            .collect::<std::collections::BTreeSet<u32>>(),
+        inner,
+        "the new cage touches its parent at the inner face only"
+    );
+    // Two undo steps: the extrusion, then the inset.
+    for _ in 0..2 {
+        harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+        harness.run_steps(2);
+        settle(&mut harness);
+    }
+    assert_eq!(harness.state().state.doc.scene.cages, before.cages);
+}
+
+/// G with the pointer 40 points right of `to`, then the pointer moved onto `to`.
+fn grab_from_beside_to(
+    harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+    to: egui::Pos2,
+) {
+    harness.hover_at(to + egui::vec2(40.0, 0.0));
+    harness.run_steps(1);
+    harness.key_press(egui::Key::G);
+    harness.run_steps(1);
+    harness.hover_at(to);
+    harness.run_steps(2);
+}
+
+/// Snapping: with "Snap to vertices" on, G puts the selection's nearest vertex exactly on the
+/// cage vertex under the pointer; confirming in Rig mode merges the vertices that landed on
+/// others, so a box moved against a cage shares its face (one undo step with the move).
+#[test]
+fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
+    let mut harness = crate::common::bar_harness(true);
+    let set = harness.state().state.doc.scene.cages.clone();
+    let right = leaf(harness.state(), "cage_1_0_0");
+    let corners: Vec<DVec3> = set.leaves[right]
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| set.vertices[v as usize])
+        .collect();
+    let (lo, hi) = starcages_core::cage::bounds_of(&corners);
+    // A box a little beyond the right cage's +x face, as tall and deep.
+    let gap = 0.3;
+    harness
+        .state_mut()
+        .run(Command::Rig(starcages_core::rig::RigOp::AddBox {
+            name: "beyond".into(),
+            min: DVec3::new(hi.x + gap, lo.y, lo.z),
+            max: DVec3::new(hi.x + gap + 0.5, hi.y, hi.z),
+            kind: CoordinateKind::MeanValue,
+        }));
+    settle(&mut harness);
+    let rest = harness.state().state.doc.scene.cages.vertices.clone();
+    assert_eq!(rest.len(), 20);
+    let near_face: Vec<u32> = (0..rest.len() as u32)
+        .filter(|&v| rest[v as usize].x == hi.x + gap)
+        .collect();
+    assert_eq!(near_face.len(), 4);
+    // The right cage's corner facing the box's first near corner: the snap target.
+    let first = rest[near_face[0] as usize];
+    let target = (0..rest.len() as u32)
+        .find(|&v| rest[v as usize] == DVec3::new(hi.x, first.y, first.z))
+        .unwrap();
+    // Everything in view (the box reaches past the bar).
+    harness.state_mut().run(Command::Camera(
+        starcages_editor::commands::CameraChange::FrameAll,
+    ));
+    harness.run_steps(2);
+    let target_on_screen = vertex_on_screen(&harness.state().state, target).unwrap();
+    harness.state_mut().run(Command::Select {
+        vertices: near_face.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    // Snapping off: the pointer over the target moves the box freely (no snap).
+    grab_from_beside_to(&mut harness, target_on_screen);
+    assert!(
+        harness
+            .query_by_label_contains("snapped to vertex")
+            .is_none()
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
+    // Snapping on (the View panel's checkbox): the same move lands on the target.
+    harness.get_by_label("Snap to vertices").click();
+    harness.run_steps(1);
+    grab_from_beside_to(&mut harness, target_on_screen);
+    harness.get_by_label_contains(&format!("snapped to vertex {target}"));
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert_eq!(scene.cages.vertices.len(), 16, "{:?}", state.message);
+    assert_eq!(
+        scene.cages.adjacency().len(),
+        2,
+        "the box shares its face now"
+    );
+    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert_eq!(
+        state.selection.vertices.len(),
+        4,
+        "the selection follows the weld"
+    );
+    assert!(
+        state
+            .selection
+            .vertices
+            .iter()
+            .all(|&v| scene.cages.vertices[v as usize].x == hi.x),
+        "the box's near face is the cage's far face"
+    );
+    // One undo step takes back the move and the weld.
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
+    // A mouse drag of the selection snaps and welds the same way.
+    harness.state_mut().run(Command::Select {
+        vertices: near_face.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    let grabbed = vertex_on_screen(&harness.state().state, near_face[0]).unwrap();
+    harness.hover_at(grabbed);
+    harness.run_steps(2);
+    harness.drag_at(grabbed);
+    harness.run_steps(1);
+    for step in 1..=4 {
+        let t = step as f32 / 4.0;
+        harness.hover_at(grabbed + (target_on_screen - grabbed) * t);
+        harness.run_steps(1);
+    }
+    harness.drop_at(target_on_screen);
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.cages.vertices.len(), 16);
+    assert_eq!(scene.cages.adjacency().len(), 2);
+}
+
+/// Where mesh vertex `v` (welded, at rest) is drawn.
+fn mesh_vertex_on_screen(state: &starcages_editor::state::EditorState, v: usize) -> egui::Pos2 {
+    let rect = state.view.viewport;
+    let p = state.doc.scene.mesh.welded_positions()[v].as_vec3();
+    let (pixel, _) = state.view.camera.project(p, rect.size).unwrap();
+    let at = rect.min + pixel;
+    egui::pos2(at.x, at.y)
+}
+
+/// Drags from `from` to `to` in five steps with `modifiers` held.
+fn drag_with(
+    harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+    from: egui::Pos2,
+    to: egui::Pos2,
+    modifiers: egui::Modifiers,
+    via: &[egui::Pos2],
+) {
+    let press = |harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+                 pos: egui::Pos2,
+                 pressed: bool| {
+        harness.event_modifiers(
+            egui::Event::PointerButton {
+                pos,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers,
+            },
+            modifiers,
+        );
+        harness.run_steps(1);
+    };
+    harness.hover_at(from);
+    harness.run_steps(1);
+    press(harness, from, true);
+    for &p in via.iter().chain([&to]) {
+        harness.event_modifiers(egui::Event::PointerMoved(p), modifiers);
+        harness.run_steps(1);
+    }
+    press(harness, to, false);
+    harness.run_steps(1);
+}
+
+/// Mesh select mode picks a region of the mesh with a rectangle or a Ctrl lasso; Shift+A's
+/// menu puts a box around it (undoable), or a cube in the part of the mesh under the pointer.
+#[test]
+fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
+    let mut harness = crate::common::bar_harness(true);
+    harness.run_steps(2);
+    harness.get_by_label("Mesh select").click();
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    let count = state.doc.scene.mesh.welded_positions().len();
+    let on_screen: Vec<egui::Pos2> = (0..count)
+        .map(|v| mesh_vertex_on_screen(state, v))
+        .collect();
+    let (lo, hi) = on_screen.iter().fold(
+        (
+            egui::pos2(f32::INFINITY, f32::INFINITY),
+            egui::pos2(0.0, 0.0),
+        ),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    // A rectangle over the left third of the drawn mesh.
+    let a = lo - egui::vec2(5.0, 5.0);
+    let b = egui::pos2(lo.x + (hi.x - lo.x) / 3.0, hi.y + 5.0);
+    drag_with(&mut harness, a, b, egui::Modifiers::NONE, &[]);
+    let state = &harness.state().state;
+    let inside = |p: &egui::Pos2| p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y;
+    let expected: std::collections::BTreeSet<u32> = (0..count as u32)
+        .filter(|&v| inside(&on_screen[v as usize]))
+        .collect();
+    assert!(!expected.is_empty() && expected.len() < count);
+    assert_eq!(
+        state.selection.mesh_vertices, expected,
+        "the rectangle's vertices"
+    );
+    assert!(
+        state.selection.vertices.is_empty(),
+        "no cage vertex was picked"
+    );
+    harness.get_by_label_contains(&format!("Mesh select ({})", expected.len()));
+    harness.snapshot_options(
+        "rig_mode_mesh_select",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    // Shift+A ▸ Box around the selected mesh vertices: a cage holding exactly that region.
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.snapshot_options(
+        "rig_mode_add_menu",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(1200),
+    );
+    harness
+        .get_by_label("Box around the selected mesh vertices")
+        .click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let state = &harness.state().state;
+    let scene = &state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3, "{:?}", state.message);
+    assert!(harness.state().ui.add_menu.is_none(), "the menu closed");
+    let boxed: Vec<DVec3> = scene.cages.leaves[2]
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    let (box_lo, box_hi) = starcages_core::cage::bounds_of(&boxed);
+    let rest = scene.mesh.welded_positions();
+    for &v in &expected {
+        let p = rest[v as usize];
+        assert!(
+            p.cmpge(box_lo).all() && p.cmple(box_hi).all(),
+            "{p} outside the box"
+        );
+    }
+    let (mesh_lo, mesh_hi) = scene.mesh.bounds();
+    assert!(
+        box_hi.x < mesh_hi.x,
+        "the box holds a region, not the whole mesh"
+    );
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+    settle(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
+    // A Ctrl lasso (a triangle) replaces the mesh selection with what it encloses.
+    let centre = egui::pos2(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y));
+    let corners = [
+        centre + egui::vec2(-60.0, 40.0),
+        centre + egui::vec2(0.0, -60.0),
+        centre + egui::vec2(60.0, 40.0),
+    ];
+    drag_with(
+        &mut harness,
+        corners[0],
+        corners[0] + egui::vec2(1.0, 0.0),
+        egui::Modifiers::COMMAND,
+        &[corners[1], corners[2]],
+    );
+    let state = &harness.state().state;
+    let lassoed = &state.selection.mesh_vertices;
+    assert!(!lassoed.is_empty());
+    for &v in lassoed {
+        let p = on_screen[v as usize];
+        assert!(
+            p.x >= corners[0].x
+                && p.x <= corners[2].x
+                && p.y >= corners[1].y
+                && p.y <= corners[0].y,
+            "{p:?} outside the lasso's bounds"
+        );
+    }
+    // Shift+A ▸ Box at the pointer, over the middle of the bar: a cube inside its extent.
+    harness.hover_at(centre);
+    harness.run_steps(1);
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.get_by_label("Box at the pointer").click();
+    harness.run_steps(2);
+    settle(&mut harness);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.cages.leaves.len(), 3);
+    let cube: Vec<DVec3> = scene.cages.leaves[2]
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .collect();
+    let (cube_lo, cube_hi) = starcages_core::cage::bounds_of(&cube);
+    let middle = 0.5 * (cube_lo + cube_hi);
+    assert!(
+        middle.cmpge(mesh_lo).all() && middle.cmple(mesh_hi).all(),
+        "the cube sits in the mesh: {middle}"
+    );
+    let edge = cube_hi - cube_lo;
+    assert!((edge.x - edge.y).abs() < 1e-9 && (edge.x - edge.z).abs() < 1e-9);
+    assert!(edge.x < (mesh_hi - mesh_lo).length() * 0.5);
+    // A selects every mesh vertex in mesh select mode.
+    harness.key_press(egui::Key::A);
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert_eq!(state.selection.mesh_vertices.len(), count);
+    // Esc closes the menu without adding anything.
+    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
+    harness.run_steps(2);
+    harness.key_press(egui::Key::Escape);
+    harness.run_steps(2);
+    assert!(harness.state().ui.add_menu.is_none());
+    assert!(harness.query_by_label("Box at the pointer").is_none());
+    assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
+}
