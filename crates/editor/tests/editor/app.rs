@@ -12,7 +12,7 @@ use starcages_editor::state::InfluenceChoice;
 use starcages_editor::ui::vertex_on_screen;
 use starcages_editor::{CageId, Command, Document};
 
-use crate::common::{cage, harness, leaf, scratch, settle};
+use crate::common::{cage, harness, leaf, scratch, settle, undo};
 
 #[test]
 fn dragging_a_picked_vertex_moves_the_mesh_near_its_cage_only_and_undoes_in_one_step() {
@@ -66,8 +66,7 @@ fn dragging_a_picked_vertex_moves_the_mesh_near_its_cage_only_and_undoes_in_one_
     );
     // One undo step for the whole drag, and redo brings it back.
     assert_eq!(state.undo.undo_label(), Some("move vertices"));
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.pose, before_pose);
     assert_eq!(harness.state().state.undo.undo_label(), None);
     let restored = harness.state().state.deformed().to_vec();
@@ -113,8 +112,7 @@ fn the_coordinates_combo_changes_a_cage_kind_and_undo_restores_it() {
             .unwrap()
             .is_current_for(&harness.state().state.doc.scene)
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     settle(&mut harness);
     assert_eq!(kind(&harness), CoordinateKind::MeanValue);
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
@@ -150,8 +148,7 @@ fn the_h_slider_changes_the_influence_map() {
         differing > 10,
         "the b map did not change ({differing} vertices)"
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves[head].h, None);
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
     harness.run_steps(2);

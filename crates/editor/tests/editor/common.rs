@@ -85,3 +85,9 @@ pub fn bar_harness(rig_mode: bool) -> Harness<'static, EditorApp> {
     }
     harness
 }
+
+/// Ctrl+Z, and two frames for it to land.
+pub fn undo(harness: &mut Harness<'static, EditorApp>) {
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(2);
+}

@@ -10,7 +10,7 @@ use starcages_core::coords::CoordinateKind;
 use starcages_editor::ui::vertex_on_screen;
 use starcages_editor::{CageId, Command};
 
-use crate::common::{leaf, scratch, settle};
+use crate::common::{leaf, scratch, settle, undo};
 
 /// Rig mode: Tab enters it; E extrudes the selected face into a new cage sharing it; X
 /// deletes the inspected cage and undo brings it back; Ctrl+R cuts a cage; moving vertices
@@ -70,8 +70,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
         "the binding follows"
     );
     // E and its grab are one undo step (Blender's "extrude and move"); redo brings both back.
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     harness.key_press_modifiers(
@@ -94,8 +93,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     harness.key_press(egui::Key::X);
     harness.run_steps(2);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
     // Ctrl+R places a cut across the inspected cage's longest side; Enter makes it.
     harness
@@ -176,8 +174,7 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
             .text
             .contains("fix the rig before posing")
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert!(harness.state().state.rig_problems.is_empty());
     assert!(harness.query_by_label_contains("The rig has").is_none());
     harness.key_press(egui::Key::Tab);
@@ -327,8 +324,7 @@ fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
     harness.key_press(egui::Key::M);
     harness.run_steps(2);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 1);
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     // Ctrl+M mirrors the inspected cage across x = 0: a copy that overlaps the other half of
     // the bar, which the live validation reports.
@@ -422,8 +418,7 @@ fn rig_menu_subdivides_every_cage_in_one_undo_step() {
         scene.cages.vertices.len(),
         "the binding follows"
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages, before.cages);
 }
 
@@ -471,8 +466,7 @@ fn an_invalid_rig_draws_its_problem_cages_in_the_warning_colour_with_the_reason_
             .max_failed_pixels(1200),
     );
     // Undo: the rig is valid again and nothing is warned.
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     assert_eq!(
         harness.state().state.rig_warnings,
         starcages_editor::state::rig_warnings::RigWarnings::default()
@@ -669,8 +663,7 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
         6,
         "the two new caps are selected"
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     settle(&mut harness);
     assert_eq!(
         harness.state().state.doc.scene.cages.leaves.len(),
@@ -690,8 +683,7 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     harness.run_steps(2);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     // The face the two cages share cannot be extruded.
@@ -846,8 +838,7 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
     );
     // Two undo steps: the extrusion, then the inset.
     for _ in 0..2 {
-        harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-        harness.run_steps(2);
+        undo(&mut harness);
         settle(&mut harness);
     }
     assert_eq!(harness.state().state.doc.scene.cages, before.cages);
@@ -954,8 +945,7 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
         "the box's near face is the cage's far face"
     );
     // One undo step takes back the move and the weld.
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
     // A mouse drag of the selection snaps and welds the same way.
@@ -1106,8 +1096,7 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
         box_hi.x < mesh_hi.x,
         "the box holds a region, not the whole mesh"
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_steps(2);
+    undo(&mut harness);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     // A Ctrl lasso (a triangle) replaces the mesh selection with what it encloses.
