@@ -129,7 +129,10 @@ enum Site {
     OnCage { closest: (usize, [f64; 3]) },
 }
 
-/// Harmonic coordinates of `points` (row-major, points × cage vertices).
+/// Harmonic coordinates of `points` (row-major, points × cage vertices): where each point
+/// lies, the cage's solved grid field, the hat values the points' cells and the cage's
+/// surface contribute, then the field interpolated K vertices at a time and the rows
+/// renormalised.
 pub(crate) fn harmonic_bind(
     cage: &Cage,
     points: &[DVec3],
@@ -137,7 +140,34 @@ pub(crate) fn harmonic_bind(
     control: &BindControl,
 ) -> Result<Vec<f64>, CoordError> {
     settings.check().map_err(CoordError::Settings)?;
+    let sites = sites_of(cage, points)?;
+    let field = field::cached_field(cage, settings, control)?;
+    control.check()?;
+    let far = FarCorners::of(cage, &field.grid, points, &sites);
+    let surface = surface_values(cage, &field.grid, points, &sites);
     let n = cage.vertex_count();
+    let mut out = vec![0.0; points.len() * n];
+    let chunks = n.div_ceil(K);
+    control.set_total(chunks);
+    for chunk in 0..chunks {
+        control.check()?;
+        let at = Interpolation {
+            cage,
+            field: &field,
+            far: &far,
+            chunk,
+        };
+        at.fill(&mut out, points, &sites, &surface);
+        control.advance();
+    }
+    renormalise_rows(&mut out, n);
+    Ok(out)
+}
+
+/// Where each point lies: on the cage (its closest face and barycentric coordinates) or
+/// inside it (its distance to the cage); an error naming the points outside, where HC are
+/// undefined.
+fn sites_of(cage: &Cage, points: &[DVec3]) -> Result<Vec<Site>, CoordError> {
     let on_cage = ON_CAGE * cage.diagonal();
     let sites: Vec<Option<Site>> = points
         .par_iter()
@@ -156,85 +186,130 @@ pub(crate) fn harmonic_bind(
     if !outside.is_empty() {
         return Err(CoordError::outside(outside));
     }
-    let field = field::cached_field(cage, settings, control)?;
-    let grid = &field.grid;
-    control.check()?;
+    Ok(sites.into_iter().flatten().collect())
+}
+
+/// Corners of the points' cells outside the field's band (far out in a cell the cage
+/// crosses), sorted, with the hat functions at their closest cage point.
+struct FarCorners {
+    nodes: Vec<usize>,
+    values: Vec<grid::BoundaryValue>,
+}
+
+impl FarCorners {
+    fn of(cage: &Cage, grid: &grid::CageGrid, points: &[DVec3], sites: &[Site]) -> Self {
+        let mut nodes: Vec<usize> = points
+            .iter()
+            .zip(sites)
+            .filter(|(_, s)| matches!(s, Site::Inside { .. }))
+            .flat_map(|(&p, _)| {
+                let (cell, _) = grid.cell_of(p);
+                (0..8u32).map(move |c| (cell, c))
+            })
+            .map(|(cell, c)| {
+                grid.index(cell.x + (c & 1), cell.y + ((c >> 1) & 1), cell.z + (c >> 2))
+            })
+            .filter(|&node| grid.roles[node] == NodeRole::Unused)
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let values = nodes
+            .par_iter()
+            .map(|&node| {
+                let (t, bary, _) = cage.closest_point(grid.position_of(node));
+                grid::BoundaryValue {
+                    triangle: t as u32,
+                    bary,
+                }
+            })
+            .collect();
+        Self { nodes, values }
+    }
+
+    fn value_at(&self, node: usize) -> Option<&grid::BoundaryValue> {
+        self.nodes
+            .binary_search(&node)
+            .ok()
+            .map(|k| &self.values[k])
+    }
+}
+
+/// The cage value each point blends towards: exact on the cage, and off it (within a cell) a
+/// distance-weighted average over the nearby faces, so it stays continuous where the closest
+/// face changes (a single closest point jumps there); empty deeper inside.
+fn surface_values(
+    cage: &Cage,
+    grid: &grid::CageGrid,
+    points: &[DVec3],
+    sites: &[Site],
+) -> Vec<Vec<(u32, f64)>> {
     let triangles = cage.triangles();
-    let hat_at = |value: &grid::BoundaryValue, vertex: usize| value.hat(triangles, vertex);
-    // Corners of the points' cells outside the field's band (far out in a cell the cage
-    // crosses) carry the hat functions at their closest cage point too.
-    let mut far_corners: Vec<usize> = points
-        .iter()
-        .zip(&sites)
-        .filter(|(_, s)| matches!(s, Some(Site::Inside { .. })))
-        .flat_map(|(&p, _)| {
-            let (cell, _) = grid.cell_of(p);
-            (0..8u32).map(move |c| (cell, c))
-        })
-        .map(|(cell, c)| grid.index(cell.x + (c & 1), cell.y + ((c >> 1) & 1), cell.z + (c >> 2)))
-        .filter(|&node| grid.roles[node] == NodeRole::Unused)
-        .collect();
-    far_corners.sort_unstable();
-    far_corners.dedup();
-    let far_values: Vec<grid::BoundaryValue> = far_corners
+    points
         .par_iter()
-        .map(|&node| {
-            let (t, bary, _) = cage.closest_point(grid.position_of(node));
-            grid::BoundaryValue {
-                triangle: t as u32,
-                bary,
-            }
-        })
-        .collect();
-    // The cage value each point blends towards: exact on the cage, and off it a distance-
-    // weighted average over the nearby faces, so it stays continuous where the closest face
-    // changes (a single closest point jumps there).
-    let surface_values: Vec<Vec<(u32, f64)>> = points
-        .par_iter()
-        .zip(&sites)
+        .zip(sites)
         .map(|(&p, site)| match site {
-            Some(Site::OnCage { closest }) => {
+            Site::OnCage { closest } => {
                 let tri = triangles[closest.0];
                 (0..3).map(|k| (tri[k], closest.1[k])).collect()
             }
-            Some(Site::Inside { distance, .. }) if *distance < grid.spacing => {
+            Site::Inside { distance } if *distance < grid.spacing => {
                 near_surface_value(cage, p, *distance, grid.spacing)
             }
-            _ => Vec::new(),
+            Site::Inside { .. } => Vec::new(),
         })
-        .collect();
-    let mut out = vec![0.0; points.len() * n];
-    let chunks = n.div_ceil(K);
-    control.set_total(chunks);
-    for chunk in 0..chunks {
-        control.check()?;
-        let first = chunk * K;
-        let columns = (n - first).min(K);
-        let hats = |value: &grid::BoundaryValue| -> Row {
-            std::array::from_fn(|c| {
-                if c < columns {
-                    hat_at(value, first + c)
-                } else {
-                    0.0
-                }
-            })
-        };
-        let node_row = |node: usize| -> Row {
-            match grid.roles[node] {
-                NodeRole::Unknown => field.unknown_value(chunk, node).unwrap_or([0.0; K]),
-                NodeRole::Boundary(b) => hats(&grid.boundary[b as usize]),
-                NodeRole::Unused => far_corners
-                    .binary_search(&node)
-                    .map_or([0.0; K], |k| hats(&far_values[k])),
+        .collect()
+}
+
+/// The grid field of K cage vertices (batch `chunk`) read at points: trilinear in the grid
+/// values (unknowns solved, boundary and far nodes carrying the hat functions), blended within
+/// one cell of the cage into the exact hat values there.
+struct Interpolation<'a> {
+    cage: &'a Cage,
+    field: &'a field::HarmonicField,
+    far: &'a FarCorners,
+    chunk: usize,
+}
+
+impl Interpolation<'_> {
+    /// The K hat values of the batch at a boundary value (0 past the last vertex).
+    fn hats(&self, value: &grid::BoundaryValue) -> Row {
+        let first = self.chunk * K;
+        let n = self.cage.vertex_count();
+        let triangles = self.cage.triangles();
+        std::array::from_fn(|c| {
+            if first + c < n {
+                value.hat(triangles, first + c)
+            } else {
+                0.0
             }
-        };
+        })
+    }
+
+    /// The batch's values at grid node `node`.
+    fn node_row(&self, node: usize) -> Row {
+        let grid = &self.field.grid;
+        match grid.roles[node] {
+            NodeRole::Unknown => self
+                .field
+                .unknown_value(self.chunk, node)
+                .unwrap_or([0.0; K]),
+            NodeRole::Boundary(b) => self.hats(&grid.boundary[b as usize]),
+            NodeRole::Unused => self.far.value_at(node).map_or([0.0; K], |v| self.hats(v)),
+        }
+    }
+
+    /// Writes the batch's columns of every point's row in `out` (points × cage vertices).
+    fn fill(&self, out: &mut [f64], points: &[DVec3], sites: &[Site], surface: &[Vec<(u32, f64)>]) {
+        let grid = &self.field.grid;
+        let n = self.cage.vertex_count();
+        let first = self.chunk * K;
+        let columns = (n - first).min(K);
         out.par_chunks_mut(n)
-            .zip(points.par_iter().zip(&sites).zip(&surface_values))
+            .zip(points.par_iter().zip(sites).zip(surface))
             .for_each(|(row, ((&p, site), surface))| {
                 let blend = match site {
-                    Some(Site::OnCage { .. }) => 0.0,
-                    Some(Site::Inside { distance }) => (distance / grid.spacing).min(1.0),
-                    None => return,
+                    Site::OnCage { .. } => 0.0,
+                    Site::Inside { distance } => (distance / grid.spacing).min(1.0),
                 };
                 let mut value = [0.0; K];
                 if blend > 0.0 {
@@ -244,7 +319,7 @@ pub(crate) fn harmonic_bind(
                         let w = (if di == 1 { f.x } else { 1.0 - f.x })
                             * (if dj == 1 { f.y } else { 1.0 - f.y })
                             * (if dk == 1 { f.z } else { 1.0 - f.z });
-                        let r = node_row(grid.index(cell.x + di, cell.y + dj, cell.z + dk));
+                        let r = self.node_row(grid.index(cell.x + di, cell.y + dj, cell.z + dk));
                         for c in 0..K {
                             value[c] += w * r[c];
                         }
@@ -260,9 +335,12 @@ pub(crate) fn harmonic_bind(
                     row[v as usize] = blend * value[c] + (1.0 - blend) * exact;
                 }
             });
-        control.advance();
     }
-    // The solver stops at a tolerance: clip round-off negatives and renormalise rows.
+}
+
+/// The solver stops at a tolerance: clips round-off negatives and renormalises each row of
+/// `n` weights to sum to 1.
+fn renormalise_rows(out: &mut [f64], n: usize) {
     out.par_chunks_mut(n).for_each(|row| {
         row.iter_mut().for_each(|w| *w = w.max(0.0));
         let sum: f64 = row.iter().sum();
@@ -270,7 +348,6 @@ pub(crate) fn harmonic_bind(
             row.iter_mut().for_each(|w| *w /= sum);
         }
     });
-    Ok(out)
 }
 
 /// Hat-function values of the cage seen from `p` at distance `nearest` from it: faces t within
