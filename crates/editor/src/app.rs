@@ -35,7 +35,8 @@ impl EditorApp {
 
     /// Applies `command` now (tests and scripts; the UI sends instead).
     pub fn run(&mut self, command: Command) {
-        apply(&mut self.state, command);
+        let effects = apply(&mut self.state, command);
+        self.ui.effects.extend(effects);
         self.state.poll_jobs(false);
     }
 
@@ -75,7 +76,8 @@ impl eframe::App for EditorApp {
         let closing = commands
             .iter()
             .any(|c| matches!(c, Command::AnswerUnsaved(_) | Command::RequestClose));
-        apply_all(&mut self.state, commands);
+        let effects = apply_all(&mut self.state, commands);
+        self.ui.effects.extend(effects);
         self.state.poll_jobs(false);
         if closing && self.state.close_confirmed {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);

@@ -7,19 +7,27 @@ use std::path::Path;
 use starcages_core::hierarchy::{AutoInternalCage, add_auto_internal_cage, remove_internal_cage};
 use starcages_core::io::{cage_set_obj_text, write_atomic};
 
-use super::{CameraChange, Command, UnsavedAnswer};
+use super::{CameraChange, Command, Effect, UnsavedAnswer};
 use crate::state::NewMeshOptions;
 use crate::state::{CageId, EditorError, EditorState, Pending, SelectMode};
 
 /// Carries out `commands` in order.
-pub fn apply_all(state: &mut EditorState, commands: Vec<Command>) {
-    for command in commands {
-        apply(state, command);
-    }
+pub fn apply_all(state: &mut EditorState, commands: Vec<Command>) -> Vec<Effect> {
+    commands
+        .into_iter()
+        .flat_map(|command| apply(state, command))
+        .collect()
 }
 
-/// Carries out one command.
-pub fn apply(state: &mut EditorState, command: Command) {
+/// Carries out one command; returns what it asks of the UI (E's grab).
+pub fn apply(state: &mut EditorState, command: Command) -> Vec<Effect> {
+    let mut effects = Vec::new();
+    apply_to(state, command, &mut effects);
+    effects
+}
+
+/// [`apply`], the effects pushed onto `effects`.
+fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>) {
     match command {
         command @ (Command::SetFrame(_)
         | Command::SetPlaying(_)
@@ -198,8 +206,8 @@ pub fn apply(state: &mut EditorState, command: Command) {
                 crate::state::EditMode::Pose => "Pose mode: moving vertices poses the mesh",
             });
         }
-        Command::Rig(op) => apply_rig_ops(state, vec![op]),
-        Command::RigOps(ops) => apply_rig_ops(state, ops),
+        Command::Rig(op) => apply_rig_ops(state, vec![op], effects),
+        Command::RigOps(ops) => apply_rig_ops(state, ops, effects),
         Command::SelectFaces { faces, mode } => {
             let set = &state.doc.scene.cages;
             state.selection.select_faces(faces, mode, set);
@@ -458,7 +466,11 @@ fn weld_snapped_vertices(state: &mut EditorState) {
 
 /// Rig operations as one undo step, applied whole or not at all; after extrusions the new caps
 /// are selected (and one cap starts G along its normal), after insets the inner faces.
-fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::rig::RigOp>) {
+fn apply_rig_ops(
+    state: &mut EditorState,
+    ops: Vec<starcages_core::rig::RigOp>,
+    effects: &mut Vec<Effect>,
+) {
     let label = match ops.as_slice() {
         [op] => format!("rig: {}", rig_op_label(op)),
         _ => format!("rig: {} operations", ops.len()),
@@ -497,7 +509,7 @@ fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::rig::RigOp>) 
                     .selection
                     .select_faces(inset, SelectMode::Replace, set);
             } else if extruded == 1 && ops.len() == 1 {
-                select_extruded_cap(state, leaves_before);
+                effects.extend(select_extruded_cap(state, leaves_before));
             } else if extruded > 0 {
                 let caps: Vec<u32> = state.doc.scene.cages.leaves[leaves_before..]
                     .iter()
@@ -514,15 +526,11 @@ fn apply_rig_ops(state: &mut EditorState, ops: Vec<starcages_core::rig::RigOp>) 
 
 /// After an extrusion: selects the new cap (the new cage's vertices that are new) and asks the
 /// UI to start G along the axis most aligned with the cap's offset.
-fn select_extruded_cap(state: &mut EditorState, leaves_before: usize) {
+fn select_extruded_cap(state: &mut EditorState, leaves_before: usize) -> Option<Effect> {
     let scene = &state.doc.scene;
-    let Some(cage) = scene.cages.leaves.get(leaves_before) else {
-        return;
-    };
+    let cage = scene.cages.leaves.get(leaves_before)?;
     // Faces 0 and 1 of an extruded cage are its base (the shared face) and its cap.
-    let (Some(base), Some(cap)) = (cage.faces.first(), cage.faces.get(1)) else {
-        return;
-    };
+    let (base, cap) = (cage.faces.first()?, cage.faces.get(1)?);
     let centre = |face: &[u32]| {
         face.iter()
             .filter_map(|&v| scene.cages.vertices.get(v as usize))
@@ -539,9 +547,8 @@ fn select_extruded_cap(state: &mut EditorState, leaves_before: usize) {
         }
     });
     state.selection.vertices = cap.into_iter().collect();
-    let id = state.grab_request.map_or(1, |(id, _)| id + 1);
-    state.grab_request = Some((id, axis));
     state.gesture_continues = Some(state.undo.depth());
+    Some(Effect::GrabAlong(axis))
 }
 
 /// A short name of a rig operation for the undo history.

@@ -16,6 +16,15 @@ use starcages_viewport::{Layers, View};
 use crate::state::{CageId, GestureId, InfluenceChoice, NewMeshOptions, ScreenRect, SelectMode};
 
 pub use apply::{apply, apply_all};
+
+/// What applying a command asks of the UI, returned by [`apply`]: the state holds no UI
+/// tools, so a command that continues as one (E, then its grab) says so here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Effect {
+    /// Start G on the selection, locked to this world axis (0, 1, 2): E's extrusion continues
+    /// as a grab along the face's normal, as in Blender.
+    GrabAlong(usize),
+}
 pub use table::UiCommand;
 
 /// The answer to "unsaved changes: save first?".

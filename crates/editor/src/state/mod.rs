@@ -151,9 +151,6 @@ pub struct EditorState {
     pub view: ViewState,
     /// Pose mode or Rig mode.
     pub mode: EditMode,
-    /// After an extrusion: (a new id, the world axis most along the face's normal). The UI
-    /// starts G along it at once on the new cap, as Blender's extrude does.
-    pub grab_request: Option<(u64, usize)>,
     /// The undo depth right after an edit that the next gesture continues (E, then its
     /// grab): that gesture folds the edit's undo step into its own.
     pub gesture_continues: Option<usize>,
@@ -223,7 +220,6 @@ impl EditorState {
             mode: EditMode::Pose,
             rig_problems: Vec::new(),
             rig_warnings: rig_warnings::RigWarnings::default(),
-            grab_request: None,
             gesture_continues: None,
             undo: UndoStack::default(),
             gesture: None,

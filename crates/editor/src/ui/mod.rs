@@ -65,8 +65,8 @@ pub struct UiState {
     drop_focus: bool,
     /// A question about poses, while open.
     pub pose_prompt: Option<panels::PosePrompt>,
-    /// The last extrusion grab request started (see `EditorState::grab_request`).
-    grab_handled: u64,
+    /// What the last commands asked of the UI (E's grab), carried out next frame.
+    pub effects: Vec<crate::commands::Effect>,
     /// The influence map shown before an h slider drag switched to the cage's b map.
     pub influence_before_h_drag: Option<crate::state::InfluenceChoice>,
     /// Rig ▸ Auto rig's dialog, while open.
@@ -114,7 +114,7 @@ impl UiState {
             drop_focus: false,
             pose_prompt: None,
             influence_before_h_drag: None,
-            grab_handled: 0,
+            effects: Vec::new(),
             autorig_dialog: None,
             selected_key: None,
             key_drag: None,
@@ -179,15 +179,16 @@ pub fn frame_ui(
     let ctx = ui.ctx().clone();
     dropped_files(&ctx, sender);
     keyboard::shortcuts(state, ui_state, &ctx, sender);
-    if let Some((id, axis)) = state.grab_request
-        && id != ui_state.grab_handled
-    {
-        // Extrude continues as G along the face's normal, as in Blender.
-        ui_state.grab_handled = id;
-        let pointer = ctx
-            .input(|i| i.pointer.latest_pos())
-            .map_or(state.view.viewport.center(), |p| glam::Vec2::new(p.x, p.y));
-        actions::grab_along(state, ui_state, pointer, axis, sender);
+    for effect in std::mem::take(&mut ui_state.effects) {
+        match effect {
+            // Extrude continues as G along the face's normal, as in Blender.
+            crate::commands::Effect::GrabAlong(axis) => {
+                let pointer = ctx
+                    .input(|i| i.pointer.latest_pos())
+                    .map_or(state.view.viewport.center(), |p| glam::Vec2::new(p.x, p.y));
+                actions::grab_along(state, ui_state, pointer, axis, sender);
+            }
+        }
     }
     Panel::top("menu").show(ui, |ui| menu::menu_bar(state, ui_state, ui, sender));
     Panel::bottom("status").show(ui, |ui| status_bar::status_bar(state, ui_state, ui, sender));
