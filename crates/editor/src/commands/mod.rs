@@ -25,7 +25,7 @@ pub enum Effect {
     /// as a grab along the face's normal, as in Blender.
     GrabAlong(usize),
 }
-pub use table::UiCommand;
+pub use table::{ToolKey, UiCommand};
 
 /// The answer to "unsaved changes: save first?".
 #[derive(Debug, Clone, PartialEq)]

@@ -5,8 +5,8 @@ use egui::{Key, KeyboardShortcut, Modifiers};
 
 use crate::state::EditMode;
 
-/// Declares [`UiCommand`] and [`UiCommand::ALL`] from one list of variants, so no action can
-/// be left out of the menus, the key table or Help.
+/// Declares an enum and its `ALL` from one list of variants ([`UiCommand`], [`ToolKey`]), so
+/// no action can be left out of the menus, the key handling or Help.
 macro_rules! ui_commands {
     (
         $(#[$enum_meta:meta])*
@@ -134,6 +134,87 @@ const fn key(modifiers: Modifiers, key: Key) -> KeyboardShortcut {
 
 const NONE: Modifiers = Modifiers::NONE;
 const CMD: Modifiers = Modifiers::COMMAND;
+ui_commands! {
+/// A key of a modal tool while it runs (G / R / S, Ctrl+R's loop cut, I's inset): the keys
+/// read it through [`ToolKey::of_char`] and [`ToolKey::of_key`], and Help lists it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ToolKey {
+    /// Lock the move to the world X axis (again: unlock).
+    LockX,
+    /// Lock to Y.
+    LockY,
+    /// Lock to Z.
+    LockZ,
+    /// Type the amount.
+    Digit,
+    /// Take back the last typed character.
+    Backspace,
+    /// Make it.
+    Confirm,
+    /// Drop it.
+    Cancel,
+}
+}
+
+impl ToolKey {
+    /// What it does, for Help.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::LockX => "Lock to X (again: free)",
+            Self::LockY => "Lock to Y (again: free)",
+            Self::LockZ => "Lock to Z (again: free)",
+            Self::Digit => "Type the amount",
+            Self::Backspace => "Take back a typed character",
+            Self::Confirm => "Confirm",
+            Self::Cancel => "Cancel",
+        }
+    }
+
+    /// Its keys, as Help writes them.
+    pub fn keys(self) -> &'static str {
+        match self {
+            Self::LockX => "X",
+            Self::LockY => "Y",
+            Self::LockZ => "Z",
+            Self::Digit => "0–9, '.', '-' (G / R / S only)",
+            Self::Backspace => "Backspace",
+            Self::Confirm => "Enter or a click",
+            Self::Cancel => "Esc, a right click or Ctrl+Z",
+        }
+    }
+
+    /// The tools it works in.
+    pub fn tools(self) -> &'static str {
+        match self {
+            Self::LockX | Self::LockY | Self::LockZ => "G / R / S",
+            _ => "G / R / S, loop cut, inset",
+        }
+    }
+
+    /// The tool key a typed character is, if any.
+    pub fn of_char(c: char) -> Option<Self> {
+        match c {
+            'x' | 'X' => Some(Self::LockX),
+            'y' | 'Y' => Some(Self::LockY),
+            'z' | 'Z' => Some(Self::LockZ),
+            '0'..='9' | '.' | '-' => Some(Self::Digit),
+            _ => None,
+        }
+    }
+
+    /// The tool key a pressed key is, if any (typed characters come as text instead).
+    pub fn of_key(key: Key, modifiers: Modifiers) -> Option<Self> {
+        match key {
+            Key::Backspace => Some(Self::Backspace),
+            Key::Enter => Some(Self::Confirm),
+            Key::Escape => Some(Self::Cancel),
+            // Ctrl+Z cancels the tool (the Undo command does that while a gesture runs).
+            Key::Z if modifiers.command => Some(Self::Cancel),
+            _ => None,
+        }
+    }
+}
+
 const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
 
 impl UiCommand {

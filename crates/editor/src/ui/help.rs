@@ -1,11 +1,12 @@
-//! Help: the keyboard shortcuts window (F1 or ?), read from the [`UiCommand`] table with the
-//! G / R / S keys and the mouse, and the legend of the cage colours.
+//! Help: the keyboard shortcuts window (F1 or ?), read from the [`UiCommand`] table, the
+//! [`ToolKey`] table (the keys of G / R / S, the loop cut and the inset while they run) and the
+//! mouse, and the legend of the cage colours.
 
 use super::UiState;
-use crate::commands::UiCommand;
+use crate::commands::{ToolKey, UiCommand};
 
-/// Mouse and tool keys that are not table actions.
-const MORE: [(&str, &str); 6] = [
+/// What the mouse does.
+const MORE: [(&str, &str); 5] = [
     (
         "Orbit / pan / zoom",
         "middle mouse or Alt+left drag / Shift+middle / wheel",
@@ -16,10 +17,6 @@ const MORE: [(&str, &str); 6] = [
     ),
     ("Rectangle selection", "drag on empty space (Shift adds)"),
     ("Move a vertex", "drag it"),
-    (
-        "During G / R / S",
-        "X / Y / Z lock an axis, type a number, Enter confirms, Esc cancels",
-    ),
     ("Look along an axis", "click an end of the axis gizmo"),
 ];
 
@@ -87,10 +84,24 @@ pub fn shortcuts_window(ui_state: &mut UiState, ctx: &egui::Context) {
                 }
                 for (what, how) in MORE {
                     ui.label(what);
-                    ui.label("mouse / tool");
+                    ui.label("mouse");
                     ui.vertical(|ui| {
                         ui.set_width(description_width);
                         ui.add(egui::Label::new(how).wrap());
+                    });
+                    ui.end_row();
+                }
+                for key in ToolKey::ALL {
+                    ui.label(key.label());
+                    ui.label(key.keys());
+                    ui.vertical(|ui| {
+                        ui.set_width(description_width);
+                        ui.add(
+                            egui::Label::new(
+                                egui::RichText::new(format!("while {} runs", key.tools())).weak(),
+                            )
+                            .wrap(),
+                        );
                     });
                     ui.end_row();
                 }

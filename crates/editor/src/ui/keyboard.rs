@@ -8,7 +8,7 @@ use glam::Vec2;
 use super::UiState;
 use super::actions::execute;
 use super::transform_tool::Axis;
-use crate::commands::{Command, CommandSender, UiCommand};
+use crate::commands::{Command, CommandSender, ToolKey, UiCommand};
 use crate::state::EditorState;
 
 /// This frame's keys.
@@ -75,30 +75,29 @@ enum Typed {
     Cancel,
 }
 
-/// Digits and '.' go into `typed`, Backspace takes one back; Enter confirms, Esc cancels.
+/// The [`ToolKey`]s of a tool sized by a typed number: digits and '.' go into `typed` (a
+/// fraction or a thickness is never negative), Backspace takes one back; Enter confirms, Esc
+/// cancels.
 fn typed_number_keys(typed: &mut String, events: &[Event]) -> Option<Typed> {
     for event in events {
         match event {
-            Event::Text(text) => {
-                typed.extend(text.chars().filter(|c| c.is_ascii_digit() || *c == '.'));
-            }
+            Event::Text(text) => typed.extend(
+                text.chars()
+                    .filter(|&c| ToolKey::of_char(c) == Some(ToolKey::Digit) && c != '-'),
+            ),
             Event::Key {
-                key: Key::Backspace,
+                key,
                 pressed: true,
+                modifiers,
                 ..
-            } => {
-                typed.pop();
-            }
-            Event::Key {
-                key: Key::Enter,
-                pressed: true,
-                ..
-            } => return Some(Typed::Confirm),
-            Event::Key {
-                key: Key::Escape,
-                pressed: true,
-                ..
-            } => return Some(Typed::Cancel),
+            } => match ToolKey::of_key(*key, *modifiers) {
+                Some(ToolKey::Backspace) => {
+                    typed.pop();
+                }
+                Some(ToolKey::Confirm) => return Some(Typed::Confirm),
+                Some(ToolKey::Cancel) => return Some(Typed::Cancel),
+                _ => {}
+            },
             _ => {}
         }
     }
@@ -166,11 +165,11 @@ fn tool_keys(
         match event {
             Event::Text(text) => {
                 for c in text.chars() {
-                    match c {
-                        'x' | 'X' => tool.axis = Axis::X.toggle(tool.axis),
-                        'y' | 'Y' => tool.axis = Axis::Y.toggle(tool.axis),
-                        'z' | 'Z' => tool.axis = Axis::Z.toggle(tool.axis),
-                        '0'..='9' | '.' | '-' => tool.typed.push(c),
+                    match ToolKey::of_char(c) {
+                        Some(ToolKey::LockX) => tool.axis = Axis::X.toggle(tool.axis),
+                        Some(ToolKey::LockY) => tool.axis = Axis::Y.toggle(tool.axis),
+                        Some(ToolKey::LockZ) => tool.axis = Axis::Z.toggle(tool.axis),
+                        Some(ToolKey::Digit) => tool.typed.push(c),
                         _ => {}
                     }
                 }
@@ -180,14 +179,12 @@ fn tool_keys(
                 pressed: true,
                 modifiers,
                 ..
-            } => match key {
-                Key::Backspace => {
+            } => match ToolKey::of_key(*key, *modifiers) {
+                Some(ToolKey::Backspace) => {
                     tool.typed.pop();
                 }
-                Key::Enter => end = Some(true),
-                Key::Escape => end = Some(false),
-                // Ctrl+Z cancels the tool (the Undo command does that while a gesture runs).
-                Key::Z if modifiers.command => end = Some(false),
+                Some(ToolKey::Confirm) => end = Some(true),
+                Some(ToolKey::Cancel) => end = Some(false),
                 _ => {}
             },
             _ => {}

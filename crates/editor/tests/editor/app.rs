@@ -917,6 +917,14 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
     harness.get_by_label_contains("Switch between perspective and orthographic");
     harness.get_by_label_contains("GC leaf cage");
     harness.get_by_label_contains("border: a face shared by two leaf cages");
+    // The keys of the modal tools, from their table.
+    harness.get_by_label("Lock to X (again: free)");
+    assert!(
+        harness
+            .query_all_by_label_contains("while G / R / S, loop cut, inset runs")
+            .count()
+            >= 4
+    );
     harness.snapshot_options(
         "shortcuts_window_and_item_panel",
         &SnapshotOptions::new()
