@@ -571,21 +571,18 @@ fn rig_op_label(op: &starcages_core::rig::RigOp) -> String {
     }
 }
 
+/// A pose move (and the animation key it edits), one undo step like every other edit; the
+/// rig's pose moves need no rebind, so not through `edit_scene`.
 fn move_vertices(state: &mut EditorState, moves: &[(u32, glam::DVec3)]) {
-    let before = state
-        .gesture
-        .is_none()
-        .then(|| crate::state::undo::Snapshot::of(&state.doc.scene));
-    match state.move_vertices(moves) {
-        Ok(()) => {
+    let (moved, _) = state.undo_step("move vertices", |state| {
+        let moved = state.move_vertices(moves);
+        if moved.is_ok() {
             super::animation::key_after_edit(state);
-            if let Some(before) = before
-                && before != crate::state::undo::Snapshot::of(&state.doc.scene)
-            {
-                state.undo.push("move vertices", before);
-            }
         }
-        Err(e) => state.error(e),
+        moved
+    });
+    if let Err(e) = moved {
+        state.error(e);
     }
 }
 

@@ -714,15 +714,25 @@ impl EditorState {
         label: &str,
         change: impl FnOnce(&mut starcages_core::scene::Scene) -> T,
     ) -> T {
-        let before = Snapshot::of(&self.doc.scene);
-        let out = change(&mut self.doc.scene);
-        if Snapshot::of(&self.doc.scene) != before {
-            if self.gesture.is_none() {
-                self.undo.push(label, before);
-            }
+        let (out, changed) = self.undo_step(label, |state| change(&mut state.doc.scene));
+        if changed {
             self.document_changed();
         }
         out
+    }
+
+    /// One undo step around `change`, the path every edit takes (scene edits through
+    /// [`Self::edit_scene`], pose moves directly): the editable state before it is pushed under
+    /// `label` when `change` altered it, unless a gesture runs (a gesture is one step, recorded
+    /// when it ends). Returns what `change` returned and whether the state changed.
+    pub fn undo_step<T>(&mut self, label: &str, change: impl FnOnce(&mut Self) -> T) -> (T, bool) {
+        let before = Snapshot::of(&self.doc.scene);
+        let out = change(self);
+        let changed = Snapshot::of(&self.doc.scene) != before;
+        if changed && self.gesture.is_none() {
+            self.undo.push(label, before);
+        }
+        (out, changed)
     }
 
     /// What clicks and region drags select: the view's choice in Rig mode, cage vertices in
