@@ -156,7 +156,7 @@ fn tool_keys(
     };
     tool.snap = if snapping && tool.mode == super::transform_tool::Mode::Grab {
         let moving: std::collections::BTreeSet<u32> = tool.moving().collect();
-        super::viewport_input::snap_target(state, pointer, &moving)
+        super::picking::snap_target(state, pointer, &moving)
     } else {
         None
     };

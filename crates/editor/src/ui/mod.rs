@@ -16,6 +16,7 @@ mod loop_cut_tool;
 mod menu;
 mod outliner;
 mod panels;
+mod picking;
 pub mod prompts;
 mod rig_keys;
 mod select_modes;
@@ -33,8 +34,9 @@ use egui::Panel;
 use crate::commands::{Command, CommandSender};
 use crate::state::{EditorState, GestureId, NewMeshOptions};
 
+pub use picking::{pick, vertex_on_screen};
 pub use transform_tool::{Axis, Mode, TransformTool};
-pub use viewport_input::{Drag, pick, vertex_on_screen};
+pub use viewport_input::Drag;
 
 /// Transient UI state: input in progress and what is typed, never the document.
 #[derive(Debug)]

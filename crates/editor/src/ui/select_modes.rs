@@ -106,30 +106,31 @@ pub fn click(state: &EditorState, pointer: Option<Vec2>, shift: bool, sender: &m
     } else {
         SelectMode::Replace
     };
-    let command = match state.select_element() {
-        SelectElement::CageVertices => pointer
-            .and_then(|p| super::viewport_input::pick(state, p))
-            .map(|v| Command::Select {
-                vertices: vec![v],
-                mode,
-            }),
-        SelectElement::CageFaces => {
-            pointer
-                .and_then(|p| pick_face(state, p))
-                .map(|face| Command::SelectFaces {
-                    faces: vec![face],
-                    mode,
-                })
-        }
-        SelectElement::MeshVertices => {
-            pointer
-                .and_then(|p| pick_mesh_vertex(state, p))
-                .map(|v| Command::SelectMeshVertices {
+    let command =
+        match state.select_element() {
+            SelectElement::CageVertices => pointer
+                .and_then(|p| super::picking::pick(state, p))
+                .map(|v| Command::Select {
                     vertices: vec![v],
                     mode,
+                }),
+            SelectElement::CageFaces => {
+                pointer
+                    .and_then(|p| pick_face(state, p))
+                    .map(|face| Command::SelectFaces {
+                        faces: vec![face],
+                        mode,
+                    })
+            }
+            SelectElement::MeshVertices => {
+                pointer.and_then(|p| pick_mesh_vertex(state, p)).map(|v| {
+                    Command::SelectMeshVertices {
+                        vertices: vec![v],
+                        mode,
+                    }
                 })
-        }
-    };
+            }
+        };
     match command {
         Some(command) => sender.send(command),
         None if !shift => sender.send(Command::SelectNone),

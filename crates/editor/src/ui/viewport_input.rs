@@ -6,18 +6,13 @@
 use egui::{Pos2, Sense};
 use glam::{DVec3, Vec2};
 use starcages_viewport::colors;
-use starcages_viewport::picking::pick_nearest;
 
+use super::picking::{SNAP_RADIUS, pick, snap_target};
 use super::transform_tool::view_plane_delta;
 use super::viewport_paint;
 use super::{UiState, axis_gizmo};
 use crate::commands::{CameraChange, Command, CommandSender};
 use crate::state::{EditorState, GestureId, ScreenRect, SelectMode};
-
-/// Pick radius in points.
-const PICK_RADIUS: f32 = 10.0;
-/// How near (points) the pointer must come to a cage vertex for a grab to snap onto it.
-const SNAP_RADIUS: f32 = 16.0;
 
 /// A mouse drag in the viewport.
 #[derive(Debug)]
@@ -50,62 +45,6 @@ pub enum Drag {
 
 fn vec2(p: Pos2) -> Vec2 {
     Vec2::new(p.x, p.y)
-}
-
-fn pose_f32(state: &EditorState) -> Vec<glam::Vec3> {
-    state
-        .shown_positions()
-        .iter()
-        .map(|p| p.as_vec3())
-        .collect()
-}
-
-/// The cage vertex under `pointer` (screen points) that a grab snaps onto, among those not
-/// being moved: its index and position.
-pub fn snap_target(
-    state: &EditorState,
-    pointer: Vec2,
-    moving: &std::collections::BTreeSet<u32>,
-) -> Option<(u32, glam::DVec3)> {
-    let rect = state.view.viewport;
-    let mut pickable = state.view.pickable(&state.doc.scene.cages);
-    for &v in moving {
-        if let Some(slot) = pickable.get_mut(v as usize) {
-            *slot = false;
-        }
-    }
-    let v = pick_nearest(
-        &state.view.camera,
-        rect.size,
-        &pose_f32(state),
-        &pickable,
-        rect.local(pointer),
-        SNAP_RADIUS,
-    )?;
-    Some((v as u32, *state.shown_positions().get(v)?))
-}
-
-/// The cage vertex under `pointer` (screen points), if any.
-pub fn pick(state: &EditorState, pointer: Vec2) -> Option<u32> {
-    let rect = state.view.viewport;
-    pick_nearest(
-        &state.view.camera,
-        rect.size,
-        &pose_f32(state),
-        &state.view.pickable(&state.doc.scene.cages),
-        rect.local(pointer),
-        PICK_RADIUS,
-    )
-    .map(|i| i as u32)
-}
-
-/// The screen position (points) of cage vertex `v` in the current view.
-pub fn vertex_on_screen(state: &EditorState, v: u32) -> Option<egui::Pos2> {
-    let rect = state.view.viewport;
-    let p = state.shown_positions().get(v as usize)?.as_vec3();
-    let (pixel, _) = state.view.camera.project(p, rect.size)?;
-    let at = rect.min + pixel;
-    Some(egui::pos2(at.x, at.y))
 }
 
 /// The viewport: input, the 3D view through the paint callback, overlays.
