@@ -161,9 +161,18 @@ fn limb_boxes(scene: &Scene) -> usize {
         .count()
 }
 
-/// Properties 1 and 2 of the issue: a valid scene, one piece of surface in every leaf cage.
+/// Properties 1, 2 and 6 of the issue: a valid scene, one piece of surface in every leaf
+/// cage, and the same rig on one thread as on many.
 fn check_rig(name: &str, mesh: &Mesh, least_cages: usize) -> Scene {
-    let scene = scene(mesh, rig(mesh, &AutorigSettings::default()));
+    let cages = rig(mesh, &AutorigSettings::default());
+    // Property 6: the same rig on one thread as on the test's pool.
+    let on_one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| rig(mesh, &AutorigSettings::default()));
+    assert!(cages == on_one_thread, "{name}: another rig on one thread");
+    let scene = scene(mesh, cages);
     let report = validate_scene(&scene);
     assert!(report.is_valid(), "{name}: {:?}", report.errors);
     assert!(
