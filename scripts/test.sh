@@ -15,10 +15,11 @@ if ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq mesa-vulkan-drivers >/dev/null
 fi
-# The meshopt crate (EXT_meshopt_compression) builds meshoptimizer's C++ sources: a C++
-# compiler must exist. Debian images without one get g++.
+# The meshopt crate (EXT_meshopt_compression) builds meshoptimizer's C++ sources and the ufbx
+# crate (FBX) the ufbx C library: a C and C++ compiler must exist. Debian images without one
+# get g++ (which brings gcc).
 if ! command -v c++ >/dev/null 2>&1; then
-    echo "scripts/test.sh: installing a C++ compiler (g++) for the meshopt crate" >&2
+    echo "scripts/test.sh: installing a C and C++ compiler (g++) for the meshopt and ufbx crates" >&2
     if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq g++ >/dev/null
