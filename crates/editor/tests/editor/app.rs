@@ -713,6 +713,43 @@ fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
     assert_eq!(state.doc.scene.cages.leaves.len(), 2);
 }
 
+/// While a dialog is open its keys are not the editor's: typing a file name after a click
+/// that missed the name field (found trying the release editor: "arm_rig.json" selected every
+/// vertex and started a rotation) leaves the rig alone. Closed, R rotates again.
+#[test]
+fn shortcuts_wait_while_a_dialog_is_open() {
+    use starcages_editor::ui::file_dialog::FilePurpose;
+    let mut harness = harness();
+    let centre = harness.state().state.view.viewport.center();
+    let centre = egui::pos2(centre.x, centre.y);
+    let app = harness.state_mut();
+    let v = app.state.doc.scene.cages.leaves[leaf(app, "head_1_0_0")].faces[0][0];
+    app.run(Command::Select {
+        vertices: vec![v],
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    app.ui.files.in_app_only = true;
+    app.ui.files.request(FilePurpose::SaveScene, None);
+    harness.run_steps(2);
+    // Nothing in the dialog has the keyboard, as after a click beside its name field.
+    harness
+        .ctx
+        .memory_mut(|m| m.focused().map(|id| m.surrender_focus(id)));
+    harness.hover_at(centre);
+    harness.key_press(egui::Key::R);
+    harness.run_steps(2);
+    assert!(harness.state().ui.tool.is_none(), "R started a rotation");
+    harness.state_mut().ui.files.in_app = None;
+    harness.run_steps(1);
+    harness.hover_at(centre);
+    harness.key_press(egui::Key::R);
+    harness.run_steps(1);
+    assert!(
+        harness.state().ui.tool.is_some(),
+        "R rotates once the dialog is closed"
+    );
+}
+
 /// Blender's viewport aids: numpad 5 toggles orthographic, Ctrl+numpad gives the opposite
 /// views, clicking an end of the axis gizmo looks along that axis, and G shows a header with
 /// the live amount and the locked axis drawn through the pivot (snapshot with the ground grid).
