@@ -44,6 +44,7 @@ use crate::scene::{
     CageSet, InternalCage, LeafCage, MeshSource, Scene, SceneSettings, validate_scene,
 };
 use parts::{Parts, Role};
+use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
 use voxels::Grid;
 
@@ -210,10 +211,11 @@ pub fn autorig(
     // every cage holds one piece, else the rig with fewest such cages is kept. Parts of one
     // component are never the reason: their cells merge with what joins them (the palm).
     let (cells, _) = resolution(settings.detail);
+    let surface = SurfaceMesh::new(mesh);
     let mut best: Option<Autorig> = None;
     for refinement in 0..=MAX_REFINEMENTS {
         let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
-        let mut rig = match rig_on_grid(mesh, settings, cells, refinement, control) {
+        let mut rig = match rig_on_grid(&surface, settings, cells, refinement, control) {
             Ok(rig) => rig,
             Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
             Err(_) => continue,
@@ -224,7 +226,7 @@ pub fn autorig(
             rig.cages.clone(),
             SceneSettings::default(),
         );
-        rig.report.shared_cages = surface_pieces_per_leaf(&scene)
+        rig.report.shared_cages = pieces_per_leaf(&scene, &surface.neighbours)
             .iter()
             .enumerate()
             .filter(|(_, n)| **n > 1)
@@ -248,12 +250,13 @@ const REFINEMENT: f64 = 1.25;
 /// [`autorig`] on a grid of `cells` along the mesh's longest side (`refinement`: how many
 /// times the detail's grid was refined to reach it).
 fn rig_on_grid(
-    mesh: &Mesh,
+    surface: &SurfaceMesh,
     settings: &AutorigSettings,
     cells: u32,
     refinement: u32,
     control: &BindControl,
 ) -> Result<Autorig, AutorigError> {
+    let mesh = surface.mesh;
     let (lo, hi) = mesh.bounds();
     let extent = hi - lo;
     control.set_total(STEPS);
@@ -303,16 +306,16 @@ fn rig_on_grid(
         slab_length: BODY_SLAB_SHARE * segment_length,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
-    pieces::split_by_surface_pieces(&grid, &mut parts, mesh);
-    let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, mesh);
+    pieces::split_by_surface_pieces(&grid, &mut parts, surface);
+    let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface);
     control.advance();
     check()?;
     // Repairs move cells between parts, which may leave a part two pieces again.
     merges += repair::make_manifold(&grid, &mut parts);
-    merges += pieces::merge_inseparable_pieces(&grid, &mut parts, mesh);
+    merges += pieces::merge_inseparable_pieces(&grid, &mut parts, surface);
     parts::one_limb_per_root(&grid, &mut parts);
     if let Some(m) = &mirror {
-        merges += make_symmetric(&grid, m, &mut parts, mesh);
+        merges += make_symmetric(&grid, m, &mut parts, surface);
     }
     control.advance();
     check()?;
@@ -394,7 +397,7 @@ fn rig_on_grid(
         parts::compact(&mut parts);
         merges += repair::make_manifold(&grid, &mut parts) + 1;
         if let Some(m) = &mirror {
-            merges += make_symmetric(&grid, m, &mut parts, mesh);
+            merges += make_symmetric(&grid, m, &mut parts, surface);
         }
         frozen.clear();
         check()?;
@@ -693,7 +696,12 @@ const ORIGIN_TOLERANCE: f64 = 0.01;
 /// too (`symmetry::merge_low_twins`) and the whole mirrored again, kept only where that leaves
 /// fewer extra pieces over the whole rig (on a lopsided figure it can join a leg to the body).
 /// Returns the merges made.
-fn make_symmetric(grid: &Grid, mirror: &MirrorPlane, parts: &mut Parts, mesh: &Mesh) -> usize {
+fn make_symmetric(
+    grid: &Grid,
+    mirror: &MirrorPlane,
+    parts: &mut Parts,
+    surface: &SurfaceMesh,
+) -> usize {
     let mirror_and_repair = |parts: &mut Parts| {
         let mut merges = 0;
         for _ in 0..4 {
@@ -708,15 +716,15 @@ fn make_symmetric(grid: &Grid, mirror: &MirrorPlane, parts: &mut Parts, mesh: &M
     };
     let mut merges = mirror_and_repair(parts);
     for _ in 0..4 {
-        let extra = pieces::extra_pieces_total(grid, parts, mesh);
+        let extra = pieces::extra_pieces_total(grid, parts, surface);
         let mut trial = parts.clone();
-        if extra == 0 || pieces::merge_inseparable_pieces(grid, &mut trial, mesh) == 0 {
+        if extra == 0 || pieces::merge_inseparable_pieces(grid, &mut trial, surface) == 0 {
             break;
         }
         let mut candidate = parts.clone();
         let twins = symmetry::merge_low_twins(grid, mirror, &mut candidate, &trial);
         let repairs = mirror_and_repair(&mut candidate);
-        if twins == 0 || pieces::extra_pieces_total(grid, &candidate, mesh) >= extra {
+        if twins == 0 || pieces::extra_pieces_total(grid, &candidate, surface) >= extra {
             break;
         }
         *parts = candidate;
@@ -803,6 +811,11 @@ pub const SLIVER_VERTICES: usize = 20;
 /// never share a cage. Vertices are joined by mesh edges and where separate components pass
 /// through each other (an eye set into its socket): those are one piece as a set of points.
 pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
+    pieces_per_leaf(scene, &surface::surface_neighbours(&scene.mesh))
+}
+
+/// [`surface_pieces_per_leaf`] with the mesh's surface adjacency already found.
+fn pieces_per_leaf(scene: &Scene, neighbours: &[Vec<u32>]) -> Vec<usize> {
     let set = &scene.cages;
     let locals: Vec<Option<crate::scene::LocalCage>> = set
         .leaves
@@ -818,7 +831,6 @@ pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
         .map(|(i, _)| i)
         .collect();
     let containment = crate::scene::leaf_containment(&valid, points);
-    let neighbours = surface::surface_neighbours(&scene.mesh);
     let mut pieces = vec![0; set.leaves.len()];
     let mut member = vec![false; points.len()];
     let mut seen = vec![false; points.len()];

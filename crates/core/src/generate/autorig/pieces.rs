@@ -10,17 +10,21 @@ use std::collections::{BTreeMap, VecDeque};
 
 use super::SLIVER_VERTICES;
 use super::parts::{Parts, compact, contacts_of, split_disconnected};
+use super::surface::SurfaceMesh;
 use super::voxels::Grid;
-use crate::mesh::Mesh;
 
 /// Splits the parts whose cells hold more than one piece of the surface (see the module).
 /// Returns how many parts were split.
-pub(super) fn split_by_surface_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mesh) -> usize {
+pub(super) fn split_by_surface_pieces(
+    grid: &Grid,
+    parts: &mut Parts,
+    surface: &SurfaceMesh,
+) -> usize {
     let Surface {
         cell_of,
         neighbours,
-    } = Surface::new(grid, mesh);
-    let points = mesh.welded_positions();
+    } = Surface::new(grid, surface);
+    let points = surface.mesh.welded_positions();
     let part_of = |v: usize| cell_of[v].and_then(|c| parts.label[c]);
     // Pieces: mesh vertices connected through edges whose ends are in the same part.
     let mut piece = vec![usize::MAX; points.len()];
@@ -118,23 +122,24 @@ pub(super) fn split_by_surface_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mes
 }
 
 /// Mesh vertices by grid cell and mesh edges, for counting the pieces of surface of parts.
-struct Surface {
+struct Surface<'a> {
     /// Cell (grid index) of each welded mesh vertex.
     cell_of: Vec<Option<usize>>,
     /// Mesh edges at each welded vertex, and links where components cross
     /// ([`super::surface::surface_neighbours`]).
-    neighbours: Vec<Vec<u32>>,
+    neighbours: &'a [Vec<u32>],
 }
 
-impl Surface {
-    fn new(grid: &Grid, mesh: &Mesh) -> Self {
+impl<'a> Surface<'a> {
+    fn new(grid: &Grid, surface: &'a SurfaceMesh) -> Self {
         Self {
-            cell_of: mesh
+            cell_of: surface
+                .mesh
                 .welded_positions()
                 .iter()
                 .map(|&p| grid.index(grid.cell_at(p)))
                 .collect(),
-            neighbours: super::surface::surface_neighbours(mesh),
+            neighbours: &surface.neighbours,
         }
     }
 
@@ -265,8 +270,8 @@ impl Surface {
 
 /// The pieces of the surface beyond one per part, over all parts (slivers left out as in
 /// [`merge_inseparable_pieces`]): 0 when every part holds one piece.
-pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, mesh: &Mesh) -> usize {
-    let surface = Surface::new(grid, mesh);
+pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, surface: &SurfaceMesh) -> usize {
+    let surface = Surface::new(grid, surface);
     let mut mark = vec![false; surface.cell_of.len()];
     let by_part = surface.vertices_by_part(parts);
     by_part
@@ -280,8 +285,12 @@ pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, mesh: &Mesh) -> usi
 /// extra pieces or, where no one neighbour does (two fingers meeting only at the palm), with
 /// the parts along the shortest way over the surface between two of its pieces; as long as a
 /// merge removes extra pieces. Returns the number of merges.
-pub(super) fn merge_inseparable_pieces(grid: &Grid, parts: &mut Parts, mesh: &Mesh) -> usize {
-    let surface = Surface::new(grid, mesh);
+pub(super) fn merge_inseparable_pieces(
+    grid: &Grid,
+    parts: &mut Parts,
+    surface: &SurfaceMesh,
+) -> usize {
+    let surface = Surface::new(grid, surface);
     let mut mark = vec![false; surface.cell_of.len()];
     let mut merges = 0;
     loop {

@@ -20,6 +20,23 @@ const CELLS_PER_TRIANGLE: usize = 16;
 /// cannot make the test quadratic (pairs beyond are not linked).
 const MAX_PAIR_TESTS: usize = 20_000_000;
 
+/// A mesh with the adjacency of its surface, found once per rig (the crossing test is the costly
+/// part) and read by every step that counts pieces.
+pub(crate) struct SurfaceMesh<'a> {
+    pub mesh: &'a Mesh,
+    /// [`surface_neighbours`] of the mesh.
+    pub neighbours: Vec<Vec<u32>>,
+}
+
+impl<'a> SurfaceMesh<'a> {
+    pub fn new(mesh: &'a Mesh) -> Self {
+        Self {
+            mesh,
+            neighbours: surface_neighbours(mesh),
+        }
+    }
+}
+
 /// At each welded mesh vertex, the vertices it is joined to: its mesh edges, then the corners
 /// of triangles of other components that cross one of its triangles.
 pub(super) fn surface_neighbours(mesh: &Mesh) -> Vec<Vec<u32>> {
