@@ -165,30 +165,11 @@ fn add_node_mesh(
 
     // Every attribute's index of every corner, checked once.
     let corners = mesh.num_indices;
-    let indices = |attribute: &[u32], values: usize, what: &str| -> Result<Vec<u32>, FileError> {
-        let indices = attribute.get(..corners).ok_or_else(|| {
-            FileError::format(
-                path,
-                format!(
-                    "mesh of node '{name}': {} {what} indices for {corners} polygon corners; \
-                     re-export the file",
-                    attribute.len()
-                ),
-            )
-        })?;
-        if let Some(bad) = indices.iter().find(|&&i| i as usize >= values) {
-            return Err(FileError::format(
-                path,
-                format!(
-                    "mesh of node '{name}': {what} index {bad} is out of range ({values} \
-                     values); re-export the file"
-                ),
-            ));
-        }
-        Ok(indices.to_vec())
-    };
+    let indices =
+        |attribute, values, what| checked_indices(path, name, attribute, corners, values, what);
     let positions = &mesh.vertex_position.values;
     let position_of = indices(&mesh.vertex_position.indices, positions.len(), "position")?;
+    // Absent attributes read as no indices (every corner gets the default value).
     let normal_of = if has_normals {
         indices(
             &mesh.vertex_normal.indices,
@@ -196,19 +177,19 @@ fn add_node_mesh(
             "normal",
         )?
     } else {
-        vec![0; corners]
+        &[]
     };
     let uv_of = if has_uvs {
         indices(&mesh.vertex_uv.indices, mesh.vertex_uv.values.len(), "UV")?
     } else {
-        vec![0; corners]
+        &[]
     };
     let normal = |corner: usize| {
-        let n = mesh.vertex_normal.values.get(normal_of[corner] as usize);
+        let n = (normal_of.get(corner)).and_then(|&i| mesh.vertex_normal.values.get(i as usize));
         n.map_or([0.0; 3], |n| [n.x, n.y, n.z])
     };
     let uv = |corner: usize| {
-        let t = mesh.vertex_uv.values.get(uv_of[corner] as usize);
+        let t = (uv_of.get(corner)).and_then(|&i| mesh.vertex_uv.values.get(i as usize));
         t.map_or([0.0; 2], |t| [t.x, t.y])
     };
 
@@ -302,6 +283,38 @@ fn add_node_mesh(
         }
     }
     Ok(())
+}
+
+/// The first `corners` indices of an attribute, each checked against its `values`: borrowed
+/// from the file's arrays, or an error naming the node and the attribute.
+fn checked_indices<'a>(
+    path: &Path,
+    node: &str,
+    attribute: &'a [u32],
+    corners: usize,
+    values: usize,
+    what: &str,
+) -> Result<&'a [u32], FileError> {
+    let indices = attribute.get(..corners).ok_or_else(|| {
+        FileError::format(
+            path,
+            format!(
+                "mesh of node '{node}': {} {what} indices for {corners} polygon corners; \
+                 re-export the file",
+                attribute.len()
+            ),
+        )
+    })?;
+    if let Some(bad) = indices.iter().find(|&&i| i as usize >= values) {
+        return Err(FileError::format(
+            path,
+            format!(
+                "mesh of node '{node}': {what} index {bad} is out of range ({values} values); \
+                 re-export the file"
+            ),
+        ));
+    }
+    Ok(indices)
 }
 
 /// An FBX matrix (column-major 3×4) as an affine map.
