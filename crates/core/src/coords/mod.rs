@@ -28,6 +28,8 @@ use crate::cage::Cage;
 pub use control::BindControl;
 pub use green::green_stretch;
 pub(crate) use green::triangle_stretch;
+#[cfg(test)]
+pub(crate) use harmonic::solves_of;
 pub use harmonic::{HarmonicSettings, clear_harmonic_cache};
 pub use lanes::{SIMD_ENV, lane_backend};
 

@@ -35,7 +35,7 @@ pub(crate) struct BoundRows {
 
 /// Per join vertex, the points (increasing indices, each once) whose Ω or L_v needs its join
 /// cage's coordinates.
-type Needs = BTreeMap<u32, Vec<usize>>;
+pub(super) type Needs = BTreeMap<u32, Vec<usize>>;
 
 /// The interpolating kind used for d (eq. 7) in a cage of kind `kind`: Green φ do not
 /// interpolate (docs/math.md, reading 4), so Green cages use MVC there.
@@ -411,7 +411,11 @@ fn join_needs(
 fn join_cage_tables(cx: &BindContext, needs: &JoinNeeds) -> Result<JoinCageTables, StarError> {
     let topology = cx.topology;
     let classes = harmonic_classes(topology, &needs.omega);
-    let in_a_class: BTreeSet<u32> = classes.iter().flatten().map(|(v, _)| *v).collect();
+    let in_a_class: BTreeSet<u32> = classes
+        .iter()
+        .flat_map(|class| &class.members)
+        .map(|(v, _)| *v)
+        .collect();
     let mut copies: BTreeMap<(&[usize], bool), Vec<u32>> = BTreeMap::new();
     for (&v, join) in &topology.joins {
         copies
@@ -644,27 +648,64 @@ fn join_tables(
     Ok((interp, transform))
 }
 
-/// Harmonic join cages (those whose interpolating coordinates are HC and that some point
-/// needs) grouped by shape up to translation, turns by multiples of 90° and mirrors
-/// ([`super::shape_class`]); classes of one are left out. Each class is solved once: every
-/// member's points, mapped into the first member's frame, are bound together and the rows are
-/// mapped back through the canonical vertex order.
-fn harmonic_classes(topology: &Topology, need_omega: &Needs) -> Vec<Vec<(u32, ShapePlacement)>> {
-    let mut classes: BTreeMap<ShapeKey, Vec<(u32, ShapePlacement)>> = BTreeMap::new();
-    for (&v, needed) in need_omega {
-        let join = &topology.joins[&v];
-        if interpolating(join.kind) != CoordinateKind::Harmonic || needed.is_empty() {
-            continue;
-        }
-        let (key, placement) = shape_class(&join.local.cage);
-        classes.entry(key).or_default().push((v, placement));
+/// A class of congruent harmonic cages in one chunk of a bind: the frame its one solve is made
+/// in, the first cage of the class over the whole rig (so that every chunk of a streamed bind
+/// reads the same cached solve), and the members with points to bind in this chunk.
+pub(super) struct HarmonicClass<K> {
+    pub frame: (K, ShapePlacement),
+    pub members: Vec<(K, ShapePlacement)>,
+}
+
+/// Classes of congruent cages from `(cage, placement, has points)` in rig order: classes of one
+/// cage over the whole rig, and classes with no point to bind, are left out.
+fn classes_by_shape<K: Copy>(
+    cages: impl Iterator<Item = (K, (ShapeKey, ShapePlacement), bool)>,
+) -> Vec<HarmonicClass<K>> {
+    let mut classes: BTreeMap<ShapeKey, Vec<(K, ShapePlacement, bool)>> = BTreeMap::new();
+    for (k, (key, placement), has_points) in cages {
+        classes
+            .entry(key)
+            .or_default()
+            .push((k, placement, has_points));
     }
-    classes.into_values().filter(|m| m.len() > 1).collect()
+    classes
+        .into_values()
+        .filter(|class| class.len() > 1)
+        .filter_map(|class| {
+            let frame = class
+                .first()
+                .map(|(k, placement, _)| (*k, placement.clone()))?;
+            let members: Vec<_> = class
+                .into_iter()
+                .filter(|(_, _, has_points)| *has_points)
+                .map(|(k, placement, _)| (k, placement))
+                .collect();
+            (!members.is_empty()).then_some(HarmonicClass { frame, members })
+        })
+        .collect()
+}
+
+/// Harmonic join cages (those whose interpolating coordinates are HC) grouped by shape up to
+/// translation, turns by multiples of 90° and mirrors ([`super::shape_class`]); classes of
+/// one are left out. Each class is solved once: every needing member's points, mapped into
+/// the class's frame, are bound together and the rows are mapped back through the canonical
+/// vertex order.
+pub(super) fn harmonic_classes(topology: &Topology, need_omega: &Needs) -> Vec<HarmonicClass<u32>> {
+    classes_by_shape(
+        topology
+            .joins
+            .iter()
+            .filter(|(_, join)| interpolating(join.kind) == CoordinateKind::Harmonic)
+            .map(|(&v, join)| {
+                let needed = need_omega.get(&v).is_some_and(|n| !n.is_empty());
+                (v, shape_class(&join.local.cage), needed)
+            }),
+    )
 }
 
 /// The tables of [`harmonic_classes`]' classes, one solve each, in parallel.
 fn solve_harmonic_classes(
-    classes: &[Vec<(u32, ShapePlacement)>],
+    classes: &[HarmonicClass<u32>],
     topology: &Topology,
     need_omega: &Needs,
     points: &[DVec3],
@@ -673,7 +714,7 @@ fn solve_harmonic_classes(
 ) -> Result<BTreeMap<u32, Table>, StarError> {
     let solved: Vec<Vec<(u32, Table)>> = classes
         .par_iter()
-        .map(|members| shared_class(topology, need_omega, points, settings, control, members))
+        .map(|class| shared_class(topology, need_omega, points, settings, control, class))
         .collect::<Result<_, _>>()?;
     Ok(solved.into_iter().flatten().collect())
 }
@@ -686,18 +727,24 @@ fn shared_class(
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
-    members: &[(u32, ShapePlacement)],
+    class: &HarmonicClass<u32>,
 ) -> Result<Vec<(u32, Table)>, StarError> {
-    let congruent: Vec<Congruent> = members
+    let frame = Congruent {
+        cage: &topology.joins[&class.frame.0].local,
+        placement: &class.frame.1,
+        points: Vec::new(),
+    };
+    let congruent: Vec<Congruent> = class
+        .members
         .iter()
         .map(|(v, placement)| Congruent {
             cage: &topology.joins[v].local,
             placement,
-            points: need_omega[v].clone(),
+            points: need_omega.get(v).cloned().unwrap_or_default(),
         })
         .collect();
-    let tables = solve_congruent(&congruent, points, settings, control)?;
-    Ok(members.iter().map(|(v, _)| *v).zip(tables).collect())
+    let tables = solve_congruent(&frame, &congruent, points, settings, control)?;
+    Ok(class.members.iter().map(|(v, _)| *v).zip(tables).collect())
 }
 
 /// A member of a class of congruent harmonic cages, with the points it needs.
@@ -799,15 +846,13 @@ fn duration_in_words(seconds: f64) -> String {
 /// member's frame, are bound together and the rows are mapped back through the canonical
 /// vertex order. Each member's table in order, or none when the shared bind failed.
 fn solve_congruent(
+    first: &Congruent,
     members: &[Congruent],
     points: &[DVec3],
     settings: &BindSettings,
     control: &BindControl,
 ) -> Result<Vec<Table>, StarError> {
     control.check().map_err(|_| StarError::Cancelled)?;
-    let Some(first) = members.first() else {
-        return Ok(Vec::new());
-    };
     let mut by_rank = vec![0usize; first.placement.rank.len()];
     for (k, &r) in first.placement.rank.iter().enumerate() {
         by_rank[r] = k;
@@ -856,9 +901,10 @@ fn solve_congruent(
     Ok(tables)
 }
 
-/// Harmonic leaf cages with points to bind, grouped by shape as the join cages are; each
-/// class of two or more is solved once. The tables by leaf cage (a class whose shared solve
-/// failed is left out: its members bind alone).
+/// Harmonic leaf cages, grouped by shape as the join cages are; each class of two or more is
+/// solved once, in the frame of its first cage whether or not that cage has points in this
+/// chunk, so that every chunk of a streamed bind reads the same cached solve. The tables by leaf
+/// cage (a class whose shared solve failed is left out: its members bind alone).
 fn shared_leaf_tables(
     set: &CageSet,
     topology: &Topology,
@@ -867,20 +913,27 @@ fn shared_leaf_tables(
     settings: &BindSettings,
     control: &BindControl,
 ) -> Result<BTreeMap<usize, Table>, StarError> {
-    let mut classes: BTreeMap<ShapeKey, Vec<(usize, ShapePlacement)>> = BTreeMap::new();
-    for (c, list) in members.iter().enumerate() {
-        if set.leaves[c].kind == CoordinateKind::Harmonic && !list.is_empty() {
-            let (key, placement) = shape_class(&topology.leaves[c].cage);
-            classes.entry(key).or_default().push((c, placement));
-        }
-    }
+    let classes = classes_by_shape(
+        (0..members.len())
+            .filter(|&c| set.leaves[c].kind == CoordinateKind::Harmonic)
+            .map(|c| {
+                (
+                    c,
+                    shape_class(&topology.leaves[c].cage),
+                    !members[c].is_empty(),
+                )
+            }),
+    );
     let solved = classes
-        .into_values()
-        .filter(|class| class.len() > 1)
-        .collect::<Vec<_>>()
         .par_iter()
         .map(|class| {
+            let frame = Congruent {
+                cage: &topology.leaves[class.frame.0],
+                placement: &class.frame.1,
+                points: Vec::new(),
+            };
             let congruent: Vec<Congruent> = class
+                .members
                 .iter()
                 .map(|(c, placement)| Congruent {
                     cage: &topology.leaves[*c],
@@ -888,8 +941,9 @@ fn shared_leaf_tables(
                     points: members[*c].clone(),
                 })
                 .collect();
-            let tables = solve_congruent(&congruent, points, settings, control)?;
+            let tables = solve_congruent(&frame, &congruent, points, settings, control)?;
             Ok(class
+                .members
                 .iter()
                 .map(|(c, _)| *c)
                 .zip(tables)

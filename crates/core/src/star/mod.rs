@@ -495,6 +495,69 @@ mod tests {
         }
     }
 
+    /// A streamed bind solves each class of congruent harmonic leaves once, in its first
+    /// cage's frame: a chunk holding no point of a harmonic cage solves nothing for it, and a
+    /// chunk holding points of only the class's second cage still reads the first's solve.
+    /// (The creature's four thighs are two mirrored pairs; the resolution is one no other test
+    /// uses, so the solve count is this test's alone.)
+    #[test]
+    fn a_streamed_bind_solves_each_class_of_congruent_harmonic_leaves_once() {
+        let mut scene = demo_scene("creature", 0.2).unwrap();
+        scene.settings.harmonic.resolution = 13;
+        let points = scene.mesh.welded_positions();
+        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates).unwrap();
+        let thighs: Vec<usize> = (0..scene.cages.leaves.len())
+            .filter(|&c| scene.cages.leaves[c].kind == CoordinateKind::Harmonic)
+            .collect();
+        assert_eq!(thighs.len(), 4);
+        let chunk = points.len() / 40 + 1;
+        StarBinding::bind_points_in_chunks(&scene, points, &BindControl::default(), chunk).unwrap();
+        let solves: Vec<usize> = thighs
+            .iter()
+            .map(|&c| crate::coords::solves_of(&topology.leaves[c].cage, &scene.settings.harmonic))
+            .collect();
+        assert_eq!(
+            solves.iter().sum::<usize>(),
+            2,
+            "solves per thigh: {solves:?}"
+        );
+        assert!(
+            solves.iter().all(|&n| n <= 1),
+            "solves per thigh: {solves:?}"
+        );
+    }
+
+    /// The same for harmonic join cages: a class of congruent join cages is solved in its
+    /// frame only, whichever of its members a chunk's points need.
+    #[test]
+    fn a_streamed_bind_solves_each_class_of_congruent_harmonic_join_cages_once() {
+        let mut scene = demo_scene("egg", 0.5).unwrap();
+        scene.settings.join_coordinates = crate::scene::JoinPolicy::Hc;
+        scene.settings.harmonic.resolution = 11;
+        let points = scene.mesh.welded_positions();
+        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates).unwrap();
+        let everything: bind::Needs = topology
+            .joins
+            .keys()
+            .map(|&v| (v, (0..points.len()).collect()))
+            .collect();
+        let classes = bind::harmonic_classes(&topology, &everything);
+        let chunk = points.len() / 10 + 1;
+        StarBinding::bind_points_in_chunks(&scene, points, &BindControl::default(), chunk).unwrap();
+        let solves_of = |v: u32| {
+            crate::coords::solves_of(&topology.joins[&v].local.cage, &scene.settings.harmonic)
+        };
+        let mut members = 0;
+        for class in &classes {
+            assert!(solves_of(class.frame.0) <= 1, "frame {}", class.frame.0);
+            for (v, _) in class.members.iter().filter(|(v, _)| *v != class.frame.0) {
+                assert_eq!(solves_of(*v), 0, "join cage of {v} solved alone");
+                members += 1;
+            }
+        }
+        assert!(members >= 2, "{members} members beside their frames");
+    }
+
     /// The progress of a streamed bind covers all its chunks: it ends the bind near 1 and never
     /// above, and the stages are forgotten afterwards.
     #[test]

@@ -196,6 +196,11 @@ pub(super) fn cached_field(
         }
     }
     let field = Arc::new(solve_field(cage, settings, control)?);
+    #[cfg(test)]
+    SOLVED
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .push(FieldKey::new(cage, settings));
     let bytes = field.bytes();
     let mut cache = CACHE
         .lock()
@@ -236,4 +241,21 @@ pub(crate) fn cache_hits() -> u64 {
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner())
         .hits
+}
+
+/// Every field solved so far in this process (for tests).
+#[cfg(test)]
+static SOLVED: Mutex<Vec<FieldKey>> = Mutex::new(Vec::new());
+
+/// How many times `cage`'s field under `settings` was solved in this process (for tests: a
+/// test that counts picks settings no other test uses, since tests share the process).
+#[cfg(test)]
+pub(crate) fn solves_of(cage: &Cage, settings: &HarmonicSettings) -> usize {
+    let key = FieldKey::new(cage, settings);
+    SOLVED
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .iter()
+        .filter(|k| **k == key)
+        .count()
 }

@@ -24,6 +24,8 @@
 #![allow(clippy::needless_range_loop)]
 
 mod field;
+#[cfg(test)]
+pub(crate) use field::solves_of;
 mod grid;
 mod multigrid;
 
@@ -140,6 +142,11 @@ pub(crate) fn harmonic_bind(
     control: &BindControl,
 ) -> Result<Vec<f64>, CoordError> {
     settings.check().map_err(CoordError::Settings)?;
+    // No points, no rows: the field is not solved for nothing (a chunk of a streamed bind
+    // may hold no point of this cage).
+    if points.is_empty() {
+        return Ok(Vec::new());
+    }
     let sites = sites_of(cage, points)?;
     let field = field::cached_field(cage, settings, control)?;
     control.check()?;
