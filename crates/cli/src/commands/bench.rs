@@ -68,6 +68,11 @@ pub struct BenchArgs {
         value_name = "N,N,..."
     )]
     segments: Vec<u32>,
+    /// Instead of the tables above, one drag update per internal cage of this scene (an
+    /// `autorig --internal` rig, say): the hierarchy's propagation, the sparse update and the
+    /// driver map the editor's drags use, per update (docs/performance.md).
+    #[arg(long, value_name = "SCENE", conflicts_with = "scale")]
+    drags: Option<PathBuf>,
     /// Python with Blender 5's `bpy` (a throw-away venv): `--scale` also times Mesh Deform
     /// (precision 5) on each size, through scripts/blender_mesh_deform_bind.py.
     #[arg(long, value_name = "PYTHON")]
@@ -431,6 +436,9 @@ fn wave(scene: &Scene) -> Vec<DVec3> {
 
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(scene) = &args.drags {
+        return super::bench_drag::run(scene, args.json);
+    }
     if let Some(mesh) = &args.scale {
         return super::bench_scale::run(mesh, &args.segments, args.blender.as_ref(), args.json);
     }

@@ -4,6 +4,7 @@ pub mod autocage;
 pub mod autorig;
 pub mod bake;
 pub mod bench;
+pub mod bench_drag;
 pub mod bench_gpu;
 pub mod bench_scale;
 pub mod cages;

@@ -1,7 +1,8 @@
 //! `bench --h`: *Cages at each blending parameter (the paper's Table I), with bind ratios;
-//! `bench --scale`: the bind's time and memory against mesh size.
+//! `bench --scale`: the bind's time and memory against mesh size; `bench --drags`: drags of
+//! internal cages.
 
-use crate::common::{cli, dir, stderr};
+use crate::common::{cli, dir, ok, s, stderr};
 
 #[test]
 fn bench_sweeps_h_and_reports_bind_ratios() {
@@ -108,5 +109,49 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
         stderr(&huge).contains("use fewer cuts"),
         "{}",
         stderr(&huge)
+    );
+}
+
+/// `bench --drags` times a drag of each internal cage of the critter (its right ear made mean
+/// value, so that both drags have a driver map) and finds the map's mesh the sparse path's; a
+/// scene without internal cages is refused.
+#[test]
+fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
+    let d = dir("bench-drags");
+    ok(&cli(&[
+        "demo",
+        "critter",
+        "--detail",
+        "0.4",
+        "--out",
+        s(&d),
+    ]));
+    let path = d.join("critter.json");
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    for cage in scene["cages"].as_array_mut().unwrap() {
+        if cage["kind"] == "gc" {
+            cage["kind"] = "mvc".into();
+        }
+    }
+    std::fs::write(&path, serde_json::to_string(&scene).unwrap()).unwrap();
+    let out = cli(&["bench", "--drags", s(&path), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let drags = report["drags"].as_array().unwrap();
+    let names: Vec<&str> = drags.iter().map(|d| d["cage"].as_str().unwrap()).collect();
+    assert_eq!(names, ["ears", "head"]);
+    for drag in drags {
+        assert!(drag["map_ms"].as_f64().unwrap() > 0.0, "{drag}");
+        assert!(drag["map_error"].as_f64().unwrap() < 1e-5, "{drag}");
+        assert!(drag["rows"].as_u64().unwrap() > 0, "{drag}");
+    }
+    ok(&cli(&["demo", "bar", "--out", s(&d)]));
+    let bar = cli(&["bench", "--drags", s(&d.join("bar.json"))]);
+    assert_eq!(bar.status.code(), Some(2));
+    assert!(
+        stderr(&bar).contains("no internal cages"),
+        "{}",
+        stderr(&bar)
     );
 }

@@ -81,6 +81,35 @@ impl Follow {
         }
     }
 
+    /// The vertex's position as a linear combination of the parent's vertices, when it is one:
+    /// the weights of MVC and HC coordinates (eq. 2), blended by λ for [`Follow::Lambda`]
+    /// (an [`Follow::Offset`] adds a constant). None for Green coordinates, whose face normals
+    /// make the position nonlinear in the parent's vertices.
+    pub fn linear_weights(&self) -> Option<Vec<f64>> {
+        let of = |a: &Anchored| match &a.weights {
+            CageWeights::Vertex { weights, .. } if weights.point_count() == 1 => {
+                Some(weights.row(0).to_vec())
+            }
+            _ => None,
+        };
+        match self {
+            Self::Coordinates(a) | Self::Offset { anchor: a, .. } => of(a),
+            Self::Lambda {
+                anchor,
+                delta,
+                lambda,
+            } => {
+                let (a, d) = (of(anchor)?, of(delta)?);
+                (a.len() == d.len()).then(|| {
+                    a.iter()
+                        .zip(&d)
+                        .map(|(a, d)| (1.0 - lambda) * a + lambda * d)
+                        .collect()
+                })
+            }
+        }
+    }
+
     /// Where the parent alone puts the vertex: T_c(v) before any hand edit.
     pub fn anchor(&self) -> &Anchored {
         match self {

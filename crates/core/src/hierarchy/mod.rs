@@ -98,6 +98,10 @@ pub enum HierarchyError {
     },
 }
 
+/// The most drivers [`Hierarchy::driver_sensitivity`] takes: a drag of one internal cage's
+/// vertices (a box has 8), or a few dozen leaf vertices.
+pub const MAX_DRIVERS: usize = 64;
+
 /// Counters of the work the hierarchy did (none of it touches mesh weights).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct HierarchyStats {
@@ -359,6 +363,57 @@ impl Hierarchy {
         }
         pose.copy_from_slice(&new);
         Ok((0..n as u32).filter(|&v| changed[v as usize]).collect())
+    }
+
+    /// How every vertex that follows `drivers` (vertices moved by hand, at most
+    /// [`MAX_DRIVERS`]) moves per unit move of each: the derivative ∂v/∂d_m, the same along x, y
+    /// and z, as (vertex, one value per driver), sorted by vertex; a driver's own row is the
+    /// unit row. Exact while the follows stay as they are, which [`Hierarchy::apply`] changes
+    /// only the first time a parent moves under a vertex moved by hand before
+    /// ([`HierarchyStats::rebound`] says when). None when a Green internal cage is on the way
+    /// (its normals make the map nonlinear) or there are too many drivers.
+    pub fn driver_sensitivity(&self, drivers: &[u32]) -> Option<Vec<(u32, Vec<f64>)>> {
+        let n = self.parent.len();
+        let m = drivers.len();
+        if m == 0 || m > MAX_DRIVERS || drivers.iter().any(|&d| d as usize >= n) {
+            return None;
+        }
+        let mut sensitivity: Vec<Option<Vec<f64>>> = vec![None; n];
+        for (k, &d) in drivers.iter().enumerate() {
+            let mut unit = vec![0.0; m];
+            unit[k] = 1.0;
+            sensitivity[d as usize] = Some(unit);
+        }
+        for &l in &self.order {
+            let level = &self.levels[l];
+            if level
+                .global
+                .iter()
+                .all(|&v| sensitivity[v as usize].is_none())
+            {
+                continue;
+            }
+            for (k, &v) in level.owns.iter().enumerate() {
+                if drivers.contains(&v) {
+                    continue; // a hand move keeps its hand position
+                }
+                let weights = level.follow[k].linear_weights()?;
+                let mut row = vec![0.0; m];
+                for (&u, &w) in level.global.iter().zip(&weights) {
+                    if let Some(s) = &sensitivity[u as usize] {
+                        row.iter_mut().zip(s).for_each(|(r, s)| *r += w * s);
+                    }
+                }
+                sensitivity[v as usize] = Some(row);
+            }
+        }
+        Some(
+            sensitivity
+                .into_iter()
+                .enumerate()
+                .filter_map(|(v, s)| Some((v as u32, s?)))
+                .collect(),
+        )
     }
 
     /// The edit state, to store with a pose.

@@ -11,6 +11,7 @@
 mod assemble;
 mod bind;
 mod cache;
+mod drag;
 mod green_dofs;
 mod operator;
 mod partial;
@@ -27,6 +28,7 @@ pub use bind::Placement;
 pub use cache::{
     CacheOutcome, binding_key, cache_path, decode_binding_cache, encode_binding_cache,
 };
+pub use drag::DriverMap;
 pub use green_dofs::GreenDofs;
 pub use operator::StarOperator;
 pub use topology::{Border, JoinCage, Topology, TopologyError};

@@ -371,6 +371,7 @@ impl EditorState {
                     preview,
                     coarse_leaves: bound.coarse_leaves,
                     rest_view: std::sync::OnceLock::new(),
+                    drag: None,
                 };
                 rig.redeform_all(&self.doc.scene);
                 self.rig = Some(rig);
@@ -550,7 +551,14 @@ impl EditorState {
             return Ok(());
         }
         let start = Instant::now();
-        rig.redeform_rows(scene, &changed);
+        if self.gesture.is_some() {
+            let mut drivers: Vec<u32> = moves.iter().map(|(v, _)| *v).collect();
+            drivers.sort_unstable();
+            drivers.dedup();
+            rig.redeform_drag(scene, &drivers, &changed);
+        } else {
+            rig.redeform_rows(scene, &changed);
+        }
         self.stats.deform_ms = start.elapsed().as_secs_f64() * 1e3;
         self.generations.deformation += 1;
         Ok(())
@@ -685,6 +693,9 @@ impl EditorState {
         let Some(gesture) = self.gesture.take() else {
             return;
         };
+        if let Some(rig) = self.rig.as_mut() {
+            rig.end_drag(&self.doc.scene);
+        }
         if keep {
             match gesture.continues {
                 // One step back to before the edit the gesture continued.

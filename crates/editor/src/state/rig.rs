@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use starcages_core::hierarchy::Hierarchy;
 use starcages_core::scene::{CageSet, Scene, SceneSettings};
-use starcages_core::star::StarBinding;
+use starcages_core::star::{DriverMap, StarBinding};
 
 use super::jobs::Scope;
 
@@ -34,6 +34,9 @@ pub struct Rig {
     /// The rest pose's DOFs and deformed mesh, as Rig mode shows them: computed on the first
     /// frame that needs them, not on every frame (a full product over a large mesh).
     pub rest_view: std::sync::OnceLock<RestView>,
+    /// The drag in progress as an affine map of the vertices it moves by hand, when its moves
+    /// reach far through the hierarchy ([`Rig::redeform_drag`]).
+    pub drag: Option<DriverMap>,
 }
 
 impl Rig {
@@ -79,6 +82,48 @@ impl Rig {
         operator.apply(&dofs, &mut deformed);
         self.dofs = Arc::new(dofs);
         self.deformed = Arc::new(deformed);
+    }
+
+    /// Updates the deformation during a drag of the vertices `drivers` (sorted) that moved the
+    /// cage vertices `changed`. The first update of a drag that reaches further than its
+    /// drivers (an internal cage's vertices moving leaf cages) is [`Rig::redeform_rows`]; it
+    /// then builds a [`DriverMap`], and the next updates move only its rows at a few weights
+    /// each (one per driver) instead of a sparse product. Where there is no map (a Green cage
+    /// on the way, a pose the map does not describe) it is [`Rig::redeform_rows`]. The drag's
+    /// end makes the result exact again ([`Rig::end_drag`]).
+    pub fn redeform_drag(&mut self, scene: &Scene, drivers: &[u32], changed: &[u32]) {
+        if let Some(map) = self.drag.as_ref().filter(|map| map.drivers() == drivers) {
+            let deformed = Arc::make_mut(&mut self.deformed);
+            if map.apply(&scene.pose, deformed) {
+                let operator = &self.binding.operator;
+                self.dofs = Arc::new(operator.dofs(&scene.cages.vertices, &scene.pose));
+                return;
+            }
+        }
+        self.redeform_rows(scene, changed);
+        self.drag = None;
+        if changed.len() > drivers.len() {
+            self.drag = self
+                .hierarchy
+                .driver_sensitivity(drivers)
+                .and_then(|sensitivity| {
+                    DriverMap::new(
+                        &self.binding.operator,
+                        drivers,
+                        &sensitivity,
+                        &scene.pose,
+                        &self.deformed,
+                    )
+                });
+        }
+    }
+
+    /// Ends a drag: a drag that went through a [`DriverMap`] gets the whole product, so the mesh
+    /// is what a full deformation of the pose gives, bit for bit.
+    pub fn end_drag(&mut self, scene: &Scene) {
+        if self.drag.take().is_some() {
+            self.redeform_all(scene);
+        }
     }
 
     /// Updates the deformation after the cage vertices `changed` moved: only the mesh rows

@@ -1,0 +1,198 @@
+//! `starcages-cli bench --drags SCENE`: what one update of a drag of each internal cage costs,
+//! as the editor runs it. Each internal cage's vertices are turned about their centre in
+//! small steps through the hierarchy; per update it times the hierarchy's propagation, the
+//! sparse path the editor used before (`StarOperator::apply_after_move`: the rows the moved
+//! cage vertices touch, or the whole product when those hold most weights) and the driver map
+//! (`DriverMap`, built once after the drag's first update), and checks that both give the same
+//! mesh.
+
+use std::path::Path;
+use std::time::Instant;
+
+use glam::{DQuat, DVec3, Vec3};
+use serde::Serialize;
+use starcages_core::hierarchy::Hierarchy;
+use starcages_core::scene::Scene;
+use starcages_core::star::{DriverMap, StarBinding};
+
+/// Updates timed per internal cage (the best is reported: this VM's timings are noisy).
+const UPDATES: usize = 12;
+
+/// One internal cage's drag.
+#[derive(Serialize)]
+struct Drag {
+    cage: String,
+    /// Its vertices, moved by hand.
+    drivers: usize,
+    /// Cage vertices that follow them through the hierarchy.
+    followers: usize,
+    /// Mesh rows that move.
+    rows: usize,
+    /// Per update: the hierarchy's propagation.
+    hierarchy_ms: f64,
+    /// Per update: the sparse path (`apply_after_move`) with the DOFs.
+    sparse_ms: f64,
+    /// Per update: the driver map with the DOFs; none where the drag has no map (a Green
+    /// cage on the way).
+    map_ms: Option<f64>,
+    /// Building the map once, after the drag's first update.
+    map_build_ms: Option<f64>,
+    /// Largest distance between the two paths' meshes over the mesh's diagonal.
+    map_error: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct Report {
+    scene: String,
+    mesh_vertices: usize,
+    nonzeros: usize,
+    bind_s: f64,
+    drags: Vec<Drag>,
+}
+
+fn milliseconds(start: Instant) -> f64 {
+    start.elapsed().as_secs_f64() * 1e3
+}
+
+/// The moves that turn `drivers` (at `start`) by `angle` about z through their centre.
+fn turned(drivers: &[u32], start: &[DVec3], angle: f64) -> Vec<(u32, DVec3)> {
+    let centre = start.iter().sum::<DVec3>() / start.len().max(1) as f64;
+    let turn = DQuat::from_rotation_z(angle);
+    drivers
+        .iter()
+        .zip(start)
+        .map(|(&d, &p)| (d, centre + turn * (p - centre)))
+        .collect()
+}
+
+/// Times a drag of internal cage `index`.
+fn bench_drag(
+    scene: &Scene,
+    binding: &StarBinding,
+    index: usize,
+    diagonal: f64,
+) -> anyhow::Result<Drag> {
+    let rest = &scene.cages.vertices;
+    let operator = &binding.operator;
+    let mut hierarchy = Hierarchy::bind(scene)?;
+    let name = &scene.cages.internals[index].name;
+    let drivers = scene.cages.cage_vertices(name).unwrap_or_default();
+    let start: Vec<DVec3> = drivers.iter().map(|&d| scene.pose[d as usize]).collect();
+    let mut pose = scene.pose.clone();
+    let mut sparse: Vec<Vec3> = binding.deform(rest, &pose);
+    // The drag's first update, as the editor makes it, then the map from where it left.
+    let changed = hierarchy.apply(&mut pose, &turned(&drivers, &start, 0.01))?;
+    operator.apply_after_move(&changed, &operator.dofs(rest, &pose), &mut sparse);
+    let build = Instant::now();
+    let map = hierarchy
+        .driver_sensitivity(&drivers)
+        .and_then(|s| DriverMap::new(operator, &drivers, &s, &pose, &sparse));
+    let map_build_ms = map.as_ref().map(|_| milliseconds(build));
+    let mut through_map = sparse.clone();
+    let (mut hierarchy_ms, mut sparse_ms, mut map_ms) = (f64::MAX, f64::MAX, f64::MAX);
+    let mut map_error: f64 = 0.0;
+    for step in 1..=UPDATES {
+        let moves = turned(&drivers, &start, 0.01 * (step + 1) as f64);
+        let t = Instant::now();
+        let changed = hierarchy.apply(&mut pose, &moves)?;
+        hierarchy_ms = hierarchy_ms.min(milliseconds(t));
+        let t = Instant::now();
+        let dofs = operator.dofs(rest, &pose);
+        operator.apply_after_move(&changed, &dofs, &mut sparse);
+        sparse_ms = sparse_ms.min(milliseconds(t));
+        if let Some(map) = &map {
+            let t = Instant::now();
+            let _dofs = operator.dofs(rest, &pose); // the GPU path reads them
+            if !map.apply(&pose, &mut through_map) {
+                anyhow::bail!("the driver map does not describe step {step} of the drag");
+            }
+            map_ms = map_ms.min(milliseconds(t));
+            let worst = sparse
+                .iter()
+                .zip(&through_map)
+                .map(|(a, b)| f64::from((*a - *b).length()))
+                .fold(0.0, f64::max);
+            map_error = map_error.max(worst / diagonal);
+        }
+    }
+    Ok(Drag {
+        cage: name.clone(),
+        drivers: drivers.len(),
+        followers: hierarchy
+            .driver_sensitivity(&drivers)
+            .map_or(changed.len(), |s| s.len()),
+        rows: map.as_ref().map_or(0, DriverMap::row_count),
+        hierarchy_ms,
+        sparse_ms,
+        map_ms: map.as_ref().map(|_| map_ms),
+        map_build_ms,
+        map_error: map.as_ref().map(|_| map_error),
+    })
+}
+
+/// Runs the drag bench on the scene at `path`.
+pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
+    let scene = starcages_core::scene::load_scene(path)?;
+    if scene.cages.internals.is_empty() {
+        return Err(crate::InputError(format!(
+            "{}: the scene has no internal cages to drag; make a rig with \
+             `autorig --internal` or add one with `internal-cage`",
+            path.display()
+        ))
+        .into());
+    }
+    let name = path
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let t = Instant::now();
+    let binding = super::deform::bind(&scene, path, false, &name)?;
+    let bind_s = t.elapsed().as_secs_f64();
+    let (lo, hi) = scene.mesh.bounds();
+    let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);
+    let mut drags = Vec::new();
+    for index in 0..scene.cages.internals.len() {
+        drags.push(bench_drag(&scene, &binding, index, diagonal)?);
+    }
+    let report = Report {
+        scene: name,
+        mesh_vertices: binding.operator.row_count(),
+        nonzeros: binding.operator.nonzeros(),
+        bind_s,
+        drags,
+    };
+    if json {
+        return crate::output::line(serde_json::to_string_pretty(&report)?);
+    }
+    crate::output::line(format!(
+        "{}: {} mesh vertices, {} weights, bound in {:.2} s; one drag update per internal cage (best of {UPDATES}):",
+        report.scene, report.mesh_vertices, report.nonzeros, report.bind_s
+    ))?;
+    crate::output::line(format!(
+        "{:<20} {:>7} {:>9} {:>9} {:>12} {:>10} {:>8} {:>12} {:>10}",
+        "cage",
+        "drivers",
+        "followers",
+        "rows",
+        "hierarchy ms",
+        "sparse ms",
+        "map ms",
+        "map build ms",
+        "map error"
+    ))?;
+    let or_dash = |v: Option<f64>, digits: usize| v.map_or("-".into(), |v| format!("{v:.digits$}"));
+    for d in &report.drags {
+        crate::output::line(format!(
+            "{:<20} {:>7} {:>9} {:>9} {:>12.2} {:>10.2} {:>8} {:>12} {:>10}",
+            d.cage,
+            d.drivers,
+            d.followers,
+            d.rows,
+            d.hierarchy_ms,
+            d.sparse_ms,
+            or_dash(d.map_ms, 2),
+            or_dash(d.map_build_ms, 1),
+            d.map_error.map_or("-".into(), |e| format!("{e:.1e}")),
+        ))?;
+    }
+    Ok(())
+}
