@@ -73,6 +73,11 @@ pub struct BenchArgs {
     /// driver map the editor's drags use, per update (docs/performance.md).
     #[arg(long, value_name = "SCENE", conflicts_with = "scale")]
     drags: Option<PathBuf>,
+    /// Instead of the tables above, one-vertex rest edits of up to 64 leaf-cage vertices spread
+    /// over this scene's rig: per vertex, its cages, the share of rows bound again and the
+    /// re-bind's time against a full bind (docs/performance.md).
+    #[arg(long, value_name = "SCENE", conflicts_with_all = ["scale", "drags"])]
+    rest_edits: Option<PathBuf>,
     /// Python with Blender 5's `bpy` (a throw-away venv): `--scale` also times Mesh Deform
     /// (precision 5) on each size, through scripts/blender_mesh_deform_bind.py.
     #[arg(long, value_name = "PYTHON")]
@@ -389,17 +394,7 @@ fn bench_rest_edit(
     }) else {
         return Ok((0.0, 0.0, 0.0));
     };
-    let shortest = scene
-        .cages
-        .leaves
-        .iter()
-        .flat_map(|c| &c.faces)
-        .flat_map(|f| (0..f.len()).map(move |k| (f[k], f[(k + 1) % f.len()])))
-        .filter(|&(a, b)| a == vertex || b == vertex)
-        .map(|(a, b)| rest[a as usize].distance(rest[b as usize]))
-        .fold(f64::INFINITY, f64::min);
-    let mut edited = scene.clone();
-    edited.cages.vertices[vertex as usize] += DVec3::new(0.6, 0.48, 0.64) * 0.01 * shortest;
+    let edited = super::bench_rest_edit::edited(scene, vertex);
     let control = BindControl::default();
     let rows = binding.rows_affected_by_rest_edit(&edited, &[vertex])?;
     let start = Instant::now();
@@ -436,6 +431,9 @@ fn wave(scene: &Scene) -> Vec<DVec3> {
 
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(scene) = &args.rest_edits {
+        return super::bench_rest_edit::run(scene, args.json);
+    }
     if let Some(scene) = &args.drags {
         return super::bench_drag::run(scene, args.json);
     }

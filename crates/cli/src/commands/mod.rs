@@ -6,6 +6,7 @@ pub mod bake;
 pub mod bench;
 pub mod bench_drag;
 pub mod bench_gpu;
+pub mod bench_rest_edit;
 pub mod bench_scale;
 pub mod cages;
 pub mod deform;

@@ -155,3 +155,33 @@ fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
         stderr(&bar)
     );
 }
+
+/// `bench --rest-edits` edits the bar's leaf-cage vertices one by one and reports, per vertex,
+/// its cages and the share of rows bound again; the vertices of both cages (on their shared
+/// face) reach every row, a vertex of one cage alone fewer.
+#[test]
+fn bench_rest_edits_reports_each_vertex_s_reach() {
+    let d = dir("bench-rest-edits");
+    ok(&cli(&["demo", "bar", "--detail", "0.3", "--out", s(&d)]));
+    let out = cli(&["bench", "--rest-edits", s(&d.join("bar.json")), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let edits = report["edits"].as_array().unwrap();
+    assert_eq!(
+        edits.len(),
+        12,
+        "the bar's two boxes share 4 of their 12 vertices"
+    );
+    let rows_of = |cages: usize| -> Vec<f64> {
+        edits
+            .iter()
+            .filter(|e| e["cages"].as_array().unwrap().len() == cages)
+            .map(|e| e["rows"].as_f64().unwrap())
+            .collect()
+    };
+    let (shared, own) = (rows_of(2), rows_of(1));
+    assert_eq!((shared.len(), own.len()), (4, 8));
+    assert!(shared.iter().all(|&r| r > 0.99), "{shared:?}");
+    assert!(own.iter().all(|&r| r > 0.0 && r < 0.99), "{own:?}");
+    assert!(report["full_bind_s"].as_f64().unwrap() > 0.0);
+}

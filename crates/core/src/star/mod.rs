@@ -214,6 +214,17 @@ impl StarBinding {
         Self::bind_points_in_chunks(scene, points, control, bind_chunk_points(points.len()))
     }
 
+    /// [`StarBinding::bind_points`] with `scene`'s topology, built by the caller.
+    pub(crate) fn bind_points_with(
+        scene: &Scene,
+        topology: &Topology,
+        points: &[DVec3],
+        control: &BindControl,
+    ) -> Result<Self, StarError> {
+        let chunk = bind_chunk_points(points.len());
+        Self::bind_points_in_chunks_with(scene, topology, points, control, chunk)
+    }
+
     /// [`StarBinding::bind_points`], `chunk` points at a time.
     fn bind_points_in_chunks(
         scene: &Scene,
@@ -221,10 +232,21 @@ impl StarBinding {
         control: &BindControl,
         chunk: usize,
     ) -> Result<Self, StarError> {
+        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
+        Self::bind_points_in_chunks_with(scene, &topology, points, control, chunk)
+    }
+
+    /// [`StarBinding::bind_points_in_chunks`] with `scene`'s topology.
+    fn bind_points_in_chunks_with(
+        scene: &Scene,
+        topology: &Topology,
+        points: &[DVec3],
+        control: &BindControl,
+        chunk: usize,
+    ) -> Result<Self, StarError> {
         let start = Instant::now();
         let pairs_before = control.kernel_pairs();
-        let topology = Topology::new(&scene.cages, scene.settings.join_coordinates)?;
-        let placement = place(scene, &topology, points)?;
+        let placement = place(scene, topology, points)?;
         // Streamed: each chunk's rows (dense coordinate tables, unpacked rows) are packed into
         // the CSR arrays and freed before the next, so the bind's transient memory is one
         // chunk's, whatever the mesh size (issue 29).
@@ -242,7 +264,7 @@ impl StarBinding {
             stages.enter(k);
             let rows = bind::bind_rows(
                 &scene.cages,
-                &topology,
+                topology,
                 &scene.settings,
                 &points[range.clone()],
                 &placement[range],
