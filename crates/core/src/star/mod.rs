@@ -16,6 +16,7 @@ mod green_dofs;
 mod operator;
 mod partial;
 mod shape_class;
+mod splice_transpose;
 mod tables;
 pub mod topology;
 

@@ -8,6 +8,7 @@ use glam::{DVec3, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::green_dofs::GreenDofs;
+use super::splice_transpose::{Side, Transpose, spliced_transpose};
 use super::tables::Row;
 
 /// The compiled operator.
@@ -176,29 +177,47 @@ impl StarOperator {
     /// The operator over CSR arrays whose indices are in range (callers check), with the
     /// transpose and the Green lists derived.
     fn from_csr(vertex_count: usize, green: GreenDofs, csr: Csr) -> Self {
-        let Csr {
-            row_start,
-            columns,
-            values,
-            rest_offset,
-        } = csr;
         let n_columns = vertex_count + green.len();
         let mut counts = vec![0u32; n_columns + 1];
-        for &c in &columns {
+        for &c in &csr.columns {
             counts[c as usize + 1] += 1;
         }
         for k in 1..counts.len() {
             counts[k] += counts[k - 1];
         }
         let column_start = counts.clone();
-        let mut column_rows = vec![0u32; columns.len()];
+        let mut column_rows = vec![0u32; csr.columns.len()];
         let mut fill = counts;
-        for (r, range) in row_start.windows(2).enumerate() {
-            for &c in &columns[range[0] as usize..range[1] as usize] {
+        for (r, range) in csr.row_start.windows(2).enumerate() {
+            for &c in &csr.columns[range[0] as usize..range[1] as usize] {
                 column_rows[fill[c as usize] as usize] = r as u32;
                 fill[c as usize] += 1;
             }
         }
+        let transpose = Transpose {
+            start: column_start,
+            rows: column_rows,
+        };
+        Self::from_csr_and_transpose(vertex_count, green, csr, transpose)
+    }
+
+    /// The operator of `csr` with its transpose, already built.
+    fn from_csr_and_transpose(
+        vertex_count: usize,
+        green: GreenDofs,
+        csr: Csr,
+        transpose: Transpose,
+    ) -> Self {
+        let Csr {
+            row_start,
+            columns,
+            values,
+            rest_offset,
+        } = csr;
+        let Transpose {
+            start: column_start,
+            rows: column_rows,
+        } = transpose;
         let (green_of_vertex_start, green_of_vertex) = green_of_vertex(&green, vertex_count);
         Self {
             vertex_count,
@@ -246,7 +265,30 @@ impl StarOperator {
             kept_from = r + 1;
         }
         out.copy_rows(self, kept_from..count);
-        Self::from_csr(self.vertex_count, green, out)
+        // The transpose from ours, column by column (or whole again if the part's columns do
+        // not map one to one).
+        let part_to_ours: Vec<u32> = (0..part.dof_count() as u32).map(&remap).collect();
+        let transpose = spliced_transpose(
+            &Side {
+                transpose: (&self.column_start, &self.column_rows),
+                row_start: &self.row_start,
+                columns: &self.columns,
+            },
+            rows,
+            &Side {
+                transpose: (&part.column_start, &part.column_rows),
+                row_start: &part.row_start,
+                columns: &part.columns,
+            },
+            &part_to_ours,
+            self.vertex_count + green.len(),
+        );
+        match transpose {
+            Some(transpose) => {
+                Self::from_csr_and_transpose(self.vertex_count, green, out, transpose)
+            }
+            None => Self::from_csr(self.vertex_count, green, out),
+        }
     }
 
     /// Sets each row's rest offset so that the rest cage `rest` gives `points` back:
@@ -538,6 +580,78 @@ impl StarOperator {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A splice's transpose, merged column by column from the one before, is the transpose of
+    /// the spliced CSR built whole: replacing rows first, last and in between, with rows that
+    /// drop columns, gain new ones and reach Green columns the part adds; and where two of the
+    /// part's columns map to one of ours, the whole transpose is built instead.
+    #[test]
+    fn a_spliced_transpose_is_the_transpose_of_the_spliced_rows() {
+        let row = |r: u32, width: u32, shift: u32| -> Row {
+            (0..width)
+                .map(|k| ((r * 7 + k * 5 + shift) % 12, 0.1 + f64::from(k)))
+                .collect::<std::collections::BTreeMap<u32, f64>>()
+                .into_iter()
+                .collect()
+        };
+        let old_rows: Vec<Row> = (0..40u32).map(|r| row(r, 1 + r % 5, 0)).collect();
+        let green = GreenDofs::from_triangles(vec![[0, 1, 2], [3, 4, 5]]);
+        let old = StarOperator::from_rows(&old_rows, 10, green);
+        let replaced = [0usize, 3, 4, 17, 39];
+        // The part: 10 vertex columns and three Green triangles, the first ours, then two new.
+        let part_green = GreenDofs::from_triangles(vec![[3, 4, 5], [6, 7, 8], [1, 8, 9]]);
+        let part_rows: Vec<Row> = (0..replaced.len() as u32)
+            .map(|k| row(k, 2 + k % 4, 3))
+            .collect();
+        let part = StarOperator::from_rows(&part_rows, 10, part_green);
+        let all = GreenDofs::from_triangles(vec![[0, 1, 2], [3, 4, 5], [6, 7, 8], [1, 8, 9]]);
+        let part_green_to_ours = [11u32, 12, 13];
+        let remap = |c: u32| {
+            if c < 10 {
+                c
+            } else {
+                part_green_to_ours[(c - 10) as usize]
+            }
+        };
+        let spliced = old.splice(&replaced, &part, remap, all.clone());
+        let (_, row_start, columns, values) = spliced.parts();
+        let whole = StarOperator::from_csr(
+            10,
+            all.clone(),
+            Csr {
+                row_start: row_start.to_vec(),
+                columns: columns.to_vec(),
+                values: values.to_vec(),
+                rest_offset: spliced.rest_offset.clone(),
+            },
+        );
+        assert_eq!(spliced.column_start, whole.column_start);
+        assert_eq!(spliced.column_rows, whole.column_rows);
+        assert!(spliced.column_rows.len() > 20);
+        // Two part columns onto one of ours: built whole, still right.
+        let collapsed = old.splice(&replaced, &part, |c| c.min(11), all);
+        let (_, row_start, columns, values) = collapsed.parts();
+        let mut csr_rows: Vec<Row> = Vec::new();
+        for r in 0..collapsed.row_count() {
+            let (a, b) = (row_start[r] as usize, row_start[r + 1] as usize);
+            csr_rows.push(
+                columns[a..b]
+                    .iter()
+                    .zip(&values[a..b])
+                    .map(|(&c, &v)| (c, f64::from(v)))
+                    .collect(),
+            );
+        }
+        assert_eq!(collapsed.row_count(), 40);
+        let rows_of_11: Vec<u32> = (0..40u32)
+            .filter(|&r| csr_rows[r as usize].iter().any(|(c, _)| *c == 11))
+            .collect();
+        let (a, b) = (
+            collapsed.column_start[11] as usize,
+            collapsed.column_start[12] as usize,
+        );
+        assert_eq!(collapsed.column_rows[a..b], rows_of_11[..]);
+    }
 
     /// After a move, the rows found one by one (few columns) and the full product (columns
     /// holding more than a fifth of the weights) both give what a full product from scratch
