@@ -207,12 +207,10 @@ impl Hierarchy {
         let mut rz = dots(fine, &r, &z);
         let mut q = vec![[0.0; K]; n];
         for iteration in 0..max_iterations {
-            apply(fine, &p, &mut q);
-            let pq = dots(fine, &p, &q);
+            // The products come with the passes that make their vectors (one read fewer each).
+            let pq = apply_and_dot(fine, &p, &mut q);
             let alpha: Row = std::array::from_fn(|c| if pq[c] > 0.0 { rz[c] / pq[c] } else { 0.0 });
-            axpy(x, &alpha, &p, 1.0);
-            axpy(&mut r, &alpha, &q, -1.0);
-            let r_norm = norms(fine, &r);
+            let r_norm = step_and_norm(x, &mut r, &alpha, &p, &q).map(f64::sqrt);
             if (0..K).all(|c| r_norm[c] <= tolerance * b_norm[c]) {
                 return SolveReport {
                     iterations: iteration + 1,
@@ -324,6 +322,63 @@ fn apply(l: &Level, p: &[Row], q: &mut [Row]) {
             }
             *qi = acc;
         });
+}
+
+/// q = L p, and p·q per column in the same pass.
+fn apply_and_dot(l: &Level, p: &[Row], q: &mut [Row]) -> Row {
+    q.par_iter_mut()
+        .enumerate()
+        .with_min_len(1024)
+        .fold(
+            || [0.0; K],
+            |mut dot, (s, qi)| {
+                if l.is_sentinel(s) {
+                    *qi = [0.0; K];
+                    return dot;
+                }
+                let d = l.diagonal[s];
+                let mut acc = p[s].map(|v| d * v);
+                for &m in &l.neighbours[s] {
+                    let v = &p[m as usize];
+                    for c in 0..K {
+                        acc[c] -= v[c];
+                    }
+                }
+                for c in 0..K {
+                    dot[c] += p[s][c] * acc[c];
+                }
+                *qi = acc;
+                dot
+            },
+        )
+        .reduce(|| [0.0; K], add_rows)
+}
+
+/// The CG step x += α p, r −= α q, and r·r per column in the same pass.
+fn step_and_norm(x: &mut [Row], r: &mut [Row], alpha: &Row, p: &[Row], q: &[Row]) -> Row {
+    x.par_iter_mut()
+        .zip(r.par_iter_mut())
+        .zip(p.par_iter().zip(q.par_iter()))
+        .with_min_len(4096)
+        .fold(
+            || [0.0; K],
+            |mut norm, ((xi, ri), (pi, qi))| {
+                for c in 0..K {
+                    xi[c] += alpha[c] * pi[c];
+                    ri[c] -= alpha[c] * qi[c];
+                    norm[c] += ri[c] * ri[c];
+                }
+                norm
+            },
+        )
+        .reduce(|| [0.0; K], add_rows)
+}
+
+fn add_rows(mut a: Row, b: Row) -> Row {
+    for c in 0..K {
+        a[c] += b[c];
+    }
+    a
 }
 
 /// Restriction ½ Pᵀ r, gathered per coarse node from its 27 fine neighbours.
@@ -442,15 +497,4 @@ fn dots(l: &Level, a: &[Row], b: &[Row]) -> Row {
 
 fn norms(l: &Level, a: &[Row]) -> Row {
     dots(l, a, a).map(f64::sqrt)
-}
-
-fn axpy(y: &mut [Row], alpha: &Row, x: &[Row], sign: f64) {
-    y.par_iter_mut()
-        .zip(x.par_iter())
-        .with_min_len(4096)
-        .for_each(|(yi, xi)| {
-            for c in 0..K {
-                yi[c] += sign * alpha[c] * xi[c];
-            }
-        });
 }
