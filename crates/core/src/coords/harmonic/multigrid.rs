@@ -253,13 +253,7 @@ impl Hierarchy {
             half_sweep(l, b, x, false);
         }
         let mut r = vec![[0.0; K]; l.len()];
-        apply(l, x, &mut r);
-        r.par_iter_mut().zip(b.par_iter()).for_each(|(ri, bi)| {
-            for c in 0..K {
-                ri[c] = bi[c] - ri[c];
-            }
-        });
-        zero_sentinels(l, &mut r);
+        residual(l, b, x, &mut r);
         let coarse = &self.levels[level + 1];
         let bc = restrict(l, coarse, &r);
         let mut xc = vec![[0.0; K]; coarse.len()];
@@ -302,25 +296,25 @@ fn half_sweep(l: &Level, b: &[Row], x: &mut [Row], red: bool) {
         });
 }
 
-/// q = L p.
-fn apply(l: &Level, p: &[Row], q: &mut [Row]) {
-    q.par_iter_mut()
+/// r = b − L x in one pass (zero on the sentinels).
+fn residual(l: &Level, b: &[Row], x: &[Row], r: &mut [Row]) {
+    r.par_iter_mut()
         .enumerate()
         .with_min_len(1024)
-        .for_each(|(s, qi)| {
+        .for_each(|(s, ri)| {
             if l.is_sentinel(s) {
-                *qi = [0.0; K];
+                *ri = [0.0; K];
                 return;
             }
             let d = l.diagonal[s];
-            let mut acc = p[s].map(|v| d * v);
+            let mut acc: Row = std::array::from_fn(|c| b[s][c] - d * x[s][c]);
             for &m in &l.neighbours[s] {
-                let v = &p[m as usize];
+                let v = &x[m as usize];
                 for c in 0..K {
-                    acc[c] -= v[c];
+                    acc[c] += v[c];
                 }
             }
-            *qi = acc;
+            *ri = acc;
         });
 }
 
