@@ -1,11 +1,12 @@
 //! Multigrid-preconditioned conjugate gradients for the grid Laplace equation of harmonic
-//! coordinates, solving `K` right-hand sides (cage vertices) at once.
+//! coordinates, solving `W` right-hand sides (cage vertices) at once: `K` (8), or 2 or 4 for
+//! a cage's last few vertices.
 //!
 //! The unknowns of each level are numbered compactly in red-black order, `[red…, 0, black…, 0]`,
 //! each block followed by a zero sentinel that stands for every non-unknown neighbour. A red
 //! node's neighbours are all black and vice versa, so a Gauss–Seidel half-sweep reads one
-//! block and writes the other: safe, parallel and cache friendly. Each node stores its `K`
-//! values contiguously (`[f64; K]`), so the stencil works on whole rows.
+//! block and writes the other: safe, parallel and cache friendly. Each node stores its `W`
+//! values contiguously (`[f64; W]`), so the stencil works on whole rows.
 //!
 //! The fine operator is D − (sum of unknown neighbours), symmetric with D ≥ 6 (the ghost-value
 //! boundary condition only raises the diagonal). The V-cycle (symmetric red-black
@@ -13,13 +14,13 @@
 //! re-discretised 7-point Laplacians on injected coarse masks) is a symmetric positive definite
 //! preconditioner, so CG converges even where coarse masks lose thin parts of the cage.
 
-// Loops over the K right-hand-side columns index several rows at once; ranges read best.
+// Loops over the W right-hand-side columns index several rows at once; ranges read best.
 #![allow(clippy::needless_range_loop)]
 
 use glam::UVec3;
 use rayon::prelude::*;
 
-/// Number of right-hand sides solved together.
+/// Number of right-hand sides solved together (the width of a stored field's rows).
 pub(super) const K: usize = 8;
 /// A row of `K` values.
 pub(super) type Row = [f64; K];
@@ -189,40 +190,41 @@ impl Hierarchy {
 
     /// Solves `L x = b` (L = D − neighbours on the unknowns, D the diagonal) by MG-preconditioned CG, to a
     /// relative residual of `tolerance` per column. Returns the iterations used.
-    pub fn solve(
+    pub fn solve<const W: usize>(
         &self,
-        b: &[Row],
-        x: &mut [Row],
+        b: &[[f64; W]],
+        x: &mut [[f64; W]],
         tolerance: f64,
         max_iterations: usize,
     ) -> SolveReport {
         let fine = &self.levels[0];
         let n = fine.len();
-        x.fill([0.0; K]);
+        x.fill([0.0; W]);
         let mut r = b.to_vec();
         let b_norm = norms(fine, b);
-        let mut z = vec![[0.0; K]; n];
-        self.v_cycle(0, &r, &mut z);
+        let mut z = vec![[0.0; W]; n];
+        self.v_cycle::<W>(0, &r, &mut z);
         let mut p = z.clone();
         let mut rz = dots(fine, &r, &z);
-        let mut q = vec![[0.0; K]; n];
+        let mut q = vec![[0.0; W]; n];
         for iteration in 0..max_iterations {
             // The products come with the passes that make their vectors (one read fewer each).
             let pq = apply_and_dot(fine, &p, &mut q);
-            let alpha: Row = std::array::from_fn(|c| if pq[c] > 0.0 { rz[c] / pq[c] } else { 0.0 });
+            let alpha: [f64; W] =
+                std::array::from_fn(|c| if pq[c] > 0.0 { rz[c] / pq[c] } else { 0.0 });
             let r_norm = step_and_norm(x, &mut r, &alpha, &p, &q).map(f64::sqrt);
-            if (0..K).all(|c| r_norm[c] <= tolerance * b_norm[c]) {
+            if (0..W).all(|c| r_norm[c] <= tolerance * b_norm[c]) {
                 return SolveReport {
                     iterations: iteration + 1,
                 };
             }
-            self.v_cycle(0, &r, &mut z);
+            self.v_cycle::<W>(0, &r, &mut z);
             let rz_new = dots(fine, &r, &z);
-            let beta: Row =
+            let beta: [f64; W] =
                 std::array::from_fn(|c| if rz[c] > 0.0 { rz_new[c] / rz[c] } else { 0.0 });
             rz = rz_new;
             p.par_iter_mut().zip(z.par_iter()).for_each(|(pi, zi)| {
-                for c in 0..K {
+                for c in 0..W {
                     pi[c] = zi[c] + beta[c] * pi[c];
                 }
             });
@@ -234,9 +236,9 @@ impl Hierarchy {
     }
 
     /// One symmetric V-cycle from a zero initial guess: `x ≈ L⁻¹ b` on `level`.
-    fn v_cycle(&self, level: usize, b: &[Row], x: &mut [Row]) {
+    fn v_cycle<const W: usize>(&self, level: usize, b: &[[f64; W]], x: &mut [[f64; W]]) {
         let l = &self.levels[level];
-        x.fill([0.0; K]);
+        x.fill([0.0; W]);
         if level + 1 == self.levels.len() {
             for _ in 0..COARSE_SWEEPS {
                 half_sweep(l, b, x, true);
@@ -252,12 +254,12 @@ impl Hierarchy {
             half_sweep(l, b, x, true);
             half_sweep(l, b, x, false);
         }
-        let mut r = vec![[0.0; K]; l.len()];
+        let mut r = vec![[0.0; W]; l.len()];
         residual(l, b, x, &mut r);
         let coarse = &self.levels[level + 1];
         let bc = restrict(l, coarse, &r);
-        let mut xc = vec![[0.0; K]; coarse.len()];
-        self.v_cycle(level + 1, &bc, &mut xc);
+        let mut xc = vec![[0.0; W]; coarse.len()];
+        self.v_cycle::<W>(level + 1, &bc, &mut xc);
         prolong_add(l, coarse, &xc, x);
         for _ in 0..SMOOTHING_SWEEPS {
             half_sweep(l, b, x, false);
@@ -267,7 +269,7 @@ impl Hierarchy {
 }
 
 /// Over-relaxed Gauss–Seidel on one colour: x_i ← (1 − ω) x_i + ω (b_i + Σ neighbours) / D_i.
-fn half_sweep(l: &Level, b: &[Row], x: &mut [Row], red: bool) {
+fn half_sweep<const W: usize>(l: &Level, b: &[[f64; W]], x: &mut [[f64; W]], red: bool) {
     let split = l.black_start();
     let (red_part, black_part) = x.split_at_mut(split);
     let (written, read, offset, read_offset) = if red {
@@ -285,32 +287,32 @@ fn half_sweep(l: &Level, b: &[Row], x: &mut [Row], red: bool) {
             let mut acc = b[slot];
             for &m in nb {
                 let v = &read[m as usize - read_offset];
-                for c in 0..K {
+                for c in 0..W {
                     acc[c] += v[c];
                 }
             }
             let inv = OMEGA / l.diagonal[slot];
-            for c in 0..K {
+            for c in 0..W {
                 xi[c] = (1.0 - OMEGA) * xi[c] + acc[c] * inv;
             }
         });
 }
 
 /// r = b − L x in one pass (zero on the sentinels).
-fn residual(l: &Level, b: &[Row], x: &[Row], r: &mut [Row]) {
+fn residual<const W: usize>(l: &Level, b: &[[f64; W]], x: &[[f64; W]], r: &mut [[f64; W]]) {
     r.par_iter_mut()
         .enumerate()
         .with_min_len(1024)
         .for_each(|(s, ri)| {
             if l.is_sentinel(s) {
-                *ri = [0.0; K];
+                *ri = [0.0; W];
                 return;
             }
             let d = l.diagonal[s];
-            let mut acc: Row = std::array::from_fn(|c| b[s][c] - d * x[s][c]);
+            let mut acc: [f64; W] = std::array::from_fn(|c| b[s][c] - d * x[s][c]);
             for &m in &l.neighbours[s] {
                 let v = &x[m as usize];
-                for c in 0..K {
+                for c in 0..W {
                     acc[c] += v[c];
                 }
             }
@@ -319,45 +321,51 @@ fn residual(l: &Level, b: &[Row], x: &[Row], r: &mut [Row]) {
 }
 
 /// q = L p, and p·q per column in the same pass.
-fn apply_and_dot(l: &Level, p: &[Row], q: &mut [Row]) -> Row {
+fn apply_and_dot<const W: usize>(l: &Level, p: &[[f64; W]], q: &mut [[f64; W]]) -> [f64; W] {
     q.par_iter_mut()
         .enumerate()
         .with_min_len(1024)
         .fold(
-            || [0.0; K],
+            || [0.0; W],
             |mut dot, (s, qi)| {
                 if l.is_sentinel(s) {
-                    *qi = [0.0; K];
+                    *qi = [0.0; W];
                     return dot;
                 }
                 let d = l.diagonal[s];
                 let mut acc = p[s].map(|v| d * v);
                 for &m in &l.neighbours[s] {
                     let v = &p[m as usize];
-                    for c in 0..K {
+                    for c in 0..W {
                         acc[c] -= v[c];
                     }
                 }
-                for c in 0..K {
+                for c in 0..W {
                     dot[c] += p[s][c] * acc[c];
                 }
                 *qi = acc;
                 dot
             },
         )
-        .reduce(|| [0.0; K], add_rows)
+        .reduce(|| [0.0; W], add_rows)
 }
 
 /// The CG step x += α p, r −= α q, and r·r per column in the same pass.
-fn step_and_norm(x: &mut [Row], r: &mut [Row], alpha: &Row, p: &[Row], q: &[Row]) -> Row {
+fn step_and_norm<const W: usize>(
+    x: &mut [[f64; W]],
+    r: &mut [[f64; W]],
+    alpha: &[f64; W],
+    p: &[[f64; W]],
+    q: &[[f64; W]],
+) -> [f64; W] {
     x.par_iter_mut()
         .zip(r.par_iter_mut())
         .zip(p.par_iter().zip(q.par_iter()))
         .with_min_len(4096)
         .fold(
-            || [0.0; K],
+            || [0.0; W],
             |mut norm, ((xi, ri), (pi, qi))| {
-                for c in 0..K {
+                for c in 0..W {
                     xi[c] += alpha[c] * pi[c];
                     ri[c] -= alpha[c] * qi[c];
                     norm[c] += ri[c] * ri[c];
@@ -365,25 +373,25 @@ fn step_and_norm(x: &mut [Row], r: &mut [Row], alpha: &Row, p: &[Row], q: &[Row]
                 norm
             },
         )
-        .reduce(|| [0.0; K], add_rows)
+        .reduce(|| [0.0; W], add_rows)
 }
 
-fn add_rows(mut a: Row, b: Row) -> Row {
-    for c in 0..K {
+fn add_rows<const W: usize>(mut a: [f64; W], b: [f64; W]) -> [f64; W] {
+    for c in 0..W {
         a[c] += b[c];
     }
     a
 }
 
 /// Restriction ½ Pᵀ r, gathered per coarse node from its 27 fine neighbours.
-fn restrict(fine: &Level, coarse: &Level, r: &[Row]) -> Vec<Row> {
+fn restrict<const W: usize>(fine: &Level, coarse: &Level, r: &[[f64; W]]) -> Vec<[f64; W]> {
     let fd = fine.dims;
     (0..coarse.len())
         .into_par_iter()
         .with_min_len(256)
         .map(|s| {
             let node = coarse.node_of_slot[s];
-            let mut acc = [0.0; K];
+            let mut acc = [0.0; W];
             if node == NONE {
                 return acc;
             }
@@ -398,7 +406,7 @@ fn restrict(fine: &Level, coarse: &Level, r: &[Row]) -> Vec<Row> {
                             continue;
                         }
                         let w = 0.5 * weight(di) * weight(dj) * weight(dk);
-                        for c in 0..K {
+                        for c in 0..W {
                             acc[c] += w * r[fs as usize][c];
                         }
                     }
@@ -410,7 +418,7 @@ fn restrict(fine: &Level, coarse: &Level, r: &[Row]) -> Vec<Row> {
 }
 
 /// x += P xc: trilinear interpolation of the coarse correction onto fine unknowns.
-fn prolong_add(fine: &Level, coarse: &Level, xc: &[Row], x: &mut [Row]) {
+fn prolong_add<const W: usize>(fine: &Level, coarse: &Level, xc: &[[f64; W]], x: &mut [[f64; W]]) {
     let cd = coarse.dims;
     let fd = fine.dims;
     x.par_iter_mut()
@@ -433,7 +441,7 @@ fn prolong_add(fine: &Level, coarse: &Level, xc: &[Row], x: &mut [Row]) {
                             continue;
                         }
                         let w = wi * wj * wk;
-                        for c in 0..K {
+                        for c in 0..W {
                             xi[c] += w * xc[cs as usize][c];
                         }
                     }
@@ -458,30 +466,30 @@ fn weight(d: u32) -> f64 {
     if d == 1 { 1.0 } else { 0.5 }
 }
 
-fn zero_sentinels(l: &Level, v: &mut [Row]) {
-    v[l.red] = [0.0; K];
+fn zero_sentinels<const W: usize>(l: &Level, v: &mut [[f64; W]]) {
+    v[l.red] = [0.0; W];
     let last = l.len() - 1;
-    v[last] = [0.0; K];
+    v[last] = [0.0; W];
 }
 
-fn dots(l: &Level, a: &[Row], b: &[Row]) -> Row {
+fn dots<const W: usize>(l: &Level, a: &[[f64; W]], b: &[[f64; W]]) -> [f64; W] {
     let _ = l;
     a.par_iter()
         .zip(b.par_iter())
         .with_min_len(4096)
         .fold(
-            || [0.0; K],
+            || [0.0; W],
             |mut acc, (x, y)| {
-                for c in 0..K {
+                for c in 0..W {
                     acc[c] += x[c] * y[c];
                 }
                 acc
             },
         )
         .reduce(
-            || [0.0; K],
+            || [0.0; W],
             |mut s, t| {
-                for c in 0..K {
+                for c in 0..W {
                     s[c] += t[c];
                 }
                 s
@@ -489,6 +497,6 @@ fn dots(l: &Level, a: &[Row], b: &[Row]) -> Row {
         )
 }
 
-fn norms(l: &Level, a: &[Row]) -> Row {
+fn norms<const W: usize>(l: &Level, a: &[[f64; W]]) -> [f64; W] {
     dots(l, a, a).map(f64::sqrt)
 }
