@@ -12,7 +12,7 @@ use starcages_editor::state::InfluenceChoice;
 use starcages_editor::ui::vertex_on_screen;
 use starcages_editor::{CageId, Command, Document};
 
-use crate::common::{cage, harness, leaf, scratch, settle, undo};
+use crate::common::{cage, harness, leaf, press, press_with, scratch, settle, undo};
 
 #[test]
 fn dragging_a_picked_vertex_moves_the_mesh_near_its_cage_only_and_undoes_in_one_step() {
@@ -76,11 +76,11 @@ fn dragging_a_picked_vertex_moves_the_mesh_near_its_cage_only_and_undoes_in_one_
         .map(|(a, b)| a.distance(*b))
         .fold(0.0, f32::max);
     assert!(worst < 1e-5, "{worst}");
-    harness.key_press_modifiers(
+    press_with(
+        &mut harness,
         egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
         egui::Key::Z,
     );
-    harness.run_steps(2);
     let state = &harness.state().state;
     assert!(state.doc.scene.pose[v as usize].distance(before_pose[v as usize]) > 0.05);
     assert!(state.doc.dirty);
@@ -115,8 +115,7 @@ fn the_coordinates_combo_changes_a_cage_kind_and_undo_restores_it() {
     undo(&mut harness);
     settle(&mut harness);
     assert_eq!(kind(&harness), CoordinateKind::MeanValue);
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::Y);
     assert_eq!(kind(&harness), CoordinateKind::Green);
 }
 
@@ -150,8 +149,7 @@ fn the_h_slider_changes_the_influence_map() {
     );
     undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves[head].h, None);
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::Y);
     assert_eq!(
         harness.state().state.doc.scene.cages.leaves[head].h,
         Some(0.15)
@@ -182,8 +180,7 @@ fn grab_with_an_axis_lock_and_a_typed_distance_then_cancel_a_rotation() {
     // The header over the viewport and the status bar's hint.
     harness.get_by_label_contains("Grab along Z: 0.250  [typed 0.25]");
     harness.get_by_label_contains("Grab along Z: 0.25 — X/Y/Z lock");
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     let state = &harness.state().state;
     assert!(harness.state().ui.tool.is_none() && state.gesture.is_none());
     let moved = state.doc.scene.pose[v as usize] - start;
@@ -204,8 +201,7 @@ fn grab_with_an_axis_lock_and_a_typed_distance_then_cancel_a_rotation() {
         after_grab,
         "R follows the mouse"
     );
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Escape);
     assert_eq!(harness.state().state.doc.scene.pose, after_grab);
     assert_eq!(harness.state().state.undo.undo_label(), Some("grab"));
 }
@@ -263,8 +259,7 @@ fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable(
     assert_eq!(state.document_id, document_before);
     harness.get_by_label_contains("broken.json");
     // Still usable: the selection works.
-    harness.key_press(egui::Key::A);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::A);
     assert!(!harness.state().state.selection.vertices.is_empty());
 }
 
@@ -736,8 +731,7 @@ fn shortcuts_wait_while_a_dialog_is_open() {
         .ctx
         .memory_mut(|m| m.focused().map(|id| m.surrender_focus(id)));
     harness.hover_at(centre);
-    harness.key_press(egui::Key::R);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::R);
     assert!(harness.state().ui.tool.is_none(), "R started a rotation");
     harness.state_mut().ui.files.in_app = None;
     harness.run_steps(1);
@@ -763,24 +757,20 @@ fn orthographic_toggle_opposite_views_axis_gizmo_and_the_transform_header() {
     };
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
-    harness.key_press(egui::Key::Num5);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Num5);
     assert!(harness.state().state.view.camera.orthographic);
     harness.get_by_role_and_label(Role::Button, "View").click();
     harness.run_steps(2);
     harness.get_by_label_contains("(now orthographic)");
     harness.key_press(egui::Key::Escape);
-    harness.key_press(egui::Key::Num5);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Num5);
     assert!(!harness.state().state.view.camera.orthographic);
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Num1);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::Num1);
     assert!(
         looking(&harness).distance(-Vec3::Y) < 1e-3,
         "Ctrl+1 looks along -Y"
     );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Num7);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::Num7);
     assert!(
         looking(&harness).distance(Vec3::Z) < 1e-2,
         "Ctrl+7 looks up +Z"
@@ -857,8 +847,7 @@ fn orthographic_toggle_opposite_views_axis_gizmo_and_the_transform_header() {
             .threshold(2.0)
             .max_failed_pixels(1500),
     );
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Escape);
     assert!(harness.state().ui.tool.is_none());
 }
 
@@ -877,8 +866,7 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
         (egui::Key::A, egui::Modifiers::SHIFT),
         (egui::Key::R, egui::Modifiers::COMMAND),
     ] {
-        harness.key_press_modifiers(modifiers, key);
-        harness.run_steps(2);
+        press_with(&mut harness, modifiers, key);
         let message = harness.state().state.message.clone().unwrap();
         assert!(
             message.text.contains("Rig mode only") && message.text.contains("Tab"),
@@ -888,22 +876,19 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
     }
     // Tab switches to Rig mode and back; the status bar says which.
     harness.get_by_label("Pose mode");
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Tab);
     assert_eq!(
         harness.state().state.mode,
         starcages_editor::state::EditMode::Rig
     );
     harness.get_by_label("Rig mode");
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Tab);
     assert_eq!(
         harness.state().state.mode,
         starcages_editor::state::EditMode::Pose
     );
     harness.key_press(egui::Key::A);
-    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::A);
     // Messages fade: an old one is no longer in the status bar (but kept in the state).
     harness.state_mut().state.message.as_mut().unwrap().shown =
         std::time::Instant::now() - starcages_editor::state::Message::LIFETIME * 2;
@@ -917,8 +902,7 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
         mode: starcages_editor::state::SelectMode::Replace,
     });
     let before = app.state.doc.scene.pose[v as usize];
-    harness.key_press(egui::Key::N);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::N);
     assert!(harness.state().ui.show_item_panel);
     harness.get_by_label(&format!("vertex {v}"));
     harness.get_by_label("Rest");
@@ -936,8 +920,7 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
         .expect("the Z field")
         .type_text(&format!("{}", before.z + 0.125));
     harness.run_steps(1);
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     let after = harness.state().state.doc.scene.pose[v as usize];
     assert!(
         (after - before - DVec3::new(0.0, 0.0, 0.125)).length() < 1e-9,
@@ -946,8 +929,7 @@ fn blender_keys_answer_the_item_panel_edits_and_f1_lists_the_shortcuts() {
     harness.state_mut().run(Command::Undo);
     assert_eq!(harness.state().state.doc.scene.pose[v as usize], before);
     // F1: every action with its keys, and the cage colours.
-    harness.key_press(egui::Key::F1);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::F1);
     assert!(harness.state().ui.show_shortcuts);
     // The window's title and its own row.
     assert!(harness.query_all_by_label("Keyboard shortcuts").count() >= 2);
@@ -1149,8 +1131,7 @@ fn editing_rest_positions_in_the_item_panel_rebinds_and_moves_the_poses_along() 
         mode: starcages_editor::state::SelectMode::Replace,
     });
     let before = app.state.doc.scene.clone();
-    harness.key_press(egui::Key::N);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::N);
     harness.get_by_label("Rest");
     // The rest Z field: the sixth coordinate field (posed X Y Z, then rest X Y Z).
     let target = before.cages.vertices[v as usize].z - 0.05;
@@ -1166,8 +1147,7 @@ fn editing_rest_positions_in_the_item_panel_rebinds_and_moves_the_poses_along() 
         .expect("the rest Z field")
         .type_text(&format!("{target}"));
     harness.run_steps(1);
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     settle(&mut harness);
     let state = &harness.state().state;
     let scene = &state.doc.scene;

@@ -88,6 +88,21 @@ pub fn bar_harness(rig_mode: bool) -> Harness<'static, EditorApp> {
 
 /// Ctrl+Z, and two frames for it to land.
 pub fn undo(harness: &mut Harness<'static, EditorApp>) {
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    press_with(harness, egui::Modifiers::COMMAND, egui::Key::Z);
+}
+
+/// `key`, and two frames for it to land.
+pub fn press(harness: &mut Harness<'static, EditorApp>, key: egui::Key) {
+    harness.key_press(key);
+    harness.run_steps(2);
+}
+
+/// `key` with `modifiers`, and two frames for it to land.
+pub fn press_with(
+    harness: &mut Harness<'static, EditorApp>,
+    modifiers: egui::Modifiers,
+    key: egui::Key,
+) {
+    harness.key_press_modifiers(modifiers, key);
     harness.run_steps(2);
 }

@@ -10,7 +10,7 @@ use starcages_editor::state::{InfluenceChoice, SelectMode};
 use starcages_editor::ui::viewport_paint::uploaded_mesh;
 use starcages_editor::{CageId, Command};
 
-use crate::common::{harness, harness_on, scratch, settle};
+use crate::common::{harness, harness_on, press, scratch, settle};
 
 #[test]
 fn opening_a_second_scene_draws_its_own_mesh() {
@@ -72,8 +72,7 @@ fn undoing_an_internal_cage_while_it_is_inspected_and_shift_dragging_after_do_no
     harness.run_steps(2);
     harness.get_by_label("internal_1 (mvc)");
     // Select everything, the new cage's vertices too, then undo the addition.
-    harness.key_press(egui::Key::A);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::A);
     let count = harness.state().state.doc.scene.cages.vertices.len();
     assert!(
         harness
@@ -94,8 +93,7 @@ fn undoing_an_internal_cage_while_it_is_inspected_and_shift_dragging_after_do_no
         "vertices were removed, so their indices shifted: the vertex selection is cleared"
     );
     // Select everything again, then Shift-drag on a vertex and on empty space.
-    harness.key_press(egui::Key::A);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::A);
     let state = &harness.state().state;
     let v = *state.selection.vertices.iter().next().unwrap();
     let on_vertex = starcages_editor::ui::vertex_on_screen(state, v).unwrap();

@@ -10,7 +10,7 @@ use starcages_core::coords::CoordinateKind;
 use starcages_editor::ui::vertex_on_screen;
 use starcages_editor::{CageId, Command};
 
-use crate::common::{leaf, scratch, settle, undo};
+use crate::common::{leaf, press, press_with, scratch, settle, undo};
 
 /// Rig mode: Tab enters it; E extrudes the selected face into a new cage sharing it; X
 /// deletes the inspected cage and undo brings it back; Ctrl+R cuts a cage; moving vertices
@@ -32,8 +32,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
         vertices: face.clone(),
         mode: starcages_editor::state::SelectMode::Replace,
     });
-    harness.key_press(egui::Key::E);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::E);
     // E continues as G along the face's normal (x here) on the new cap, as Blender's extrude.
     assert!(harness.state().ui.tool.is_some(), "E starts G");
     let state = &harness.state().state;
@@ -49,8 +48,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
         harness.run_steps(1);
     }
     harness.get_by_label_contains("Grab along X: 0.250");
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     settle(&mut harness);
     let state = &harness.state().state;
     assert!(harness.state().ui.tool.is_none());
@@ -73,11 +71,11 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     undo(&mut harness);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
-    harness.key_press_modifiers(
+    press_with(
+        &mut harness,
         egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
         egui::Key::Z,
     );
-    harness.run_steps(2);
     settle(&mut harness);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.leaves.len(), 3);
@@ -90,8 +88,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     harness
         .state_mut()
         .run(Command::InspectCage(Some(new_cage)));
-    harness.key_press(egui::Key::X);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::X);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
@@ -99,14 +96,12 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     harness
         .state_mut()
         .run(Command::InspectCage(Some(CageId::Leaf(0))));
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::R);
     assert!(
         harness.state().ui.loop_cut.is_some(),
         "the cut is being placed"
     );
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     settle(&mut harness);
     let scene = harness.state().state.doc.scene.clone();
     assert_eq!(
@@ -143,8 +138,7 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
     harness.hover_at(egui::pos2(centre.x, centre.y));
     harness.key_press(egui::Key::Tab);
     harness.run_steps(1);
-    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::A);
     harness.get_by_label("Box around the whole mesh").click();
     harness.run_steps(2);
     settle(&mut harness);
@@ -162,8 +156,7 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
         ),
         "the last valid binding stays"
     );
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Tab);
     let state = &harness.state().state;
     assert_eq!(state.mode, starcages_editor::state::EditMode::Rig);
     assert!(
@@ -177,8 +170,7 @@ fn an_invalid_rig_shows_its_problems_and_refuses_pose_mode() {
     undo(&mut harness);
     assert!(harness.state().state.rig_problems.is_empty());
     assert!(harness.query_by_label_contains("The rig has").is_none());
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Tab);
     assert_eq!(
         harness.state().state.mode,
         starcages_editor::state::EditMode::Pose
@@ -321,8 +313,7 @@ fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
         harness.state().state.rig_problems
     );
     // M merges the two cages (the left one has one neighbour).
-    harness.key_press(egui::Key::M);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::M);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 1);
     undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
@@ -331,8 +322,7 @@ fn rig_mode_merges_mirrors_and_fits_the_inspected_cage() {
     harness
         .state_mut()
         .run(Command::InspectCage(Some(CageId::Leaf(1))));
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::M);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::M);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
     assert!(state.doc.scene.cages.leaves[2].name.contains("mirror"));
@@ -367,8 +357,7 @@ fn rig_mode_shows_the_rest_cages_while_a_pose_is_active() {
         vertex_on_screen(&h.state().state, v).unwrap()
     };
     let posed_at = on_screen(&harness);
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Tab);
     let state = &harness.state().state;
     assert_eq!(state.shown_positions(), &scene.cages.vertices[..]);
     let rest_at = on_screen(&harness);
@@ -387,8 +376,7 @@ fn rig_mode_shows_the_rest_cages_while_a_pose_is_active() {
             .count()
     };
     let in_rig_mode = ghost_pixels(&mut harness);
-    harness.key_press(egui::Key::Tab);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Tab);
     assert!(on_screen(&harness).distance(posed_at) < 1e-3);
     let in_pose_mode = ghost_pixels(&mut harness);
     assert!(
@@ -428,8 +416,7 @@ fn rig_menu_subdivides_every_cage_in_one_undo_step() {
 #[test]
 fn an_invalid_rig_draws_its_problem_cages_in_the_warning_colour_with_the_reason_on_hover() {
     let mut harness = crate::common::bar_harness(true);
-    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::A);
     harness.get_by_label("Box around the whole mesh").click();
     harness.run_steps(2);
     settle(&mut harness);
@@ -485,11 +472,9 @@ fn the_loop_cut_slides_with_the_mouse_and_a_typed_fraction_places_it() {
     let centre = rect.center();
     // Esc drops the cut: nothing changes.
     harness.hover_at(egui::pos2(centre.x, centre.y));
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::R);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::COMMAND, egui::Key::R);
     harness.get_by_label_contains("Loop cut 'cage_0_0_0' across X");
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Escape);
     assert!(harness.state().ui.loop_cut.is_none());
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
     // The pointer at either side of the view slides the cut to different places.
@@ -519,8 +504,7 @@ fn the_loop_cut_slides_with_the_mouse_and_a_typed_fraction_places_it() {
         harness.run_steps(1);
     }
     harness.get_by_label_contains("0.25 of the way  [typed 0.25]");
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     settle(&mut harness);
     let scene = &harness.state().state.doc.scene;
     assert_eq!(scene.cages.leaves.len(), 3);
@@ -643,8 +627,7 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
             .max_failed_pixels(1200),
     );
     // E: one new cage per face, each sharing its face with its parent, as one undo step.
-    harness.key_press(egui::Key::E);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::E);
     settle(&mut harness);
     let scene = harness.state().state.doc.scene.clone();
     assert_eq!(
@@ -676,11 +659,9 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
         faces: vec![(right, right_face)],
         mode: starcages_editor::state::SelectMode::Replace,
     });
-    harness.key_press(egui::Key::E);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::E);
     assert!(harness.state().ui.tool.is_some(), "E starts G");
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Escape);
     settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);
     undo(&mut harness);
@@ -704,15 +685,13 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
         faces: vec![(left, shared)],
         mode: starcages_editor::state::SelectMode::Replace,
     });
-    harness.key_press(egui::Key::E);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::E);
     let state = &harness.state().state;
     assert_eq!(state.doc.scene.cages.leaves.len(), 2);
     let message = format!("{:?}", state.message);
     assert!(message.contains("shared with a neighbour"), "{message}");
     // A selects every face in face select mode.
-    harness.key_press(egui::Key::A);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::A);
     let state = &harness.state().state;
     let total: usize = state
         .doc
@@ -746,8 +725,7 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
         faces: vec![(left, face)],
         mode: starcages_editor::state::SelectMode::Replace,
     });
-    harness.key_press(egui::Key::I);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::I);
     assert!(harness.state().ui.inset.is_some(), "I starts sizing");
     harness.get_by_label_contains("Inset 1 face");
     harness.snapshot_options(
@@ -756,21 +734,18 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
             .threshold(2.0)
             .max_failed_pixels(1200),
     );
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Escape);
     assert!(harness.state().ui.inset.is_none());
     assert_eq!(
         harness.state().state.doc.scene.cages,
         before.cages,
         "Esc drops it"
     );
-    harness.key_press(egui::Key::I);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::I);
     harness.event(egui::Event::Text("0.05".into()));
     harness.run_steps(1);
     harness.get_by_label_contains("thickness 0.05");
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     settle(&mut harness);
     let scene = harness.state().state.doc.scene.clone();
     assert_eq!(
@@ -801,10 +776,8 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
             "corner {k}: {distance}"
         );
     }
-    harness.key_press(egui::Key::E);
-    harness.run_steps(2);
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::E);
+    press(&mut harness, egui::Key::Escape);
     settle(&mut harness);
     let scene = harness.state().state.doc.scene.clone();
     assert_eq!(
@@ -911,16 +884,14 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
             .query_by_label_contains("snapped to vertex")
             .is_none()
     );
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Escape);
     assert_eq!(harness.state().state.doc.scene.cages.vertices, rest);
     // Snapping on (the View panel's checkbox): the same move lands on the target.
     harness.get_by_label("Snap to vertices").click();
     harness.run_steps(1);
     grab_from_beside_to(&mut harness, target_on_screen);
     harness.get_by_label_contains(&format!("snapped to vertex {target}"));
-    harness.key_press(egui::Key::Enter);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::Enter);
     settle(&mut harness);
     let state = &harness.state().state;
     let scene = &state.doc.scene;
@@ -1059,8 +1030,7 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
             .max_failed_pixels(1200),
     );
     // Shift+A ▸ Box around the selected mesh vertices: a cage holding exactly that region.
-    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::A);
     harness.snapshot_options(
         "rig_mode_add_menu",
         &SnapshotOptions::new()
@@ -1129,8 +1099,7 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
     // Shift+A ▸ Box at the pointer, over the middle of the bar: a cube inside its extent.
     harness.hover_at(centre);
     harness.run_steps(1);
-    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::A);
     harness.get_by_label("Box at the pointer").click();
     harness.run_steps(2);
     settle(&mut harness);
@@ -1152,15 +1121,12 @@ fn mesh_select_and_the_add_menu_box_a_region_of_the_mesh() {
     assert!((edge.x - edge.y).abs() < 1e-9 && (edge.x - edge.z).abs() < 1e-9);
     assert!(edge.x < (mesh_hi - mesh_lo).length() * 0.5);
     // A selects every mesh vertex in mesh select mode.
-    harness.key_press(egui::Key::A);
-    harness.run_steps(2);
+    press(&mut harness, egui::Key::A);
     let state = &harness.state().state;
     assert_eq!(state.selection.mesh_vertices.len(), count);
     // Esc closes the menu without adding anything.
-    harness.key_press_modifiers(egui::Modifiers::SHIFT, egui::Key::A);
-    harness.run_steps(2);
-    harness.key_press(egui::Key::Escape);
-    harness.run_steps(2);
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::A);
+    press(&mut harness, egui::Key::Escape);
     assert!(harness.state().ui.add_menu.is_none());
     assert!(harness.query_by_label("Box at the pointer").is_none());
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 3);

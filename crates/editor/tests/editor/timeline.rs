@@ -9,7 +9,7 @@ use egui_kittest::kittest::Queryable as _;
 use glam::{DVec3, Vec3};
 use starcages_editor::{Command, EditorApp};
 
-use crate::common::{harness, leaf, scratch};
+use crate::common::{harness, leaf, press_with, scratch};
 
 type Harness = egui_kittest::Harness<'static, EditorApp>;
 
@@ -22,11 +22,6 @@ fn key_frames(harness: &Harness) -> Vec<f64> {
     keys.iter().map(|k| k.frame).collect()
 }
 
-fn press(harness: &mut Harness, modifiers: Modifiers, key: Key) {
-    harness.key_press_modifiers(modifiers, key);
-    harness.run_steps(2);
-}
-
 #[test]
 fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
     let mut harness = harness();
@@ -34,28 +29,28 @@ fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
     // The critter ships keys at 1, 12 and 24; the timeline starts at the first frame.
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
     assert_eq!(frame(&harness), 1.0);
-    press(&mut harness, Modifiers::NONE, Key::ArrowUp);
+    press_with(&mut harness, Modifiers::NONE, Key::ArrowUp);
     assert_eq!(frame(&harness), 12.0);
     // At a key the cages stand in its pose, and the mesh follows.
     let app = harness.state();
     let scene = &app.state.doc.scene;
     assert_eq!(scene.pose, scene.poses["ears_back"]);
     let deformed_at_key = app.state.rig.as_ref().unwrap().deformed.clone();
-    press(&mut harness, Modifiers::SHIFT, Key::ArrowRight);
+    press_with(&mut harness, Modifiers::SHIFT, Key::ArrowRight);
     assert_eq!(frame(&harness), 24.0);
     let rest_again = harness.state().state.rig.as_ref().unwrap().deformed.clone();
     assert_ne!(deformed_at_key, rest_again, "the mesh moved with the frame");
-    press(&mut harness, Modifiers::NONE, Key::ArrowDown);
+    press_with(&mut harness, Modifiers::NONE, Key::ArrowDown);
     assert_eq!(frame(&harness), 12.0);
-    press(&mut harness, Modifiers::SHIFT, Key::ArrowLeft);
+    press_with(&mut harness, Modifiers::SHIFT, Key::ArrowLeft);
     assert_eq!(frame(&harness), 1.0);
     // Space plays in real time and stops.
-    press(&mut harness, Modifiers::NONE, Key::Space);
+    press_with(&mut harness, Modifiers::NONE, Key::Space);
     assert!(harness.state().state.timeline.playing.is_some());
     std::thread::sleep(std::time::Duration::from_millis(200));
     harness.run_steps(2);
     assert!(frame(&harness) > 1.0, "playback advanced");
-    press(&mut harness, Modifiers::NONE, Key::Space);
+    press_with(&mut harness, Modifiers::NONE, Key::Space);
     assert!(harness.state().state.timeline.playing.is_none());
     // Frame 5 has no key: a move without auto-key makes none; I keys the pose.
     harness.state_mut().run(Command::SetFrame(5.0));
@@ -65,7 +60,7 @@ fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
     app.run(Command::MoveVertices(vec![(v, moved)]));
     harness.run_steps(1);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
-    press(&mut harness, Modifiers::NONE, Key::I);
+    press_with(&mut harness, Modifiers::NONE, Key::I);
     assert_eq!(key_frames(&harness), vec![1.0, 5.0, 12.0, 24.0]);
     let key_pose = |harness: &Harness| {
         let scene = &harness.state().state.doc.scene;
@@ -80,19 +75,19 @@ fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
         .run(Command::MoveVertices(vec![(v, further)]));
     harness.run_steps(1);
     assert_eq!(key_pose(&harness), further);
-    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_pose(&harness), moved);
-    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0], "I undone");
-    press(&mut harness, Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    press_with(&mut harness, Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
     assert_eq!(key_frames(&harness), vec![1.0, 5.0, 12.0, 24.0], "I redone");
     // Alt+I deletes the key at the current frame; X the key selected on the timeline.
-    press(&mut harness, Modifiers::ALT, Key::I);
+    press_with(&mut harness, Modifiers::ALT, Key::I);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
     harness.state_mut().ui.selected_key = Some(24.0);
-    press(&mut harness, Modifiers::NONE, Key::X);
+    press_with(&mut harness, Modifiers::NONE, Key::X);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0]);
-    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
     // Auto-key: an edit at a frame without a key inserts one.
     harness.get_by_label("Auto-key").click();
@@ -178,7 +173,7 @@ fn a_cage_point_cache_imports_as_keys_and_the_timeline_draws_them() {
         "{lifted}"
     );
     // One undo step takes the whole import back.
-    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
     // A cache of another vertex count is refused, saying why.
     let wrong = dir.join("wrong.pc2");
@@ -236,6 +231,6 @@ fn dragging_on_the_timeline_scrubs_and_dragging_a_key_retimes_it() {
     harness.run_steps(2);
     assert_eq!(key_frames(&harness), vec![1.0, 16.0, 24.0]);
     assert_eq!(frame(&harness), 18.0, "retiming a key does not scrub");
-    press(&mut harness, Modifiers::COMMAND, Key::Z);
+    press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
 }
