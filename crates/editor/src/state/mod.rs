@@ -372,6 +372,7 @@ impl EditorState {
                     coarse_leaves: bound.coarse_leaves,
                     rest_view: std::sync::OnceLock::new(),
                     drag: None,
+                    drag_without_map: None,
                 };
                 rig.redeform_all(&self.doc.scene);
                 self.rig = Some(rig);

@@ -37,6 +37,9 @@ pub struct Rig {
     /// The drag in progress as an affine map of the vertices it moves by hand, when its moves
     /// reach far through the hierarchy ([`Rig::redeform_drag`]).
     pub drag: Option<DriverMap>,
+    /// The drivers of the drag in progress when it can have no map (a Green cage on the way,
+    /// too many coefficients): its updates go the sparse way without trying again.
+    pub drag_without_map: Option<Vec<u32>>,
 }
 
 impl Rig {
@@ -89,7 +92,8 @@ impl Rig {
     /// drivers (an internal cage's vertices moving leaf cages) is [`Rig::redeform_rows`]; it
     /// then builds a [`DriverMap`], and the next updates move only its rows at a few weights
     /// each (one per driver) instead of a sparse product. Where there is no map (a Green cage
-    /// on the way, a pose the map does not describe) it is [`Rig::redeform_rows`]. The drag's
+    /// on the way, a pose the map does not describe) it is [`Rig::redeform_rows`]; a drag that
+    /// can have no map tries once ([`Rig::drag_without_map`]). The drag's
     /// end makes the result exact again ([`Rig::end_drag`]).
     pub fn redeform_drag(&mut self, scene: &Scene, drivers: &[u32], changed: &[u32]) {
         if let Some(map) = self.drag.as_ref().filter(|map| map.drivers() == drivers) {
@@ -102,7 +106,8 @@ impl Rig {
         }
         self.redeform_rows(scene, changed);
         self.drag = None;
-        if changed.len() > drivers.len() {
+        let tried = self.drag_without_map.as_deref() == Some(drivers);
+        if changed.len() > drivers.len() && !tried {
             self.drag = self
                 .hierarchy
                 .driver_sensitivity(drivers)
@@ -115,12 +120,16 @@ impl Rig {
                         &self.deformed,
                     )
                 });
+            if self.drag.is_none() {
+                self.drag_without_map = Some(drivers.to_vec());
+            }
         }
     }
 
     /// Ends a drag: a drag that went through a [`DriverMap`] gets the whole product, so the mesh
     /// is what a full deformation of the pose gives, bit for bit.
     pub fn end_drag(&mut self, scene: &Scene) {
+        self.drag_without_map = None;
         if self.drag.take().is_some() {
             self.redeform_all(scene);
         }

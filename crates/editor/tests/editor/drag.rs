@@ -5,6 +5,7 @@
 use glam::{DQuat, DVec3, Vec3};
 use starcages_core::coords::CoordinateKind;
 use starcages_core::generate::demo::demo_scene;
+use starcages_core::scene::Scene;
 use starcages_editor::state::GestureId;
 use starcages_editor::{Command, Document, EditorApp};
 
@@ -16,15 +17,9 @@ fn farthest(a: &[Vec3], b: &[Vec3]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// Turning the critter's head cage (every leaf follows it) in steps, as R does: from the
-/// second step the rig holds a driver map and the mesh is the full product's to f32 rounding;
-/// when the gesture ends the map is gone and the mesh is the full product's bit for bit.
-#[test]
-fn an_internal_cage_drag_goes_through_a_driver_map_and_ends_exact() {
-    let mut scene = demo_scene("critter", 0.4).unwrap();
-    for leaf in &mut scene.cages.leaves {
-        leaf.kind = CoordinateKind::MeanValue; // its right ear is Green: no map over it
-    }
+/// The app on `scene` (a critter), a gesture begun, the head cage's vertices and where they
+/// start.
+fn head_drag(scene: Scene) -> (EditorApp, Vec<u32>, Vec<DVec3>) {
     let doc = Document {
         scene,
         path: None,
@@ -37,11 +32,24 @@ fn an_internal_cage_drag_goes_through_a_driver_map_and_ends_exact() {
         .iter()
         .map(|&d| app.state.doc.scene.pose[d as usize])
         .collect();
-    let centre = start.iter().sum::<DVec3>() / start.len() as f64;
     app.run(Command::BeginGesture {
         id: GestureId(1),
-        label: "rotate".into(),
+        label: "drag".into(),
     });
+    (app, drivers, start)
+}
+
+/// Turning the critter's head cage (every leaf follows it) in steps, as R does: from the
+/// second step the rig holds a driver map and the mesh is the full product's to f32 rounding;
+/// when the gesture ends the map is gone and the mesh is the full product's bit for bit.
+#[test]
+fn an_internal_cage_drag_goes_through_a_driver_map_and_ends_exact() {
+    let mut scene = demo_scene("critter", 0.4).unwrap();
+    for leaf in &mut scene.cages.leaves {
+        leaf.kind = CoordinateKind::MeanValue; // its right ear is Green: no map over it
+    }
+    let (mut app, drivers, start) = head_drag(scene);
+    let centre = start.iter().sum::<DVec3>() / start.len() as f64;
     for step in 1..=4 {
         let turn = DQuat::from_rotation_z(0.15 * f64::from(step));
         let moves = drivers
@@ -75,4 +83,33 @@ fn an_internal_cage_drag_goes_through_a_driver_map_and_ends_exact() {
         *rig.deformed,
         rig.binding.deform(&scene.cages.vertices, &scene.pose)
     );
+}
+
+/// Over the critter's Green right ear the head's drag has no map: the first update finds so
+/// and later ones do not try again; every update is the full product's, and the gesture's end
+/// forgets it.
+#[test]
+fn a_drag_over_a_green_cage_tries_for_a_map_once() {
+    let (mut app, drivers, start) = head_drag(demo_scene("critter", 0.4).unwrap());
+    for step in 1..=3 {
+        let offset = DVec3::new(0.02, 0.0, 0.01) * f64::from(step);
+        let moves = drivers
+            .iter()
+            .zip(&start)
+            .map(|(&d, &p)| (d, p + offset))
+            .collect();
+        app.run(Command::MoveVertices(moves));
+        let rig = app.state.rig.as_ref().unwrap();
+        assert!(rig.drag.is_none(), "step {step}");
+        assert_eq!(
+            rig.drag_without_map.as_deref(),
+            Some(&drivers[..]),
+            "step {step}"
+        );
+        let scene = &app.state.doc.scene;
+        let full = rig.binding.deform(&scene.cages.vertices, &scene.pose);
+        assert_eq!(*rig.deformed, full, "step {step}");
+    }
+    app.run(Command::EndGesture { keep: true });
+    assert!(app.state.rig.as_ref().unwrap().drag_without_map.is_none());
 }
