@@ -84,9 +84,10 @@ fn bench_drag(
     let changed = hierarchy.apply(&mut pose, &turned(&drivers, &start, 0.01))?;
     operator.apply_after_move(&changed, &operator.dofs(rest, &pose), &mut sparse);
     let build = Instant::now();
-    let map = hierarchy
-        .driver_sensitivity(&drivers)
-        .and_then(|s| DriverMap::new(operator, &drivers, &s, &pose, &sparse));
+    let sensitivity = hierarchy.driver_sensitivity(&drivers);
+    let map = sensitivity
+        .as_ref()
+        .and_then(|s| DriverMap::new(operator, &drivers, s, &pose, &sparse));
     let map_build_ms = map.as_ref().map(|_| milliseconds(build));
     let mut through_map = sparse.clone();
     let (mut hierarchy_ms, mut sparse_ms, mut map_ms) = (f64::MAX, f64::MAX, f64::MAX);
@@ -118,9 +119,7 @@ fn bench_drag(
     Ok(Drag {
         cage: name.clone(),
         drivers: drivers.len(),
-        followers: hierarchy
-            .driver_sensitivity(&drivers)
-            .map_or(changed.len(), |s| s.len()),
+        followers: sensitivity.map_or(changed.len(), |s| s.len()),
         rows: map.as_ref().map_or(0, DriverMap::row_count),
         hierarchy_ms,
         sparse_ms,
