@@ -5,6 +5,7 @@
 //! came from: the *Cages distance function (paper eq. 7) works on polygon faces.
 
 mod crossing;
+pub(crate) mod cube_symmetry;
 mod error;
 mod validate;
 

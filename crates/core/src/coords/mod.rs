@@ -28,9 +28,9 @@ use crate::cage::Cage;
 pub use control::BindControl;
 pub use green::green_stretch;
 pub(crate) use green::triangle_stretch;
-#[cfg(test)]
-pub(crate) use harmonic::solves_of;
 pub use harmonic::{HarmonicSettings, clear_harmonic_cache};
+#[cfg(test)]
+pub(crate) use harmonic::{functions_solved_of, solves_of};
 pub use lanes::{SIMD_ENV, lane_backend};
 
 /// The coordinate systems a cage can use.

@@ -550,6 +550,26 @@ mod tests {
             solves.iter().all(|&n| n <= 1),
             "solves per thigh: {solves:?}"
         );
+        // Each thigh is mirror-symmetric front to back and side to side: a solve computes 17
+        // of its 42 functions and maps the others (coords::harmonic::symmetry).
+        let functions: Vec<Option<usize>> = thighs
+            .iter()
+            .map(|&c| {
+                let cage = &topology.leaves[c].cage;
+                crate::coords::functions_solved_of(cage, &scene.settings.harmonic)
+                    .map(|solved| (solved, cage.vertex_count()))
+                    .map(|(solved, all)| all / solved.max(1))
+            })
+            .collect();
+        assert_eq!(
+            functions.iter().flatten().count(),
+            2,
+            "thighs solved: {functions:?}"
+        );
+        assert!(
+            functions.iter().flatten().all(|&ratio| ratio >= 2),
+            "vertices per function solved, by thigh: {functions:?}"
+        );
     }
 
     /// The same for harmonic join cages: a class of congruent join cages is solved in its

@@ -8,47 +8,7 @@
 use glam::DVec3;
 
 use crate::cage::Cage;
-
-/// A signed permutation of the axes: output axis `a` is `sign[a]` times input axis `perm[a]`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Symmetry {
-    perm: [usize; 3],
-    sign: [f64; 3],
-}
-
-impl Symmetry {
-    /// All 48.
-    fn all() -> impl Iterator<Item = Self> {
-        const PERMS: [[usize; 3]; 6] = [
-            [0, 1, 2],
-            [0, 2, 1],
-            [1, 0, 2],
-            [1, 2, 0],
-            [2, 0, 1],
-            [2, 1, 0],
-        ];
-        PERMS.into_iter().flat_map(|perm| {
-            (0..8).map(move |bits| Self {
-                perm,
-                sign: [0, 1, 2].map(|a| if bits >> a & 1 == 1 { -1.0 } else { 1.0 }),
-            })
-        })
-    }
-
-    fn apply(&self, d: DVec3) -> DVec3 {
-        let d = d.to_array();
-        DVec3::from_array([0, 1, 2].map(|a| self.sign[a] * d[self.perm[a]]))
-    }
-
-    fn apply_inverse(&self, d: DVec3) -> DVec3 {
-        let d = d.to_array();
-        let mut out = [0.0; 3];
-        for a in 0..3 {
-            out[self.perm[a]] = self.sign[a] * d[a];
-        }
-        DVec3::from_array(out)
-    }
-}
+use crate::cage::cube_symmetry::CubeSymmetry;
 
 /// A class's key: the vertices' quantised positions in the canonical frame, in canonical
 /// order, and the triangles over that order (corners sorted, triangles sorted).
@@ -60,7 +20,7 @@ pub(super) struct Placement {
     /// Canonical rank of each local vertex.
     pub rank: Vec<usize>,
     centre: DVec3,
-    symmetry: Symmetry,
+    symmetry: CubeSymmetry,
 }
 
 impl Placement {
@@ -82,7 +42,7 @@ pub(super) fn shape_class(cage: &Cage) -> (ShapeKey, Placement) {
     let centre = 0.5 * (lo + hi);
     let quantum = 1e-9 * cage.diagonal().max(f64::MIN_POSITIVE);
     let mut best: Option<(ShapeKey, Placement)> = None;
-    for symmetry in Symmetry::all() {
+    for symmetry in CubeSymmetry::all() {
         let quantised: Vec<[i64; 3]> = positions
             .iter()
             .map(|&p| {
@@ -134,10 +94,7 @@ impl Placement {
         Self {
             rank: Vec::new(),
             centre,
-            symmetry: Symmetry {
-                perm: [0, 1, 2],
-                sign: [1.0; 3],
-            },
+            symmetry: CubeSymmetry::IDENTITY,
         }
     }
 }

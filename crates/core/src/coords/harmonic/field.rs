@@ -6,10 +6,12 @@
 use std::sync::{Arc, Mutex};
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::HarmonicSettings;
 use super::grid::{CageGrid, NodeRole};
 use super::multigrid::{Hierarchy, K, Row};
+use super::symmetry::Orbits;
 use crate::cage::Cage;
 use crate::coords::{BindControl, CoordError};
 
@@ -21,6 +23,10 @@ pub(super) struct HarmonicField {
     slot_of_node: Vec<u32>,
     /// Per batch of `K` vertices (vertex `K·batch + c` in column c), every slot's values.
     batches: Vec<Vec<Row>>,
+    /// How many vertices' functions were solved; the others came from symmetries (read by
+    /// the tests that count solves).
+    #[cfg_attr(not(test), expect(dead_code))]
+    solved_vertices: usize,
 }
 
 impl HarmonicField {
@@ -79,34 +85,43 @@ fn solve_field(
             ))
         })
         .collect();
-    let n = cage.vertex_count();
-    let mut batches = Vec::with_capacity(n.div_ceil(K));
-    for first in (0..n).step_by(K) {
+    let orbits = if use_symmetry() {
+        Orbits::find(cage, &grid, &unknown, &diagonal)
+    } else {
+        Orbits::none(cage.vertex_count())
+    };
+    let mut solved = Vec::with_capacity(orbits.solved.len().div_ceil(K));
+    for vertices in orbits.solved.chunks(K) {
         control.check()?;
-        let columns = (n - first).min(K);
         let batch = Batch {
             hierarchy: &hierarchy,
             links: &links,
-            first,
-            columns,
+            vertices,
             hat_at: &hat_at,
         };
         // A last batch of few vertices is solved that narrow (the solve's cost follows its
         // width): 42 vertices were six batches of eight, the sixth for two.
-        let x = match columns {
+        let x = match vertices.len() {
             1..=2 if !always_wide() => batch.solve::<2>(settings)?,
             3..=4 if !always_wide() => batch.solve::<4>(settings)?,
             _ => batch.solve::<K>(settings)?,
         };
-        batches.push(x);
+        solved.push(x);
     }
-    let slot_of_node = (0..grid.roles.len())
+    let slot_of_node: Vec<u32> = (0..grid.roles.len())
         .map(|node| hierarchy.fine_slot(node).map_or(u32::MAX, |s| s as u32))
         .collect();
+    let solved_vertices = orbits.solved.len();
+    let batches = if orbits.is_trivial() {
+        solved
+    } else {
+        derive_batches(&orbits, &solved, &grid, &slot_of_node, hierarchy.fine_len())
+    };
     Ok(HarmonicField {
         grid,
         slot_of_node,
         batches,
+        solved_vertices,
     })
 }
 
@@ -124,13 +139,80 @@ fn always_wide() -> bool {
     false
 }
 
-/// One batch of a field's solve: the cage vertices `first..first + columns`.
+/// Every cage vertex's values, batch by batch in vertex order, from the solved vertices'
+/// values and the symmetries that take them to the others.
+fn derive_batches(
+    orbits: &Orbits,
+    solved: &[Vec<Row>],
+    grid: &CageGrid,
+    slot_of_node: &[u32],
+    len: usize,
+) -> Vec<Vec<Row>> {
+    // Per symmetry, the slot each slot reads from.
+    let mut preimage_slot: Vec<Vec<u32>> = (0..orbits.symmetry_count())
+        .into_par_iter()
+        .map(|g| {
+            let mut from = vec![u32::MAX; len];
+            for (node, &slot) in slot_of_node.iter().enumerate() {
+                if let Some(entry) = from.get_mut(slot as usize) {
+                    *entry = orbits
+                        .preimage_node(g, grid.dims, node)
+                        .and_then(|m| slot_of_node.get(m).copied())
+                        .unwrap_or(u32::MAX);
+                }
+            }
+            from
+        })
+        .collect();
+    // The solved vertices read their own slots.
+    preimage_slot.push((0..len as u32).collect());
+    let identity = preimage_slot.len() - 1;
+    let n = orbits.vertex_count();
+    let sources: Vec<(usize, usize)> = (0..n)
+        .map(|j| {
+            orbits
+                .source(j)
+                .map_or((usize::MAX, identity), |(r, g)| (r, g.unwrap_or(identity)))
+        })
+        .collect();
+    (0..n.div_ceil(K))
+        .into_par_iter()
+        .map(|batch| {
+            let mut rows = vec![[0.0; K]; len];
+            let columns = &sources[K * batch..(K * batch + K).min(n)];
+            for (c, &(r, g)) in columns.iter().enumerate() {
+                let (Some(values), Some(from)) = (solved.get(r / K), preimage_slot.get(g)) else {
+                    continue;
+                };
+                for (row, &f) in rows.iter_mut().zip(from) {
+                    row[c] = values.get(f as usize).map_or(0.0, |v| v[r % K]);
+                }
+            }
+            rows
+        })
+        .collect()
+}
+
+/// Whether symmetries may stand in for solves (a test compares with solving every vertex).
+fn use_symmetry() -> bool {
+    #[cfg(test)]
+    return !SOLVE_EVERY_VERTEX.with(std::cell::Cell::get);
+    #[cfg(not(test))]
+    true
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Tests solve every vertex on this thread, to compare with the derived functions.
+    static SOLVE_EVERY_VERTEX: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// One batch of a field's solve: the cage vertices `vertices` (at most `K`).
 struct Batch<'a, H: Fn(&super::grid::BoundaryValue, usize) -> f64> {
     hierarchy: &'a Hierarchy,
     /// (fine slot, 1/θ, boundary value) of each interface node.
     links: &'a [(usize, f64, &'a super::grid::BoundaryValue)],
-    first: usize,
-    columns: usize,
+    vertices: &'a [usize],
     hat_at: &'a H,
 }
 
@@ -141,8 +223,8 @@ impl<H: Fn(&super::grid::BoundaryValue, usize) -> f64> Batch<'_, H> {
         let len = self.hierarchy.fine_len();
         let mut b = vec![[0.0; W]; len];
         for &(slot, inv_theta, value) in self.links {
-            for c in 0..self.columns.min(W) {
-                b[slot][c] += inv_theta * (self.hat_at)(value, self.first + c);
+            for (c, &vertex) in self.vertices.iter().take(W).enumerate() {
+                b[slot][c] += inv_theta * (self.hat_at)(value, vertex);
             }
         }
         let mut x = vec![[0.0; W]; len];
@@ -249,7 +331,7 @@ pub(super) fn cached_field(
     SOLVED
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner())
-        .push(FieldKey::new(cage, settings));
+        .push((FieldKey::new(cage, settings), field.solved_vertices));
     let bytes = field.bytes();
     let mut cache = CACHE
         .lock()
@@ -292,9 +374,9 @@ pub(crate) fn cache_hits() -> u64 {
         .hits
 }
 
-/// Every field solved so far in this process (for tests).
+/// Every field solved so far in this process, with how many functions each solved (for tests).
 #[cfg(test)]
-static SOLVED: Mutex<Vec<FieldKey>> = Mutex::new(Vec::new());
+static SOLVED: Mutex<Vec<(FieldKey, usize)>> = Mutex::new(Vec::new());
 
 /// How many times `cage`'s field under `settings` was solved in this process (for tests: a
 /// test that counts picks settings no other test uses, since tests share the process).
@@ -305,8 +387,22 @@ pub(crate) fn solves_of(cage: &Cage, settings: &HarmonicSettings) -> usize {
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner())
         .iter()
-        .filter(|k| **k == key)
+        .filter(|(k, _)| *k == key)
         .count()
+}
+
+/// How many of `cage`'s functions its last solve under `settings` solved (the others came
+/// from its symmetries), if it was solved in this process (for tests).
+#[cfg(test)]
+pub(crate) fn functions_solved_of(cage: &Cage, settings: &HarmonicSettings) -> Option<usize> {
+    let key = FieldKey::new(cage, settings);
+    SOLVED
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+        .iter()
+        .rev()
+        .find(|(k, _)| *k == key)
+        .map(|(_, solved)| *solved)
 }
 
 #[cfg(test)]
@@ -340,6 +436,7 @@ mod tests {
             ..HarmonicSettings::default()
         };
         let control = BindControl::default();
+        SOLVE_EVERY_VERTEX.with(|every| every.set(true));
         for n in [5, 6] {
             let cage = prism(n); // 10 and 12 vertices: a last batch of 2 and of 4
             let narrow = solve_field(&cage, &settings, &control).unwrap();
@@ -349,6 +446,70 @@ mod tests {
             assert_eq!(narrow.batches.len(), 2);
             assert_eq!(narrow.batches, wide.batches, "{n}-gon prism");
             assert!(narrow.batches[1].iter().any(|row| row[1] != 0.0));
+        }
+        SOLVE_EVERY_VERTEX.with(|every| every.set(false));
+    }
+
+    /// A box from `lo` to `hi` whose faces are fans of four triangles around a vertex at
+    /// each face's centre (so its triangles have every symmetry of the box): 8 corners, then
+    /// the 6 face centres.
+    fn centred_box(lo: DVec3, hi: DVec3) -> Cage {
+        let corners = crate::cage::shapes::cuboid(lo, hi);
+        let mut positions = corners.positions().to_vec();
+        let mut triangles = Vec::new();
+        for face in crate::cage::shapes::BOX_FACES {
+            let centre = face.iter().map(|&i| positions[i]).sum::<DVec3>() / 4.0;
+            let c = positions.len() as u32;
+            positions.push(centre);
+            for k in 0..4 {
+                triangles.push(vec![face[k] as u32, face[(k + 1) % 4] as u32, c]);
+            }
+        }
+        Cage::from_polygons(positions, triangles).unwrap()
+    }
+
+    /// A cage with mirror (and, for a cube, turn) symmetries solves one function per orbit of
+    /// its vertices and maps it to the others (u_σ(k)(g x) = u_k(x)); every vertex's values
+    /// match a solve of every vertex to the solver's tolerance. Moving one face centre breaks
+    /// the symmetries that involve it, and its orbit is solved again.
+    #[test]
+    fn a_symmetric_cage_solves_one_function_per_orbit_and_maps_the_rest() {
+        let settings = HarmonicSettings {
+            resolution: 13,
+            ..HarmonicSettings::default()
+        };
+        let control = BindControl::default();
+        let cuboid = centred_box(DVec3::new(-0.2, 0.1, 0.3), DVec3::new(0.9, 1.5, 1.0));
+        let cube = centred_box(DVec3::ZERO, DVec3::ONE);
+        let mut positions = cuboid.positions().to_vec();
+        positions[8].x += 0.05; // a face centre off its face's middle
+        let faces: Vec<Vec<u32>> = cuboid
+            .polygons()
+            .iter()
+            .map(|f| f.vertices.clone())
+            .collect();
+        let lopsided = Cage::from_polygons(positions, faces).unwrap();
+        // Solved: the box's corners are one orbit, its face centres three (a pair per axis);
+        // the cube's face centres one. The lopsided box keeps only the mirror across y (the
+        // centre moved along x on a face normal to z): its corners are four orbits (pairs),
+        // its centres five (the two y faces' a pair, the others fixed).
+        for (cage, solved) in [(&cuboid, 4), (&cube, 2), (&lopsided, 9)] {
+            let derived = solve_field(cage, &settings, &control).unwrap();
+            SOLVE_EVERY_VERTEX.with(|every| every.set(true));
+            let direct = solve_field(cage, &settings, &control).unwrap();
+            SOLVE_EVERY_VERTEX.with(|every| every.set(false));
+            assert_eq!(derived.solved_vertices, solved);
+            assert_eq!(direct.solved_vertices, cage.vertex_count());
+            assert_eq!(derived.batches.len(), direct.batches.len());
+            let mut largest = 0.0f64;
+            for (a, b) in derived.batches.iter().zip(&direct.batches) {
+                for (ra, rb) in a.iter().zip(b) {
+                    for c in 0..K {
+                        largest = largest.max((ra[c] - rb[c]).abs());
+                    }
+                }
+            }
+            assert!(largest < 1e-8, "derived and solved differ by {largest:e}");
         }
     }
 }

@@ -248,8 +248,12 @@ fn axis_crossings(
         .into_par_iter()
         .map(|line| {
             let (ib, ic) = (line % d[b], line / d[b]);
-            let y = o[b] + ib as f64 * spacing + nudge * std::f64::consts::SQRT_2;
-            let z = o[c] + ic as f64 * spacing + nudge * std::f64::consts::PI;
+            let (nudge_b, nudge_c) = (
+                nudge * std::f64::consts::SQRT_2,
+                nudge * std::f64::consts::PI,
+            );
+            let (y_exact, z_exact) = (o[b] + ib as f64 * spacing, o[c] + ic as f64 * spacing);
+            let (y, z) = (y_exact + nudge_b, z_exact + nudge_c);
             let mut crossings = Vec::new();
             for (t, tri) in cage.triangles().iter().enumerate() {
                 let [pa, pb, pc] = tri.map(|v| positions[v as usize].to_array());
@@ -264,6 +268,13 @@ fn axis_crossings(
                 if wa < 0.0 || wb < 0.0 || wc < 0.0 {
                     continue;
                 }
+                // The nudged line decides which triangle is crossed; where, and the hat values
+                // there, are the exact line's, so that a mirrored cage gets mirrored values
+                // (the nudge itself does not mirror) and symmetric cages can share solves.
+                let (y, z) = (y_exact, z_exact);
+                let wb = ((y - pa[b]) * (pc[c] - pa[c]) - (pc[b] - pa[b]) * (z - pa[c])) / det;
+                let wc = ((pb[b] - pa[b]) * (z - pa[c]) - (y - pa[b]) * (pb[c] - pa[c])) / det;
+                let wa = 1.0 - wb - wc;
                 crossings.push(Crossing {
                     at: wa * pa[axis] + wb * pb[axis] + wc * pc[axis],
                     // det is the normal's component along the axis: entering where it is < 0.

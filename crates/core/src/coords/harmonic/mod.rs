@@ -25,9 +25,10 @@
 
 mod field;
 #[cfg(test)]
-pub(crate) use field::solves_of;
+pub(crate) use field::{functions_solved_of, solves_of};
 mod grid;
 mod multigrid;
+mod symmetry;
 
 use glam::DVec3;
 use rayon::prelude::*;
