@@ -16,6 +16,7 @@ mod green_dofs;
 mod operator;
 mod partial;
 mod shape_class;
+mod splice_rows;
 mod splice_transpose;
 mod tables;
 pub mod topology;
@@ -146,30 +147,25 @@ pub struct JoinWeights {
 }
 
 impl JoinWeights {
-    /// These weights with the points `rows` (increasing, in range) replaced, in order, by the
-    /// points of `part`; every other point's entries copied slice by slice.
-    fn splice(&self, rows: &[usize], part: &JoinWeights) -> Self {
-        let mut out = Self {
-            row_start: Vec::with_capacity(self.row_start.len()),
-            vertex: Vec::with_capacity(self.vertex.len() + part.vertex.len()),
-            weight: Vec::with_capacity(self.weight.len() + part.weight.len()),
-        };
-        out.row_start.push(0);
-        let copy = |out: &mut Self, from: &JoinWeights, range: std::ops::Range<usize>| {
-            operator::append_csr_rows(
-                (&mut out.row_start, &mut out.vertex, &mut out.weight),
-                (&from.row_start, &from.vertex, &from.weight),
-                range,
-            );
-        };
-        let mut kept_from = 0;
-        for (k, &r) in rows.iter().enumerate() {
-            copy(&mut out, self, kept_from..r);
-            copy(&mut out, part, k..k + 1);
-            kept_from = r + 1;
+    /// The points' vertices and weights.
+    fn csr_rows(&self) -> splice_rows::CsrRows<'_, u32, f32> {
+        splice_rows::CsrRows {
+            start: &self.row_start,
+            a: &self.vertex,
+            b: &self.weight,
         }
-        copy(&mut out, self, kept_from..self.row_start.len() - 1);
-        out
+    }
+
+    /// These weights with the points `rows` (increasing, in range) replaced, in order, by the
+    /// points of `part`; every other point's entries copied as they are.
+    fn splice(&self, rows: &[usize], part: &JoinWeights) -> Self {
+        let (row_start, vertex, weight, _) =
+            splice_rows::splice_rows(&self.csr_rows(), &part.csr_rows(), rows, |v| v);
+        Self {
+            row_start,
+            vertex,
+            weight,
+        }
     }
 
     /// The weights packed by `rows`.

@@ -8,6 +8,7 @@ use glam::{DVec3, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::green_dofs::GreenDofs;
+use super::splice_rows::{CsrRows, splice_rows};
 use super::splice_transpose::{Side, Transpose, spliced_transpose};
 use super::tables::Row;
 
@@ -64,41 +65,6 @@ struct Csr {
     columns: Vec<u32>,
     values: Vec<f32>,
     rest_offset: Vec<Vec3>,
-}
-
-impl Csr {
-    /// Appends the rows `range` of `from` unchanged, with their rest offsets.
-    fn copy_rows(&mut self, from: &StarOperator, range: std::ops::Range<usize>) {
-        append_csr_rows(
-            (&mut self.row_start, &mut self.columns, &mut self.values),
-            (&from.row_start, &from.columns, &from.values),
-            range.clone(),
-        );
-        self.rest_offset.extend_from_slice(&from.rest_offset[range]);
-    }
-}
-
-/// Appends the rows `range` of one CSR list (row starts over two parallel arrays) to another:
-/// one slice copy per array, the row starts shifted. Splices of the operator and of the join
-/// weights are made of these.
-pub(super) fn append_csr_rows<A: Copy, B: Copy>(
-    (start, a, b): (&mut Vec<u32>, &mut Vec<A>, &mut Vec<B>),
-    (from_start, from_a, from_b): (&[u32], &[A], &[B]),
-    range: std::ops::Range<usize>,
-) {
-    if range.is_empty() {
-        return;
-    }
-    let first = from_start[range.start];
-    let (lo, hi) = (first as usize, from_start[range.end] as usize);
-    let base = a.len() as u32;
-    a.extend_from_slice(&from_a[lo..hi]);
-    b.extend_from_slice(&from_b[lo..hi]);
-    start.extend(
-        from_start[range.start + 1..=range.end]
-            .iter()
-            .map(|&s| s - first + base),
-    );
 }
 
 /// Sparse rows (a column or vertex index and an f32 weight per entry) packed into CSR arrays
@@ -233,38 +199,41 @@ impl StarOperator {
         }
     }
 
+    /// The rows' columns and values.
+    fn csr_rows(&self) -> CsrRows<'_, u32, f32> {
+        CsrRows {
+            start: &self.row_start,
+            a: &self.columns,
+            b: &self.values,
+        }
+    }
+
     /// This operator with the rows `rows` (increasing, in range) replaced, in order, by the rows
     /// of `part` (with their rest offsets), whose columns `remap` takes to this operator's
     /// numbering extended by the Green DOFs `green` (ours, then the part's new triangles).
-    /// Every other row is copied bit for bit, slice by slice.
+    /// Every other row is copied bit for bit, in parallel ([`splice_rows`]).
     pub(crate) fn splice(
         &self,
         rows: &[usize],
         part: &StarOperator,
-        remap: impl Fn(u32) -> u32,
+        remap: impl Fn(u32) -> u32 + Sync,
         green: GreenDofs,
     ) -> Self {
-        let count = self.row_count();
-        let nnz = self.nonzeros() + part.nonzeros();
-        let mut out = Csr {
-            row_start: Vec::with_capacity(count + 1),
-            columns: Vec::with_capacity(nnz),
-            values: Vec::with_capacity(nnz),
-            rest_offset: Vec::with_capacity(count),
+        let (row_start, columns, values, source) =
+            splice_rows(&self.csr_rows(), &part.csr_rows(), rows, &remap);
+        let rest_offset = source
+            .iter()
+            .map(|&(from_part, i)| {
+                let from = if from_part { part } else { self };
+                from.rest_offset[i as usize]
+            })
+            .collect();
+        let out = Csr {
+            row_start,
+            columns,
+            values,
+            rest_offset,
         };
-        out.row_start.push(0);
-        let mut kept_from = 0;
-        for (k, &r) in rows.iter().enumerate() {
-            out.copy_rows(self, kept_from..r);
-            let (a, b) = (part.row_start[k] as usize, part.row_start[k + 1] as usize);
-            out.columns
-                .extend(part.columns[a..b].iter().map(|&c| remap(c)));
-            out.values.extend_from_slice(&part.values[a..b]);
-            out.row_start.push(out.columns.len() as u32);
-            out.rest_offset.push(part.rest_offset[k]);
-            kept_from = r + 1;
-        }
-        out.copy_rows(self, kept_from..count);
         // The transpose from ours, column by column (or whole again if the part's columns do
         // not map one to one).
         let part_to_ours: Vec<u32> = (0..part.dof_count() as u32).map(&remap).collect();
