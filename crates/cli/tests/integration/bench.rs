@@ -157,8 +157,9 @@ fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
 }
 
 /// `bench --rest-edits` edits the bar's leaf-cage vertices one by one and reports, per vertex,
-/// its cages and the share of rows bound again; the vertices of both cages (on their shared
-/// face) reach every row, a vertex of one cage alone fewer.
+/// its cages, the share of rows bound again and the time split into binding them and the rest;
+/// the vertices of both cages (on their shared face) reach every row, a vertex of one cage
+/// alone fewer.
 #[test]
 fn bench_rest_edits_reports_each_vertex_s_reach() {
     let d = dir("bench-rest-edits");
@@ -184,4 +185,15 @@ fn bench_rest_edits_reports_each_vertex_s_reach() {
     assert!(shared.iter().all(|&r| r > 0.99), "{shared:?}");
     assert!(own.iter().all(|&r| r > 0.0 && r < 0.99), "{own:?}");
     assert!(report["full_bind_s"].as_f64().unwrap() > 0.0);
+    // Each edit's time splits into binding its rows and the rest.
+    for e in edits {
+        let (seconds, rows, other) = (
+            e["seconds"].as_f64().unwrap(),
+            e["rows_bind_s"].as_f64().unwrap(),
+            e["other_s"].as_f64().unwrap(),
+        );
+        assert!(rows > 0.0 && other > 0.0, "{e}");
+        assert!((rows + other - seconds).abs() < 1e-9, "{e}");
+    }
+    assert!(report["median_other_s"].as_f64().unwrap() > 0.0);
 }

@@ -107,6 +107,9 @@ pub struct BindStats {
     pub seconds_join_cages: f64,
     /// Total seconds, placement and packing included.
     pub seconds_total: f64,
+    /// Of `seconds_total`, the seconds a partial re-bind spent splicing its rows into the
+    /// operator and the join weights (0 for a full bind).
+    pub seconds_splice: f64,
     /// Bytes of the CSR operator.
     pub operator_bytes: usize,
     /// Bytes of the transpose (for incremental updates).
@@ -289,6 +292,7 @@ impl StarBinding {
             seconds_cage_coordinates: seconds_cage,
             seconds_join_cages: seconds_join,
             seconds_total: start.elapsed().as_secs_f64(),
+            seconds_splice: 0.0,
             operator_bytes: operator.byte_size(),
             transpose_bytes: operator.transpose_byte_size(),
             nonzeros: operator.nonzeros(),

@@ -133,6 +133,7 @@ impl StarBinding {
         let positions = scene.mesh.welded_positions();
         let subset: Vec<_> = rows.iter().map(|&i| positions[i]).collect();
         let part = Self::bind_points_with(scene, topology, &subset, control)?;
+        let bound = start.elapsed().as_secs_f64();
         // Green columns: keep ours, append the part's new triangles.
         let vertex_count = scene.cages.vertices.len() as u32;
         let mut triangles = self.operator.green_dofs().triangles().to_vec();
@@ -190,6 +191,7 @@ impl StarBinding {
         stats.seconds_join_cages = part.stats.seconds_join_cages;
         stats.kernel_pairs = part.stats.kernel_pairs;
         stats.seconds_total = start.elapsed().as_secs_f64();
+        stats.seconds_splice = stats.seconds_total - bound;
         stats.operator_bytes = operator.byte_size();
         stats.transpose_bytes = operator.transpose_byte_size();
         stats.nonzeros = operator.nonzeros();
