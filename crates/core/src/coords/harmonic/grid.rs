@@ -268,13 +268,26 @@ fn axis_crossings(
                 if wa < 0.0 || wb < 0.0 || wc < 0.0 {
                     continue;
                 }
-                // The nudged line decides which triangle is crossed; where, and the hat values
-                // there, are the exact line's, so that a mirrored cage gets mirrored values
-                // (the nudge itself does not mirror) and symmetric cages can share solves.
+                // The nudged line decides which triangle is crossed. Where the exact line
+                // crosses it too (on an edge or a vertex, say), the position and the hat values
+                // are the exact line's, so that a mirrored cage gets mirrored values (the nudge
+                // does not mirror) and symmetric cages can share solves. Elsewhere the exact
+                // line misses the triangle, whose projection can be thin enough that its
+                // barycentric coordinates there are far outside [0, 1]: the nudged line's stay.
                 let (y, z) = (y_exact, z_exact);
-                let wb = ((y - pa[b]) * (pc[c] - pa[c]) - (pc[b] - pa[b]) * (z - pa[c])) / det;
-                let wc = ((pb[b] - pa[b]) * (z - pa[c]) - (y - pa[b]) * (pb[c] - pa[c])) / det;
-                let wa = 1.0 - wb - wc;
+                let wb_exact =
+                    ((y - pa[b]) * (pc[c] - pa[c]) - (pc[b] - pa[b]) * (z - pa[c])) / det;
+                let wc_exact =
+                    ((pb[b] - pa[b]) * (z - pa[c]) - (y - pa[b]) * (pb[c] - pa[c])) / det;
+                let wa_exact = 1.0 - wb_exact - wc_exact;
+                let [wa, wb, wc] = if [wa_exact, wb_exact, wc_exact]
+                    .iter()
+                    .all(|&w| w >= -EXACT_LINE_SLACK)
+                {
+                    [wa_exact, wb_exact, wc_exact]
+                } else {
+                    [wa, wb, wc]
+                };
                 crossings.push(Crossing {
                     at: wa * pa[axis] + wb * pb[axis] + wc * pc[axis],
                     // det is the normal's component along the axis: entering where it is < 0.
@@ -324,6 +337,11 @@ fn exclude_on_cage(
         }
     });
 }
+
+/// How far below 0 the exact line's barycentric coordinates in a triangle the nudged line
+/// crosses may be and still count as crossing it (round-off where the line runs through an
+/// edge or a vertex).
+const EXACT_LINE_SLACK: f64 = 1e-12;
 
 /// Relative nudge of grid lines and tolerance of "on the cage" along them.
 const NUDGE: f64 = 1e-7;
