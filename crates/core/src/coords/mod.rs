@@ -12,7 +12,7 @@
 mod control;
 mod green;
 mod harmonic;
-mod lanes;
+pub(crate) mod lanes;
 mod mvc;
 
 use std::fmt;

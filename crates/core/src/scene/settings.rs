@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::coords::HarmonicSettings;
+use crate::coords::lanes::{self, LANES, Lane, LaneKernel};
 
 /// The paper's three smoothing functions f_h (section 3.1), all with f_h(0) = f'_h(0) = 0,
 /// f_h(x) = 1 for x ≥ h and f'_h ≥ 0.
@@ -58,35 +59,48 @@ impl Smoothing {
         }
         match self {
             Self::Sine => {
-                // Four at a time in `wide` lanes (the compiler kept the scalar loop scalar),
-                // with the same operations in the same order as `eval`: the same values.
-                use wide::f64x4;
-                let (zero, one, half) = (f64x4::ZERO, f64x4::ONE, f64x4::splat(0.5));
-                let mut chunks = xs.chunks_exact_mut(4);
-                for c in &mut chunks {
-                    let x = f64x4::from([c[0], c[1], c[2], c[3]]);
-                    let t = x.fast_max(zero).fast_min(one);
-                    let u = f64x4::splat(std::f64::consts::PI) * (t - half);
-                    let u2 = u * u;
-                    let series = SINE_COEFFICIENTS
-                        .iter()
-                        .fold(zero, |acc, &k| acc * u2 + f64x4::splat(k));
-                    let sine = (u * (series * u2 + one)).fast_max(-one).fast_min(one);
-                    let y = half * sine + half;
-                    let select = <f64x4 as wide::Select<f64x4>>::select;
-                    let y = select(x.simd_le(zero), zero, y);
-                    let y = select(x.simd_ge(one), one, y);
-                    // NaN stays NaN, as in `eval`.
-                    let y = select(x.simd_ne(x), x, y);
-                    c.copy_from_slice(&y.to_array());
-                }
-                each(chunks.into_remainder(), |t| {
+                let remainder = lanes::run_kernel(SineInPlace(xs));
+                each(remainder, |t| {
                     0.5 * sin_within_half_turn(std::f64::consts::PI * (t - 0.5)) + 0.5
                 });
             }
             Self::Cubic => each(xs, |t| t * t * (3.0 - 2.0 * t)),
             Self::Quintic => each(xs, |t| t * t * (7.0 + t * (-18.0 + t * (20.0 - 8.0 * t)))),
         }
+    }
+}
+
+/// f_1 (sine) of every x in place, [`LANES`] at a time in the best SIMD lanes this CPU has
+/// (AVX2 where it reports it: the portable build's `wide` lanes are SSE2, two instructions
+/// per operation), with the same operations in the same order as [`Smoothing::eval`], so the
+/// same values. Returns the last `len % LANES` values, left for the scalar loop.
+struct SineInPlace<'a>(&'a mut [f64]);
+
+impl<'a> LaneKernel for SineInPlace<'a> {
+    type Output = &'a mut [f64];
+
+    #[inline(always)]
+    fn run<L: Lane>(self) -> &'a mut [f64] {
+        let (zero, one, half) = (L::splat(0.0), L::splat(1.0), L::splat(0.5));
+        let (pi, minus_one) = (L::splat(std::f64::consts::PI), L::splat(-1.0));
+        let mut chunks = self.0.chunks_exact_mut(LANES);
+        for c in &mut chunks {
+            let x = L::from_array([c[0], c[1], c[2], c[3]]);
+            let t = x.max(zero).min(one);
+            let u = pi * (t - half);
+            let u2 = u * u;
+            let series = SINE_COEFFICIENTS
+                .iter()
+                .fold(zero, |acc, &k| acc * u2 + L::splat(k));
+            let sine = (u * (series * u2 + one)).max(minus_one).min(one);
+            let y = half * sine + half;
+            let y = L::select(x.le(zero), zero, y);
+            let y = L::select(x.ge(one), one, y);
+            // NaN stays NaN, as in `eval` (no comparison holds for it).
+            let y = L::select(!x.le(x), x, y);
+            c.copy_from_slice(&y.to_array());
+        }
+        chunks.into_remainder()
     }
 }
 
@@ -212,12 +226,11 @@ mod tests {
         }
     }
 
-    /// The in-place batch gives `eval`'s values bit for bit (lanes and the scalar remainder),
-    /// at the clamps, just inside them, and NaN.
-    #[test]
-    fn the_batch_of_factors_is_eval_bit_for_bit() {
-        let mut xs: Vec<f64> = (0..=4001)
-            .map(|k| -0.25 + 1.5 * k as f64 / 4001.0)
+    /// Arguments of f_1 for the bit-for-bit tests: `count` across [−0.25, 1.25], then the
+    /// clamps, just inside them, and NaN.
+    fn factor_samples(count: usize) -> Vec<f64> {
+        let mut xs: Vec<f64> = (0..count)
+            .map(|k| -0.25 + 1.5 * k as f64 / count as f64)
             .collect();
         xs.extend([
             0.0,
@@ -229,19 +242,56 @@ mod tests {
             2.0,
             -3.0,
         ]);
+        xs
+    }
+
+    /// Each of `values` is `smoothing.eval`'s value at the matching `xs`, bit for bit.
+    fn assert_eval_bits(smoothing: Smoothing, xs: &[f64], values: &[f64], what: &str) {
+        assert_eq!(values.len(), xs.len(), "{what}");
+        for (&x, &y) in xs.iter().zip(values) {
+            let expected = smoothing.eval(x, 1.0);
+            assert!(
+                y.to_bits() == expected.to_bits() || (y.is_nan() && expected.is_nan()),
+                "{what} at {x}: {y} against {expected}"
+            );
+        }
+    }
+
+    /// The in-place batch gives `eval`'s values bit for bit (lanes and the scalar remainder),
+    /// at the clamps, just inside them, and NaN.
+    #[test]
+    fn the_batch_of_factors_is_eval_bit_for_bit() {
+        let xs = factor_samples(4002);
         for smoothing in [Smoothing::Sine, Smoothing::Cubic, Smoothing::Quintic] {
             let mut batch = xs.clone();
             smoothing.eval_unit_in_place(&mut batch);
-            for (&x, &y) in xs.iter().zip(&batch) {
-                let expected = smoothing.eval(x, 1.0);
-                assert!(
-                    y.to_bits() == expected.to_bits() || (y.is_nan() && expected.is_nan()),
-                    "{smoothing:?} at {x}: {y} against {expected}"
-                );
-            }
+            assert_eval_bits(smoothing, &xs, &batch, &format!("{smoothing:?}"));
         }
         assert_eq!(product_of(&[2.0, 3.0, 0.5, 4.0, 5.0, 0.1]), 6.0);
         assert_eq!(product_of(&[]), 1.0);
+    }
+
+    /// The sine's SIMD lanes give `eval`'s values bit for bit under every backend this CPU
+    /// has (the portable `wide` lanes and AVX2), not only the one `run_kernel` picks.
+    #[test]
+    fn the_sine_lanes_are_eval_bit_for_bit_under_every_backend() {
+        #[derive(Clone)]
+        struct Owned(Vec<f64>);
+        impl LaneKernel for Owned {
+            type Output = Vec<f64>;
+            #[inline(always)]
+            fn run<L: Lane>(mut self) -> Vec<f64> {
+                let left = SineInPlace(&mut self.0).run::<L>().len();
+                self.0.truncate(self.0.len() - left);
+                self.0
+            }
+        }
+        let xs = factor_samples(4000); // 4008 values: no scalar remainder
+        let runs = crate::coords::lanes::run_every_backend(Owned(xs.clone()));
+        assert!(!runs.is_empty());
+        for (backend, values) in runs {
+            assert_eval_bits(Smoothing::Sine, &xs, &values, backend);
+        }
     }
 
     #[test]
