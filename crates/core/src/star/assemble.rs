@@ -488,31 +488,36 @@ fn joins_weigh(inputs: &Inputs, plan: &CagePlan, scratch: &mut Scratch, i: usize
             group.evaluate(w, smoothing, scratch);
         }
     }
-    let omega = &scratch.omega;
+    let Scratch {
+        omega,
+        live,
+        weight,
+        factor,
+        ..
+    } = scratch;
     // Where Ω(u, p) = 0 the factor of u is f(1 / (1 − Ω(u, v))) = 1 (Ω(u, v) ≤ 1): only the
     // interior vertices whose Ω is alive at p enter the products. On a finely subdivided
     // border every term has thousands of interior neighbours, of which a point sees a few.
-    scratch.live.clear();
-    scratch
-        .live
-        .extend(plan.interior_omegas.iter().filter(|&&u| omega[u] != 0.0));
-    let live = &scratch.live;
-    scratch.weight.clear();
-    scratch.weight.extend(plan.terms.iter().map(|term| {
+    live.clear();
+    live.extend(plan.interior_omegas.iter().filter(|&&u| omega[u] != 0.0));
+    weight.clear();
+    weight.extend(plan.terms.iter().map(|term| {
         let own = omega[term.omega];
         if own == 0.0 || live.is_empty() {
             return own;
         }
         let neighbours = &term.interior_neighbours;
-        let interior_influence: f64 = live
-            .iter()
-            .filter_map(|&u| {
-                let k = neighbours.binary_search_by_key(&u, |&(x, _)| x).ok()?;
-                let at_v = neighbours[k].1;
-                Some(smoothing.eval((1.0 - omega[u]) / (1.0 - at_v), 1.0))
-            })
-            .product();
+        // The factors' arguments first, then f of all of them in SIMD lanes (the same values
+        // as one `eval` each), multiplied in the same order as before.
+        factor.clear();
+        factor.extend(live.iter().filter_map(|&u| {
+            let k = neighbours.binary_search_by_key(&u, |&(x, _)| x).ok()?;
+            let at_v = neighbours[k].1;
+            Some((1.0 - omega[u]) / (1.0 - at_v))
+        }));
+        smoothing.eval_unit_in_place(factor);
+        let interior_influence: f64 = factor.iter().product();
         own * interior_influence
     }));
-    scratch.weight.iter().sum::<f64>() > 1e-14
+    weight.iter().sum::<f64>() > 1e-14
 }
