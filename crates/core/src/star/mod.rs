@@ -592,8 +592,7 @@ mod tests {
             .map(|&c| {
                 let cage = &topology.leaves[c].cage;
                 crate::coords::functions_solved_of(cage, &scene.settings.harmonic)
-                    .map(|solved| (solved, cage.vertex_count()))
-                    .map(|(solved, all)| all / solved.max(1))
+                    .map(|solved| cage.vertex_count() / solved.max(1))
             })
             .collect();
         assert_eq!(
