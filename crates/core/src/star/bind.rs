@@ -46,12 +46,21 @@ fn interpolating(kind: CoordinateKind) -> CoordinateKind {
     }
 }
 
-/// What the binds of one scene's chunks of points share: whether a cage vertex lies in a join
-/// cage (per join cage, by its leaf cages, then per vertex). The same for every chunk, and on
-/// a rig with subdivided borders a tenth of a chunk's time.
+/// What the binds of one scene's chunks of points share: the join cages' data at the cage
+/// vertices, which depends on the cages alone. Each chunk computes what no chunk before it
+/// needed and reads the rest from here, so the cage vertices are no longer bound as extra
+/// points in every chunk (on the bunny's auto rig, eight chunks, that was a sixth of the bind).
 #[derive(Default)]
 pub(crate) struct JoinMemo {
+    /// Whether a cage vertex lies in a join cage (by its leaf cages, then by vertex).
     within: BTreeMap<Vec<usize>, BTreeMap<u32, bool>>,
+    /// Ω(u, v) (eqs. 6–7) of interior u at boundary vertex v inside jc(u), once computed.
+    omega_at_vertex: BTreeMap<(u32, u32), f64>,
+    /// Per interior join vertex v: d(t, v) per far face (eq. 6) and the row of T_{jc(v)}(v)
+    /// (eq. 10), from v's own coordinates in jc(v).
+    interior: BTreeMap<u32, (Vec<f64>, Row)>,
+    /// Per join vertex v, the faces of jc(v) not incident to v (F(jc(v), v) in eq. 6).
+    far_faces: BTreeMap<u32, Arc<Vec<Vec<usize>>>>,
 }
 
 /// Binds `points` placed by `placement` to the leaf cages of `set`.
@@ -108,8 +117,8 @@ fn bind_rows_by(
     let needs = join_needs(&cx, points, &boundary_weight, memo)?;
     let offset = points.len();
     let tables = join_cage_tables(&cx, &needs)?;
-    let joins = join_data(&cx, tables, offset, &mut green)?;
-    let omega_at_vertex = omega_at_vertices(&cx, &joins, offset)?;
+    let joins = join_data(&cx, tables, offset, &mut green, memo)?;
+    let omega_at_vertex = omega_at_vertices(&cx, &joins, offset, memo)?;
     let seconds_join = join_start.elapsed().as_secs_f64();
 
     // Assemble every row (eqs. 3–10), one plan of columns per leaf cage.
@@ -313,8 +322,9 @@ struct JoinNeeds {
 /// holds the cage (Ω(u, ·) vanishes outside jc(u), the union of the cages incident at u:
 /// docs/math.md, reading 6). Cage vertices become extra points: an interior vertex's own
 /// coordinates in its join cage (d(t, v) and T_{jc(v)}(v), eqs. 6 and 10), and each boundary
-/// vertex v inside jc(u) of an interior neighbour u (Ω(u, v) in eq. 8). Only the join cages
-/// the points use are listed, so a partial bind solves only those near its rows.
+/// vertex v inside jc(u) of an interior neighbour u (Ω(u, v) in eq. 8), except where an
+/// earlier chunk left their values in `memo`. Only the join cages the points use are listed,
+/// so a partial bind solves only those near its rows.
 fn join_needs(
     cx: &BindContext,
     points: &[DVec3],
@@ -383,13 +393,13 @@ fn join_needs(
                     .insert(v, inside);
                 inside
             });
-            if inside {
+            if inside && !memo.omega_at_vertex.contains_key(&(u, v)) {
                 need_omega.entry(u).or_default().push(offset + v as usize);
             }
         }
     }
     for (&v, join) in &topology.joins {
-        if join.interior && need_omega.contains_key(&v) {
+        if join.interior && need_omega.contains_key(&v) && !memo.interior.contains_key(&v) {
             need_omega.entry(v).or_default().push(offset + v as usize);
         }
     }
@@ -488,7 +498,8 @@ struct JoinCageTables {
 
 /// Phase 5, each join cage's data (eqs. 6 and 10): its far faces F(jc(v), v), and for an
 /// interior v the normalisers d(t, v) and the row of T_{jc(v)}(v) from v's own coordinates in
-/// jc(v) (docs/math.md, reading 1); 1 and no row for a boundary vertex of its join cage.
+/// jc(v) (docs/math.md, reading 1), or from `memo` where an earlier chunk computed them; 1
+/// and no row for a boundary vertex of its join cage.
 fn join_data<'t>(
     cx: &BindContext<'t>,
     JoinCageTables {
@@ -497,6 +508,7 @@ fn join_data<'t>(
     }: JoinCageTables,
     offset: usize,
     green: &mut GreenDofs,
+    memo: &mut JoinMemo,
 ) -> Result<BTreeMap<u32, JoinData<'t>>, StarError> {
     let (set, topology, control) = (cx.set, cx.topology, cx.control);
     let vertex_count = set.vertices.len() as u32;
@@ -504,16 +516,23 @@ fn join_data<'t>(
     for (&v, join) in &topology.joins {
         control.check().map_err(|_| StarError::Cancelled)?;
         let local = &join.local;
-        let far_faces: Vec<Vec<usize>> = join
-            .polygons
-            .iter()
-            .filter(|f| !f.contains(&v))
-            .map(|f| {
-                f.iter()
-                    .filter_map(|g| local.global.binary_search(g).ok())
-                    .collect()
+        let far_faces = memo
+            .far_faces
+            .entry(v)
+            .or_insert_with(|| {
+                Arc::new(
+                    join.polygons
+                        .iter()
+                        .filter(|f| !f.contains(&v))
+                        .map(|f| {
+                            f.iter()
+                                .filter_map(|g| local.global.binary_search(g).ok())
+                                .collect()
+                        })
+                        .collect(),
+                )
             })
-            .collect();
+            .clone();
         let what = format!("join cage of vertex {v}");
         let interp_kind = interpolating(join.kind);
         let dofs = if join.kind == CoordinateKind::Green {
@@ -525,9 +544,11 @@ fn join_data<'t>(
         let interp = interp.or_else(|| shared.remove(&v).map(Arc::new));
         // Interior v: its own coordinates in jc(v) give the normalisers d(t, v) and T_{jc(v)}(v).
         let own = interp.as_ref().and_then(|t| t.get(offset + v as usize));
-        let (normaliser, vertex_row) = match (join.interior, own) {
-            (true, Some((w0, _))) => {
-                let normaliser = far_faces
+        let known = memo.interior.get(&v).filter(|_| join.interior);
+        let (normaliser, vertex_row) = match (join.interior, own, known) {
+            (_, _, Some((normaliser, row))) => (normaliser.clone(), row.clone()),
+            (true, Some((w0, _)), None) => {
+                let normaliser: Vec<f64> = far_faces
                     .iter()
                     .map(|f| 1.0 - f.iter().map(|&k| w0[k]).sum::<f64>())
                     .collect();
@@ -548,6 +569,7 @@ fn join_data<'t>(
                     };
                     add_row(&mut row, 1.0, t_row, local, &dofs, vertex_count);
                 }
+                memo.interior.insert(v, (normaliser.clone(), row.clone()));
                 (normaliser, row)
             }
             _ => (vec![1.0; far_faces.len()], Vec::new()),
@@ -569,11 +591,14 @@ fn join_data<'t>(
 }
 
 /// Phase 6, Ω(u, v) (eqs. 6–7) for interior u at each boundary vertex v that has u as an
-/// interior neighbour: the values eq. 8's I(v, p) multiplies (0 where v lies outside jc(u)).
+/// interior neighbour: the values eq. 8's I(v, p) multiplies (0 where v lies outside jc(u),
+/// or where no point of this chunk reads it). Those in `memo` are read, the others computed
+/// and remembered there.
 fn omega_at_vertices(
     cx: &BindContext,
     joins: &BTreeMap<u32, JoinData>,
     offset: usize,
+    memo: &mut JoinMemo,
 ) -> Result<BTreeMap<(u32, u32), f64>, StarError> {
     let topology = cx.topology;
     let smoothing = cx.settings.smoothing;
@@ -582,19 +607,32 @@ fn omega_at_vertices(
         .keys()
         .flat_map(|&v| topology.interior_neighbours(v).map(move |u| (u, v)))
         .collect();
-    let values: Vec<f64> = pairs
+    let known = &memo.omega_at_vertex;
+    let values: Vec<Option<f64>> = pairs
         .par_iter()
         .with_min_len(64)
         .map(|&(u, v)| {
+            if known.contains_key(&(u, v)) {
+                return None;
+            }
             let data = &joins[&u];
             data.interp
                 .as_ref()
                 .and_then(|t| t.get(offset + v as usize))
-                .map_or(0.0, |(w, _)| data.omega(w, smoothing))
+                .map(|(w, _)| data.omega(w, smoothing))
         })
         .collect();
     cx.control.check().map_err(|_| StarError::Cancelled)?;
-    Ok(pairs.into_iter().zip(values).collect())
+    for (&pair, value) in pairs.iter().zip(values) {
+        if let Some(value) = value {
+            memo.omega_at_vertex.insert(pair, value);
+        }
+    }
+    let known = &memo.omega_at_vertex;
+    Ok(pairs
+        .into_iter()
+        .map(|pair| (pair, known.get(&pair).copied().unwrap_or(0.0)))
+        .collect())
 }
 
 /// A join cage's tables: interpolating weights (for Ω) and weights of its own kind (for L_v),

@@ -384,16 +384,17 @@ const PLACE_CHUNK_POINTS: usize = 1 << 16;
 
 /// Points bound at a time by [`StarBinding::bind_points`]: an eighth of the points (so the
 /// transient tables stay a fraction of what the binding keeps), at least 4096 (each chunk
-/// re-derives the join cages' data at the cage vertices) and at most 32768.
+/// plans its cages' rows and gathers its join cages' points again) and at most 32768.
 fn bind_chunk_points(points: usize) -> usize {
     (points / 8).clamp(4096, 32768)
 }
 
 /// `points` split into chunks of about `chunk` (at least one point): the number of chunks
-/// rounded to the nearest (at least 1), the points spread evenly over them. Each chunk pays
-/// the join cages' data at the cage vertices again (about 20 ms on the armadillo's auto rig),
-/// so a last sliver of a chunk (426 of 25,002 points there) cost as much as a whole one;
-/// chunks now hold at most 1.5 times `chunk`. Returns the chunk size and count.
+/// rounded to the nearest (at least 1), the points spread evenly over them. Each chunk has a
+/// fixed cost (its cages' row plans, its join cages' point lists; before `bind::JoinMemo`, also
+/// the join cages' data at the cage vertices, about 20 ms on the armadillo's auto rig), so a
+/// last sliver of a chunk (426 of 25,002 points there) cost as much as a whole one; chunks now
+/// hold at most 1.5 times `chunk`. Returns the chunk size and count.
 fn even_chunks(points: usize, chunk: usize) -> (usize, usize) {
     let chunk = chunk.max(1);
     let chunks = ((points + chunk / 2) / chunk).max(1);
@@ -483,10 +484,11 @@ mod tests {
     use super::*;
     use crate::generate::demo::demo_scene;
 
-    /// A bind streamed chunk by chunk is the bind of all points at once: the same rows (every
-    /// chunk re-derives the join cages' data at the cage vertices the same way), rest offsets,
-    /// b, join weights, cages and Green DOFs. The egg's rig has interior join vertices (eq. 10)
-    /// and, with one leaf made Green, Green DOFs.
+    /// A bind streamed chunk by chunk is the bind of all points at once: the same rows, rest
+    /// offsets, b, join weights, cages and Green DOFs, and the same kernel work: the join
+    /// cages' data at the cage vertices is computed once and read by the later chunks
+    /// (`bind::JoinMemo`), not bound again per chunk. The egg's rig has interior join vertices
+    /// (eq. 10) and, with one leaf made Green, Green DOFs.
     #[test]
     fn a_bind_streamed_in_chunks_equals_the_bind_of_all_points_at_once() {
         let mut scene = demo_scene("egg", 0.5).unwrap();
@@ -497,7 +499,12 @@ mod tests {
             StarBinding::bind_points_in_chunks(&scene, points, &control, points.len()).unwrap();
         let chunk = points.len() / 5 + 1;
         let streamed = StarBinding::bind_points_in_chunks(&scene, points, &control, chunk).unwrap();
+        assert_eq!(
+            whole.stats.kernel_pairs, streamed.stats.kernel_pairs,
+            "point·triangle pairs of the whole bind and of the streamed one"
+        );
         let (a, b) = (whole.operator.parts(), streamed.operator.parts());
+        assert_eq!(a.3, b.3, "weights");
         assert_eq!(a.0, b.0, "Green DOFs");
         assert_eq!(a.1, b.1, "row starts");
         assert_eq!(a.2, b.2, "columns");

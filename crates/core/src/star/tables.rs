@@ -102,7 +102,7 @@ pub(super) fn merge(mut row: Row) -> Row {
 pub(super) struct JoinData<'a> {
     pub join: &'a JoinCage,
     /// Faces of jc(v) not incident to v, as local vertex lists (F(jc(v), v) in eq. 6).
-    pub far_faces: Vec<Vec<usize>>,
+    pub far_faces: Arc<Vec<Vec<usize>>>,
     /// d_{jc(v)}(t, v) per far face (1 for non-interior v).
     pub normaliser: Vec<f64>,
     /// Interpolating coordinates (MVC/HC) of the points that need Ω(v, ·).
