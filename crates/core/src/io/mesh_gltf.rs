@@ -654,12 +654,27 @@ fn add_node_mesh(
             match reader.read_indices() {
                 Some(indices) => {
                     let indices: Vec<u32> = indices.into_u32().collect();
-                    if !indices.len().is_multiple_of(3)
-                        || indices.iter().any(|&i| i as usize >= count)
-                    {
+                    if !indices.len().is_multiple_of(3) {
                         return Err(FileError::format(
                             path,
-                            "a primitive's indices are out of range or not triangles",
+                            format!(
+                                "{} holds {} indices, not a whole number of triangles; \
+                                 re-export the file",
+                                what("the index list"),
+                                indices.len()
+                            ),
+                        ));
+                    }
+                    if let Some(k) = indices.iter().position(|&i| i as usize >= count) {
+                        return Err(FileError::format(
+                            path,
+                            format!(
+                                "{} names vertex {} at index {k}, but the primitive has \
+                                 {count} vertices (numbered from 0); the file is damaged: \
+                                 re-export it",
+                                what("the index list"),
+                                indices[k]
+                            ),
                         ));
                     }
                     indices

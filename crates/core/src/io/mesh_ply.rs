@@ -147,7 +147,10 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
                     if !p.is_finite() {
                         return Err(FileError::format(
                             path,
-                            format!("vertex {v} has a coordinate that is not finite"),
+                            format!(
+                                "vertex {v} has a coordinate that is not finite (NaN or \
+                                 infinity); fix or remove it and export again"
+                            ),
                         ));
                     }
                     positions.push(p);
@@ -202,7 +205,8 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
                                             path,
                                             format!(
                                                 "face {f} names vertex {i}, but there are {count} \
-                                                 vertices"
+                                                 vertices (numbered from 0); the file is \
+                                                 damaged: export it again"
                                             ),
                                         ));
                                     }

@@ -49,7 +49,11 @@ pub fn parse_stl(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
     if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
         return Err(FileError::format(
             path,
-            format!("triangle {} has a corner that is not finite", v / 3),
+            format!(
+                "triangle {} has a corner that is not finite (NaN or infinity); fix or remove \
+                 it and export again",
+                v / 3
+            ),
         ));
     }
     let triangles = (0..positions.len() as u32 / 3)

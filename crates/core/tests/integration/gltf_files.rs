@@ -134,6 +134,28 @@ fn malformed_accessors_are_refused_with_the_reason() {
             VIEWS.to_owned(),
             "POSITION",
         ),
+        (
+            "two-indices",
+            PRIMITIVE,
+            format!(
+                "[{POSITION},{}]",
+                INDICES.replace("\"count\":3", "\"count\":2")
+            ),
+            VIEWS.to_owned(),
+            "mesh 'tri', the index list holds 2 indices, not a whole number of triangles; \
+             re-export",
+        ),
+        (
+            "index-past-the-vertices",
+            PRIMITIVE,
+            format!(
+                "[{},{INDICES}]",
+                POSITION.replace("\"count\":3", "\"count\":2")
+            ),
+            VIEWS.to_owned(),
+            "mesh 'tri', the index list names vertex 2 at index 2, but the primitive has 2 \
+             vertices (numbered from 0); the file is damaged: re-export it",
+        ),
     ];
     for (name, primitive, accessors, views, why) in cases {
         let json = document(ONE_NODE, primitive, &accessors, &views);

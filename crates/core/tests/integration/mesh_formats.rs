@@ -211,7 +211,8 @@ fn forged_and_broken_files_are_refused_with_the_reason() {
     );
     says(
         parse_ply(at, ascii_ply().replace("4 0 2 3 1", "4 0 2 3 9").as_bytes()),
-        "names vertex 9",
+        "names vertex 9, but there are 8 vertices (numbered from 0); the file is damaged: export \
+         it again",
     );
     says(
         parse_ply(at, ascii_ply().replacen(" 200 ", " 2x0 ", 1).as_bytes()),
@@ -229,7 +230,8 @@ fn forged_and_broken_files_are_refused_with_the_reason() {
             at,
             ascii_ply().replace("0 0 0 200", "nan 0 0 200").as_bytes(),
         ),
-        "not finite",
+        "vertex 0 has a coordinate that is not finite (NaN or infinity); fix or remove it and \
+         export again",
     );
     let points = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
                   property float z\nend_header\n0 0 0\n";
@@ -254,7 +256,16 @@ fn forged_and_broken_files_are_refused_with_the_reason() {
                 .replacen("vertex 0 0 0", "vertex 0 inf 0", 1)
                 .as_bytes(),
         ),
-        "not finite",
+        "bad:4: y 'inf' is not finite",
+    );
+    // Binary: the second triangle's first corner (84-byte header, 50 bytes a facet, the
+    // normal's 12 first) has a NaN y.
+    let mut stl = binary_stl();
+    stl[84 + 50 + 12 + 4..84 + 50 + 12 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
+    says(
+        parse_stl(at, &stl),
+        "triangle 1 has a corner that is not finite (NaN or infinity); fix or remove it and \
+         export again",
     );
     // OFF: counts beyond the file, a corner out of range, not an OFF file.
     says(
