@@ -147,6 +147,12 @@ fn shape_reason(error: &serde_json::Error) -> String {
         format!("{text}; write a value of the expected kind")
     } else if text.starts_with("unknown field") || text.starts_with("unknown variant") {
         format!("{text}; check the spelling")
+    } else if text == "expected value" {
+        // The text parsed as JSON before: this is a number, list, object or null where a name
+        // (one of a field's words, such as a cage's kind) belongs.
+        "expected a name in quotes here (such as \"mvc\"; docs/scene-format.md lists each \
+         field's names), found a number, a list, an object or null; write the name as a string"
+            .into()
     } else {
         text
     }

@@ -659,6 +659,11 @@ fn scene_shape_errors_name_the_line_and_the_field() {
             "field 'cages[0]",
             "",
         ),
+        (
+            text.replacen("\"kind\": \"mvc\"", "\"kind\": 5", 1),
+            "field 'cages[0].kind'",
+            "expected a name in quotes here (such as \"mvc\"",
+        ),
     ];
     for (broken, field, reason) in cases {
         assert_ne!(broken, text, "the test edits the file");
