@@ -150,7 +150,7 @@ pub enum AnimationProblem {
         cage: String,
     },
     /// A key's h is outside (0, 1].
-    #[error("animation: key {key} (frame {frame}) sets h of '{cage}' to {h}, outside (0, 1]")]
+    #[error("animation: key {key} (frame {frame}) sets h of '{cage}' to {h:?}, outside (0, 1]")]
     KeyH {
         /// The key.
         key: usize,

@@ -72,9 +72,9 @@ pub enum SceneProblem {
         problem: CageError,
     },
     /// An h outside (0, 1].
-    #[error("cage '{cage}': h = {h} is outside (0, 1]; choose a value in that range")]
+    #[error("cage '{cage}': h = {h:?} is outside (0, 1]; choose a value in that range")]
     InvalidH {
-        /// The cage ("scene default" for the default).
+        /// The cage.
         cage: String,
         /// The value.
         h: f64,
@@ -408,9 +408,11 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
     }
     let h = scene.settings.default_h;
     if !(h > 0.0 && h <= 1.0) {
-        errors.push(SceneProblem::InvalidH {
-            cage: "scene default".into(),
-            h,
+        errors.push(SceneProblem::Settings {
+            why: format!(
+                "default_h = {h:?} is outside (0, 1]; choose a value in that range (0.5 is the \
+                 default)"
+            ),
         });
     }
     // Each cage closed and outward-oriented.

@@ -241,6 +241,16 @@ fn validation_names_cage_element_and_fix() {
     assert!(p.iter().any(
         |e| matches!(e, SceneProblem::UnknownBorder { neighbour, .. } if neighbour == "nobody")
     ));
+    // The scene's default h is a setting, and an extreme value prints short.
+    let mut d = two_box_scene();
+    d.settings.default_h = 1e308;
+    let default_problems = problems(&d);
+    assert!(
+        default_problems.iter().any(|e| e.to_string()
+            == "settings: default_h = 1e308 is outside (0, 1]; choose a value in that range \
+                (0.5 is the default)"),
+        "{default_problems:?}"
+    );
     assert!(
         p.iter()
             .any(|e| matches!(e, SceneProblem::DuplicateName { .. }))
