@@ -58,7 +58,14 @@ pub fn status_bar(
             } else {
                 ui.visuals().text_color()
             };
-            ui.label(RichText::new(&message.text).color(colour.gamma_multiply(message.opacity())));
+            // Cut with "…" at the window's edge, the whole text on hover: an error's fix comes
+            // last, and a long one ran off the bar unread.
+            ui.add(
+                egui::Label::new(
+                    RichText::new(&message.text).color(colour.gamma_multiply(message.opacity())),
+                )
+                .truncate(),
+            );
             // Keep drawing until it has faded.
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));

@@ -1267,3 +1267,36 @@ fn file_open_demo_lists_the_demos_and_opens_one() {
     assert!(!state.doc.dirty && state.doc.path.is_none());
     assert!(state.rig.is_some(), "bound");
 }
+
+/// A message longer than the status bar ends in "…" at the window's edge, and hovering it
+/// shows the whole text (the fix at its end included) in a tooltip.
+#[test]
+fn a_long_status_message_is_cut_and_shown_whole_on_hover() {
+    let mut harness = harness();
+    let fix = "write the name as a string. The current scene is unchanged";
+    let text = format!(
+        "could not open scene.json:1:36375: field 'cages[0].kind': expected a name in quotes \
+         here (such as \"mvc\"; docs/scene-format.md lists each field's names), found a number, \
+         a list, an object or null; {fix}"
+    );
+    harness.state_mut().state.message =
+        Some(starcages_editor::state::Message::new(text.clone(), true));
+    harness.set_size(egui::vec2(900.0, 600.0));
+    harness.run_steps(2);
+    let whole = |harness: &egui_kittest::Harness<'_, starcages_editor::EditorApp>| {
+        harness.query_all_by_label_contains(fix).count()
+    };
+    let before = whole(&harness);
+    harness
+        .get_by_label_contains("could not open scene.json")
+        .hover();
+    // Past egui's tooltip delay (half a second).
+    for _ in 0..10 {
+        harness.step();
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    assert!(
+        whole(&harness) > before,
+        "no tooltip with the whole message on hover ({before} nodes with its end before)"
+    );
+}
