@@ -169,6 +169,8 @@ pub(super) fn attach_internal_cage(
             .map(|f| f.into_iter().map(|v| v + base).collect())
             .collect(),
         owns: owned.clone(),
+        pivot: None,
+        joint: Vec::new(),
     });
     let rest = &scene.cages.vertices;
     let moved = |pose: &[DVec3]| -> Vec<u32> {

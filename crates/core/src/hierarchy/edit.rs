@@ -1,13 +1,13 @@
 //! Whole-cage edits as text, the scripting form of what the editor does:
-//! `"CAGE: translate X Y Z"`, `"CAGE: rotate AX AY AZ DEG"` (about the cage's centroid) and
-//! `"CAGE: scale S"` (about the centroid).
+//! `"CAGE: translate X Y Z"`, `"CAGE: rotate AX AY AZ DEG"` (about the cage's centroid, or a
+//! control's pivot) and `"CAGE: scale S"` (about the same point).
 
 use std::str::FromStr;
 
 use glam::{DQuat, DVec3};
 use thiserror::Error;
 
-use crate::scene::CageSet;
+use crate::scene::{CageSet, InternalCage};
 
 /// A transformation of a whole cage.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,13 +128,41 @@ impl CageEdit {
             .iter()
             .filter_map(|&v| pose.get(v as usize).copied())
             .collect();
-        let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
+        let centre = set
+            .internals
+            .iter()
+            .find(|c| c.name == self.cage)
+            .and_then(|c| posed_pivot(set, c, pose))
+            .unwrap_or_else(|| positions.iter().sum::<DVec3>() / positions.len().max(1) as f64);
         Ok(vertices
             .iter()
             .zip(positions)
             .map(|(&v, p)| (v, self.transform.apply(p, centre)))
             .collect())
     }
+}
+
+/// Where a control's pivot stands in `pose`: its rest pivot carried by the control's motion
+/// from rest (the affine map its vertices moved by). None without a pivot, or for a control
+/// flattened into a plane.
+pub fn posed_pivot(set: &CageSet, cage: &InternalCage, pose: &[DVec3]) -> Option<DVec3> {
+    let pivot = cage.pivot?;
+    let vertices: Vec<u32> = {
+        let mut v: Vec<u32> = cage.faces.iter().flatten().copied().collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let rest: Vec<DVec3> = vertices
+        .iter()
+        .map(|&v| set.vertices.get(v as usize).copied())
+        .collect::<Option<_>>()?;
+    let now: Vec<DVec3> = vertices
+        .iter()
+        .map(|&v| pose.get(v as usize).copied())
+        .collect::<Option<_>>()?;
+    let at = super::affine_fit(&rest, &now)?.transform_point3(pivot);
+    at.is_finite().then_some(at)
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ mod auto;
 mod edit;
 mod follow;
 mod import;
+mod joint;
 mod remove;
 mod restore;
 
@@ -26,9 +27,10 @@ use crate::scene::{
 };
 
 pub use auto::{AutoInternalCage, AutoInternalCageError, add_auto_internal_cage, box_grid};
-pub use edit::{CageEdit, CageTransform, EditError};
+pub use edit::{CageEdit, CageTransform, EditError, posed_pivot};
 use follow::{Follow, RebindRequest, anchor_points, rebind};
 pub use import::import_internal_cages;
+pub use joint::{JointFrame, affine_fit};
 pub use remove::{RemoveInternalCageError, remove_internal_cage};
 pub(crate) use remove::{forget, renumber};
 
@@ -136,10 +138,27 @@ impl Level {
     }
 }
 
+/// A control's joint, bound: its ring turns half as far as the control does relative to
+/// its parent (`joint`).
+#[derive(Debug, Clone)]
+struct Joint {
+    /// The control's level.
+    control: usize,
+    /// The level owning the control's vertices (and the ring's).
+    parent: usize,
+    /// Rest shapes of the control and its parent, for their motions.
+    control_rest: Vec<DVec3>,
+    parent_rest: Vec<DVec3>,
+    frame: JointFrame,
+    /// Ring vertices with their slot in the parent's `owns`.
+    ring: Vec<(u32, usize)>,
+}
+
 /// The bound hierarchy of a scene's internal cages, with its edit state.
 #[derive(Debug, Clone)]
 pub struct Hierarchy {
     levels: Vec<Level>,
+    joints: Vec<Joint>,
     /// Internal cages, every driver before the cages it drives.
     order: Vec<usize>,
     /// Per shared vertex: (level, slot in its `owns`).
@@ -210,8 +229,10 @@ impl Hierarchy {
             });
         }
         let order = drivers_first(&levels);
+        let joints = bind_joints(scene, &levels, &parent);
         let mut hierarchy = Self {
             levels,
+            joints,
             order,
             parent,
             hand_moved: vec![false; set.vertices.len()],
@@ -356,6 +377,7 @@ impl Hierarchy {
             self.hand_moved[self.levels[l].owns[k] as usize] = false;
             self.levels[l].follow[k] = follow;
         }
+        self.bend_joints(&mut new, &mut changed, &by_hand);
         for ((flag, hand), parent) in self.hand_moved.iter_mut().zip(&by_hand).zip(&self.parent) {
             if *hand && parent.is_some() {
                 *flag = true;
@@ -407,6 +429,10 @@ impl Hierarchy {
                 sensitivity[v as usize] = Some(row);
             }
         }
+        let reached: Vec<bool> = sensitivity.iter().map(Option::is_some).collect();
+        if self.reaches_joint(&reached) {
+            return None;
+        }
         Some(
             sensitivity
                 .into_iter()
@@ -414,6 +440,51 @@ impl Hierarchy {
                 .filter_map(|(v, s)| Some((v as u32, s?)))
                 .collect(),
         )
+    }
+
+    /// Puts every joint ring whose control or parent moved at its mitred place: the place
+    /// its parent gives it, taken through half the control's turn relative to the parent
+    /// ([`JointFrame::mitre`]). Vertices moved by hand keep their place.
+    fn bend_joints(&self, pose: &mut [DVec3], changed: &mut [bool], by_hand: &[bool]) {
+        for joint in &self.joints {
+            let (control, parent) = (&self.levels[joint.control], &self.levels[joint.parent]);
+            let moved = |level: &Level| level.global.iter().any(|&v| changed[v as usize]);
+            if !moved(control) && !moved(parent) {
+                continue;
+            }
+            let (Some(control_motion), Some(parent_motion)) = (
+                affine_fit(&joint.control_rest, &control.shape(pose)),
+                affine_fit(&joint.parent_rest, &parent.shape(pose)),
+            ) else {
+                continue;
+            };
+            let relative = parent_motion.inverse() * control_motion;
+            let mitre = joint.frame.mitre(&relative);
+            let parent_shape = parent.shape(pose);
+            for &(v, slot) in &joint.ring {
+                let v = v as usize;
+                if by_hand[v] || self.hand_moved[v] {
+                    continue;
+                }
+                let base = parent.follow[slot].position(&parent_shape);
+                let rest_place = parent_motion.inverse().transform_point3(base);
+                let p = parent_motion.transform_point3(mitre.transform_point3(rest_place));
+                if p.is_finite() && p != pose[v] {
+                    pose[v] = p;
+                    changed[v] = true;
+                }
+            }
+        }
+    }
+
+    /// Whether a move of `vertices` reaches a joint (its control or its parent moves), where
+    /// the ring's place is not linear in the moved vertices.
+    fn reaches_joint(&self, reached: &[bool]) -> bool {
+        self.joints.iter().any(|j| {
+            [j.control, j.parent]
+                .iter()
+                .any(|&l| self.levels[l].global.iter().any(|&v| reached[v as usize]))
+        })
     }
 
     /// The edit state, to store with a pose.
@@ -479,6 +550,50 @@ impl Hierarchy {
                 reason: "it has no parent cage".into(),
             })
     }
+}
+
+/// The joints of the scene's controls: an internal cage with a pivot and a ring, owned by
+/// one parent cage that owns the ring too (validation checks it). The limb's direction at the
+/// joint runs from the pivot to the control's centroid.
+fn bind_joints(scene: &Scene, levels: &[Level], parent: &[Option<(usize, usize)>]) -> Vec<Joint> {
+    let set = &scene.cages;
+    let mut joints = Vec::new();
+    for (l, cage) in set.internals.iter().enumerate() {
+        let (Some(pivot), false) = (cage.pivot, cage.joint.is_empty()) else {
+            continue;
+        };
+        let level = &levels[l];
+        let Some(parent_level) = level
+            .global
+            .iter()
+            .find_map(|&v| parent.get(v as usize).copied().flatten())
+            .map(|(p, _)| p)
+        else {
+            continue;
+        };
+        let ring: Option<Vec<(u32, usize)>> = cage
+            .joint
+            .iter()
+            .map(|&v| match parent.get(v as usize).copied().flatten() {
+                Some((p, slot)) if p == parent_level => Some((v, slot)),
+                _ => None,
+            })
+            .collect();
+        let control_rest = level.shape(&set.vertices);
+        let centroid = control_rest.iter().sum::<DVec3>() / control_rest.len().max(1) as f64;
+        let (Some(ring), Some(axis)) = (ring, (centroid - pivot).try_normalize()) else {
+            continue;
+        };
+        joints.push(Joint {
+            control: l,
+            parent: parent_level,
+            control_rest,
+            parent_rest: levels[parent_level].shape(&set.vertices),
+            frame: JointFrame { pivot, axis },
+            ring,
+        });
+    }
+    joints
 }
 
 /// Internal cages ordered so that a cage comes after every cage owning one of its vertices

@@ -122,6 +122,7 @@ pub(crate) fn renumber(scene: &mut Scene, removed: &BTreeSet<u32>) {
     for cage in &mut set.internals {
         cage.faces.iter_mut().flatten().for_each(map);
         cage.owns.iter_mut().for_each(map);
+        cage.joint.iter_mut().for_each(map);
     }
     for state in std::iter::once(&mut scene.pose_state).chain(scene.pose_states.values_mut()) {
         state.hand_moved.iter_mut().for_each(map);

@@ -231,6 +231,7 @@ pub(crate) fn drop_unused_vertices(scene: &mut Scene, gone: &[Vec<u32>]) {
         .collect();
     for internal in &mut scene.cages.internals {
         internal.owns.retain(|v| !removed.contains(v));
+        internal.joint.retain(|v| !removed.contains(v));
     }
     for state in std::iter::once(&mut scene.pose_state).chain(scene.pose_states.values_mut()) {
         crate::hierarchy::forget(state, &removed);

@@ -37,6 +37,17 @@ pub struct InternalCage {
     pub faces: Vec<Vec<u32>>,
     /// Vertices of lower-level cages it owns (each vertex has at most one parent).
     pub owns: Vec<u32>,
+    /// The joint this cage turns about when it is a control (a rest position): `rotate` and
+    /// `scale` edits turn about it (carried along as the control moves), and the editor's
+    /// pivot is there. Absent: the centroid of the cage's vertices.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pivot: Option<DVec3>,
+    /// The joint's ring: leaf vertices owned by the cage that owns this one (its parent
+    /// control), which turn half as far as this cage does relative to its parent, about the
+    /// pivot, and stretch so that the two sides meet as a mitre (docs/math.md, "Joints").
+    /// Empty: no ring bends with this cage.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joint: Vec<u32>,
 }
 
 /// All cages of a scene over one vertex array (rest positions).

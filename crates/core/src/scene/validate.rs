@@ -267,6 +267,28 @@ pub enum SceneProblem {
         /// A cage on the cycle.
         cage: String,
     },
+    /// A control's pivot is not a finite position within the coordinate range.
+    #[error(
+        "internal cage '{cage}' has its pivot at a non-finite position or beyond \
+         ±{MAX_COORDINATE:e}; put it at the joint the control turns about, or remove \"pivot\""
+    )]
+    BadPivot {
+        /// The internal cage.
+        cage: String,
+    },
+    /// A joint ring lists a vertex that cannot bend with the control.
+    #[error(
+        "internal cage '{cage}' lists vertex {vertex} in its \"joint\" ring, which {reason}; \
+         remove it from the ring"
+    )]
+    BadJointVertex {
+        /// The internal cage.
+        cage: String,
+        /// The vertex.
+        vertex: usize,
+        /// Why it cannot be in the ring.
+        reason: &'static str,
+    },
 }
 
 /// Result of validating a scene.
@@ -606,6 +628,7 @@ pub(crate) fn check_hierarchy(scene: &Scene, errors: &mut Vec<SceneProblem>) {
             }
         }
     }
+    check_joints(set, &parent, &own_vertices, errors);
     // Internal cage i drives internal cage j when it owns one of j's vertices; a cycle in
     // that graph means a cage drives itself.
     let drives: Vec<BTreeSet<usize>> = set
@@ -629,6 +652,48 @@ pub(crate) fn check_hierarchy(scene: &Scene, errors: &mut Vec<SceneProblem>) {
             }
             if seen.insert(j) {
                 stack.extend(drives[j].iter().copied());
+            }
+        }
+    }
+}
+
+/// Pivots are finite, in range; a joint ring's vertices are owned by the cage that owns the
+/// control's own vertices (its parent control), each in one ring, none of them the control's.
+fn check_joints(
+    set: &super::CageSet,
+    parent: &BTreeMap<u32, usize>,
+    own_vertices: &[BTreeSet<u32>],
+    errors: &mut Vec<SceneProblem>,
+) {
+    let mut in_ring: BTreeSet<u32> = BTreeSet::new();
+    for (i, cage) in set.internals.iter().enumerate() {
+        if let Some(p) = cage.pivot
+            && !(p.is_finite() && p.abs().max_element() <= MAX_COORDINATE)
+        {
+            errors.push(SceneProblem::BadPivot {
+                cage: cage.name.clone(),
+            });
+        }
+        // The control's parent: the cage owning its vertices (the first one owned).
+        let control_parent = own_vertices[i].iter().find_map(|v| parent.get(v)).copied();
+        for &v in &cage.joint {
+            let reason = if v as usize >= set.vertices.len() {
+                Some("does not exist")
+            } else if own_vertices[i].contains(&v) {
+                Some("is one of the control's own vertices")
+            } else if parent.get(&v).copied() != control_parent {
+                Some("is not owned by the cage that owns the control")
+            } else if !in_ring.insert(v) {
+                Some("is in another ring already (or listed twice)")
+            } else {
+                None
+            };
+            if let Some(reason) = reason {
+                errors.push(SceneProblem::BadJointVertex {
+                    cage: cage.name.clone(),
+                    vertex: v as usize,
+                    reason,
+                });
             }
         }
     }

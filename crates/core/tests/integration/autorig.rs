@@ -12,29 +12,7 @@ use starcages_core::mesh::Mesh;
 use starcages_core::scene::{CageSet, MeshSource, Scene, SceneSettings, validate_scene};
 use starcages_core::surface_nets::surface_nets;
 
-/// Distance from `p` to the capsule from `a` to `b` of radius `r` (negative inside).
-fn capsule(p: DVec3, a: DVec3, b: DVec3, r: f64) -> f64 {
-    let ab = b - a;
-    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-    (p - (a + ab * t)).length() - r
-}
-
-/// A closed mesh of the union of capsules (a, b, radius).
-fn capsules(parts: &[(DVec3, DVec3, f64)], spacing: f64) -> Mesh {
-    let field = |p: DVec3| {
-        parts
-            .iter()
-            .map(|&(a, b, r)| capsule(p, a, b, r))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let (lo, hi) = parts.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &(a, b, r)| (lo.min(a.min(b) - r), hi.max(a.max(b) + r)),
-    );
-    let pad = DVec3::splat(2.0 * spacing);
-    let (positions, triangles) = surface_nets(field, lo - pad, hi + pad, spacing);
-    Mesh::new(positions, triangles, None, None).unwrap()
-}
+use crate::common::capsules;
 
 fn v(x: f64, y: f64, z: f64) -> DVec3 {
     DVec3::new(x, y, z)
@@ -133,7 +111,7 @@ fn scene(mesh: &Mesh, cages: CageSet) -> Scene {
 fn rig_with_internal_cages(mesh: &Mesh, detail: u32) -> Scene {
     let settings = AutorigSettings {
         detail,
-        internal: true,
+        controls: true,
         ..AutorigSettings::default()
     };
     let scene = scene(mesh, rig(mesh, &settings));
@@ -151,13 +129,13 @@ fn internal_names(scene: &Scene) -> Vec<&str> {
         .collect()
 }
 
-/// The internal boxes that drive a limb (`limbN_ctrl`).
+/// The limbs with controls: one `<limb>.1` control each, at the limb's root.
 fn limb_boxes(scene: &Scene) -> usize {
     scene
         .cages
         .internals
         .iter()
-        .filter(|c| c.name.starts_with("limb"))
+        .filter(|c| c.name.ends_with(".1"))
         .count()
 }
 
@@ -208,7 +186,8 @@ fn a_five_armed_star_gets_a_chain_per_arm() {
         .cages
         .leaves
         .iter()
-        .filter_map(|l| l.name.strip_prefix("limb")?.split('_').next())
+        .filter(|l| !l.name.starts_with("body"))
+        .filter_map(|l| l.name.split('_').next())
         .collect();
     assert_eq!(
         limbs.len(),
@@ -334,13 +313,11 @@ fn internal_cages_drive_each_limb() {
     let scene = rig_with_internal_cages(&mesh, 3);
     let names = internal_names(&scene);
     assert_eq!(
-        names
-            .iter()
-            .filter(|n| n.ends_with("_ctrl") && n.starts_with("limb"))
-            .count(),
-        5
+        names.iter().filter(|n| n.ends_with(".1")).count(),
+        5,
+        "{names:?}"
     );
-    assert!(names.contains(&"rig_ctrl"));
+    assert!(names.contains(&"root"));
 }
 
 #[test]
@@ -384,7 +361,7 @@ fn legs_joined_below_the_body_are_limbs_of_their_own() {
     // Root segments: one per leg, each of its own limb (no "limbL_1b").
     let roots: Vec<&&str> = names
         .iter()
-        .filter(|n| n.starts_with("limb") && n.contains("_1"))
+        .filter(|n| !n.starts_with("body") && n.contains("_1"))
         .collect();
     assert!(
         roots.len() >= 2 && roots.iter().all(|n| n.ends_with("_1")),
@@ -418,7 +395,7 @@ fn a_limb_that_forks_gets_a_limb_per_branch_under_the_limb_it_grows_from() {
         let leaf = set
             .leaves
             .iter()
-            .filter(|l| l.name.starts_with("limb"))
+            .filter(|l| !l.name.starts_with("body"))
             .max_by(|a, b| {
                 let top = |l: &starcages_core::scene::LeafCage| {
                     l.faces
@@ -436,7 +413,8 @@ fn a_limb_that_forks_gets_a_limb_per_branch_under_the_limb_it_grows_from() {
     };
     let (left, right) = (limb_at(-1.0), limb_at(1.0));
     assert_ne!(left, right, "both horns in one limb");
-    // Each horn's box is owned by another limb's box (the neck's), not by the rig's box.
+    // Each horn's first control is carried by another limb's control (the neck's), not by
+    // the root.
     let internals = &scene.cages.internals;
     let vertices_of = |name: &str| -> std::collections::BTreeSet<u32> {
         internals
@@ -450,14 +428,14 @@ fn a_limb_that_forks_gets_a_limb_per_branch_under_the_limb_it_grows_from() {
             .collect()
     };
     for horn in [&left, &right] {
-        let own = vertices_of(&format!("{horn}_ctrl"));
+        let own = vertices_of(&format!("{horn}.1"));
         let owner = internals
             .iter()
             .find(|c| c.owns.iter().any(|v| own.contains(v)))
             .unwrap();
         assert!(
-            owner.name.starts_with("limb") && owner.name != format!("{horn}_ctrl"),
-            "{horn}_ctrl is driven by {}",
+            owner.name != "root" && !owner.name.starts_with(horn.as_str()),
+            "{horn}.1 is driven by {}",
             owner.name
         );
     }
@@ -479,7 +457,7 @@ fn lumps_on_a_body_are_not_limbs() {
             names.iter().all(|n| n.starts_with("body")),
             "detail {detail}: {names:?}"
         );
-        assert_eq!(internal_names(&scene), ["rig_ctrl"], "detail {detail}");
+        assert_eq!(internal_names(&scene), ["root"], "detail {detail}");
     }
 }
 
@@ -541,7 +519,7 @@ fn a_mirrored_rig_is_its_own_mirror_image_on_a_lopsided_figure() {
     for (mirror, symmetric) in [(Mirror::Axis(0), true), (Mirror::None, false)] {
         let settings = AutorigSettings {
             mirror,
-            internal: true,
+            controls: true,
             ..AutorigSettings::default()
         };
         let scene = scene(&mesh, rig(&mesh, &settings));
@@ -606,7 +584,7 @@ proptest! {
             .map(|&(a, b, r)| (DVec3::from_array(a), DVec3::from_array(b), r))
             .collect();
         let mesh = capsules(&parts, 0.07);
-        let settings = AutorigSettings { detail, mirror, internal, ..AutorigSettings::default() };
+        let settings = AutorigSettings { detail, mirror, controls: internal, ..AutorigSettings::default() };
         match autorig(&mesh, &settings, &BindControl::default()) {
             Ok(rig) => {
                 let axis = rig.report.mirror_axis;

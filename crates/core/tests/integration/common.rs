@@ -1,4 +1,5 @@
-//! Random cages and points shared by the coordinate property tests.
+//! Random cages and points shared by the coordinate property tests, and shapes made of
+//! capsules for the auto rig's tests.
 #![allow(dead_code, missing_docs)]
 
 use glam::{DMat3, DQuat, DVec3};
@@ -110,4 +111,29 @@ pub fn empty_scene() -> starcages_core::scene::Scene {
         CageSet::default(),
         SceneSettings::default(),
     )
+}
+
+/// Distance from `p` to the capsule from `a` to `b` of radius `r` (negative inside).
+pub fn capsule(p: DVec3, a: DVec3, b: DVec3, r: f64) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    (p - (a + ab * t)).length() - r
+}
+
+/// A closed mesh of the union of capsules (a, b, radius), by surface nets at `spacing`.
+pub fn capsules(parts: &[(DVec3, DVec3, f64)], spacing: f64) -> starcages_core::mesh::Mesh {
+    let field = |p: DVec3| {
+        parts
+            .iter()
+            .map(|&(a, b, r)| capsule(p, a, b, r))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (lo, hi) = parts.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &(a, b, r)| (lo.min(a.min(b) - r), hi.max(a.max(b) + r)),
+    );
+    let pad = DVec3::splat(2.0 * spacing);
+    let (positions, triangles) =
+        starcages_core::surface_nets::surface_nets(field, lo - pad, hi + pad, spacing);
+    starcages_core::mesh::Mesh::new(positions, triangles, None, None).unwrap()
 }

@@ -17,6 +17,7 @@ mod lanes;
 mod layout;
 mod mean_value;
 mod mesh_formats;
+mod posable_rig;
 mod rig_edit;
 mod rig_inset;
 mod rig_script;

@@ -292,6 +292,8 @@ fn hierarchy_problems() {
                 .map(|f| f.iter().map(|&c| base + c).collect())
                 .collect(),
             owns,
+            pivot: None,
+            joint: Vec::new(),
         });
     };
     add_box(&mut s.cages, "upper", vec![0, 1, n + 8]);

@@ -22,6 +22,7 @@
 //! faces and collapses decide the high side's.
 
 mod branches;
+mod controls;
 mod decimate;
 mod parts;
 mod pieces;
@@ -31,18 +32,14 @@ mod surface;
 mod symmetry;
 mod voxels;
 
-use std::cmp::Reverse;
 use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 use thiserror::Error;
 
 use crate::coords::{BindControl, CoordinateKind};
-use crate::hierarchy::box_grid;
 use crate::mesh::Mesh;
-use crate::scene::{
-    CageSet, InternalCage, LeafCage, MeshSource, Scene, SceneSettings, validate_scene,
-};
+use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings, validate_scene};
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
@@ -77,8 +74,9 @@ pub struct AutorigSettings {
     pub kind: CoordinateKind,
     /// Leaf cages whose name starts with one of these get Green coordinates ("keep shape").
     pub keep_shape: Vec<String>,
-    /// Also make internal cages: one per limb driving its chain, one over the whole rig.
-    pub internal: bool,
+    /// Also make the controls: an internal box per limb segment turning about its joint and
+    /// carrying the segments after it, and `root` over the whole rig (`controls` module).
+    pub controls: bool,
 }
 
 impl Default for AutorigSettings {
@@ -89,7 +87,7 @@ impl Default for AutorigSettings {
             mirror: Mirror::None,
             kind: CoordinateKind::MeanValue,
             keep_shape: Vec::new(),
-            internal: false,
+            controls: true,
         }
     }
 }
@@ -404,9 +402,12 @@ fn rig_on_grid(
     };
     control.advance();
     let mut cages = cages;
-    if settings.internal {
-        let roles = parts_of_leaves(&parts, &cages);
-        add_internal_cages(&mut cages, &roles, &parts.parent_limb);
+    let roles = parts_of_leaves(&parts, &cages);
+    let plane = mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a])));
+    let names = controls::limb_names(&cages, &roles, &parts.parent_limb, plane);
+    controls::rename_limb_cages(&mut cages, &roles, &names);
+    if settings.controls {
+        controls::add_controls(&mut cages, &roles, &parts.parent_limb, &names);
     }
     control.advance();
     let report = AutorigReport {
@@ -544,134 +545,6 @@ fn parts_of_leaves(parts: &Parts, cages: &CageSet) -> Vec<Role> {
         .copied()
         .take(cages.leaves.len())
         .collect()
-}
-
-/// One internal box per limb owning its cages' vertices that no body cage (and no cage of the
-/// limb it branches from) has, and one box over the whole rig owning every other leaf vertex.
-/// The box of a branch (an ear, a leg from a hip band) is owned by the box of the limb it grows
-/// from, so posing a head top carries its ears; the other limb boxes are owned by the rig's
-/// box. Boxes are named after their limb's cages (`limb3_ctrl` drives `limb3_*`).
-fn add_internal_cages(cages: &mut CageSet, roles: &[Role], parent_limb: &BTreeMap<usize, usize>) {
-    let vertices_of =
-        |leaf: &LeafCage| -> BTreeSet<u32> { leaf.faces.iter().flatten().copied().collect() };
-    let body_vertices: BTreeSet<u32> = cages
-        .leaves
-        .iter()
-        .zip(roles)
-        .filter(|(_, r)| matches!(r, Role::Body { .. }))
-        .flat_map(|(l, _)| vertices_of(l))
-        .collect();
-    let mut limbs: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
-    let mut prefix_of: BTreeMap<usize, String> = BTreeMap::new();
-    for (leaf, role) in cages.leaves.iter().zip(roles) {
-        if let Role::Limb { limb, .. } = role {
-            limbs
-                .entry(*limb)
-                .or_default()
-                .extend(vertices_of(leaf).difference(&body_vertices));
-            if let Some((prefix, _)) = leaf.name.split_once('_') {
-                prefix_of.entry(*limb).or_insert_with(|| prefix.to_owned());
-            }
-        }
-    }
-    // The nearest ancestor that still has cages (merges may have taken a parent's).
-    let parent_of = |limb: usize| {
-        let mut at = parent_limb.get(&limb).copied();
-        for _ in 0..=parent_limb.len() {
-            match at {
-                Some(p) if !limbs.contains_key(&p) => at = parent_limb.get(&p).copied(),
-                _ => break,
-            }
-        }
-        at.filter(|p| limbs.contains_key(p))
-    };
-    let depth_of = |limb: usize| {
-        let mut depth = 0;
-        let mut at = parent_of(limb);
-        while let Some(p) = at {
-            depth += 1;
-            if depth > limbs.len() {
-                break;
-            }
-            at = parent_of(p);
-        }
-        depth
-    };
-    // Vertices each box owns: parents first, so the joint between a limb and its branch stays
-    // with the limb, as the joint between a body and a limb stays with the body.
-    let mut order: Vec<usize> = limbs.keys().copied().collect();
-    order.sort_by_key(|&l| (depth_of(l), l));
-    let mut owned_by_limbs: BTreeSet<u32> = BTreeSet::new();
-    let mut owned_of: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
-    for &limb in &order {
-        let owned: Vec<u32> = limbs[&limb].difference(&owned_by_limbs).copied().collect();
-        owned_by_limbs.extend(&owned);
-        owned_of.insert(limb, owned);
-    }
-    let diagonal = {
-        let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
-        (hi - lo).length()
-    };
-    // Boxes deepest first, each owning its limb's vertices and its branches' boxes. A limb
-    // with nothing to drive gets no box.
-    let mut boxes_under: BTreeMap<Option<usize>, Vec<u32>> = BTreeMap::new();
-    let number_of = |limb: usize| {
-        prefix_of
-            .get(&limb)
-            .and_then(|p| p.trim_start_matches("limb").parse::<usize>().ok())
-            .unwrap_or(usize::MAX)
-    };
-    let mut deepest_first = order.clone();
-    deepest_first.sort_by_key(|&l| (Reverse(depth_of(l)), number_of(l), l));
-    for &limb in &deepest_first {
-        let mut owned = owned_of.remove(&limb).unwrap_or_default();
-        owned.extend(boxes_under.remove(&Some(limb)).unwrap_or_default());
-        if owned.is_empty() {
-            continue;
-        }
-        owned.sort_unstable();
-        let first = cages.vertices.len() as u32;
-        let name = match prefix_of.get(&limb) {
-            Some(prefix) => format!("{prefix}_ctrl"),
-            None => format!("limb_{limb}_ctrl"),
-        };
-        push_box(cages, &name, &owned, 0.1, diagonal);
-        boxes_under
-            .entry(parent_of(limb))
-            .or_default()
-            .extend(first..cages.vertices.len() as u32);
-    }
-    let leaf_vertices: BTreeSet<u32> = cages.leaves.iter().flat_map(vertices_of).collect();
-    let mut rest: Vec<u32> = leaf_vertices.difference(&owned_by_limbs).copied().collect();
-    rest.extend(boxes_under.into_values().flatten());
-    rest.sort_unstable();
-    if !rest.is_empty() {
-        push_box(cages, "rig_ctrl", &rest, 0.05, diagonal);
-    }
-}
-
-/// Appends an internal box cage around `owned` (padded by `padding` of its largest side, at
-/// least a thousandth of `diagonal`), owning them.
-fn push_box(cages: &mut CageSet, name: &str, owned: &[u32], padding: f64, diagonal: f64) {
-    let points: Vec<DVec3> = owned.iter().map(|&v| cages.vertices[v as usize]).collect();
-    let (lo, hi) = crate::cage::bounds_of(&points);
-    let margin = (padding * (hi - lo).max_element()).max(1e-3 * diagonal);
-    let (positions, faces) = box_grid(
-        lo - DVec3::splat(margin),
-        hi + DVec3::splat(margin),
-        [1, 1, 1],
-    );
-    let base = cages.vertices.len() as u32;
-    cages.vertices.extend(positions);
-    cages.internals.push(InternalCage {
-        name: name.to_owned(),
-        kind: CoordinateKind::MeanValue,
-        faces: faces
-            .into_iter()
-            .map(|f| f.into_iter().map(|v| v + base).collect())
-            .collect(),
-        owns: owned.to_vec(),
-    });
 }
 
 /// Where the mirror plane lies along its axis, given the mesh's bounds along it: at the mesh's

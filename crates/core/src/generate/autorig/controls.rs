@@ -1,0 +1,596 @@
+//! The auto rig's controls: one internal box per limb segment, named `<limb>.<n>` from the
+//! body out, turning about its joint (`pivot`: the centroid of the ring its segment shares
+//! with the segment or body before it) and carrying the segments after it (forward
+//! kinematics: each control owns the next one's box); one `root` control over everything. The
+//! ring between two segments of a limb is the later control's `joint`: it turns half as far,
+//! as a mitre (`hierarchy::JointFrame`), so a knee bends at the knee. The ring where a limb
+//! meets its body stays with the body, so turning a limb moves nothing of the other limbs.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::DVec3;
+
+use super::parts::Role;
+use crate::coords::CoordinateKind;
+use crate::hierarchy::box_grid;
+use crate::scene::{CageSet, InternalCage, LeafCage};
+
+/// Name of the control over the whole rig.
+pub const ROOT_CONTROL: &str = "root";
+
+/// One limb's cages: its segments (leaf cage indices), in order from its root.
+#[derive(Debug, Clone)]
+struct Limb {
+    /// The limb it grows from (a branch: an ear on a head top, a leg from a hip band).
+    parent: Option<usize>,
+    /// Leaf cages of each segment, in order from the root.
+    segments: Vec<Vec<usize>>,
+}
+
+fn limbs_of(roles: &[Role], parent_limb: &BTreeMap<usize, usize>) -> BTreeMap<usize, Limb> {
+    let mut by_segment: BTreeMap<usize, BTreeMap<usize, Vec<usize>>> = BTreeMap::new();
+    for (leaf, role) in roles.iter().enumerate() {
+        if let Role::Limb { limb, segment } = *role {
+            by_segment
+                .entry(limb)
+                .or_default()
+                .entry(segment)
+                .or_default()
+                .push(leaf);
+        }
+    }
+    let present: BTreeSet<usize> = by_segment.keys().copied().collect();
+    by_segment
+        .into_iter()
+        .map(|(limb, segments)| {
+            // The nearest ancestor that still has cages (merges may have taken a parent's).
+            let mut parent = parent_limb.get(&limb).copied();
+            for _ in 0..=parent_limb.len() {
+                match parent {
+                    Some(p) if !present.contains(&p) => parent = parent_limb.get(&p).copied(),
+                    _ => break,
+                }
+            }
+            let limb_record = Limb {
+                parent: parent.filter(|p| present.contains(p) && *p != limb),
+                segments: segments.into_values().collect(),
+            };
+            (limb, limb_record)
+        })
+        .collect()
+}
+
+fn vertices_of(leaf: &LeafCage) -> BTreeSet<u32> {
+    leaf.faces.iter().flatten().copied().collect()
+}
+
+fn centroid(points: impl Iterator<Item = DVec3>) -> Option<DVec3> {
+    let (sum, n) = points.fold((DVec3::ZERO, 0usize), |(s, n), p| (s + p, n + 1));
+    (n > 0).then(|| sum / n as f64)
+}
+
+/// The rig's axes for naming, in its Z-up frame: the sign along the lateral (left–right) axis
+/// that is the figure's left, the axis a lying body runs along with the head's sign, and
+/// where the main body and the whole rig lie.
+struct Frame {
+    left_sign: f64,
+    /// The horizontal axis a lying body (a quadruped's) runs along, with the head's sign.
+    forward: Option<(usize, f64)>,
+    body_lo: DVec3,
+    body_hi: DVec3,
+    mesh_lo: DVec3,
+    mesh_hi: DVec3,
+}
+
+/// Names every limb by role and side, Blender's way: `leg.L`, `arm.R`, `leg.front.L` …
+/// `leg.back.R` on a quadruped, `tail`, `head`, `ear.L`; any other limb `limb.N`. Sides from
+/// the rig's lateral axis (`mirror` where given), `.L` on +X as in Blender (a figure facing
+/// −Y has its left on +X).
+pub(super) fn limb_names(
+    cages: &CageSet,
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+    mirror: Option<(usize, f64)>,
+) -> BTreeMap<usize, String> {
+    let limbs = limbs_of(roles, parent_limb);
+    let point = |v: &u32| cages.vertices[*v as usize];
+    let (mesh_lo, mesh_hi) = crate::cage::bounds_of(&cages.vertices);
+    // The main body: the body with most vertices (body 0 is the first found, not the largest).
+    let mut body_sizes: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        if let Role::Body { body, .. } = role {
+            body_sizes
+                .entry(*body)
+                .or_default()
+                .extend(vertices_of(leaf));
+        }
+    }
+    let main_key = body_sizes
+        .iter()
+        .max_by_key(|(b, s)| (s.len(), std::cmp::Reverse(**b)))
+        .map(|(b, _)| *b);
+    let main_body: Vec<DVec3> = main_key
+        .and_then(|b| body_sizes.get(&b))
+        .map(|s| s.iter().map(point).collect())
+        .unwrap_or_else(|| cages.vertices.clone());
+    // A second thick region beside a lying body is its head (a horse's, a cow's).
+    let second_body = body_sizes
+        .iter()
+        .filter(|(b, _)| Some(**b) != main_key)
+        .max_by_key(|(b, s)| (s.len(), std::cmp::Reverse(**b)))
+        .and_then(|(_, s)| centroid(s.iter().map(point)));
+    let (body_lo, body_hi) = crate::cage::bounds_of(&main_body);
+    let body_extent = body_hi - body_lo;
+    let lying = body_extent.x.max(body_extent.y) > body_extent.z;
+    let mesh_extent = mesh_hi - mesh_lo;
+    let lateral = match mirror {
+        Some((axis, _)) if axis < 2 => axis,
+        _ if lying && body_extent.x >= body_extent.y => 1,
+        _ if lying => 0,
+        _ if mesh_extent.y > mesh_extent.x => 1,
+        _ => 0,
+    };
+    let body_centre = 0.5 * (body_lo + body_hi);
+    let centre = match mirror {
+        Some((axis, plane)) if axis == lateral => plane,
+        _ => body_centre[lateral],
+    };
+    // Per limb: where it starts (the ring it shares with what it grows from), where it ends.
+    struct Shape {
+        root: DVec3,
+        /// The centroid of the limb's vertices and their extent along the lateral axis.
+        middle: DVec3,
+        width: f64,
+        tip: DVec3,
+    }
+    let shapes: BTreeMap<usize, Shape> = limbs
+        .iter()
+        .filter_map(|(&limb, record)| {
+            let all: BTreeSet<u32> = record
+                .segments
+                .iter()
+                .flatten()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            let first: BTreeSet<u32> = record
+                .segments
+                .first()?
+                .iter()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            let others: BTreeSet<u32> = cages
+                .leaves
+                .iter()
+                .enumerate()
+                .filter(|(l, _)| !record.segments.iter().flatten().any(|m| m == l))
+                .flat_map(|(_, leaf)| vertices_of(leaf))
+                .collect();
+            let ring: Vec<DVec3> = first.intersection(&others).map(point).collect();
+            let ring = if ring.is_empty() {
+                first.iter().map(point).collect()
+            } else {
+                ring
+            };
+            let root = centroid(ring.iter().copied())?;
+            let middle = centroid(all.iter().map(point))?;
+            let (lo, hi) = all
+                .iter()
+                .map(point)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p[lateral]), hi.max(p[lateral]))
+                });
+            // The tip: the limb's vertex farthest from its root.
+            let tip = all
+                .iter()
+                .map(point)
+                .max_by(|a, b| (*a - root).length().total_cmp(&(*b - root).length()))?;
+            Some((
+                limb,
+                Shape {
+                    root,
+                    middle,
+                    width: hi - lo,
+                    tip,
+                },
+            ))
+        })
+        .collect();
+    let height = mesh_extent.z.max(1e-12);
+    // On the centre line where the limb straddles it (a tail, a neck: its middle within a
+    // quarter of its own width of the plane); legs close together are each on one side.
+    let side_of = |s: &Shape| {
+        let offset = s.middle[lateral] - centre;
+        if offset.abs() <= 0.25 * s.width {
+            0.0
+        } else {
+            offset.signum()
+        }
+    };
+    let is_leg = |s: &Shape| s.tip.z - mesh_lo.z < 0.2 * height && s.tip.z < s.root.z;
+    // Which way a lying body faces: towards the limbs that reach well above it (a neck,
+    // ears, horns; a quarter of its height), else towards a second thick region (its head), else −Y as in Blender.
+    let forward = lying.then(|| {
+        let axis = 1 - lateral;
+        let raised = centroid(
+            shapes
+                .values()
+                .filter(|s| s.tip.z > body_hi.z + 0.25 * body_extent.z && !is_leg(s))
+                .map(|s| s.root),
+        );
+        let head = raised.or(second_body);
+        let sign = head
+            .map(|h| (h[axis] - body_centre[axis]).signum())
+            .filter(|s| *s != 0.0)
+            .unwrap_or(-1.0);
+        (axis, sign)
+    });
+    let frame = Frame {
+        left_sign: left_sign(lateral, forward),
+        forward,
+        body_lo,
+        body_hi,
+        mesh_lo,
+        mesh_hi,
+    };
+    let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
+    for (&limb, s) in &shapes {
+        let side = side_of(s);
+        let side_letter = (side != 0.0).then_some(if side == frame.left_sign { 'L' } else { 'R' });
+        let parent_is_head = limbs[&limb]
+            .parent
+            .and_then(|p| shapes.get(&p))
+            .is_some_and(|p| side_of(p) == 0.0 && !is_leg(p) && p.tip.z > frame.body_hi.z);
+        let role = if is_leg(s) {
+            "leg"
+        } else if parent_is_head && side != 0.0 {
+            "ear"
+        } else if side == 0.0 {
+            centre_role(s.root, s.tip, &frame)
+        } else if frame.forward.is_none() {
+            "arm"
+        } else if s.tip.z > frame.body_hi.z {
+            "ear"
+        } else {
+            "limb"
+        };
+        base.insert(limb, (role.to_owned(), side_letter));
+    }
+    // Quadrupeds: legs on a side in order along the body, front first.
+    let mut names: BTreeMap<usize, String> = BTreeMap::new();
+    for letter in [Some('L'), Some('R')] {
+        let mut legs: Vec<usize> = base
+            .iter()
+            .filter(|(_, (r, s))| r == "leg" && *s == letter)
+            .map(|(&l, _)| l)
+            .collect();
+        if legs.len() < 2 {
+            continue;
+        }
+        let (axis, sign) = frame.forward.unwrap_or((1, -1.0));
+        legs.sort_by(|a, b| {
+            let along = |l: &usize| -sign * shapes[l].root[axis];
+            along(a).total_cmp(&along(b))
+        });
+        let places: &[&str] = match legs.len() {
+            2 => &["front", "back"],
+            3 => &["front", "mid", "back"],
+            _ => &[],
+        };
+        for (k, limb) in legs.iter().enumerate() {
+            let place = places
+                .get(k)
+                .map(|p| (*p).to_owned())
+                .unwrap_or_else(|| format!("{}", k + 1));
+            if let Some(letter) = letter {
+                names.insert(*limb, format!("leg.{place}.{letter}"));
+            }
+        }
+    }
+    let mut taken: BTreeMap<String, usize> = BTreeMap::new();
+    let mut others = 0;
+    for (&limb, (role, letter)) in &base {
+        if names.contains_key(&limb) {
+            continue;
+        }
+        let name = if role == "limb" {
+            others += 1;
+            format!("limb.{others}")
+        } else {
+            match letter {
+                Some(l) => format!("{role}.{l}"),
+                None => role.clone(),
+            }
+        };
+        names.insert(limb, name);
+    }
+    // Names taken twice get Blender's numbered copies: `arm.L`, `arm.L.001`.
+    let mut result = BTreeMap::new();
+    for (limb, name) in names {
+        let n = taken.entry(name.clone()).or_insert(0);
+        *n += 1;
+        let unique = if *n == 1 {
+            name
+        } else {
+            format!("{name}.{:03}", *n - 1)
+        };
+        result.insert(limb, unique);
+    }
+    result
+}
+
+/// Which sign along the lateral axis is the figure's left: +X for an upright figure (facing
+/// −Y, as Blender's), and left = up × forward for a lying one.
+fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
+    match forward {
+        Some((axis, sign)) => {
+            let mut f = DVec3::ZERO;
+            f[axis] = sign;
+            DVec3::Z.cross(f)[lateral].signum()
+        }
+        None => 1.0,
+    }
+}
+
+/// The role of a limb on the centre line: above the body a head (a neck with its head), at a
+/// lying body's back end a tail, at its front end a head; else an unnamed limb.
+fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
+    let height = (frame.mesh_hi.z - frame.mesh_lo.z).max(1e-12);
+    match frame.forward {
+        None if tip.z > frame.body_hi.z - 0.05 * height => "head",
+        None => "limb",
+        Some((axis, sign)) => {
+            let body_mid = 0.5 * (frame.body_lo[axis] + frame.body_hi[axis]);
+            if (root[axis] - body_mid) * sign > 0.0 {
+                if tip.z > frame.body_hi.z {
+                    "neck"
+                } else {
+                    "head"
+                }
+            } else if tip.z < frame.body_hi.z + 0.25 * height {
+                "tail"
+            } else {
+                "limb"
+            }
+        }
+    }
+}
+
+/// Renames the leaf cages of each limb `<limb>_<segment>` (`leg.L_2`), keeping a split part's
+/// letter.
+pub(super) fn rename_limb_cages(
+    cages: &mut CageSet,
+    roles: &[Role],
+    names: &BTreeMap<usize, String>,
+) {
+    for (leaf, role) in cages.leaves.iter_mut().zip(roles) {
+        if let Role::Limb { limb, .. } = role
+            && let Some(name) = names.get(limb)
+            && let Some((_, rest)) = leaf.name.split_once('_')
+        {
+            leaf.name = format!("{name}_{rest}");
+        }
+    }
+}
+
+/// Adds the controls (see the module): per limb and segment a box `<limb>.<n>` with its pivot
+/// and joint ring, and `root` over the rest.
+pub(super) fn add_controls(
+    cages: &mut CageSet,
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+    names: &BTreeMap<usize, String>,
+) {
+    let limbs = limbs_of(roles, parent_limb);
+    let body_vertices: BTreeSet<u32> = cages
+        .leaves
+        .iter()
+        .zip(roles)
+        .filter(|(_, r)| matches!(r, Role::Body { .. }))
+        .flat_map(|(l, _)| vertices_of(l))
+        .collect();
+    let depth_of = |limb: usize| {
+        let mut depth = 0;
+        let mut at = limbs[&limb].parent;
+        while let Some(p) = at {
+            depth += 1;
+            if depth > limbs.len() {
+                break;
+            }
+            at = limbs[&p].parent;
+        }
+        depth
+    };
+    let mut order: Vec<usize> = limbs.keys().copied().collect();
+    order.sort_by_key(|&l| (depth_of(l), l));
+    // Each segment's control owns its cages' vertices that nothing before owns, parents first,
+    // segments from the root: the ring between two segments goes to the earlier one.
+    let mut owner: BTreeMap<u32, (usize, usize)> = BTreeMap::new();
+    struct Segment {
+        owned: Vec<u32>,
+        pivot: DVec3,
+        ring: Vec<u32>,
+        /// Where its box goes: (limb, segment) of the control owning it, None for the root.
+        parent: Option<(usize, usize)>,
+    }
+    let mut segments: BTreeMap<(usize, usize), Segment> = BTreeMap::new();
+    for &limb in &order {
+        for (k, leaves) in limbs[&limb].segments.iter().enumerate() {
+            let all: BTreeSet<u32> = leaves
+                .iter()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            let owned: Vec<u32> = all
+                .iter()
+                .copied()
+                .filter(|v| !owner.contains_key(v) && !body_vertices.contains(v))
+                .collect();
+            // The joint: what the segment shares with what comes before it.
+            let before: Vec<u32> = all
+                .iter()
+                .copied()
+                .filter(|v| owner.contains_key(v) || body_vertices.contains(v))
+                .collect();
+            let parent = if k > 0 {
+                Some((limb, k - 1))
+            } else {
+                // A branch hangs from the control owning most of its root ring.
+                let mut votes: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+                for v in &before {
+                    if let Some(&o) = owner.get(v) {
+                        *votes.entry(o).or_insert(0) += 1;
+                    }
+                }
+                votes
+                    .into_iter()
+                    .max_by_key(|&(o, n)| (n, std::cmp::Reverse(o)))
+                    .map(|(o, _)| o)
+            };
+            let ring: Vec<u32> = match parent {
+                Some(p) => before
+                    .iter()
+                    .copied()
+                    .filter(|v| owner.get(v) == Some(&p))
+                    .collect(),
+                None => Vec::new(),
+            };
+            let pivot = centroid(before.iter().map(|&v| cages.vertices[v as usize]))
+                .or_else(|| centroid(all.iter().map(|&v| cages.vertices[v as usize])))
+                .unwrap_or(DVec3::ZERO);
+            for &v in &owned {
+                owner.insert(v, (limb, k));
+            }
+            segments.insert(
+                (limb, k),
+                Segment {
+                    owned,
+                    pivot,
+                    ring,
+                    parent,
+                },
+            );
+        }
+    }
+    let diagonal = {
+        let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
+        (hi - lo).length()
+    };
+    // Boxes from the tips in, each owning its vertices and the boxes hanging from it.
+    let mut boxes_under: BTreeMap<Option<(usize, usize)>, Vec<u32>> = BTreeMap::new();
+    // A child's box is made before its parent's: longest chain of parents first.
+    let mut keys: Vec<(usize, usize)> = segments.keys().copied().collect();
+    let chain_length = |key: (usize, usize)| {
+        let mut n = 0;
+        let mut at = segments[&key].parent;
+        while let Some(p) = at {
+            n += 1;
+            if n > segments.len() {
+                break;
+            }
+            at = segments[&p].parent;
+        }
+        n
+    };
+    keys.sort_by_key(|&key| (std::cmp::Reverse(chain_length(key)), key));
+    let mut made: Vec<InternalCage> = Vec::new();
+    for key in keys {
+        let Some(segment) = segments.remove(&key) else {
+            continue;
+        };
+        let mut owns = segment.owned;
+        owns.extend(boxes_under.remove(&Some(key)).unwrap_or_default());
+        if owns.is_empty() {
+            continue;
+        }
+        owns.sort_unstable();
+        let name = format!(
+            "{}.{}",
+            names
+                .get(&key.0)
+                .cloned()
+                .unwrap_or_else(|| format!("limb{}", key.0)),
+            key.1 + 1
+        );
+        let first = cages.vertices.len() as u32;
+        let mut control = push_box(cages, &name, &owns, 0.1, diagonal);
+        control.pivot = Some(segment.pivot);
+        control.joint = segment.ring;
+        made.push(control);
+        boxes_under
+            .entry(segment.parent)
+            .or_default()
+            .extend(first..cages.vertices.len() as u32);
+    }
+    // A ring whose control's parent did not make a box (it owned nothing) cannot bend.
+    let leaf_vertices: BTreeSet<u32> = cages.leaves.iter().flat_map(vertices_of).collect();
+    let limb_owned: BTreeSet<u32> = made.iter().flat_map(|c| c.owns.iter().copied()).collect();
+    let mut rest: Vec<u32> = leaf_vertices.difference(&limb_owned).copied().collect();
+    rest.extend(boxes_under.into_values().flatten());
+    rest.sort_unstable();
+    rest.dedup();
+    let owner_of: BTreeMap<u32, usize> = made
+        .iter()
+        .enumerate()
+        .flat_map(|(i, c)| c.owns.iter().map(move |&v| (v, i)))
+        .collect();
+    // A vertex bends with one joint: where two branches share their root ring (legs from one
+    // hip band meet at the crotch), the first claims it.
+    let mut in_ring: BTreeSet<u32> = BTreeSet::new();
+    for control in &mut made {
+        let own: BTreeSet<u32> = control.faces.iter().flatten().copied().collect();
+        let parent = own.iter().find_map(|v| owner_of.get(v)).copied();
+        let ring: Vec<u32> = control
+            .joint
+            .iter()
+            .copied()
+            .filter(|v| parent.is_some() && owner_of.get(v).copied() == parent)
+            .filter(|v| in_ring.insert(*v))
+            .collect();
+        control.joint = ring;
+    }
+    // Controls in the order an artist reads them: by limb name, then from the body out.
+    made.sort_by(|a, b| a.name.cmp(&b.name));
+    cages.internals.extend(made);
+    if !rest.is_empty() {
+        let mut root = push_box(cages, ROOT_CONTROL, &rest, 0.05, diagonal);
+        // On the ground under the rig's middle, as a character's root bone.
+        let leaves: Vec<DVec3> = leaf_vertices
+            .iter()
+            .map(|&v| cages.vertices[v as usize])
+            .collect();
+        let (lo, hi) = crate::cage::bounds_of(&leaves);
+        root.pivot = Some(DVec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z));
+        cages.internals.push(root);
+    }
+}
+
+/// A box cage around `owned` (padded by `padding` of its largest side, at least a thousandth
+/// of `diagonal`), owning them; its vertices are appended to `cages`, the cage returned.
+fn push_box(
+    cages: &mut CageSet,
+    name: &str,
+    owned: &[u32],
+    padding: f64,
+    diagonal: f64,
+) -> InternalCage {
+    let points: Vec<DVec3> = owned.iter().map(|&v| cages.vertices[v as usize]).collect();
+    let (lo, hi) = crate::cage::bounds_of(&points);
+    let margin = (padding * (hi - lo).max_element()).max(1e-3 * diagonal);
+    let (positions, faces) = box_grid(
+        lo - DVec3::splat(margin),
+        hi + DVec3::splat(margin),
+        [1, 1, 1],
+    );
+    let base = cages.vertices.len() as u32;
+    cages.vertices.extend(positions);
+    InternalCage {
+        name: name.to_owned(),
+        kind: CoordinateKind::MeanValue,
+        faces: faces
+            .into_iter()
+            .map(|f| f.into_iter().map(|v| v + base).collect())
+            .collect(),
+        owns: owned.to_vec(),
+        pivot: None,
+        joint: Vec::new(),
+    }
+}
