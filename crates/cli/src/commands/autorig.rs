@@ -33,8 +33,14 @@ pub struct AutorigArgs {
     /// Green coordinates: they keep their shape.
     #[arg(long, value_delimiter = ',')]
     keep_shape: Vec<String>,
-    /// Also make internal cages: one box per limb driving its chain, one over the whole rig.
+    /// Leave out the controls (the bare leaf rig): by default every limb segment gets a
+    /// control `<limb>.<n>` that turns about its joint and carries the segments after it, and
+    /// `root` carries the whole rig.
     #[arg(long)]
+    no_controls: bool,
+    /// Kept for scripts written before controls were the default: controls are made unless
+    /// --no-controls is given.
+    #[arg(long, hide = true)]
     internal: bool,
     /// Up axis of an OBJ mesh file: y (the OBJ convention, turned to StarCages' Z-up) or z (read
     /// as is). glTF files are always Y-up.
@@ -71,7 +77,7 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
         margin: args.margin,
         mirror,
         keep_shape: args.keep_shape.clone(),
-        internal: args.internal,
+        controls: !args.no_controls,
         ..AutorigSettings::default()
     };
     let control = BindControl::default();

@@ -1,5 +1,5 @@
-//! `starcages-cli info`: the mesh's counts and bounds, and per cage its name, kind, h, level,
-//! parent and vertex/face counts.
+//! `starcages-cli info`: the mesh's counts and bounds, per cage its name, kind, h, level,
+//! parent and vertex/face counts, and per control its limb, side, parent and pivot.
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -43,12 +43,46 @@ struct CageInfo {
     faces: usize,
 }
 
+/// A control: an internal cage with a pivot (the auto rig's `<limb>.<n>` and `root`).
+#[derive(Serialize)]
+struct ControlInfo {
+    name: String,
+    /// The limb it belongs to (its name without the segment number); none for `root`.
+    limb: Option<String>,
+    /// "L" or "R" (Blender's `.L` on +X), none on the centre line.
+    side: Option<&'static str>,
+    /// The internal cage carrying it (forward kinematics).
+    parent: Option<String>,
+    /// The joint it turns about, at rest, in the scene's Z-up frame (as `--apply` takes axes).
+    pivot: [f64; 3],
+    /// Leaf vertices of its joint ring (they turn half as far, as a mitre).
+    joint_vertices: usize,
+}
+
 #[derive(Serialize)]
 struct Info {
     mesh: MeshInfo,
     cage_vertices: usize,
     cages: Vec<CageInfo>,
+    controls: Vec<ControlInfo>,
     poses: Vec<String>,
+}
+
+/// The limb and side a control's name says: `leg.L.2` is segment 2 of limb `leg.L`, on the
+/// left.
+fn limb_and_side(name: &str) -> (Option<String>, Option<&'static str>) {
+    let Some((limb, number)) = name.rsplit_once('.') else {
+        return (None, None);
+    };
+    if number.parse::<u32>().is_err() {
+        return (None, None);
+    }
+    let side = limb.split('.').find_map(|w| match w {
+        "L" => Some("L"),
+        "R" => Some("R"),
+        _ => None,
+    });
+    (Some(limb.to_owned()), side)
 }
 
 fn info(scene: &Scene) -> Info {
@@ -107,6 +141,23 @@ fn info(scene: &Scene) -> Info {
         vertices: vertex_sets[leaves + k].len(),
         faces: cage.faces.len(),
     }));
+    let controls = set
+        .internals
+        .iter()
+        .enumerate()
+        .filter_map(|(k, cage)| {
+            let pivot = cage.pivot?;
+            let (limb, side) = limb_and_side(&cage.name);
+            Some(ControlInfo {
+                name: cage.name.clone(),
+                limb,
+                side,
+                parent: parent(leaves + k),
+                pivot: pivot.to_array(),
+                joint_vertices: cage.joint.len(),
+            })
+        })
+        .collect();
     Info {
         mesh: MeshInfo {
             source: match &scene.mesh_source {
@@ -122,6 +173,7 @@ fn info(scene: &Scene) -> Info {
         },
         cage_vertices: set.vertices.len(),
         cages,
+        controls,
         poses: scene.poses.keys().cloned().collect(),
     }
 }
@@ -174,6 +226,24 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
             c.parent.as_deref().unwrap_or("-"),
             c.vertices,
             c.faces
+        ))?;
+    }
+    if !info.controls.is_empty() {
+        crate::output::line(format_args!(
+            "{:<20} {:<16} {:<4} {:<16} {}",
+            "control", "limb", "side", "parent", "pivot (Z-up)"
+        ))?;
+    }
+    for c in &info.controls {
+        crate::output::line(format_args!(
+            "{:<20} {:<16} {:<4} {:<16} {:.4} {:.4} {:.4}",
+            c.name,
+            c.limb.as_deref().unwrap_or("-"),
+            c.side.unwrap_or("-"),
+            c.parent.as_deref().unwrap_or("-"),
+            c.pivot[0],
+            c.pivot[1],
+            c.pivot[2]
         ))?;
     }
     Ok(())

@@ -430,6 +430,101 @@ fn write_tower(d: &std::path::Path) -> std::path::PathBuf {
     tower
 }
 
+/// An OBJ of two overlapping closed boxes: a body and a long arm out along +x.
+fn write_body_with_arm(d: &std::path::Path) -> std::path::PathBuf {
+    let path = d.join("body_arm.obj");
+    let mut text = String::new();
+    for (k, (lo, hi)) in [
+        ([0.0, 0.0, 0.0], [1.0, 1.0, 1.5]),
+        ([0.8, 0.35, 0.6], [3.2, 0.65, 0.9]),
+    ]
+    .iter()
+    .enumerate()
+    {
+        for c in 0..8 {
+            let p = [
+                if c & 1 == 0 { lo[0] } else { hi[0] },
+                if c & 2 == 0 { lo[1] } else { hi[1] },
+                if c & 4 == 0 { lo[2] } else { hi[2] },
+            ];
+            text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+        }
+        let b = 8 * k + 1;
+        for f in [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ] {
+            text += &format!("f {} {} {} {}\n", b + f[0], b + f[1], b + f[2], b + f[3]);
+        }
+    }
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn autorig_adds_controls_that_turn_about_their_joints_unless_told_not_to() {
+    let d = dir("autorig-controls");
+    let mesh = write_body_with_arm(&d);
+    let scene = d.join("rig.json");
+    ok(&cli(&[
+        "autorig",
+        s(&mesh),
+        "--up",
+        "z",
+        "--out",
+        s(&scene),
+    ]));
+    let info = cli(&["info", s(&scene), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let controls = json["controls"].as_array().unwrap();
+    let limb_control = controls
+        .iter()
+        .find(|c| c["name"] != "root")
+        .expect("a control per limb segment");
+    assert_eq!(limb_control["parent"], "root", "{limb_control}");
+    assert_eq!(limb_control["pivot"].as_array().unwrap().len(), 3);
+    // The arm stands out along +X of an upright body: Blender's left.
+    assert_eq!(limb_control["limb"], "arm.L", "{limb_control}");
+    assert_eq!(limb_control["side"], "L", "{limb_control}");
+    // A control turns about its pivot from the command line.
+    let name = limb_control["name"].as_str().unwrap();
+    let posed = d.join("posed.obj");
+    let turned = cli(&[
+        "deform",
+        s(&scene),
+        "--apply",
+        &format!("{name}: rotate 1 0 0 30"),
+        "--out",
+        s(&posed),
+    ]);
+    assert!(turned.status.success(), "{}", stderr(&turned));
+    let rest = d.join("rest.obj");
+    ok(&cli(&["deform", s(&scene), "--out", s(&rest)]));
+    assert_ne!(
+        std::fs::read(&posed).unwrap(),
+        std::fs::read(&rest).unwrap(),
+        "the arm turned"
+    );
+    // --no-controls: the bare leaf rig.
+    let bare = d.join("bare.json");
+    ok(&cli(&[
+        "autorig",
+        s(&mesh),
+        "--up",
+        "z",
+        "--no-controls",
+        "--out",
+        s(&bare),
+    ]));
+    let info = cli(&["info", s(&bare), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert!(json["controls"].as_array().unwrap().is_empty());
+}
+
 #[test]
 fn autorig_writes_a_valid_shape_following_rig_and_refuses_what_it_cannot_rig() {
     let d = dir("autorig");
@@ -445,7 +540,6 @@ fn autorig_writes_a_valid_shape_following_rig_and_refuses_what_it_cannot_rig() {
         "2",
         "--mirror",
         "auto",
-        "--internal",
         "--out",
         s(&scene),
     ]);
@@ -458,14 +552,14 @@ fn autorig_writes_a_valid_shape_following_rig_and_refuses_what_it_cannot_rig() {
     assert!(
         cages
             .iter()
-            .any(|c| c["name"] == "rig_ctrl" && c["level"] == "internal")
+            .any(|c| c["name"] == "root" && c["level"] == "internal")
     );
+    // Leaf cages are named `<body or limb>_<n>`; controls list their limb, parent and pivot.
     assert!(
         cages
             .iter()
             .filter(|c| c["level"] == "leaf")
-            .all(|c| c["name"].as_str().unwrap().starts_with("body")
-                || c["name"].as_str().unwrap().starts_with("limb"))
+            .all(|c| c["name"].as_str().unwrap().contains('_'))
     );
     // A flat mesh, a detail out of range, the mesh as the output: exit 2, nothing written.
     let flat = d.join("flat.obj");
