@@ -125,12 +125,12 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
         }
         Command::AutoRig {
             detail,
-            internal,
+            controls,
             mirror,
         } => {
             state.start_autorig(starcages_core::generate::AutorigSettings {
                 detail,
-                internal,
+                controls,
                 mirror,
                 ..Default::default()
             });

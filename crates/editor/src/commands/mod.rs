@@ -77,8 +77,8 @@ pub enum Command {
     AutoRig {
         /// How fine, 1 to 5.
         detail: u32,
-        /// Also internal cages per limb and over the rig.
-        internal: bool,
+        /// Also the controls: one per limb segment, turning about its joint, and `root`.
+        controls: bool,
         /// A plane the rig is a mirror image of itself across (scene axes, Z-up).
         mirror: starcages_core::generate::Mirror,
     },

@@ -427,10 +427,17 @@ impl EditorState {
     /// Takes the auto rig's cages once they are made: they replace the rig as one undo step
     /// (poses and animation keys are of the old cages, so they go; undo brings them back), with
     /// mean value join cages as [`starcages_core::generate::autorig_settings`] says.
+    ///
+    /// It lands in the document it was asked for or not at all: an edit, undo or redo while
+    /// it runs cancels it ([`Self::cancel_autorig_for_edit`]), and it waits for a gesture in
+    /// progress (a grab begun on the old cages) to end.
     fn poll_autorig(&mut self, wait: bool) {
         let Some(job) = &self.autorig_job else {
             return;
         };
+        if self.gesture.is_some() && !wait {
+            return;
+        }
         let result = if wait { Some(job.wait()) } else { job.poll() };
         let Some(result) = result else {
             return;
@@ -634,6 +641,7 @@ impl EditorState {
     /// gesture, a pose switch): revalidates, then binds again what the change affects, or
     /// restores the hierarchy state and redeforms.
     pub fn document_changed(&mut self) {
+        self.cancel_autorig_for_edit();
         self.doc.dirty = true;
         self.revalidate();
         self.check_rig();
@@ -733,6 +741,18 @@ impl EditorState {
         out
     }
 
+    /// An edit, undo or redo changed the document while the auto rig was being made for it:
+    /// the rig would land on another document (on top of an undone step, or over a stray
+    /// move), so it is cancelled, with a message saying how to make it again.
+    fn cancel_autorig_for_edit(&mut self) {
+        if self.autorig_job.take().is_some() {
+            self.info(
+                "auto rig cancelled: the rig changed while it was being made (the Rig menu's \
+                 Auto rig makes it again)",
+            );
+        }
+    }
+
     /// One undo step around `change`, the path every edit takes (scene edits through
     /// [`Self::edit_scene`], pose moves directly): the editable state before it is pushed under
     /// `label` when `change` altered it, unless a gesture runs (a gesture is one step, recorded
@@ -743,6 +763,9 @@ impl EditorState {
         let changed = Snapshot::of(&self.doc.scene) != before;
         if changed && self.gesture.is_none() {
             self.undo.push(label, before);
+        }
+        if changed {
+            self.cancel_autorig_for_edit();
         }
         (out, changed)
     }

@@ -145,8 +145,8 @@ pub fn new_mesh_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut
 pub struct AutorigDialog {
     /// How fine, 1 to 5.
     pub detail: u32,
-    /// Also an internal cage per limb and one over the rig.
-    pub internal: bool,
+    /// Also the controls: one per limb segment, turning about its joint, and `root`.
+    pub controls: bool,
     /// A plane the rig is a mirror image of itself across.
     pub mirror: Mirror,
 }
@@ -155,7 +155,7 @@ impl Default for AutorigDialog {
     fn default() -> Self {
         Self {
             detail: starcages_core::generate::AutorigSettings::default().detail,
-            internal: true,
+            controls: true,
             mirror: Mirror::None,
         }
     }
@@ -195,7 +195,7 @@ fn mirror_label(mirror: Mirror) -> &'static str {
     }
 }
 
-/// Rig ▸ Auto rig: detail, internal cages and symmetry, then the rig replaces the current one (one undo
+/// Rig ▸ Auto rig: detail, controls and symmetry, then the rig replaces the current one (one undo
 /// step, on a worker).
 pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut CommandSender) {
     let Some(dialog) = &mut ui_state.autorig_dialog else {
@@ -207,8 +207,11 @@ pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut 
         ui.label("Replace the rig with cages that follow the mesh (one undo step).");
         ui.add(egui::Slider::new(&mut dialog.detail, 1..=5).text("detail"))
             .on_hover_text("1: few, coarse cages; 5: many, tight ones");
-        ui.checkbox(&mut dialog.internal, "Internal cages")
-            .on_hover_text("an internal cage per limb to pose it, and one over the whole rig");
+        ui.checkbox(&mut dialog.controls, "Controls").on_hover_text(
+            "a control per limb segment that turns about its joint and carries the \
+                 segments after it (leg.L.1 at the hip, leg.L.2 at the knee), and root over \
+                 the whole rig",
+        );
         symmetry_choice(ui, &mut dialog.mirror);
         ui.horizontal(|ui| {
             if ui.button("Make rig").clicked() {
@@ -224,7 +227,7 @@ pub fn autorig_dialog(ui_state: &mut UiState, ctx: &egui::Context, sender: &mut 
             if let Some(dialog) = ui_state.autorig_dialog.take() {
                 sender.send(Command::AutoRig {
                     detail: dialog.detail,
-                    internal: dialog.internal,
+                    controls: dialog.controls,
                     mirror: dialog.mirror,
                 });
             }

@@ -133,7 +133,10 @@ impl TransformTool {
         if start.is_empty() {
             return None;
         }
-        let centre = start.iter().map(|s| s.1).sum::<DVec3>() / start.len() as f64;
+        // A whole control selected (the auto rig's `leg.L.2`) turns and scales about its
+        // joint, carried where its parents moved it; any other selection about its median.
+        let centre = control_pivot(state, pose)
+            .unwrap_or_else(|| start.iter().map(|s| s.1).sum::<DVec3>() / start.len() as f64);
         Some(Self {
             mode,
             axis: None,
@@ -275,4 +278,18 @@ impl TransformTool {
             "{name}{axis}{typed} — X/Y/Z lock, type a number, Ctrl snaps to a vertex, Enter or click to confirm, Esc or right click to cancel"
         )
     }
+}
+
+/// The pivot of the control whose vertices are exactly the selection, where it has one, in
+/// `pose`.
+fn control_pivot(state: &EditorState, pose: &[DVec3]) -> Option<DVec3> {
+    let set = &state.doc.scene.cages;
+    let selected = &state.selection.vertices;
+    set.internals.iter().find_map(|cage| {
+        cage.pivot?;
+        let own: std::collections::BTreeSet<u32> = cage.faces.iter().flatten().copied().collect();
+        (&own == selected)
+            .then(|| starcages_core::hierarchy::posed_pivot(set, cage, pose))
+            .flatten()
+    })
 }

@@ -108,7 +108,7 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     let grid_mesh_vertices = app.state.doc.scene.mesh.welded_positions().len();
     app.run(Command::AutoRig {
         detail: 2,
-        internal: true,
+        controls: true,
         mirror: starcages_core::generate::Mirror::None,
     });
     assert!(app.state.autorig_job.is_some(), "runs on a worker");
@@ -127,14 +127,8 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
             .is_some_and(|m| m.text.contains("1 animation key"))
     );
     assert_ne!(scene.cages, grid_cages);
-    assert!(
-        scene
-            .cages
-            .leaves
-            .iter()
-            .all(|l| l.name.starts_with("body") || l.name.starts_with("limb"))
-    );
-    assert!(scene.cages.internals.iter().any(|c| c.name == "rig_ctrl"));
+    assert!(scene.cages.leaves.iter().all(|l| l.name.contains('_')));
+    assert!(scene.cages.internals.iter().any(|c| c.name == "root"));
     assert!(app.state.rig.is_some(), "bound after the auto rig");
     app.run(Command::Undo);
     assert_eq!(app.state.doc.scene.cages, grid_cages, "one undo step back");
@@ -159,15 +153,20 @@ fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
     app.wait_for_jobs();
     let scene = &app.state.doc.scene;
     assert!(
-        scene
-            .cages
-            .leaves
-            .iter()
-            .all(|l| l.name.starts_with("body") || l.name.starts_with("limb")),
+        scene.cages.leaves.iter().all(|l| l.name.contains('_')),
         "{:?}",
         app.state.message
     );
     assert!(validate_scene(scene).is_valid());
+    // Opening a mesh gives the posable rig: the bar has no limb, so its one control is the
+    // root (the limbs' controls: posable_rig in the core's tests).
+    assert!(
+        scene
+            .cages
+            .internals
+            .iter()
+            .any(|c| c.name == "root" && c.pivot.is_some())
+    );
     // The grid is one undo step away.
     app.run(Command::Undo);
     assert_eq!(app.state.doc.scene.cages, opened.cages);
@@ -209,7 +208,7 @@ fn rig_auto_rig_asks_for_detail_internal_cages_and_symmetry_first() {
         .autorig_dialog
         .as_mut()
         .unwrap()
-        .internal = false;
+        .controls = false;
     harness.get_by_label("Symmetry").click();
     harness.run_steps(2);
     harness.get_by_label("Across x").click();
@@ -272,4 +271,123 @@ fn a_new_mesh_can_open_in_a_symmetric_auto_rig() {
         .filter(|&&v| partners[v as usize].is_none())
         .count();
     assert_eq!(lonely, 0, "leaf vertices without a mirror twin");
+}
+
+/// The auto rig lands in the document it was made for or not at all: Ctrl+Z pressed while it
+/// runs undoes the last edit and cancels the rig with a message (before, the rig landed on
+/// top of the undone state, and the next Ctrl+Z took the rig away and kept nothing the artist
+/// knew about); with nothing pressed it lands as one undo step.
+#[test]
+fn an_undo_while_the_auto_rig_runs_cancels_it_with_a_message() {
+    let mut harness = crate::common::bar_harness(false);
+    let grid = harness.state().state.doc.scene.cages.clone();
+    let rest = harness.state().state.doc.scene.pose.clone();
+    let moved = rest[0] + glam::DVec3::new(0.0, 0.0, 0.05);
+    harness
+        .state_mut()
+        .run(Command::MoveVertices(vec![(0, moved)]));
+    harness.run_steps(1);
+    assert_eq!(harness.state().state.doc.scene.pose[0], moved);
+    harness.state_mut().run(Command::AutoRig {
+        detail: 2,
+        controls: true,
+        mirror: starcages_core::generate::Mirror::None,
+    });
+    assert!(
+        harness.state().state.autorig_job.is_some(),
+        "runs on a worker"
+    );
+    crate::common::undo(&mut harness);
+    settle(&mut harness);
+    let app = harness.state();
+    assert!(app.state.autorig_job.is_none());
+    assert_eq!(app.state.doc.scene.cages, grid, "the rig did not land");
+    assert_eq!(app.state.doc.scene.pose[0], rest[0], "the move was undone");
+    let message = app.state.message.as_ref().map(|m| m.text.clone());
+    assert!(
+        message
+            .as_deref()
+            .is_some_and(|m| m.contains("auto rig cancelled")),
+        "{message:?}"
+    );
+    // Left alone, it lands as one step over the grid.
+    harness.state_mut().run(Command::AutoRig {
+        detail: 2,
+        controls: true,
+        mirror: starcages_core::generate::Mirror::None,
+    });
+    settle(&mut harness);
+    assert_ne!(harness.state().state.doc.scene.cages, grid);
+    crate::common::undo(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.cages, grid);
+}
+
+/// R on a whole control (every vertex of an internal cage with a pivot, as the auto rig makes
+/// them) turns it about its pivot, as Blender turns a bone about its head; another selection
+/// turns about its median.
+#[test]
+fn r_on_a_control_turns_it_about_its_pivot() {
+    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.4).unwrap();
+    let head = scene
+        .cages
+        .internals
+        .iter()
+        .position(|c| c.name == "head")
+        .unwrap();
+    let vertices: Vec<u32> = {
+        let mut v: Vec<u32> = scene.cages.internals[head]
+            .faces
+            .iter()
+            .flatten()
+            .copied()
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    // The neck: below the head's box, off its centre.
+    let (lo, hi) = vertices.iter().fold(
+        (
+            glam::DVec3::splat(f64::INFINITY),
+            glam::DVec3::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), &v| {
+            let p = scene.cages.vertices[v as usize];
+            (lo.min(p), hi.max(p))
+        },
+    );
+    let pivot = glam::DVec3::new(0.5 * (lo.x + hi.x), lo.y, lo.z);
+    scene.cages.internals[head].pivot = Some(pivot);
+    let (mut harness, _) = crate::common::harness_on(Document {
+        scene,
+        path: None,
+        dirty: false,
+    });
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    let before = harness.state().state.doc.scene.pose.clone();
+    harness.state_mut().run(Command::Select {
+        vertices: vertices.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    harness.run_steps(1);
+    harness.key_press(egui::Key::R);
+    harness.run_steps(1);
+    assert!(harness.state().ui.tool.is_some(), "R started a rotation");
+    for text in ["z", "9", "0"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    let after = &harness.state().state.doc.scene.pose;
+    let turn = glam::DQuat::from_axis_angle(glam::DVec3::Z, 90f64.to_radians());
+    for &v in &vertices {
+        let expected = pivot + turn * (before[v as usize] - pivot);
+        let got = after[v as usize];
+        assert!(
+            (got - expected).length() < 1e-9,
+            "vertex {v}: {got} instead of {expected} (turned about the pivot)"
+        );
+    }
 }
