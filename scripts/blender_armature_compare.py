@@ -9,6 +9,9 @@ project dependency) and numpy:
     starcages-cli deform rig.json --apply "leg.L.2: rotate 1 0 0 90" --out ours_knee.obj
     python scripts/blender_armature_compare.py MESH.obj rig_info.json \
         --pose knee "leg.L.2: rotate 1 0 0 90" ours_knee.obj  [--pose NAME EDIT OURS.obj ...]
+    # or the issue's poses (hip 45, knee 90, elbow 90, forearm twist 90, neck 30), deformed by
+    # the CLI on the left side's controls:
+    python scripts/blender_armature_compare.py MESH.obj rig_info.json --cli starcages-cli rig.json
 
 Bones: per limb, one bone per control from its pivot to the next control's pivot (the last one
 as long again as the one before it), parented along the limb and to a body bone from the
@@ -184,16 +187,62 @@ def twist_ratio(rest, posed, moving, head, tail):
     return min(ratios) if ratios else float("nan")
 
 
+def standard_poses(controls):
+    """The issue's poses on the rig's own controls: hip 45°, knee 90°, elbow 90°, forearm
+    twist 90°, neck 30° where those controls exist (the left side's)."""
+    by_name = {c["name"]: c for c in controls}
+    pivot = lambda n: np.array(by_name[n]["pivot"])
+    poses = []
+    if "leg.L.1" in by_name:
+        poses.append(("hip45", "leg.L.1: rotate 1 0 0 45"))
+    if "leg.L.2" in by_name:
+        poses.append(("knee90", "leg.L.2: rotate 1 0 0 90"))
+    if "arm.L.2" in by_name and "arm.L.3" in by_name:
+        forearm = pivot("arm.L.3") - pivot("arm.L.2")
+        forearm /= np.linalg.norm(forearm)
+        bend = np.cross(forearm, [0.0, 0.0, 1.0])
+        bend /= np.linalg.norm(bend)
+        poses.append(("elbow90", "arm.L.2: rotate %.6f %.6f %.6f 90" % tuple(bend)))
+        poses.append(("twist90", "arm.L.2: rotate %.6f %.6f %.6f 90" % tuple(forearm)))
+    for neck in ("neck.1", "head.1"):
+        if neck in by_name:
+            poses.append(("neck30", f"{neck}: rotate 0 0 1 30"))
+            break
+    return poses
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("mesh")
     parser.add_argument("info")
     parser.add_argument("--pose", nargs=3, action="append", metavar=("NAME", "EDIT", "OURS"))
+    parser.add_argument(
+        "--cli",
+        help="starcages-cli and the rig's scene (SCENE): deform the standard poses with it",
+        nargs=2,
+        metavar=("CLI", "SCENE"),
+    )
     args = parser.parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.wm.obj_import(filepath=args.mesh)
     mesh_obj = bpy.context.selected_objects[0]
+    # Blender keeps the file's coordinates and stands the object up with its matrix: apply it,
+    # so that the mesh's data is in the Z-up frame the pivots are in.
+    bpy.context.view_layer.objects.active = mesh_obj
+    bpy.ops.object.transform_apply(location=True, rotation=True, scale=True)
     controls = json.load(open(args.info))["controls"]
+    poses = list(args.pose or [])
+    if args.cli:
+        import subprocess
+        import tempfile
+
+        cli, scene = args.cli
+        out = tempfile.mkdtemp()
+        for name, edit in standard_poses(controls):
+            path = f"{out}/{name}.obj"
+            subprocess.run([cli, "deform", scene, "--apply", edit, "--out", path], check=True,
+                           stdout=subprocess.DEVNULL)
+            poses.append((name, edit, path))
     rest_file, triangles = read_obj(args.mesh)
     rest = z_up(rest_file)
     blender_rest = np.array([list(v.co) for v in mesh_obj.data.vertices])
@@ -203,7 +252,7 @@ def main():
     diag = np.linalg.norm(rest.max(axis=0) - rest.min(axis=0))
     whole = volume(rest, triangles)
     print(f"mesh: {args.mesh}, {len(rest)} vertices, volume {whole:.6g}")
-    for name, edit, ours_path in args.pose or []:
+    for name, edit, ours_path in poses:
         ours = z_up(read_obj(ours_path)[0])
         theirs, pb = pose_blender(arm, mesh_obj, edit)
         def moved(p):
@@ -224,7 +273,7 @@ def main():
                 f"{name:<8} {who:<12} moving part {100 * part:+6.2f} %  mesh {100 * total:+6.3f} %"
                 f"  where StarCages keeps still: up to {100 * still:.3f} % of the diagonal"
             )
-            if "twist" in name:
+            if "twist" in name or "elbow" in name:
                 line += f"  smallest cross-section {twist_ratio(rest, posed, moving, head, tail):.3f}"
             print(line)
 

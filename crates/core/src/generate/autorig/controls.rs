@@ -240,9 +240,13 @@ pub(super) fn limb_names(
             .parent
             .and_then(|p| shapes.get(&p))
             .is_some_and(|p| side_of(p) == 0.0 && !is_leg(p) && p.tip.z > frame.body_hi.z);
+        // Ears (horns) stand on top: a side limb rooted in the body's top fifth (or on a
+        // head) that reaches above it.
+        let body_height = frame.body_hi.z - frame.body_lo.z;
+        let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
         let role = if is_leg(s) {
             "leg"
-        } else if parent_is_head && side != 0.0 {
+        } else if (parent_is_head || on_top) && side != 0.0 {
             "ear"
         } else if side == 0.0 {
             centre_role(s.root, s.tip, &frame)
@@ -331,12 +335,15 @@ fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
     }
 }
 
-/// The role of a limb on the centre line: above the body a head (a neck with its head), at a
-/// lying body's back end a tail, at its front end a head; else an unnamed limb.
+/// The role of a limb on the centre line: above a standing body a head (a neck with its head),
+/// from its lower half a tail; at a lying body's front end a head (a neck where it rises above
+/// the body), at its back end a tail; else an unnamed limb.
 fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
     let height = (frame.mesh_hi.z - frame.mesh_lo.z).max(1e-12);
     match frame.forward {
         None if tip.z > frame.body_hi.z - 0.05 * height => "head",
+        // Hanging from a standing body's lower half and not reaching the ground: a tail.
+        None if root.z < 0.5 * (frame.body_lo.z + frame.body_hi.z) => "tail",
         None => "limb",
         Some((axis, sign)) => {
             let body_mid = 0.5 * (frame.body_lo[axis] + frame.body_hi[axis]);
