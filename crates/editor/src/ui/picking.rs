@@ -1,6 +1,6 @@
 //! Picking in the viewport: the cage vertex under the pointer (shown positions: the rest cages
-//! in Rig mode, the pose in Pose mode), the one a grab snaps onto, and where a vertex is on
-//! screen. Used by the viewport's mouse, the selection modes and the keys, none of which
+//! in Rig mode, the pose in Pose mode), the one a grab snaps onto, where a vertex is on
+//! screen, and in Pose mode the control moving the part of the mesh under the pointer. Used by the viewport's mouse, the selection modes and the keys, none of which
 //! import each other for it.
 
 use glam::Vec2;
@@ -67,4 +67,74 @@ pub fn vertex_on_screen(state: &EditorState, v: u32) -> Option<egui::Pos2> {
     let (pixel, _) = state.view.camera.project(p, rect.size)?;
     let at = rect.min + pixel;
     Some(egui::pos2(at.x, at.y))
+}
+
+/// How near (points) the pointer must come to the deformed mesh for a click to pick the control
+/// moving it.
+const MESH_PICK_RADIUS: f32 = 8.0;
+
+/// Leaf cage vertices that vote for the control of a picked mesh point.
+const VOTERS: usize = 6;
+
+/// Pose mode: the internal cage (the auto rig's control) moving the part of the deformed mesh
+/// under `pointer`: among the leaf cage vertices nearest the picked mesh point in the current
+/// pose, the internal cage owning most of them. Its vertices (sorted), so that R and S turn
+/// it about its pivot; None off the mesh or where no internal cage owns that part.
+pub fn control_under(state: &EditorState, pointer: Vec2) -> Option<Vec<u32>> {
+    let rect = state.view.viewport;
+    let mesh = state.deformed();
+    let picked = pick_nearest(
+        &state.view.camera,
+        rect.size,
+        mesh,
+        &[],
+        rect.local(pointer),
+        MESH_PICK_RADIUS,
+    )?;
+    let at = mesh.get(picked)?.as_dvec3();
+    let set = &state.doc.scene.cages;
+    let mut owner: Vec<Option<usize>> = vec![None; set.vertices.len()];
+    for (i, internal) in set.internals.iter().enumerate() {
+        for &v in &internal.owns {
+            if let Some(slot) = owner.get_mut(v as usize) {
+                *slot = Some(i);
+            }
+        }
+    }
+    let pose = &state.doc.scene.pose;
+    let mut leaf_vertices: Vec<u32> = set
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten().copied())
+        .collect();
+    leaf_vertices.sort_unstable();
+    leaf_vertices.dedup();
+    leaf_vertices.sort_by(|&a, &b| {
+        let distance = |v: u32| {
+            pose.get(v as usize)
+                .map_or(f64::INFINITY, |p| p.distance(at))
+        };
+        distance(a).total_cmp(&distance(b))
+    });
+    let mut votes: std::collections::BTreeMap<usize, usize> = std::collections::BTreeMap::new();
+    for v in leaf_vertices.iter().take(VOTERS) {
+        if let Some(Some(cage)) = owner.get(*v as usize) {
+            *votes.entry(*cage).or_insert(0) += 1;
+        }
+    }
+    let cage = votes
+        .into_iter()
+        .max_by_key(|&(c, n)| (n, std::cmp::Reverse(c)))?
+        .0;
+    let mut vertices: Vec<u32> = set
+        .internals
+        .get(cage)?
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    Some(vertices)
 }

@@ -106,31 +106,35 @@ pub fn click(state: &EditorState, pointer: Option<Vec2>, shift: bool, sender: &m
     } else {
         SelectMode::Replace
     };
-    let command =
-        match state.select_element() {
-            SelectElement::CageVertices => pointer
-                .and_then(|p| super::picking::pick(state, p))
-                .map(|v| Command::Select {
+    let command = match state.select_element() {
+        // In Pose mode a click on the mesh away from any cage vertex picks the control
+        // moving that part (the whole internal cage).
+        SelectElement::CageVertices => pointer
+            .and_then(|p| {
+                super::picking::pick(state, p).map(|v| vec![v]).or_else(|| {
+                    (state.mode == crate::state::EditMode::Pose)
+                        .then(|| super::picking::control_under(state, p))
+                        .flatten()
+                })
+            })
+            .map(|vertices| Command::Select { vertices, mode }),
+        SelectElement::CageFaces => {
+            pointer
+                .and_then(|p| pick_face(state, p))
+                .map(|face| Command::SelectFaces {
+                    faces: vec![face],
+                    mode,
+                })
+        }
+        SelectElement::MeshVertices => {
+            pointer
+                .and_then(|p| pick_mesh_vertex(state, p))
+                .map(|v| Command::SelectMeshVertices {
                     vertices: vec![v],
                     mode,
-                }),
-            SelectElement::CageFaces => {
-                pointer
-                    .and_then(|p| pick_face(state, p))
-                    .map(|face| Command::SelectFaces {
-                        faces: vec![face],
-                        mode,
-                    })
-            }
-            SelectElement::MeshVertices => {
-                pointer.and_then(|p| pick_mesh_vertex(state, p)).map(|v| {
-                    Command::SelectMeshVertices {
-                        vertices: vec![v],
-                        mode,
-                    }
                 })
-            }
-        };
+        }
+    };
     match command {
         Some(command) => sender.send(command),
         None if !shift => sender.send(Command::SelectNone),

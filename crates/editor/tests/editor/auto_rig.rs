@@ -391,3 +391,102 @@ fn r_on_a_control_turns_it_about_its_pivot() {
         );
     }
 }
+
+/// In Pose mode a click on the mesh, away from every cage vertex, selects the whole control
+/// moving that part (here the critter's head cage, which owns the head's leaf vertices), ready
+/// for R about its pivot; a click on empty space still clears the selection.
+#[test]
+fn clicking_the_mesh_in_pose_mode_selects_the_control_moving_it() {
+    let mut harness = crate::common::harness();
+    let head_vertices: Vec<u32> = {
+        let set = &harness.state().state.doc.scene.cages;
+        let head = set.internals.iter().find(|c| c.name == "head").unwrap();
+        let mut v: Vec<u32> = head.faces.iter().flatten().copied().collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    // Framed on the head, so that the mesh shows between its cage vertices.
+    let app = harness.state_mut();
+    app.run(Command::Select {
+        vertices: head_vertices.clone(),
+        mode: starcages_editor::state::SelectMode::Replace,
+    });
+    app.run(Command::Camera(
+        starcages_editor::commands::CameraChange::FrameSelection,
+    ));
+    app.run(Command::SelectNone);
+    harness.run_steps(2);
+    let app = harness.state();
+    assert_eq!(app.state.mode, starcages_editor::state::EditMode::Pose);
+    let set = &app.state.doc.scene.cages;
+    let head = set.internals.iter().find(|c| c.name == "head").unwrap();
+    let owned: std::collections::BTreeSet<u32> = head.owns.iter().copied().collect();
+    let rect = app.state.view.viewport;
+    let camera = app.state.view.camera;
+    let on_screen = |p: glam::Vec3| {
+        camera
+            .project(p, rect.size)
+            .map(|(pixel, _)| egui::pos2(rect.min.x + pixel.x, rect.min.y + pixel.y))
+    };
+    let cage_pixels: Vec<egui::Pos2> = app
+        .state
+        .shown_positions()
+        .iter()
+        .filter_map(|p| on_screen(p.as_vec3()))
+        .collect();
+    let pose = &app.state.doc.scene.pose;
+    let mut leaf: Vec<u32> = set
+        .leaves
+        .iter()
+        .flat_map(|l| l.faces.iter().flatten().copied())
+        .collect();
+    leaf.sort_unstable();
+    leaf.dedup();
+    // A mesh point whose nearest leaf cage vertices the head cage owns, clear of every cage
+    // vertex on screen, in front of the rest of the mesh along the view.
+    let deformed = app.state.deformed();
+    let target = deformed
+        .iter()
+        .filter(|p| {
+            let mut near = leaf.clone();
+            near.sort_by(|&a, &b| {
+                let d = |v: u32| pose[v as usize].distance(p.as_dvec3());
+                d(a).total_cmp(&d(b))
+            });
+            near.iter().take(6).filter(|v| owned.contains(v)).count() >= 4
+        })
+        .filter_map(|&p| on_screen(p))
+        .find(|&s| cage_pixels.iter().all(|c| c.distance(s) > 11.0))
+        .expect("a head point clear of cage vertices");
+    let click = |harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+                 at: egui::Pos2| {
+        harness.hover_at(at);
+        harness.run_steps(1);
+        for pressed in [true, false] {
+            harness.event(egui::Event::PointerButton {
+                pos: at,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers: egui::Modifiers::NONE,
+            });
+        }
+        harness.run_steps(2);
+    };
+    click(&mut harness, target);
+    let selected: Vec<u32> = harness
+        .state()
+        .state
+        .selection
+        .vertices
+        .iter()
+        .copied()
+        .collect();
+    assert_eq!(selected, head_vertices, "the head cage is selected");
+    // Empty space: nothing.
+    click(
+        &mut harness,
+        egui::pos2(rect.min.x + 5.0, rect.min.y + rect.size.y - 5.0),
+    );
+    assert!(harness.state().state.selection.vertices.is_empty());
+}
