@@ -6,6 +6,7 @@
 mod actions;
 mod add_menu;
 pub mod axis_gizmo;
+mod control_handles;
 pub mod file_dialog;
 mod help;
 mod inset_tool;

@@ -107,15 +107,17 @@ pub fn click(state: &EditorState, pointer: Option<Vec2>, shift: bool, sender: &m
         SelectMode::Replace
     };
     let command = match state.select_element() {
-        // In Pose mode a click on the mesh away from any cage vertex picks the control
-        // moving that part (the whole internal cage).
+        // In Pose mode a click on a control's handle picks the control; on the mesh away from
+        // any cage vertex, the control moving that part (the whole internal cage).
         SelectElement::CageVertices => pointer
             .and_then(|p| {
-                super::picking::pick(state, p).map(|v| vec![v]).or_else(|| {
-                    (state.mode == crate::state::EditMode::Pose)
-                        .then(|| super::picking::control_under(state, p))
-                        .flatten()
-                })
+                super::control_handles::pick(state, p)
+                    .or_else(|| super::picking::pick(state, p).map(|v| vec![v]))
+                    .or_else(|| {
+                        (state.mode == crate::state::EditMode::Pose)
+                            .then(|| super::picking::control_under(state, p))
+                            .flatten()
+                    })
             })
             .map(|vertices| Command::Select { vertices, mode }),
         SelectElement::CageFaces => {

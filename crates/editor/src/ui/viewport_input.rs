@@ -483,6 +483,7 @@ fn overlays(
         tool_overlay(state, tool, &painter, rect, pointer);
     }
     super::select_modes::selected_faces_overlay(state, &painter, rect);
+    super::control_handles::draw(state, &painter, pointer);
     match (&ui_state.drag, pointer) {
         (
             Some(Drag::Move {

@@ -490,3 +490,74 @@ fn clicking_the_mesh_in_pose_mode_selects_the_control_moving_it() {
     );
     assert!(harness.state().state.selection.vertices.is_empty());
 }
+
+/// Pose mode draws a handle at each control's joint; a click on it selects the whole control
+/// (before any cage vertex under it), and the handle shows selected.
+#[test]
+fn a_click_on_a_control_s_handle_selects_the_control() {
+    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.4).unwrap();
+    let ears = scene
+        .cages
+        .internals
+        .iter()
+        .position(|c| c.name == "ears")
+        .unwrap();
+    let mut vertices: Vec<u32> = scene.cages.internals[ears]
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    // The joint at the middle of the ears cage's lowest face.
+    let (lo, hi) = vertices.iter().fold(
+        (
+            glam::DVec3::splat(f64::INFINITY),
+            glam::DVec3::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), &v| {
+            let p = scene.cages.vertices[v as usize];
+            (lo.min(p), hi.max(p))
+        },
+    );
+    let pivot = glam::DVec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+    scene.cages.internals[ears].pivot = Some(pivot);
+    let (mut harness, _) = crate::common::harness_on(Document {
+        scene,
+        path: None,
+        dirty: false,
+    });
+    let app = harness.state();
+    let rect = app.state.view.viewport;
+    let (pixel, _) = app
+        .state
+        .view
+        .camera
+        .project(pivot.as_vec3(), rect.size)
+        .unwrap();
+    let at = egui::pos2(rect.min.x + pixel.x + 2.0, rect.min.y + pixel.y);
+    harness.hover_at(at);
+    harness.run_steps(1);
+    for pressed in [true, false] {
+        harness.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    harness.run_steps(2);
+    let selected: Vec<u32> = harness
+        .state()
+        .state
+        .selection
+        .vertices
+        .iter()
+        .copied()
+        .collect();
+    assert_eq!(
+        selected, vertices,
+        "the ears cage is selected by its handle"
+    );
+}
