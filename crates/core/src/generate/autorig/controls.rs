@@ -15,6 +15,111 @@ use crate::coords::CoordinateKind;
 use crate::hierarchy::box_grid;
 use crate::scene::{CageSet, InternalCage, LeafCage};
 
+/// Every body but the largest (a head as thick as the torso, a horse's head, a creature's hips)
+/// as a limb of one segment, so that it is named and gets a control like a limb: it grows from
+/// the limb it shares most vertices with where that is more than it shares with the main body
+/// (a head on a neck), and a limb rooted on it grows from it (legs on hips). Returns the roles
+/// and the limbs' parents, and which limbs are such bodies.
+pub(super) fn bodies_as_limbs(
+    cages: &CageSet,
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
+    let mut body_vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        if let Role::Body { body, .. } = role {
+            body_vertices
+                .entry(*body)
+                .or_default()
+                .extend(vertices_of(leaf));
+        }
+    }
+    let Some(main) = body_vertices
+        .iter()
+        .max_by_key(|(b, v)| (v.len(), std::cmp::Reverse(**b)))
+        .map(|(b, _)| *b)
+    else {
+        return (roles.to_vec(), parent_limb.clone(), BTreeSet::new());
+    };
+    let next_limb = roles
+        .iter()
+        .filter_map(|r| match r {
+            Role::Limb { limb, .. } => Some(limb + 1),
+            Role::Body { .. } => None,
+        })
+        .chain(parent_limb.iter().map(|(c, p)| c.max(p) + 1))
+        .max()
+        .unwrap_or(0);
+    let pseudo = |body: usize| next_limb + body;
+    let mut limb_vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    let mut first_segment: BTreeMap<usize, (usize, BTreeSet<u32>)> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        if let Role::Limb { limb, segment } = *role {
+            let vertices = vertices_of(leaf);
+            limb_vertices.entry(limb).or_default().extend(&vertices);
+            let entry = first_segment
+                .entry(limb)
+                .or_insert((segment, BTreeSet::new()));
+            if segment < entry.0 {
+                *entry = (segment, BTreeSet::new());
+            }
+            if segment == entry.0 {
+                entry.1.extend(vertices);
+            }
+        }
+    }
+    let mut parents = parent_limb.clone();
+    let shared = |a: &BTreeSet<u32>, b: &BTreeSet<u32>| a.intersection(b).count();
+    // A body on a limb (a head on a neck) grows from that limb.
+    let mut on_limb: BTreeSet<usize> = BTreeSet::new();
+    for (&body, vertices) in body_vertices.iter().filter(|(b, _)| **b != main) {
+        let with_main = shared(vertices, &body_vertices[&main]);
+        let best = limb_vertices
+            .iter()
+            .map(|(&l, v)| (shared(vertices, v), l))
+            .max();
+        if let Some((n, limb)) = best
+            && n > with_main
+        {
+            parents.insert(pseudo(body), limb);
+            on_limb.insert(body);
+        }
+    }
+    // A root limb rooted on a body that grows from the main body grows from that body.
+    for (&limb, (_, first)) in &first_segment {
+        if parents.contains_key(&limb) {
+            continue;
+        }
+        let best = body_vertices
+            .iter()
+            .filter(|(b, _)| !on_limb.contains(b))
+            .map(|(&b, v)| (shared(first, v), std::cmp::Reverse(b)))
+            .max();
+        if let Some((n, std::cmp::Reverse(body))) = best
+            && body != main
+            && n > 0
+        {
+            parents.insert(limb, pseudo(body));
+        }
+    }
+    let roles = roles
+        .iter()
+        .map(|&role| match role {
+            Role::Body { body, .. } if body != main => Role::Limb {
+                limb: pseudo(body),
+                segment: 0,
+            },
+            other => other,
+        })
+        .collect();
+    let bodies = body_vertices
+        .keys()
+        .filter(|&&b| b != main)
+        .map(|&b| pseudo(b))
+        .collect();
+    (roles, parents, bodies)
+}
+
 /// Name of the control over the whole rig.
 pub const ROOT_CONTROL: &str = "root";
 
@@ -90,6 +195,7 @@ pub(super) fn limb_names(
     cages: &CageSet,
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
+    bodies: &BTreeSet<usize>,
     mirror: Option<(usize, f64)>,
 ) -> BTreeMap<usize, String> {
     let limbs = limbs_of(roles, parent_limb);
@@ -234,7 +340,14 @@ pub(super) fn limb_names(
     };
     let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
     for (&limb, s) in &shapes {
-        let side = side_of(s);
+        // A thick region of its own (a head, hips) is on the centre line when its middle is
+        // within half its width of the plane: a head turned a little stays a head.
+        let side = if bodies.contains(&limb) && (s.middle[lateral] - centre).abs() <= 0.5 * s.width
+        {
+            0.0
+        } else {
+            side_of(s)
+        };
         let side_letter = (side != 0.0).then_some(if side == frame.left_sign { 'L' } else { 'R' });
         let parent_is_head = limbs[&limb]
             .parent
@@ -244,7 +357,21 @@ pub(super) fn limb_names(
         // head) that reaches above it.
         let body_height = frame.body_hi.z - frame.body_lo.z;
         let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
-        let role = if is_leg(s) {
+        // Towards the head: the front half of a lying body, the upper half of a standing one.
+        let headwards = match frame.forward {
+            Some((axis, sign)) => (s.middle[axis] - body_centre[axis]) * sign > 0.0,
+            None => s.middle.z >= body_centre.z,
+        };
+        let role = if bodies.contains(&limb) {
+            // A thick region of its own: a head on the centre line towards the head, else
+            // hips; shoulders and hips at the sides.
+            match (side == 0.0, headwards) {
+                (true, true) => "head",
+                (true, false) => "hips",
+                (false, true) => "shoulder",
+                (false, false) => "hip",
+            }
+        } else if is_leg(s) {
             "leg"
         } else if (parent_is_head || on_top) && side != 0.0 {
             "ear"

@@ -402,12 +402,13 @@ fn rig_on_grid(
     };
     control.advance();
     let mut cages = cages;
-    let roles = parts_of_leaves(&parts, &cages);
+    let (roles, parent_limb, bodies) =
+        controls::bodies_as_limbs(&cages, &parts_of_leaves(&parts, &cages), &parts.parent_limb);
     let plane = mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a])));
-    let names = controls::limb_names(&cages, &roles, &parts.parent_limb, plane);
+    let names = controls::limb_names(&cages, &roles, &parent_limb, &bodies, plane);
     controls::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
-        controls::add_controls(&mut cages, &roles, &parts.parent_limb, &names);
+        controls::add_controls(&mut cages, &roles, &parent_limb, &names);
     }
     control.advance();
     let report = AutorigReport {
