@@ -46,7 +46,7 @@ fn quadruped() -> Mesh {
         (v(0.0, -1.5, 1.0), v(0.0, -1.9, 1.0), 0.17),
         (v(0.0, 1.0, 0.1), v(0.0, 2.4, 0.4), 0.08),
     ];
-    for (x, y) in [(-0.25, -0.7), (0.25, -0.7), (-0.25, 0.7), (0.25, 0.7)] {
+    for (x, y) in [(-0.3, -0.7), (0.3, -0.7), (-0.3, 0.7), (0.3, 0.7)] {
         parts.push((v(x, y, -0.1), v(x, y, -1.5), 0.12));
     }
     capsules(&parts, 0.035)
@@ -233,14 +233,15 @@ fn limbs_are_named_by_role_and_side() {
     }
     let quadruped = rigged(&quadruped());
     let names = limb_names(&quadruped);
-    // Its neck and head are a second thick region (a body of their own), which decides which
-    // way is forward.
+    // Its neck and head are a second thick region (a body of their own): a control of one
+    // segment named head.
     for limb in [
         "leg.front.L",
         "leg.front.R",
         "leg.back.L",
         "leg.back.R",
         "tail",
+        "head",
     ] {
         assert!(names.contains(limb), "quadruped: no {limb} in {names:?}");
     }
@@ -464,5 +465,34 @@ fn a_knee_and_an_elbow_bend_at_their_joints_keeping_volume_and_other_limbs() {
         stiff_knee.1,
         100.0 * knee.0,
         knee.1
+    );
+}
+
+#[test]
+fn a_quadruped_turns_its_head_and_bends_a_front_knee_leaving_the_rest_still() {
+    let scene = rigged(&quadruped());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    // The head hangs from the neck: its joint ring, half turned, bends the neck's last
+    // segment too; nothing else moves.
+    let (_, head_flips) = check_bend(
+        &scene,
+        &binding,
+        "head.1: rotate 0 0 1 30",
+        30.0,
+        &["head", "neck"],
+    );
+    assert_eq!(head_flips, 0);
+    let (knee, knee_flips) = check_bend(
+        &scene,
+        &binding,
+        "leg.front.L.2: rotate 1 0 0 -90",
+        90.0,
+        &["leg.front.L"],
+    );
+    assert!(knee_flips <= 2, "{knee_flips} triangles inside out");
+    assert!(
+        knee.abs() < 0.06,
+        "the leg's volume changed by {:.2} %",
+        100.0 * knee
     );
 }

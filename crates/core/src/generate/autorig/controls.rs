@@ -546,12 +546,46 @@ pub(super) fn add_controls(
         /// Where its box goes: (limb, segment) of the control owning it, None for the root.
         parent: Option<(usize, usize)>,
     }
+    // Where two limbs that do not grow one from the other touch (legs close together), the
+    // vertices they share stay with the root: a turn of one moves nothing of the other.
+    let ancestors_of = |limb: usize| {
+        let mut chain = BTreeSet::new();
+        let mut at = limbs[&limb].parent;
+        while let Some(p) = at {
+            if !chain.insert(p) {
+                break;
+            }
+            at = limbs[&p].parent;
+        }
+        chain
+    };
+    let limb_vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
+        .iter()
+        .map(|(&limb, record)| {
+            let vertices = record
+                .segments
+                .iter()
+                .flatten()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            (limb, vertices)
+        })
+        .collect();
     let mut segments: BTreeMap<(usize, usize), Segment> = BTreeMap::new();
     for &limb in &order {
+        let ancestors = ancestors_of(limb);
+        let foreign: BTreeSet<u32> = limb_vertices
+            .iter()
+            .filter(|&(&other, _)| {
+                other != limb && !ancestors.contains(&other) && !ancestors_of(other).contains(&limb)
+            })
+            .flat_map(|(_, v)| v.iter().copied())
+            .collect();
         for (k, leaves) in limbs[&limb].segments.iter().enumerate() {
             let all: BTreeSet<u32> = leaves
                 .iter()
                 .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .filter(|v| !foreign.contains(v))
                 .collect();
             let owned: Vec<u32> = all
                 .iter()
@@ -567,10 +601,13 @@ pub(super) fn add_controls(
             let parent = if k > 0 {
                 Some((limb, k - 1))
             } else {
-                // A branch hangs from the control owning most of its root ring.
+                // A branch hangs from the control of the limb it grows from owning most of
+                // its root ring; a limb growing from a body, from the root.
                 let mut votes: BTreeMap<(usize, usize), usize> = BTreeMap::new();
                 for v in &before {
-                    if let Some(&o) = owner.get(v) {
+                    if let Some(&o) = owner.get(v)
+                        && ancestors.contains(&o.0)
+                    {
                         *votes.entry(o).or_insert(0) += 1;
                     }
                 }
