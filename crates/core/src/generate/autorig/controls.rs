@@ -219,12 +219,23 @@ pub(super) fn limb_names(
         .and_then(|b| body_sizes.get(&b))
         .map(|s| s.iter().map(point).collect())
         .unwrap_or_else(|| cages.vertices.clone());
-    // A second thick region beside a lying body is its head (a horse's, a cow's).
+    // A second thick region beside a lying body is its head (a horse's, a cow's): the largest
+    // body other than the main one, whether still a body or already one of `bodies`.
     let second_body = body_sizes
         .iter()
         .filter(|(b, _)| Some(**b) != main_key)
-        .max_by_key(|(b, s)| (s.len(), std::cmp::Reverse(**b)))
-        .and_then(|(_, s)| centroid(s.iter().map(point)));
+        .map(|(_, s)| s.clone())
+        .chain(bodies.iter().map(|limb| {
+            cages
+                .leaves
+                .iter()
+                .zip(roles)
+                .filter(|(_, r)| matches!(r, Role::Limb { limb: l, .. } if l == limb))
+                .flat_map(|(leaf, _)| vertices_of(leaf))
+                .collect::<BTreeSet<u32>>()
+        }))
+        .max_by_key(BTreeSet::len)
+        .and_then(|s| centroid(s.iter().map(point)));
     let (body_lo, body_hi) = crate::cage::bounds_of(&main_body);
     let body_extent = body_hi - body_lo;
     let lying = body_extent.x.max(body_extent.y) > body_extent.z;
@@ -319,7 +330,9 @@ pub(super) fn limb_names(
         let axis = 1 - lateral;
         let raised = centroid(
             shapes
-                .values()
+                .iter()
+                .filter(|(limb, _)| !bodies.contains(limb))
+                .map(|(_, s)| s)
                 .filter(|s| s.tip.z > body_hi.z + 0.25 * body_extent.z && !is_leg(s))
                 .map(|s| s.root),
         );
@@ -362,10 +375,18 @@ pub(super) fn limb_names(
             Some((axis, sign)) => (s.middle[axis] - body_centre[axis]) * sign > 0.0,
             None => s.middle.z >= body_centre.z,
         };
+        // A centre limb grows from it (a thick neck base carrying the neck and head).
+        let carries_centre_limb = limbs.iter().any(|(l, record)| {
+            record.parent == Some(limb)
+                && shapes
+                    .get(l)
+                    .is_some_and(|c| (c.middle[lateral] - centre).abs() <= 0.25 * c.width)
+        });
         let role = if bodies.contains(&limb) {
-            // A thick region of its own: a head on the centre line towards the head, else
-            // hips; shoulders and hips at the sides.
+            // A thick region of its own: a head on the centre line towards the head (a neck
+            // where a centre limb grows from it), else hips; shoulders and hips at the sides.
             match (side == 0.0, headwards) {
+                (true, true) if carries_centre_limb => "neck",
                 (true, true) => "head",
                 (true, false) => "hips",
                 (false, true) => "shoulder",
