@@ -354,8 +354,11 @@ pub(super) fn limb_names(
     let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
     for (&limb, s) in &shapes {
         // A thick region of its own (a head, hips) is on the centre line when its middle is
-        // within half its width of the plane: a head turned a little stays a head.
-        let side = if bodies.contains(&limb) && (s.middle[lateral] - centre).abs() <= 0.5 * s.width
+        // within half its width of the plane (a head turned a little stays a head), or when it
+        // stands above a lying body's top (a horse's head turned to a side).
+        let raised_body = frame.forward.is_some() && s.middle.z > frame.body_hi.z;
+        let side = if bodies.contains(&limb)
+            && ((s.middle[lateral] - centre).abs() <= 0.5 * s.width || raised_body)
         {
             0.0
         } else {
