@@ -147,12 +147,7 @@ impl CageEdit {
 /// flattened into a plane.
 pub fn posed_pivot(set: &CageSet, cage: &InternalCage, pose: &[DVec3]) -> Option<DVec3> {
     let pivot = cage.pivot?;
-    let vertices: Vec<u32> = {
-        let mut v: Vec<u32> = cage.faces.iter().flatten().copied().collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
+    let vertices = set.cage_vertices(&cage.name)?;
     let rest: Vec<DVec3> = vertices
         .iter()
         .map(|&v| set.vertices.get(v as usize).copied())

@@ -452,23 +452,23 @@ impl Hierarchy {
             if !moved(control) && !moved(parent) {
                 continue;
             }
+            let parent_shape = parent.shape(pose);
             let (Some(control_motion), Some(parent_motion)) = (
                 affine_fit(&joint.control_rest, &control.shape(pose)),
-                affine_fit(&joint.parent_rest, &parent.shape(pose)),
+                affine_fit(&joint.parent_rest, &parent_shape),
             ) else {
                 continue;
             };
-            let relative = parent_motion.inverse() * control_motion;
-            let mitre = joint.frame.mitre(&relative);
-            let parent_shape = parent.shape(pose);
+            let parent_inverse = parent_motion.inverse();
+            let mitre = joint.frame.mitre(&(parent_inverse * control_motion));
+            // Into the parent's rest frame, through the mitre, and back: one map for the ring.
+            let ring_map = parent_motion * mitre * parent_inverse;
             for &(v, slot) in &joint.ring {
                 let v = v as usize;
                 if by_hand[v] || self.hand_moved[v] {
                     continue;
                 }
-                let base = parent.follow[slot].position(&parent_shape);
-                let rest_place = parent_motion.inverse().transform_point3(base);
-                let p = parent_motion.transform_point3(mitre.transform_point3(rest_place));
+                let p = ring_map.transform_point3(parent.follow[slot].position(&parent_shape));
                 if p.is_finite() && p != pose[v] {
                     pose[v] = p;
                     changed[v] = true;

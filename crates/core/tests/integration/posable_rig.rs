@@ -496,3 +496,55 @@ fn a_quadruped_turns_its_head_and_bends_a_front_knee_leaving_the_rest_still() {
         100.0 * knee
     );
 }
+
+#[test]
+fn a_bad_pivot_or_joint_ring_is_named_by_validation() {
+    use starcages_core::scene::SceneProblem;
+    let good = rigged(&biped());
+    let knee = good
+        .cages
+        .internals
+        .iter()
+        .position(|c| c.name == "leg.L.2")
+        .unwrap();
+    let problems = |scene: &Scene| validate_scene(scene).errors;
+    // A pivot that is not a position.
+    let mut scene = good.clone();
+    scene.cages.internals[knee].pivot = Some(DVec3::new(f64::NAN, 0.0, 0.0));
+    let errors = problems(&scene);
+    assert!(
+        errors
+            .iter()
+            .any(|e| matches!(e, SceneProblem::BadPivot { cage } if cage == "leg.L.2")),
+        "{errors:?}"
+    );
+    assert!(errors[0].to_string().contains("pivot"), "{}", errors[0]);
+    // A ring vertex its parent does not own (one of the root's), one that does not exist, and
+    // one listed twice.
+    let root_owned = good
+        .cages
+        .internals
+        .iter()
+        .find(|c| c.name == "root")
+        .unwrap()
+        .owns[0];
+    let missing = good.cages.vertices.len() as u32;
+    for (bad, reason) in [
+        (root_owned, "not owned by the cage that owns the control"),
+        (missing, "does not exist"),
+        (good.cages.internals[knee].joint[0], "another ring already"),
+    ] {
+        let mut scene = good.clone();
+        scene.cages.internals[knee].joint.push(bad);
+        let errors = problems(&scene);
+        assert!(
+            errors.iter().any(|e| matches!(
+                e,
+                SceneProblem::BadJointVertex { cage, vertex, .. }
+                    if cage == "leg.L.2" && *vertex == bad as usize
+            ) && e.to_string().contains(reason)),
+            "{bad}: {errors:?}"
+        );
+    }
+    assert!(problems(&good).is_empty());
+}

@@ -34,9 +34,7 @@ fn handles(state: &EditorState) -> Vec<Handle> {
             let pivot = starcages_core::hierarchy::posed_pivot(set, cage, pose)?;
             let (pixel, _) = state.view.camera.project(pivot.as_vec3(), rect.size)?;
             let at = rect.min + pixel;
-            let mut vertices: Vec<u32> = cage.faces.iter().flatten().copied().collect();
-            vertices.sort_unstable();
-            vertices.dedup();
+            let vertices = set.cage_vertices(&cage.name)?;
             Some(Handle {
                 name: cage.name.clone(),
                 vertices,

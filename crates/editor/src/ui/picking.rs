@@ -109,15 +109,17 @@ pub fn control_under(state: &EditorState, pointer: Vec2) -> Option<Vec<u32>> {
         .collect();
     leaf_vertices.sort_unstable();
     leaf_vertices.dedup();
-    leaf_vertices.sort_by(|&a, &b| {
-        let distance = |v: u32| {
-            pose.get(v as usize)
-                .map_or(f64::INFINITY, |p| p.distance(at))
-        };
-        distance(a).total_cmp(&distance(b))
-    });
+    let distance = |v: u32| {
+        pose.get(v as usize)
+            .map_or(f64::INFINITY, |p| p.distance(at))
+    };
+    // The nearest few, unordered among themselves: they only vote.
+    let nearest = VOTERS.min(leaf_vertices.len());
+    if nearest < leaf_vertices.len() {
+        leaf_vertices.select_nth_unstable_by(nearest, |&a, &b| distance(a).total_cmp(&distance(b)));
+    }
     let mut votes: std::collections::BTreeMap<usize, usize> = std::collections::BTreeMap::new();
-    for v in leaf_vertices.iter().take(VOTERS) {
+    for v in &leaf_vertices[..nearest] {
         if let Some(Some(cage)) = owner.get(*v as usize) {
             *votes.entry(*cage).or_insert(0) += 1;
         }
@@ -126,15 +128,5 @@ pub fn control_under(state: &EditorState, pointer: Vec2) -> Option<Vec<u32>> {
         .into_iter()
         .max_by_key(|&(c, n)| (n, std::cmp::Reverse(c)))?
         .0;
-    let mut vertices: Vec<u32> = set
-        .internals
-        .get(cage)?
-        .faces
-        .iter()
-        .flatten()
-        .copied()
-        .collect();
-    vertices.sort_unstable();
-    vertices.dedup();
-    Some(vertices)
+    set.cage_vertices(&set.internals.get(cage)?.name)
 }

@@ -287,8 +287,9 @@ fn control_pivot(state: &EditorState, pose: &[DVec3]) -> Option<DVec3> {
     let selected = &state.selection.vertices;
     set.internals.iter().find_map(|cage| {
         cage.pivot?;
-        let own: std::collections::BTreeSet<u32> = cage.faces.iter().flatten().copied().collect();
-        (&own == selected)
+        let own = set.cage_vertices(&cage.name)?;
+        own.iter()
+            .eq(selected.iter())
             .then(|| starcages_core::hierarchy::posed_pivot(set, cage, pose))
             .flatten()
     })

@@ -327,41 +327,9 @@ fn an_undo_while_the_auto_rig_runs_cancels_it_with_a_message() {
 /// turns about its median.
 #[test]
 fn r_on_a_control_turns_it_about_its_pivot() {
-    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.4).unwrap();
-    let head = scene
-        .cages
-        .internals
-        .iter()
-        .position(|c| c.name == "head")
-        .unwrap();
-    let vertices: Vec<u32> = {
-        let mut v: Vec<u32> = scene.cages.internals[head]
-            .faces
-            .iter()
-            .flatten()
-            .copied()
-            .collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
     // The neck: below the head's box, off its centre.
-    let (lo, hi) = vertices.iter().fold(
-        (
-            glam::DVec3::splat(f64::INFINITY),
-            glam::DVec3::splat(f64::NEG_INFINITY),
-        ),
-        |(lo, hi), &v| {
-            let p = scene.cages.vertices[v as usize];
-            (lo.min(p), hi.max(p))
-        },
-    );
-    let pivot = glam::DVec3::new(0.5 * (lo.x + hi.x), lo.y, lo.z);
-    scene.cages.internals[head].pivot = Some(pivot);
-    let (mut harness, _) = crate::common::harness_on(Document {
-        scene,
-        path: None,
-        dirty: false,
+    let (mut harness, vertices, pivot) = critter_with_pivot("head", |lo, hi| {
+        glam::DVec3::new(0.5 * (lo.x + hi.x), lo.y, lo.z)
     });
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
@@ -398,14 +366,14 @@ fn r_on_a_control_turns_it_about_its_pivot() {
 #[test]
 fn clicking_the_mesh_in_pose_mode_selects_the_control_moving_it() {
     let mut harness = crate::common::harness();
-    let head_vertices: Vec<u32> = {
-        let set = &harness.state().state.doc.scene.cages;
-        let head = set.internals.iter().find(|c| c.name == "head").unwrap();
-        let mut v: Vec<u32> = head.faces.iter().flatten().copied().collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
+    let head_vertices = harness
+        .state()
+        .state
+        .doc
+        .scene
+        .cages
+        .cage_vertices("head")
+        .unwrap();
     // Framed on the head, so that the mesh shows between its cage vertices.
     let app = harness.state_mut();
     app.run(Command::Select {
@@ -459,21 +427,7 @@ fn clicking_the_mesh_in_pose_mode_selects_the_control_moving_it() {
         .filter_map(|&p| on_screen(p))
         .find(|&s| cage_pixels.iter().all(|c| c.distance(s) > 11.0))
         .expect("a head point clear of cage vertices");
-    let click = |harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
-                 at: egui::Pos2| {
-        harness.hover_at(at);
-        harness.run_steps(1);
-        for pressed in [true, false] {
-            harness.event(egui::Event::PointerButton {
-                pos: at,
-                button: egui::PointerButton::Primary,
-                pressed,
-                modifiers: egui::Modifiers::NONE,
-            });
-        }
-        harness.run_steps(2);
-    };
-    click(&mut harness, target);
+    click_at(&mut harness, target);
     let selected: Vec<u32> = harness
         .state()
         .state
@@ -484,7 +438,7 @@ fn clicking_the_mesh_in_pose_mode_selects_the_control_moving_it() {
         .collect();
     assert_eq!(selected, head_vertices, "the head cage is selected");
     // Empty space: nothing.
-    click(
+    click_at(
         &mut harness,
         egui::pos2(rect.min.x + 5.0, rect.min.y + rect.size.y - 5.0),
     );
@@ -495,38 +449,9 @@ fn clicking_the_mesh_in_pose_mode_selects_the_control_moving_it() {
 /// (before any cage vertex under it), and the handle shows selected.
 #[test]
 fn a_click_on_a_control_s_handle_selects_the_control() {
-    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.4).unwrap();
-    let ears = scene
-        .cages
-        .internals
-        .iter()
-        .position(|c| c.name == "ears")
-        .unwrap();
-    let mut vertices: Vec<u32> = scene.cages.internals[ears]
-        .faces
-        .iter()
-        .flatten()
-        .copied()
-        .collect();
-    vertices.sort_unstable();
-    vertices.dedup();
     // The joint at the middle of the ears cage's lowest face.
-    let (lo, hi) = vertices.iter().fold(
-        (
-            glam::DVec3::splat(f64::INFINITY),
-            glam::DVec3::splat(f64::NEG_INFINITY),
-        ),
-        |(lo, hi), &v| {
-            let p = scene.cages.vertices[v as usize];
-            (lo.min(p), hi.max(p))
-        },
-    );
-    let pivot = glam::DVec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
-    scene.cages.internals[ears].pivot = Some(pivot);
-    let (mut harness, _) = crate::common::harness_on(Document {
-        scene,
-        path: None,
-        dirty: false,
+    let (mut harness, vertices, pivot) = critter_with_pivot("ears", |lo, hi| {
+        glam::DVec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z)
     });
     let app = harness.state();
     let rect = app.state.view.viewport;
@@ -536,18 +461,10 @@ fn a_click_on_a_control_s_handle_selects_the_control() {
         .camera
         .project(pivot.as_vec3(), rect.size)
         .unwrap();
-    let at = egui::pos2(rect.min.x + pixel.x + 2.0, rect.min.y + pixel.y);
-    harness.hover_at(at);
-    harness.run_steps(1);
-    for pressed in [true, false] {
-        harness.event(egui::Event::PointerButton {
-            pos: at,
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: egui::Modifiers::NONE,
-        });
-    }
-    harness.run_steps(2);
+    click_at(
+        &mut harness,
+        egui::pos2(rect.min.x + pixel.x + 2.0, rect.min.y + pixel.y),
+    );
     let selected: Vec<u32> = harness
         .state()
         .state
@@ -560,4 +477,60 @@ fn a_click_on_a_control_s_handle_selects_the_control() {
         selected, vertices,
         "the ears cage is selected by its handle"
     );
+}
+
+/// The critter with a pivot on its internal cage `name`, at `pivot_of(lo, hi)` of the cage's
+/// rest bounds, in a harness; with the cage's vertices (sorted) and the pivot.
+fn critter_with_pivot(
+    name: &str,
+    pivot_of: impl Fn(glam::DVec3, glam::DVec3) -> glam::DVec3,
+) -> (
+    egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+    Vec<u32>,
+    glam::DVec3,
+) {
+    let mut scene = starcages_core::generate::demo::demo_scene("critter", 0.4).unwrap();
+    let vertices = scene.cages.cage_vertices(name).unwrap();
+    let (lo, hi) = vertices.iter().fold(
+        (
+            glam::DVec3::splat(f64::INFINITY),
+            glam::DVec3::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), &v| {
+            let p = scene.cages.vertices[v as usize];
+            (lo.min(p), hi.max(p))
+        },
+    );
+    let pivot = pivot_of(lo, hi);
+    let cage = scene
+        .cages
+        .internals
+        .iter_mut()
+        .find(|c| c.name == name)
+        .unwrap();
+    cage.pivot = Some(pivot);
+    let (harness, _) = crate::common::harness_on(Document {
+        scene,
+        path: None,
+        dirty: false,
+    });
+    (harness, vertices, pivot)
+}
+
+/// A primary click at `at` (screen points), after hovering there, and two frames to land.
+fn click_at(
+    harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>,
+    at: egui::Pos2,
+) {
+    harness.hover_at(at);
+    harness.run_steps(1);
+    for pressed in [true, false] {
+        harness.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    harness.run_steps(2);
 }
