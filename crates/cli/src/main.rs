@@ -1,7 +1,8 @@
 //! `starcages-cli`: the headless StarCages tool over the core crate.
 //!
 //! Exit status: 0 on success, 2 when an input file or its content is bad (the message names
-//! the file, the line or element, and the fix), 1 for any other failure.
+//! the file, the line or element, and the fix), 1 for any other failure (a write the system
+//! refuses among them: a full disk is not bad input).
 
 mod commands;
 mod output;
@@ -9,7 +10,7 @@ mod progress;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory as _, FromArgMatches as _, Parser, Subcommand};
 use peakmem_alloc::{INSTRUMENTED_SYSTEM, PeakMemAlloc};
 
 /// The system allocator, counting the heap's peak since a reset: `bench --scale` reports each
@@ -94,9 +95,27 @@ fn remove_unfinished_saves_on_signals() {
     }
 }
 
+/// The command line parsed, with negative numbers taken as values everywhere (`--margin -1`
+/// reaches the range check that names the allowed range, instead of clap's "unexpected
+/// argument '-1'" and its wrong tip), and values that start with a minus (`--frames -10..-5`)
+/// taken by the options whose values may (see their `allow_hyphen_values`).
+fn parse_command_line() -> Cli {
+    let command = Cli::command().mut_subcommands(|subcommand| {
+        subcommand.mut_args(|arg| {
+            if arg.get_long().is_some() && arg.get_action().takes_values() {
+                arg.allow_negative_numbers(true)
+            } else {
+                arg
+            }
+        })
+    });
+    let matches = command.get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|error| error.exit())
+}
+
 fn main() -> ExitCode {
     remove_unfinished_saves_on_signals();
-    let cli = Cli::parse();
+    let cli = parse_command_line();
     let result = match cli.command {
         Command::Weights(args) => commands::weights::run(&args),
         Command::Demo(args) => commands::demo::run(&args),
@@ -120,18 +139,33 @@ fn main() -> ExitCode {
         Err(error) if output::is_broken_pipe(&error) => ExitCode::SUCCESS,
         Err(error) => {
             crate::note!("error: {error:#}");
-            let input = error.downcast_ref::<InputError>().is_some()
-                || error
-                    .downcast_ref::<starcages_core::io::FileError>()
-                    .is_some()
-                || error
-                    .downcast_ref::<starcages_core::scene::SceneFileError>()
-                    .is_some();
-            if input {
+            if is_bad_input(&error) {
                 ExitCode::from(2)
             } else {
                 ExitCode::FAILURE
             }
         }
+    }
+}
+
+/// Whether `error` is the user's input (exit status 2) rather than a failure of the system
+/// (exit status 1): a write the system refused (a full disk, a read-only folder, a quota) is
+/// not bad input, though the file is ours to name.
+fn is_bad_input(error: &anyhow::Error) -> bool {
+    use starcages_core::io::FileError;
+    use starcages_core::scene::SceneFileError;
+    if error.downcast_ref::<InputError>().is_some() {
+        return true;
+    }
+    let file_error = error.downcast_ref::<FileError>().or_else(|| {
+        match error.downcast_ref::<SceneFileError>() {
+            Some(SceneFileError::File(file)) => Some(file),
+            _ => None,
+        }
+    });
+    match file_error {
+        Some(FileError::Write { .. }) => false,
+        Some(_) => true,
+        None => error.downcast_ref::<SceneFileError>().is_some(),
     }
 }

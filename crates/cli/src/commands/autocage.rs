@@ -13,7 +13,8 @@ pub struct AutocageArgs {
     /// Mesh file (OBJ, glTF, GLB, FBX, PLY, STL or OFF; see docs/cli.md for axes).
     mesh: PathBuf,
     /// Cells along x, y and z.
-    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID)]
+    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID,
+        value_parser = clap::value_parser!(u32).range(1..=64))]
     grid: Vec<u32>,
     /// Up axis of an OBJ mesh file: y (the OBJ convention, turned to StarCages' Z-up) or z (read
     /// as is). glTF files are always Y-up.

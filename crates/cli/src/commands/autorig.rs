@@ -18,7 +18,8 @@ pub struct AutorigArgs {
     /// Mesh file (OBJ, glTF, GLB, FBX, PLY, STL or OFF; see docs/cli.md for axes).
     mesh: PathBuf,
     /// How fine the rig is: 1 (few, coarse cages) to 5 (many, tight ones).
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3,
+        value_parser = clap::value_parser!(u32).range(1..=i64::from(starcages_core::generate::MAX_DETAIL)))]
     detail: u32,
     /// Least distance from the mesh to the cages' outer surface, as a fraction of the mesh's
     /// bounding-box diagonal (0: as tight as the detail's grid allows).

@@ -31,7 +31,8 @@ pub struct BenchArgs {
     meshes: Option<PathBuf>,
     /// Cells of the automatic grid along x, y and z for `--meshes` (the paper-style tables in
     /// docs/performance.md use 4 4 4).
-    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID)]
+    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = DEFAULT_GRID,
+        value_parser = clap::value_parser!(u32).range(1..=32))]
     grid: Vec<u32>,
     /// Also bench these scene files (repeatable; named by their file stem), e.g. a rig built
     /// with `edit`.

@@ -24,10 +24,10 @@ pub struct BenchGpuArgs {
     #[arg(long, default_value_t = 3.0)]
     detail: f64,
     /// Frames timed per measurement (the median is reported).
-    #[arg(long, default_value_t = 20)]
-    frames: usize,
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(i64).range(1..=10_000))]
+    frames: i64,
     /// Rendered image size for the draw timing.
-    #[arg(long, default_value_t = 1920)]
+    #[arg(long, default_value_t = 1920, value_parser = clap::value_parser!(u32).range(16..=8192))]
     width: u32,
     /// Print JSON (otherwise lines of text).
     #[arg(long)]
@@ -69,13 +69,8 @@ fn median_ms(frames: usize, mut run: impl FnMut()) -> f64 {
 
 /// Runs the command.
 pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
-    if !(1..=10_000).contains(&args.frames) {
-        return Err(InputError(format!(
-            "--frames {} is out of range; use 1 to 10000",
-            args.frames
-        ))
-        .into());
-    }
+    // In 1..=10000 (clap's range).
+    let frames = usize::try_from(args.frames).unwrap_or(1);
     // Triangles grow with the square of the detail: 16 gives about 5.3 million (the big-mesh
     // issue's 5M frame).
     if !(0.1..=16.0).contains(&args.detail) {
@@ -102,8 +97,8 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
     let rest = &scene.cages.vertices;
     let triangles = scene.mesh.welded_triangles();
     let mut deformed = Vec::new();
-    let cpu_deform_ms = median_ms(args.frames, || deformed = binding.deform(rest, &pose));
-    let cpu_normals_ms = median_ms(args.frames, || {
+    let cpu_deform_ms = median_ms(frames, || deformed = binding.deform(rest, &pose));
+    let cpu_normals_ms = median_ms(frames, || {
         std::hint::black_box(cpu_normals(&deformed, triangles));
     });
     let gpu = GpuContext::headless()?;
@@ -111,7 +106,7 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
     let rest_mesh: Vec<Vec3> = scene.mesh.welded_positions_f32();
     renderer.set_mesh(&gpu, &rest_mesh, triangles, Some(&binding.operator));
     let dofs = binding.operator.dofs(rest, &pose);
-    let gpu_deform_ms = median_ms(args.frames, || {
+    let gpu_deform_ms = median_ms(frames, || {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         if !renderer.deform_on_gpu(&gpu, &mut encoder, &dofs) {
             renderer.set_positions(&gpu, &deformed);
@@ -129,7 +124,7 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
         Vec2::new(args.width as f32, height as f32),
         &layers,
     );
-    let gpu_draw_ms = median_ms(args.frames, || {
+    let gpu_draw_ms = median_ms(frames, || {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         target.render(&mut encoder, &renderer, &layers);
         gpu.queue.submit([encoder.finish()]);

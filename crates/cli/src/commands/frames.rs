@@ -14,7 +14,7 @@ use crate::InputError;
 pub struct SampleArgs {
     /// Scene frames to take, both included (default: the animation's playback range; with
     /// `bake --cage-cache`, every sample of the cache).
-    #[arg(long, value_name = "A..B")]
+    #[arg(long, value_name = "A..B", allow_hyphen_values = true)]
     pub frames: Option<FrameRange>,
     /// Samples per second (default: the animation's frame rate); e.g. 30 resamples a 24 fps
     /// animation.

@@ -27,7 +27,7 @@ pub struct InternalCageArgs {
     #[arg(long, value_name = "CAGES.obj", conflicts_with_all = ["cages", "vertices", "name"])]
     from: Option<PathBuf>,
     /// Own these cage vertices (indices into the scene's cage vertex array).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(0..))]
     vertices: Vec<u32>,
     /// Coordinates of the new cage: mvc, hc or gc.
     #[arg(long, default_value = "mvc", value_parser = |s: &str| s.parse::<CoordinateKind>())]
@@ -36,7 +36,8 @@ pub struct InternalCageArgs {
     #[arg(long, default_value_t = 0.1)]
     padding: f64,
     /// Quads along x, y and z on each side of the box (1 1 1: 8 vertices).
-    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = [1, 1, 1])]
+    #[arg(long, num_args = 3, value_names = ["NX", "NY", "NZ"], default_values_t = [1, 1, 1],
+        value_parser = clap::value_parser!(u32).range(1..=16))]
     cells: Vec<u32>,
     /// Scene file to write (may be the input).
     #[arg(long)]

@@ -37,14 +37,15 @@ pub struct RenderArgs {
     #[arg(long, value_name = "CAGE|all", conflicts_with_all = ["join_weight", "difference"])]
     influence: Option<String>,
     /// Paint W(v, p) (eq. 4) of cage vertex V.
-    #[arg(long, value_name = "V", conflicts_with = "difference")]
+    #[arg(long, value_name = "V", conflicts_with = "difference",
+        value_parser = clap::value_parser!(u32).range(0..))]
     join_weight: Option<u32>,
     /// Paint the difference to the single-cage deformation of this kind (Fig. 7); prints max
     /// and RMS relative to the bounding box diagonal.
     #[arg(long, value_name = "KIND", value_parser = |s: &str| s.parse::<CoordinateKind>())]
     difference: Option<CoordinateKind>,
     /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1024x768", value_parser = parse_size)]
+    #[arg(long, default_value = "1024x768", value_parser = parse_size, allow_hyphen_values = true)]
     size: (u32, u32),
     /// Look from a standard view instead of the default three-quarter view.
     #[arg(long, value_enum)]

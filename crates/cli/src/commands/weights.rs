@@ -31,7 +31,8 @@ pub struct WeightsArgs {
     #[arg(long, value_parser = parse_kind)]
     coords: CoordinateKind,
     /// Harmonic coordinates: grid cells along the cage's longest side.
-    #[arg(long, default_value_t = HarmonicSettings::default().resolution)]
+    #[arg(long, default_value_t = HarmonicSettings::default().resolution,
+        value_parser = clap::value_parser!(u32).range(0..))]
     resolution: u32,
 }
 

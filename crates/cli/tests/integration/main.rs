@@ -6,6 +6,7 @@ mod animation;
 mod bench;
 mod common;
 mod deform;
+mod hostile;
 mod outputs;
 mod render;
 mod scenes;

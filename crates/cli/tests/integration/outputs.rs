@@ -262,3 +262,35 @@ fn unwritable_standard_streams_fail_cleanly() {
     assert_eq!(o.status.code(), Some(0));
     assert!(out.exists());
 }
+
+/// A write the system refuses (here a file-size limit, which fails the write as a full disk
+/// does, with SIGXFSZ ignored as shells do for their children) is not bad input: status 1, a
+/// message naming the output, and no partial file; a bad input still exits 2.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_exits_1_and_leaves_nothing() {
+    let d = dir("full-disk");
+    assert!(cli(&["demo", "bar", "--out", s(&d)]).status.success());
+    let scene = d.join("bar.json");
+    let out = d.join("out.obj");
+    let script = format!(
+        "trap '' XFSZ; ulimit -f 1; exec '{}' deform '{}' --out '{}'",
+        env!("CARGO_BIN_EXE_starcages-cli"),
+        s(&scene),
+        s(&out)
+    );
+    let o = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot save"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("out.obj"), "{}", stderr(&o));
+    assert!(!out.exists());
+    let leftovers: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".starcages-tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}

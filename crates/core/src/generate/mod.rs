@@ -13,6 +13,6 @@ mod demo_pose;
 pub use autocage::{AutocageOptions, DEFAULT_GRID, autocage};
 
 pub use autorig::{
-    Autorig, AutorigError, AutorigReport, AutorigSettings, Mirror, autorig, autorig_settings,
-    surface_pieces_per_leaf,
+    Autorig, AutorigError, AutorigReport, AutorigSettings, MAX_DETAIL, Mirror, autorig,
+    autorig_settings, surface_pieces_per_leaf,
 };
