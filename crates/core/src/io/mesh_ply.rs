@@ -63,6 +63,8 @@ struct Property {
 #[derive(Debug, Clone, PartialEq)]
 struct Element {
     name: String,
+    /// The header line that declares it (1-based).
+    line: usize,
     count: usize,
     properties: Vec<Property>,
 }
@@ -305,8 +307,18 @@ fn header(path: &Path, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), Fi
                 let count = count
                     .parse::<usize>()
                     .map_err(|_| bad(format!("element count '{count}' is not a count")))?;
+                if matches!(*name, "vertex" | "face")
+                    && let Some(first) = elements.iter().find(|e| e.name == *name)
+                {
+                    return Err(bad(format!(
+                        "a second '{name}' element (the first is on line {}); a PLY mesh has \
+                         one vertex and one face element: merge them and export again",
+                        first.line
+                    )));
+                }
                 elements.push(Element {
                     name: (*name).to_owned(),
+                    line: line_no,
                     count,
                     properties: Vec::new(),
                 });
@@ -320,11 +332,13 @@ fn header(path: &Path, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), Fi
                         "unknown type in 'property list {count} {item}'"
                     )));
                 };
-                element.properties.push(Property {
-                    name: (*name).to_owned(),
-                    scalar: item,
-                    list_count: Some(count),
-                });
+                if element.name == "vertex" && VERTEX_SCALARS.contains(name) {
+                    return Err(bad(format!(
+                        "vertex property '{name}' is declared as a list; a coordinate is one \
+                         number per vertex: declare it as 'property float {name}'"
+                    )));
+                }
+                push_property(&mut element.properties, name, item, Some(count)).map_err(bad)?;
             }
             ["property", kind, name] => {
                 let element = elements
@@ -332,17 +346,51 @@ fn header(path: &Path, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), Fi
                     .ok_or_else(|| bad("a property before any element".into()))?;
                 let scalar =
                     Scalar::parse(kind).ok_or_else(|| bad(format!("unknown type '{kind}'")))?;
-                element.properties.push(Property {
-                    name: (*name).to_owned(),
-                    scalar,
-                    list_count: None,
-                });
+                push_property(&mut element.properties, name, scalar, None).map_err(bad)?;
             }
             _ => return Err(bad(format!("'{line}' is not a PLY header line"))),
         }
     }
     let format = format.ok_or_else(|| FileError::format(path, "the header has no format line"))?;
     Ok((format, elements, body))
+}
+
+/// The vertex properties read as one number per vertex: positions, normals, texture
+/// coordinates.
+const VERTEX_SCALARS: [&str; 12] = [
+    "x",
+    "y",
+    "z",
+    "nx",
+    "ny",
+    "nz",
+    "u",
+    "v",
+    "s",
+    "t",
+    "texture_u",
+    "texture_v",
+];
+
+/// Adds a property to an element's list, refusing a name it already has (which of the two
+/// would be the coordinate?).
+fn push_property(
+    properties: &mut Vec<Property>,
+    name: &str,
+    scalar: Scalar,
+    list_count: Option<Scalar>,
+) -> Result<(), String> {
+    if properties.iter().any(|p| p.name == name) {
+        return Err(format!(
+            "property '{name}' is declared twice in the same element; rename or remove one"
+        ));
+    }
+    properties.push(Property {
+        name: name.to_owned(),
+        scalar,
+        list_count,
+    });
+    Ok(())
 }
 
 fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {

@@ -25,17 +25,27 @@ pub fn parse_stl(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
         .get(80..84)
         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
     let is_binary = binary_count.is_some_and(|n| 84 + 50 * n as u128 == bytes.len() as u128);
+    // An ASCII STL starts with `solid` and is text; a binary one may start with `solid` too
+    // (some exporters write it into the 80-byte header), but its data is not text.
+    let starts_solid = bytes.trim_ascii_start().starts_with(b"solid");
+    let is_text = !bytes.contains(&0) && std::str::from_utf8(bytes).is_ok();
     let positions = if is_binary {
         binary(bytes)
-    } else if bytes.trim_ascii_start().starts_with(b"solid") {
+    } else if starts_solid && is_text {
         ascii(path, bytes)?
     } else {
+        let header_note = if starts_solid {
+            " (its header starts with 'solid' as an ASCII STL does, but the rest is binary)"
+        } else {
+            ""
+        };
         return Err(FileError::format(
             path,
             match binary_count {
                 Some(n) => format!(
-                    "a binary STL file announcing {n} triangles is {} bytes long, but \
-                     {} were expected (84 + 50 per triangle): it is truncated or not an STL file",
+                    "a binary STL file{header_note} announcing {n} triangles is {} bytes long, \
+                     but {} were expected (84 + 50 per triangle): it is truncated or its \
+                     triangle count is wrong; export it again",
                     bytes.len(),
                     84 + 50 * n as u128
                 ),

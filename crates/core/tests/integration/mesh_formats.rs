@@ -279,6 +279,81 @@ fn forged_and_broken_files_are_refused_with_the_reason() {
     says(parse_off(at, "PLY\n"), "not an OFF file");
 }
 
+/// Files that a lenient reader would read as another mesh (a flat one, one of two vertex
+/// sets, 4-D points cut to 3-D) are refused, naming the element; and files of another kind
+/// than their first bytes suggest are refused for what they are (issue 42, classes 1 and 3).
+#[test]
+fn nonsense_is_refused_not_read_as_another_mesh() {
+    let at = Path::new("bad");
+    let says = |result: Result<starcages_core::mesh::Mesh, starcages_core::io::FileError>,
+                text: &str| {
+        let error = result.unwrap_err().to_string();
+        assert!(error.contains(text), "{text:?} not in {error}");
+    };
+    // PLY: a second vertex element (which set is the mesh's?), a coordinate declared as a list
+    // (read as 0 before: a flat mesh), a property declared twice.
+    let second = ascii_ply().replace(
+        "element face 6",
+        "element vertex 0\nproperty float x\nproperty float y\nproperty float z\nelement face 6",
+    );
+    says(
+        parse_ply(at, second.as_bytes()),
+        "bad:11: a second 'vertex' element (the first is on line 4)",
+    );
+    let listed = ascii_ply().replace("property float z", "property list uchar float z");
+    says(
+        parse_ply(at, listed.as_bytes()),
+        "vertex property 'z' is declared as a list",
+    );
+    let twice = ascii_ply().replace("property float u", "property float y");
+    says(
+        parse_ply(at, twice.as_bytes()),
+        "property 'y' is declared twice",
+    );
+    // OFF: 4-D vertices, by either spelling; nOFF of dimension 3 is a plain OFF.
+    let plain = off().replacen("COFF", "OFF", 1);
+    says(
+        parse_off(at, &plain.replacen("OFF", "4OFF", 1)),
+        "'4OFF' announces 4-D vertices",
+    );
+    says(
+        parse_off(at, &plain.replacen("OFF", "nOFF\n4", 1)),
+        "bad:2: 'nOFF' announces 4-D vertices",
+    );
+    let three = parse_off(at, &plain.replacen("OFF", "nOFF 3", 1)).unwrap();
+    assert_cube("nOFF 3", &three, 8);
+    says(
+        parse_off(at, &plain.replacen("OFF", "XOFF", 1)),
+        "not an OFF file",
+    );
+    // A binary OFF says so, from the text and from a file (not "not UTF-8 text").
+    says(parse_off(at, "OFF BINARY\n"), "binary OFF");
+    let dir = std::env::temp_dir().join(format!("starcages-off-binary-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("cube.off");
+    let mut bytes = b"OFF BINARY\n".to_vec();
+    bytes.extend([0x00, 0x00, 0x00, 0x08, 0xff, 0xfe, 0x80, 0x81]);
+    std::fs::write(&file, &bytes).unwrap();
+    says(read_mesh(&file), "a binary OFF file ('OFF BINARY')");
+    // STL: a binary file whose header starts with "solid" and whose count lies is a binary
+    // file with a wrong count, not "an ASCII STL file that is not text".
+    let mut stl = binary_stl();
+    stl[..11].copy_from_slice(b"solid cube ");
+    stl[80..84].copy_from_slice(&13u32.to_le_bytes());
+    says(
+        parse_stl(at, &stl),
+        "a binary STL file (its header starts with 'solid' as an ASCII STL does, but the rest \
+         is binary) announcing 13 triangles",
+    );
+    // ... and with a true count it reads, "solid" or not.
+    stl[80..84].copy_from_slice(&12u32.to_le_bytes());
+    assert_cube(
+        "binary STL with a solid header",
+        &parse_stl(at, &stl).unwrap(),
+        36,
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(crate::fuzz_readers::fuzz_cases()))]
 
