@@ -50,9 +50,18 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
         file_format: ufbx::FileFormat::Fbx,
         no_format_from_content: true,
         no_format_from_extension: true,
+        // An attribute index past its array becomes "no index" (checked below, naming the
+        // polygon) rather than a silently clamped corner. (ufbx refuses a position index past
+        // the vertices itself, without a reason: see `diagnose_geometry`.)
+        index_error_handling: ufbx::IndexErrorHandling::NoIndex,
         ..Default::default()
     };
     let scene = ufbx::load_memory(bytes, options).map_err(|error| {
+        if error.type_ == ufbx::ErrorType::Unknown
+            && let Some(reason) = diagnose_geometry(path, bytes, limit)
+        {
+            return reason;
+        }
         let info = error.info();
         let detail = if info.is_empty() {
             String::new()
@@ -67,6 +76,7 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
             ),
         )
     })?;
+    check_unit_scale(path, &scene)?;
     let mut out = Accumulator::default();
     for node in &scene.nodes {
         if let Some(mesh) = &node.mesh {
@@ -108,6 +118,85 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
         path: path.to_path_buf(),
         problem,
     })
+}
+
+/// Why ufbx failed without a reason (its "Failed to load"), when the file's structure reads
+/// without its geometry: then a mesh's geometry is what is broken. ufbx refuses a polygon
+/// that names a vertex past the mesh's vertex list this way, and skips the arrays when asked to
+/// ignore geometry, so the meshes are named and the likely reasons given.
+fn diagnose_geometry(path: &Path, bytes: &[u8], limit: usize) -> Option<FileError> {
+    let allocator = || ufbx::AllocatorOpts {
+        memory_limit: limit,
+        ..Default::default()
+    };
+    let options = ufbx::LoadOpts {
+        temp_allocator: allocator(),
+        result_allocator: allocator(),
+        ignore_animation: true,
+        ignore_embedded: true,
+        ignore_geometry: true,
+        retain_dom: true,
+        load_external_files: false,
+        file_format: ufbx::FileFormat::Fbx,
+        no_format_from_content: true,
+        no_format_from_extension: true,
+        ..Default::default()
+    };
+    let scene = ufbx::load_memory(bytes, options).ok()?;
+    let root = scene.dom_root.as_ref()?;
+    let objects = root.children.iter().find(|c| &*c.name == "Objects")?;
+    let names: Vec<String> = objects
+        .children
+        .iter()
+        .filter(|c| &*c.name == "Geometry")
+        .map(|geometry| {
+            // "Geometry::name" in ASCII files, "name\0\x01Geometry" in binary ones (the raw
+            // bytes: ufbx keeps the string in the blob).
+            let raw = geometry
+                .values
+                .get(1)
+                .map(|v| String::from_utf8_lossy(&v.value_blob).into_owned())
+                .unwrap_or_default();
+            let name = raw
+                .strip_prefix("Geometry::")
+                .unwrap_or_else(|| raw.split('\0').next().unwrap_or(""));
+            format!("'{name}'")
+        })
+        .collect();
+    let meshes = match names.len() {
+        0 => return None,
+        1 => format!("mesh {}", names[0]),
+        _ => format!("one of the meshes {}", names.join(", ")),
+    };
+    Some(FileError::format(
+        path,
+        format!(
+            "the file's nodes read, but the geometry of {meshes} does not: a polygon names a \
+             vertex past the mesh's vertex list, or an array is cut short (the FBX reader gives \
+             no further reason); the file is damaged: re-export it"
+        ),
+    ))
+}
+
+/// Refuses a unit scale that is zero, negative or not finite: Blender's importer scales the
+/// mesh by it (to nothing, or mirrored), ufbx falls back to centimetres (100× too large);
+/// either way the mesh is not the one the file's author saw.
+fn check_unit_scale(path: &Path, scene: &ufbx::Scene) -> Result<(), FileError> {
+    let Some(unit) = ufbx::find_prop(&scene.settings.props, "UnitScaleFactor") else {
+        return Ok(());
+    };
+    let centimetres = unit.value_vec4.x;
+    if centimetres.is_finite() && centimetres > 0.0 {
+        return Ok(());
+    }
+    Err(FileError::format(
+        path,
+        format!(
+            "GlobalSettings: UnitScaleFactor is {centimetres} (centimetres per unit); it must \
+             be a positive number (1 for centimetres, 100 for metres): set the scene's unit in \
+             the program that made the file and export again"
+        ),
+    ))
 }
 
 /// The triangles of every node read so far, with one vertex per distinct (position, normal,
@@ -165,10 +254,11 @@ fn add_node_mesh(
 
     // Every attribute's index of every corner, checked once.
     let corners = mesh.num_indices;
-    let indices =
-        |attribute, values, what| checked_indices(path, name, attribute, corners, values, what);
+    let indices = |attribute, values, what| {
+        checked_indices(path, name, &mesh.faces, attribute, corners, values, what)
+    };
     let positions = &mesh.vertex_position.values;
-    let position_of = indices(&mesh.vertex_position.indices, positions.len(), "position")?;
+    let position_of = indices(&mesh.vertex_position.indices, positions.len(), "vertex")?;
     // Absent attributes read as no indices (every corner gets the default value).
     let normal_of = if has_normals {
         indices(
@@ -290,6 +380,7 @@ fn add_node_mesh(
 fn checked_indices<'a>(
     path: &Path,
     node: &str,
+    faces: &[ufbx::Face],
     attribute: &'a [u32],
     corners: usize,
     values: usize,
@@ -305,12 +396,20 @@ fn checked_indices<'a>(
             ),
         )
     })?;
-    if let Some(bad) = indices.iter().find(|&&i| i as usize >= values) {
+    if let Some(corner) = indices.iter().position(|&i| i as usize >= values) {
+        let polygon = faces
+            .iter()
+            .position(|f| (f.index_begin..f.index_begin + f.num_indices).contains(&(corner as u32)))
+            .map_or_else(|| "a polygon".to_owned(), |f| format!("polygon {f}"));
+        let named = match indices[corner] {
+            u32::MAX => format!("a {what} past the mesh's {values}"),
+            index => format!("{what} {index}, but the mesh has {values}"),
+        };
         return Err(FileError::format(
             path,
             format!(
-                "mesh of node '{node}': {what} index {bad} is out of range ({values} values); \
-                 re-export the file"
+                "mesh of node '{node}': {polygon} names {named} (corner {corner}, counted \
+                 from 0); the file is damaged: re-export it"
             ),
         ));
     }

@@ -604,6 +604,66 @@ fn the_one_entry_point_reads_fbx_and_refuses_what_it_cannot() {
     assert!(error.contains("Cyclic node hierarchy"), "{error}");
 }
 
+/// What a lenient reader would read as another mesh, or blame on the wrong thing, is refused
+/// naming the element (issue 42): a unit scale of zero (Blender's importer would scale the
+/// mesh to nothing; ufbx falls back to another unit) or not finite, and a polygon corner past
+/// the vertex count (ufbx's bare "Failed to load" before).
+#[test]
+fn a_zero_unit_scale_and_a_corner_past_the_vertices_are_named() {
+    let cube = |unit: f64| {
+        document(
+            2,
+            unit,
+            vec![
+                cube_geometry(10, "box"),
+                model(20, "box", [0.0; 3], [0.0; 3], [1.0; 3]),
+            ],
+            vec![connect(20, 0), connect(10, 20)],
+        )
+    };
+    assert!(parse_fbx(Path::new("ok.fbx"), &binary(&cube(100.0))).is_ok());
+    for unit in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        for bytes in [binary(&cube(unit)), ascii(&cube(unit))] {
+            let error = parse_fbx(Path::new("unit.fbx"), &bytes)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                error.contains("unit.fbx: GlobalSettings: UnitScaleFactor is"),
+                "{unit}: {error}"
+            );
+        }
+    }
+    // The last quad names corner 8 of 8 (0-based): past the vertex count.
+    let mut past = cube(100.0);
+    let geometry = past
+        .iter_mut()
+        .find(|n| n.name == "Objects")
+        .and_then(|objects| objects.children.iter_mut().find(|n| n.name == "Geometry"))
+        .unwrap();
+    let indices = geometry
+        .children
+        .iter_mut()
+        .find(|n| n.name == "PolygonVertexIndex")
+        .unwrap();
+    let Prop::Ints(values) = &mut indices.props[0] else {
+        panic!("indices")
+    };
+    let last = values.len() - 2;
+    values[last] = 8;
+    for bytes in [binary(&past), ascii(&past)] {
+        let error = parse_fbx(Path::new("past.fbx"), &bytes)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains(
+                "past.fbx: the file's nodes read, but the geometry of mesh 'box' does not: a \
+                 polygon names a vertex past the mesh's vertex list"
+            ),
+            "{error}"
+        );
+    }
+}
+
 #[test]
 fn an_array_promising_gigabytes_is_refused_without_allocating_them() {
     // A binary array whose header claims a billion doubles in a file of a few hundred bytes.
