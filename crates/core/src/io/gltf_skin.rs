@@ -14,9 +14,10 @@ use super::gltf_accessor::{check_accessor, read_elements};
 
 /// World matrix of every node of the document, by node index, through its parents (the node
 /// graph as the file stands; a node reached through no parent is a root). A node with several
-/// parents (invalid glTF) takes the first; a cycle (refused by the walk) ends the chain.
-/// Empty for a document without skins (nothing reads them).
-pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
+/// parents (invalid glTF) takes the first. `None` for a node whose parents form a loop (or that
+/// hangs below one): it has no world, and a skin that names it is refused. Empty for a
+/// document without skins (nothing reads them).
+pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<Option<DMat4>> {
     if gltf.skins().next().is_none() {
         return Vec::new();
     }
@@ -26,7 +27,6 @@ pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
         for child in node.children() {
             if let Some(slot) = parent.get_mut(child.index())
                 && slot.is_none()
-                && child.index() != node.index()
             {
                 *slot = Some(node.index());
             }
@@ -36,21 +36,22 @@ pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
         .nodes()
         .map(|n| DMat4::from_cols_array_2d(&n.transform().matrix().map(|c| c.map(f64::from))))
         .collect();
-    // Each node's world once, from its nearest ancestor already known: linear in the nodes
+    // Each node's world once, from its nearest ancestor already settled: linear in the nodes
     // whatever the depth (a chain of a million nodes is a valid file).
-    let mut world: Vec<Option<DMat4>> = vec![None; count];
+    let mut world: Vec<Option<Option<DMat4>>> = vec![None; count];
     let mut on_path = vec![false; count];
     let mut path: Vec<usize> = Vec::new();
     for start in 0..count {
         let mut i = start;
-        // Up to a known world, a root, or a node already on this path (a cycle: cut there).
-        let mut above = DMat4::IDENTITY;
+        // Up to a settled world, a root, or a node already on this path (a loop).
+        let mut above = Some(DMat4::IDENTITY);
         loop {
-            if let Some(w) = world[i] {
-                above = w;
+            if let Some(settled) = world[i] {
+                above = settled;
                 break;
             }
             if on_path[i] {
+                above = None;
                 break;
             }
             on_path[i] = true;
@@ -61,24 +62,37 @@ pub(super) fn node_worlds(gltf: &gltf::Gltf) -> Vec<DMat4> {
             }
         }
         for &node in path.iter().rev() {
-            above *= local[node];
+            above = above.map(|a| a * local[node]);
             world[node] = Some(above);
             on_path[node] = false;
         }
         path.clear();
     }
-    world
-        .into_iter()
-        .map(|w| w.unwrap_or(DMat4::IDENTITY))
-        .collect()
+    world.into_iter().map(Option::flatten).collect()
 }
 
-/// The joint matrices J_k · IBM_k of `skin` (IBM the identity where the skin has none).
+/// Why a placement cannot place a mesh (a matrix that is not finite, or that flattens: scale
+/// zero), if it cannot.
+pub(super) fn placement_problem(matrix: &DMat4) -> Option<&'static str> {
+    if !matrix.is_finite() {
+        Some("is not finite (NaN or infinity)")
+    } else if DAffine3::from_mat4(*matrix).matrix3.determinant().abs() < f64::MIN_POSITIVE {
+        Some("flattens the mesh (a scale of zero)")
+    } else {
+        None
+    }
+}
+
+/// The joint matrices J_k · IBM_k of `skin` (IBM the identity where the skin has none), each
+/// checked: a joint whose node has no world (its parents form a loop), or whose node's world or
+/// inverse bind matrix is not finite or flattens, is refused naming the skin, the joint and
+/// its node.
 pub(super) fn joint_matrices(
     path: &Path,
+    node_names: &[String],
     skin: &gltf::Skin,
     buffers: &[Vec<u8>],
-    worlds: &[DMat4],
+    worlds: &[Option<DMat4>],
 ) -> Result<Vec<DMat4>, FileError> {
     use gltf::accessor::{DataType as T, Dimensions as D};
     let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
@@ -112,11 +126,36 @@ pub(super) fn joint_matrices(
         }
         None => vec![DMat4::IDENTITY; joints.len()],
     };
-    Ok(joints
+    joints
         .iter()
         .zip(&inverse_bind)
-        .map(|(&j, ibm)| worlds.get(j).copied().unwrap_or(DMat4::IDENTITY) * *ibm)
-        .collect())
+        .enumerate()
+        .map(|(k, (&j, ibm))| {
+            let node_name = node_names.get(j).map_or("unnamed", String::as_str);
+            let joint = format!("{what}, joint {k} (node {j} '{node_name}')");
+            let refuse = |why: String| Err(FileError::format(path, format!("{joint} {why}")));
+            let Some(world) = worlds.get(j).copied().flatten() else {
+                return refuse(
+                    "hangs from a loop of parents (a node that is its own ancestor); a glTF \
+                     node hierarchy must be a tree: re-export the file"
+                        .to_owned(),
+                );
+            };
+            if let Some(why) = placement_problem(&world) {
+                return refuse(format!(
+                    "stands where its transform (with its parents') {why}; give the joint and \
+                     its parents a non-zero scale and re-export"
+                ));
+            }
+            if let Some(why) = placement_problem(ibm) {
+                return refuse(format!(
+                    "has an inverse bind matrix that {why}; re-export the skin (apply the \
+                     armature's scale first)"
+                ));
+            }
+            Ok(world * *ibm)
+        })
+        .collect()
 }
 
 /// The skinning transform of each of a primitive's `count` vertices: Σ_k w_k (J_k · IBM_k)
@@ -202,8 +241,7 @@ pub(super) fn vertex_transforms(
             }
         }
     }
-    Ok(sums
-        .iter()
+    sums.iter()
         .zip(&totals)
         .map(|(sum, &total)| {
             if total > 1e-9 {
@@ -214,5 +252,27 @@ pub(super) fn vertex_transforms(
                 unweighted
             }
         })
-        .collect())
+        .zip(&totals)
+        .enumerate()
+        .map(|(v, (transform, &total))| {
+            let Some(why) = placement_problem(&DMat4::from(transform)) else {
+                return Ok(transform);
+            };
+            let reason = if total > 1e-9 {
+                format!(
+                    "the skin's weighted joint transforms at vertex {v} blend into a transform \
+                     that {why}; re-export the skin's weights"
+                )
+            } else {
+                format!(
+                    "vertex {v} has no skin weight, so its mesh node places it, and that \
+                     node's transform {why}; weight the vertex or fix the node's scale"
+                )
+            };
+            Err(FileError::format(
+                path,
+                format!("{}: {reason}", what("JOINTS_0/WEIGHTS_0")),
+            ))
+        })
+        .collect()
 }

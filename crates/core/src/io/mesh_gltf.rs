@@ -50,6 +50,10 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
             .chain(gltf.extensions_required())
             .any(|e| e == QUANTIZATION),
         node_worlds: super::gltf_skin::node_worlds(&gltf),
+        node_names: gltf
+            .nodes()
+            .map(|n| n.name().unwrap_or("unnamed").to_owned())
+            .collect(),
         ..Accumulator::default()
     };
     let scenes: Vec<gltf::Scene> = match gltf.default_scene() {
@@ -380,8 +384,11 @@ struct Accumulator {
     parts: Vec<crate::mesh::MeshPart>,
     /// The file uses KHR_mesh_quantization: vertex attributes may be integers.
     quantized: bool,
-    /// World matrix of every node (skins place their meshes by their joints' worlds).
-    node_worlds: Vec<DMat4>,
+    /// World matrix of every node (skins place their meshes by their joints' worlds); `None`
+    /// below a loop of parents.
+    node_worlds: Vec<Option<DMat4>>,
+    /// The glTF document's nodes' names, for messages.
+    node_names: Vec<String>,
 }
 
 /// A file that requires an extension this reader does not handle (Draco or meshopt
@@ -451,15 +458,16 @@ fn walk<'a>(
     buffers: &[Vec<u8>],
     out: &mut Accumulator,
 ) -> Result<(), FileError> {
-    // (node, its parent's world transform, depth); `on_path[i]`: node i is an ancestor of the
-    // node being visited, `path_nodes[d]`: the ancestor at depth d.
-    let mut stack: Vec<(gltf::Node<'a>, DMat4, usize)> =
-        roots.map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    // (node, its parent's world transform, depth, the nearest node at or above it whose own
+    // transform is not finite or flattens); `on_path[i]`: node i is an ancestor of the node
+    // being visited, `path_nodes[d]`: the ancestor at depth d.
+    let mut stack: Vec<(gltf::Node<'a>, DMat4, usize, Option<usize>)> =
+        roots.map(|n| (n, DMat4::IDENTITY, 0, None)).collect();
     stack.reverse();
     let mut path_nodes: Vec<usize> = Vec::new();
     let mut on_path: Vec<bool> = Vec::new();
     let mut instances = 0usize;
-    while let Some((node, parent, depth)) = stack.pop() {
+    while let Some((node, parent, depth, flattened_by)) = stack.pop() {
         for gone in path_nodes.drain(depth.min(path_nodes.len())..) {
             if let Some(flag) = on_path.get_mut(gone) {
                 *flag = false;
@@ -492,38 +500,79 @@ fn walk<'a>(
         path_nodes.push(index);
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
-        add_node_mesh(path, &node, world, buffers, out)?;
+        let flattened_by = match super::gltf_skin::placement_problem(&local) {
+            Some(_) if flattened_by.is_none() => Some(index),
+            _ => flattened_by,
+        };
+        add_node_mesh(path, &node, world, flattened_by, buffers, out)?;
         let first_child = stack.len();
-        stack.extend(node.children().map(|child| (child, world, depth + 1)));
+        stack.extend(
+            node.children()
+                .map(|child| (child, world, depth + 1, flattened_by)),
+        );
         stack[first_child..].reverse();
     }
     Ok(())
 }
 
-/// Appends the triangles of `node`'s mesh (if any) placed by `world`.
+/// Appends the triangles of `node`'s mesh (if any) placed by `world`; `flattened_by` is the
+/// node at or above it whose own transform is not finite or flattens (scale 0), if any: a mesh
+/// placed by its node there is refused naming that node (a skinned one is placed by its
+/// joints, checked in [`super::gltf_skin`]).
 fn add_node_mesh(
     path: &Path,
     node: &gltf::Node,
     world: DMat4,
+    flattened_by: Option<usize>,
     buffers: &[Vec<u8>],
     out: &mut Accumulator,
 ) -> Result<(), FileError> {
     if let Some(mesh) = node.mesh() {
+        let node_name = |i: usize| out.node_names.get(i).map_or("unnamed", String::as_str);
+        if node.skin().is_none()
+            && let Some(why) = super::gltf_skin::placement_problem(&world)
+        {
+            let culprit = flattened_by.unwrap_or(node.index());
+            let at = if culprit == node.index() {
+                String::new()
+            } else {
+                format!(
+                    " (through its ancestor node {culprit} '{}')",
+                    node_name(culprit)
+                )
+            };
+            return Err(FileError::format(
+                path,
+                format!(
+                    "node {} '{}' places mesh {} ('{}') by a transform that {why}{at}; give \
+                     the node a non-zero scale and re-export",
+                    node.index(),
+                    node_name(node.index()),
+                    mesh.index(),
+                    mesh.name().unwrap_or("unnamed"),
+                ),
+            ));
+        }
         let affine = DAffine3::from_mat4(world);
         let normal_matrix = affine.matrix3.inverse().transpose();
         for primitive in mesh.primitives() {
+            let mesh_name = mesh.name().unwrap_or("unnamed");
+            let (mesh_index, primitive_index) = (mesh.index(), primitive.index());
+            let what = |attribute: &str| {
+                format!(
+                    "mesh {mesh_index} ('{mesh_name}'), primitive {primitive_index}, {attribute}"
+                )
+            };
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 return Err(FileError::format(
                     path,
                     format!(
-                        "mesh '{}' has a {:?} primitive; only triangles are supported, triangulate on export",
-                        mesh.name().unwrap_or("unnamed"),
+                        "mesh {mesh_index} ('{mesh_name}'), primitive {primitive_index} is a \
+                         {:?} primitive; only triangles are supported, triangulate on export",
                         primitive.mode()
                     ),
                 ));
             }
-            let mesh_name = mesh.name().unwrap_or("unnamed");
-            let what = |attribute: &str| format!("mesh '{mesh_name}', {attribute}");
             use gltf::accessor::{DataType as T, Dimensions as D};
             use gltf::mesh::Semantic;
             let position = primitive.get(&Semantic::Positions).ok_or_else(|| {
@@ -594,8 +643,13 @@ fn add_node_mesh(
             // A skinned mesh is placed by its joints (glTF 2.0 "Skins"), not by its node.
             let skinning = match node.skin() {
                 Some(skin) => {
-                    let joints =
-                        super::gltf_skin::joint_matrices(path, &skin, buffers, &out.node_worlds)?;
+                    let joints = super::gltf_skin::joint_matrices(
+                        path,
+                        &out.node_names,
+                        &skin,
+                        buffers,
+                        &out.node_worlds,
+                    )?;
                     Some(super::gltf_skin::vertex_transforms(
                         path, &primitive, buffers, &joints, count, affine, &what,
                     )?)
@@ -681,7 +735,19 @@ fn add_node_mesh(
                         .chunks_exact(3)
                         .for_each(|t| push([t[0], t[1], t[2]]));
                 }
-                None => (0..count as u32 / 3).for_each(|t| push([3 * t, 3 * t + 1, 3 * t + 2])),
+                None => {
+                    if !count.is_multiple_of(3) {
+                        return Err(FileError::format(
+                            path,
+                            format!(
+                                "{} has {count} vertices and no index list, not a whole number \
+                                 of triangles (3 vertices each); re-export the file",
+                                what("POSITION")
+                            ),
+                        ));
+                    }
+                    (0..count as u32 / 3).for_each(|t| push([3 * t, 3 * t + 1, 3 * t + 2]))
+                }
             }
             out.parts.push(crate::mesh::MeshPart {
                 vertices: base..out.positions.len() as u32,

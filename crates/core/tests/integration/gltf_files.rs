@@ -142,7 +142,7 @@ fn malformed_accessors_are_refused_with_the_reason() {
                 INDICES.replace("\"count\":3", "\"count\":2")
             ),
             VIEWS.to_owned(),
-            "mesh 'tri', the index list holds 2 indices, not a whole number of triangles; \
+            "mesh 0 ('tri'), primitive 0, the index list holds 2 indices, not a whole number of triangles; \
              re-export",
         ),
         (
@@ -153,7 +153,7 @@ fn malformed_accessors_are_refused_with_the_reason() {
                 POSITION.replace("\"count\":3", "\"count\":2")
             ),
             VIEWS.to_owned(),
-            "mesh 'tri', the index list names vertex 2 at index 2, but the primitive has 2 \
+            "mesh 0 ('tri'), primitive 0, the index list names vertex 2 at index 2, but the primitive has 2 \
              vertices (numbered from 0); the file is damaged: re-export it",
         ),
     ];
@@ -575,5 +575,135 @@ fn meshopt_compressed_views_decode_into_their_fallback_buffer() {
     assert!(
         error.contains("buffer 1") && error.contains("fallback"),
         "{error}"
+    );
+}
+
+/// A placement that cannot place a mesh is refused naming the node (or the skin, joint and
+/// node) that breaks it, not blamed on a mesh vertex afterwards: a node or ancestor of scale
+/// zero, a skin's joint of scale zero, an inverse bind matrix of NaN or zero, joints whose
+/// parents form a loop outside the scene. Index lists and vertex runs that are not whole
+/// triangles name the mesh and primitive by index (issue 42, classes 1 and 3).
+#[test]
+fn placements_that_cannot_place_are_refused_naming_the_node() {
+    let dir = scratch("placements");
+    let says = |name: &str, json: &str, text: &str| {
+        let error = read(&dir, name, json).unwrap_err();
+        assert!(error.contains(text), "{name}: {text:?} not in {error}");
+    };
+    says(
+        "flat.gltf",
+        &document(
+            r#"[{"mesh":0,"scale":[1,0,1]}]"#,
+            PRIMITIVE,
+            &format!("[{POSITION},{INDICES}]"),
+            VIEWS,
+        ),
+        "node 0 'unnamed' places mesh 0 ('tri') by a transform that flattens the mesh (a scale of zero); give the node a non-zero scale",
+    );
+    says(
+        "ancestor.gltf",
+        &document(
+            r#"[{"name":"group","scale":[0,0,0],"children":[1]},{"name":"leaf","mesh":0}]"#,
+            PRIMITIVE,
+            &format!("[{POSITION},{INDICES}]"),
+            VIEWS,
+        ),
+        "node 1 'leaf' places mesh 0 ('tri') by a transform that flattens the mesh (a scale of zero) (through its ancestor node 0 'group')",
+    );
+    let two_indices = INDICES.replace(r#""count":3"#, r#""count":2"#);
+    says(
+        "indices.gltf",
+        &document(
+            ONE_NODE,
+            PRIMITIVE,
+            &format!("[{POSITION},{two_indices}]"),
+            VIEWS,
+        ),
+        "mesh 0 ('tri'), primitive 0, the index list holds 2 indices",
+    );
+    let two_vertices = POSITION.replace(r#""count":3"#, r#""count":2"#);
+    says(
+        "run.gltf",
+        &document(
+            ONE_NODE,
+            r#"{"attributes":{"POSITION":0}}"#,
+            &format!("[{two_vertices}]"),
+            VIEWS,
+        ),
+        "mesh 0 ('tri'), primitive 0, POSITION has 2 vertices and no index list",
+    );
+
+    // Skins: the triangle weighted to joint 0 (nodes named in `nodes`, joints `joints`), with
+    // inverse bind matrix 0 as given.
+    let skinned = |nodes: &str, joints: &str, inverse_bind: [f32; 16]| {
+        let mut bytes: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        bytes.extend([0u8; 12]);
+        for _ in 0..3 {
+            bytes.extend([1.0f32, 0.0, 0.0, 0.0].iter().flat_map(|x| x.to_le_bytes()));
+        }
+        let identity = glam::Mat4::IDENTITY.to_cols_array();
+        bytes.extend(
+            inverse_bind
+                .iter()
+                .chain(&identity)
+                .flat_map(|x| x.to_le_bytes()),
+        );
+        bytes.extend([0u32, 1, 2].iter().flat_map(|x| x.to_le_bytes()));
+        let uri = base64::engine::general_purpose::STANDARD.encode(&bytes);
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[{{"name":"limb","mesh":0,"skin":0}},{nodes}],
+"skins":[{{"joints":{joints},"inverseBindMatrices":3}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}},"indices":4}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+{{"bufferView":1,"componentType":5121,"count":3,"type":"VEC4"}},
+{{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"}},
+{{"bufferView":3,"componentType":5126,"count":2,"type":"MAT4"}},
+{{"bufferView":4,"componentType":5125,"count":3,"type":"SCALAR"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":12}},
+{{"buffer":0,"byteOffset":48,"byteLength":48}},{{"buffer":0,"byteOffset":96,"byteLength":128}},
+{{"buffer":0,"byteOffset":224,"byteLength":12}}],
+"buffers":[{{"uri":"data:application/octet-stream;base64,{uri}","byteLength":{}}}]}}"#,
+            bytes.len()
+        )
+    };
+    let identity = glam::Mat4::IDENTITY.to_cols_array();
+    let bones = r#"{"name":"hip"},{"name":"knee"}"#;
+    assert_eq!(
+        read(&dir, "skin.gltf", &skinned(bones, "[1,2]", identity)),
+        Ok(1)
+    );
+    says(
+        "zero-joint.gltf",
+        &skinned(
+            r#"{"name":"hip","scale":[0,0,0]},{"name":"knee"}"#,
+            "[1,2]",
+            identity,
+        ),
+        "skin 0 ('unnamed'), joint 0 (node 1 'hip') stands where its transform (with its parents') flattens the mesh",
+    );
+    says(
+        "nan-ibm.gltf",
+        &skinned(bones, "[1,2]", [f32::NAN; 16]),
+        "skin 0 ('unnamed'), joint 0 (node 1 'hip') has an inverse bind matrix that is not finite",
+    );
+    says(
+        "zero-ibm.gltf",
+        &skinned(bones, "[1,2]", [0.0; 16]),
+        "skin 0 ('unnamed'), joint 0 (node 1 'hip') has an inverse bind matrix that flattens the mesh",
+    );
+    // Joints outside the scene whose parents form a loop (the walk of the scene never meets
+    // them): the mesh was placed one unit off before.
+    says(
+        "loop.gltf",
+        &skinned(
+            r#"{"name":"hip","translation":[1,0,0],"children":[2]},{"name":"knee","children":[1]}"#,
+            "[1,2]",
+            identity,
+        ),
+        "skin 0 ('unnamed'), joint 0 (node 1 'hip') hangs from a loop of parents",
     );
 }
