@@ -107,6 +107,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
             Output::Gltf(MorphAnimation::new(&args.out, &scene.mesh, rest)?)
         }
     };
+    let seconds = starcages_core::anim::bake::gltf_seconds(&samples.frames, samples.times.fps);
     let mut deformer = FrameDeformer::new(scene.clone(), binding);
     let control = BindControl::default();
     let start = Instant::now();
@@ -143,10 +144,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
                     .into_iter()
                     .map(|p| up.from_scene(p))
                     .collect();
-                // Scene time (frame / fps), so that Blender's importer puts frame N at frame
-                // N; glTF times cannot be negative, so a range starting below 0 starts at 0.
-                let origin = samples.frames[0].min(0.0);
-                let seconds = (frame - origin) / samples.times.fps;
+                let seconds = seconds.get(k).copied().unwrap_or(f64::NAN);
                 animation.push_frame(&scene.mesh, &positions, seconds, format!("frame {frame}"))?;
             }
         }
@@ -202,6 +200,7 @@ fn samples(args: &BakeArgs, scene: &Scene, label: &str) -> anyhow::Result<Sample
         .into());
     }
     let cache = read_point_cache(path, Some(scene.cages.vertices.len()), scene.animation.fps)?;
+    cache.check_as_cage_animation(path)?;
     let up = scene.export_up();
     let mut frames = Vec::new();
     let mut cages = Vec::new();

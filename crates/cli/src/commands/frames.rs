@@ -3,7 +3,7 @@
 
 use std::str::FromStr;
 
-use starcages_core::anim::bake::{MAX_SAMPLES, sample_frames};
+use starcages_core::anim::bake::{self, SamplingError};
 use starcages_core::io::SampleTimes;
 use starcages_core::scene::Scene;
 
@@ -56,31 +56,15 @@ pub fn animation_samples(
     range: Option<FrameRange>,
     fps: Option<f64>,
 ) -> anyhow::Result<(Vec<f64>, SampleTimes)> {
-    let animation = &scene.animation;
-    let (first, last) = match range {
-        Some(r) => (r.first, r.last),
-        None => (animation.frame_start, animation.frame_end),
-    };
-    let rate = fps.unwrap_or(animation.fps);
-    if !(rate.is_finite() && rate > 0.0 && rate <= 1000.0) {
-        return Err(InputError(format!(
-            "--fps {rate}: give a rate in (0, 1000] samples per second"
-        ))
-        .into());
-    }
-    let step = animation.fps / rate;
-    let frames = sample_frames(first as f64, last as f64, step).ok_or_else(|| {
-        InputError(format!(
-            "frames {first}..{last} at {rate} fps: an empty run, or more than {MAX_SAMPLES} \
-             samples; choose a shorter --frames range"
-        ))
-    })?;
-    Ok((
-        frames,
-        SampleTimes {
-            start_frame: first as f64,
-            frame_step: step,
-            fps: animation.fps,
-        },
-    ))
+    let range = range.map(|r| (r.first, r.last));
+    bake::animation_samples(&scene.animation, range, fps).map_err(|error| {
+        let flag = match &error {
+            SamplingError::Rate { .. } => "--fps: ",
+            SamplingError::Far { .. } | SamplingError::Count { .. } if range.is_some() => {
+                "--frames: "
+            }
+            _ => "",
+        };
+        InputError(format!("{flag}{error}")).into()
+    })
 }

@@ -575,7 +575,7 @@ fn autorig_writes_a_valid_shape_following_rig_and_refuses_what_it_cannot_rig() {
     let refused = cli(&["autorig", s(&mesh), "--detail", "9", "--out", s(&out)]);
     assert_eq!(refused.status.code(), Some(2));
     assert!(
-        stderr(&refused).contains("detail 9"),
+        stderr(&refused).contains("'9' for '--detail <DETAIL>': 9 is not in 1..=5"),
         "{}",
         stderr(&refused)
     );

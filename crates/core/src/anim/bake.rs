@@ -31,6 +31,101 @@ pub fn sample_frames(first: f64, last: f64, step: f64) -> Option<Vec<f64>> {
     )
 }
 
+/// Why a run of frames cannot be sampled.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SamplingError {
+    /// The sampling rate asked for is outside [`super::FPS_RANGE`].
+    #[error(
+        "a rate of {rate} samples per second is outside {} to {}",
+        super::FPS_RANGE.start(),
+        super::FPS_RANGE.end()
+    )]
+    Rate {
+        /// The rate.
+        rate: f64,
+    },
+    /// The animation's own frame rate is outside [`super::FPS_RANGE`] (a scene that does not
+    /// validate).
+    #[error(
+        "the scene's animation has fps = {fps}, outside {} to {}; fix \"fps\" in the scene file",
+        super::FPS_RANGE.start(),
+        super::FPS_RANGE.end()
+    )]
+    SceneFps {
+        /// The scene's rate.
+        fps: f64,
+    },
+    /// The run reaches beyond frame ±[`super::MAX_FRAME`].
+    #[error(
+        "frames {first}..{last} reach beyond frame ±{} (Blender's limit); choose frames nearer 0",
+        super::MAX_FRAME
+    )]
+    Far {
+        /// First frame.
+        first: i64,
+        /// Last frame.
+        last: i64,
+    },
+    /// An empty run, or more than [`MAX_SAMPLES`] samples.
+    #[error(
+        "frames {first}..{last} at {rate} samples per second: an empty run, or more than \
+         {MAX_SAMPLES} samples; choose a shorter range"
+    )]
+    Count {
+        /// First frame.
+        first: i64,
+        /// Last frame.
+        last: i64,
+        /// Samples per second.
+        rate: f64,
+    },
+}
+
+/// The scene frames to sample over `animation` (its playback range unless `range` gives first
+/// and last frame), `rate` samples per second (the animation's own rate unless given), and
+/// when they fall, for cache headers. Within the bounds validation holds a scene to
+/// ([`super::FPS_RANGE`], [`super::MAX_FRAME`]), so that every header a bake writes is one the
+/// readers accept.
+pub fn animation_samples(
+    animation: &super::Animation,
+    range: Option<(i64, i64)>,
+    rate: Option<f64>,
+) -> Result<(Vec<f64>, crate::io::SampleTimes), SamplingError> {
+    let (first, last) = range.unwrap_or((animation.frame_start, animation.frame_end));
+    if !super::FPS_RANGE.contains(&animation.fps) {
+        return Err(SamplingError::SceneFps { fps: animation.fps });
+    }
+    let rate = rate.unwrap_or(animation.fps);
+    if !super::FPS_RANGE.contains(&rate) {
+        return Err(SamplingError::Rate { rate });
+    }
+    if first.abs() > super::MAX_FRAME || last.abs() > super::MAX_FRAME {
+        return Err(SamplingError::Far { first, last });
+    }
+    let step = animation.fps / rate;
+    let frames = sample_frames(first as f64, last as f64, step).ok_or(SamplingError::Count {
+        first,
+        last,
+        rate,
+    })?;
+    Ok((
+        frames,
+        crate::io::SampleTimes {
+            start_frame: first as f64,
+            frame_step: step,
+            fps: animation.fps,
+        },
+    ))
+}
+
+/// The time in seconds of each sampled frame in an animated glTF: scene time (frame / fps), so
+/// that Blender's importer puts frame N at frame N; glTF times cannot be negative, so a run
+/// starting below frame 0 starts at 0.
+pub fn gltf_seconds(frames: &[f64], fps: f64) -> Vec<f64> {
+    let origin = frames.first().copied().unwrap_or(0.0).min(0.0);
+    frames.iter().map(|frame| (frame - origin) / fps).collect()
+}
+
 /// Sets the h of the leaf cages named in `h` (a key's values); returns the indices of the
 /// cages whose h changed. Names that are not leaf cages are ignored (validation reports them).
 pub fn apply_keyed_h(scene: &mut Scene, h: &BTreeMap<String, f64>) -> Vec<usize> {

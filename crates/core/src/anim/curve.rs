@@ -52,7 +52,7 @@ pub enum Segment {
 pub fn segment(times: &[f64], frame: f64) -> Segment {
     let last = times.len().saturating_sub(1);
     match times.first() {
-        Some(&first) if frame <= first => return Segment::Hold(0),
+        Some(&first) if frame <= first || frame.is_nan() => return Segment::Hold(0),
         None => return Segment::Hold(0),
         _ => {}
     }
@@ -65,7 +65,12 @@ pub fn segment(times: &[f64], frame: f64) -> Segment {
     if times[k] == frame {
         return Segment::Hold(k);
     }
-    let u = (frame - times[k]) / (times[next] - times[k]);
+    // In (0, 1) for keys within validation's frame bounds; clamped so that keys far apart
+    // (an unvalidated file: ±1e308, whose span overflows) hold rather than give NaN.
+    let u = ((frame - times[k]) / (times[next] - times[k])).clamp(0.0, 1.0);
+    if u.is_nan() {
+        return Segment::Hold(k);
+    }
     Segment::Between(k, u)
 }
 
@@ -126,7 +131,14 @@ pub fn between(
         Interpolation::Bezier => {
             let (m0, m1) = slopes.unwrap_or((0.0, 0.0));
             let span = times[k + 1] - times[k];
-            hermite(p0, span * m0, p1, span * m1, u)
+            let value = hermite(p0, span * m0, p1, span * m1, u);
+            // Keys so far apart that the span overflows (never in a valid scene) give
+            // 0 × ∞ tangents: the curve is then the straight line, not NaN.
+            if value.is_finite() {
+                value
+            } else {
+                p0 + (p1 - p0) * u
+            }
         }
     }
 }
@@ -154,6 +166,25 @@ mod tests {
         assert_eq!(segment(&times, 12.0), Segment::Hold(2));
         assert_eq!(segment(&times, 3.0), Segment::Between(0, 0.5));
         assert_eq!(segment(&times, 8.0), Segment::Between(1, 0.75));
+        assert_eq!(segment(&times, f64::NAN), Segment::Hold(0));
+    }
+
+    /// Keys at ±1e308 (a file that does not validate) hold their values on the keys and
+    /// stay finite between them: the span overflows, the tangents would be 0 × ∞.
+    #[test]
+    fn keys_far_apart_stay_finite() {
+        let times = [-1e308, 0.0, 1e308];
+        let values = [1.0, 2.0, 1.0];
+        let modes = [Interpolation::Bezier; 3];
+        for frame in [-1e308, -1e307, -1.0, 0.0, 1e300, 1e308, f64::MAX] {
+            let value = evaluate(&times, &values, &modes, frame);
+            assert!(value.is_finite(), "{frame}: {value}");
+        }
+        assert_eq!(evaluate(&times, &values, &modes, -1e308), 1.0);
+        assert_eq!(evaluate(&times, &values, &modes, 0.0), 2.0);
+        let wide = [-1e308, 1e308];
+        let value = evaluate(&wide, &[0.0, 4.0], &modes, 0.0);
+        assert!(value.is_finite(), "{value}");
     }
 
     #[test]

@@ -78,11 +78,36 @@ impl Default for Animation {
 /// bounded.
 pub const MAX_FRAMES: i64 = 10_368_000;
 
+/// The largest frame number, in either direction, of a key or a playback range: Blender's
+/// (`MAXFRAME`), so that every frame StarCages writes Blender can show. It also keeps every
+/// frame exact in a point cache's 32-bit floats and MDD's times (frame / fps) distinct.
+pub const MAX_FRAME: i64 = 1_048_574;
+
+/// The frame rates an animation may have, frames per second: from one frame every 100
+/// seconds (time lapse) to 1000 (high-speed footage). Within these and [`MAX_FRAME`] every
+/// sample time a bake writes is finite and distinct in 32-bit floats.
+pub const FPS_RANGE: std::ops::RangeInclusive<f64> = 0.01..=1000.0;
+
+/// A number as a person reads it: plain where that is short, in scientific notation where
+/// plain would run to hundreds of digits (1e-300 rather than 0.000…0001).
+fn readable(value: f64) -> String {
+    if value == 0.0 || (1e-6..1e15).contains(&value.abs()) || !value.is_finite() {
+        value.to_string()
+    } else {
+        format!("{value:e}")
+    }
+}
+
 /// Why an animation cannot be played.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum AnimationProblem {
-    /// The frame rate is not a positive finite number.
-    #[error("animation: fps = {fps} is not a positive number of frames per second; write e.g. 24")]
+    /// The frame rate is not a number in [`FPS_RANGE`].
+    #[error(
+        "animation: fps = {} is outside {} to {} frames per second; write e.g. 24",
+        readable(*fps),
+        FPS_RANGE.start(),
+        FPS_RANGE.end()
+    )]
     Fps {
         /// The value.
         fps: f64,
@@ -100,8 +125,23 @@ pub enum AnimationProblem {
         /// "empty" or "too long".
         why: &'static str,
     },
-    /// A key's frame is not a finite number (NaN or infinite).
-    #[error("animation: key {key} has frame {frame}, which is not a number; give it a frame")]
+    /// A playback range that starts or ends beyond ±[`MAX_FRAME`].
+    #[error(
+        "animation: the range {start}..{end} reaches beyond frame ±{MAX_FRAME} (Blender's \
+         limit); move the range nearer frame 0"
+    )]
+    RangeFar {
+        /// First frame.
+        start: i64,
+        /// Last frame.
+        end: i64,
+    },
+    /// A key's frame is not a finite number within ±[`MAX_FRAME`].
+    #[error(
+        "animation: key {key} has frame {}, which is not a frame number within \
+         ±{MAX_FRAME} (Blender's limit); give it a frame in range",
+        readable(*frame)
+    )]
     KeyFrame {
         /// The key (0-based, in file order).
         key: usize,
@@ -182,8 +222,14 @@ impl Animation {
     ) -> Vec<AnimationProblem> {
         let leaf_names: Vec<&str> = leaf_names.into_iter().collect();
         let mut problems = Vec::new();
-        if !(self.fps.is_finite() && self.fps > 0.0) {
+        if !FPS_RANGE.contains(&self.fps) {
             problems.push(AnimationProblem::Fps { fps: self.fps });
+        }
+        if self.frame_start.abs() > MAX_FRAME || self.frame_end.abs() > MAX_FRAME {
+            problems.push(AnimationProblem::RangeFar {
+                start: self.frame_start,
+                end: self.frame_end,
+            });
         }
         let range = self.frame_end.checked_sub(self.frame_start);
         let why = match range {
@@ -201,7 +247,7 @@ impl Animation {
         }
         let mut previous: Option<(usize, f64)> = None;
         for (k, key) in self.keys.iter().enumerate() {
-            if !key.frame.is_finite() {
+            if !(key.frame.is_finite() && key.frame.abs() <= MAX_FRAME as f64) {
                 problems.push(AnimationProblem::KeyFrame {
                     key: k,
                     frame: key.frame,

@@ -529,6 +529,15 @@ impl Hierarchy {
             .iter()
             .map(|r| self.slot_of(r.vertex))
             .collect::<Result<Vec<_>, _>>()?;
+        // One record per vertex: which of two would it follow?
+        let mut listed: Vec<u32> = state.rebound.iter().map(|r| r.vertex).collect();
+        listed.sort_unstable();
+        if let Some(twice) = listed.windows(2).find(|w| w[0] == w[1]) {
+            return Err(HierarchyError::BadState {
+                vertex: twice[0],
+                reason: "it is listed twice in \"rebound\"".into(),
+            });
+        }
         let restored = restore::follows(&self.levels, &slots, &state.rebound, &self.settings)?;
         for ((l, k), f) in slots.into_iter().zip(restored) {
             follow[l][k] = f;

@@ -97,10 +97,13 @@ impl MorphAnimation {
     /// Writes the file atomically.
     pub fn write(&self, mesh: &Mesh) -> Result<(), FileError> {
         let frames = self.seconds.len();
-        if frames == 0 || self.seconds.windows(2).any(|w| w[1] <= w[0]) {
+        let bad_time = self.seconds.iter().any(|t| !t.is_finite() || *t < 0.0);
+        if frames == 0 || bad_time || self.seconds.windows(2).any(|w| w[1] <= w[0]) {
             return Err(FileError::format(
                 &self.path,
-                "not written: a glTF animation needs at least one frame, at increasing times",
+                "not written: a glTF animation needs at least one frame, at finite, \
+                 non-negative and increasing times (32-bit seconds); bake fewer frames or \
+                 frames nearer 0",
             ));
         }
         let vertex_count = self.rest.len();

@@ -104,26 +104,8 @@ impl PointCacheWriter {
                 ),
             ));
         };
+        let header = header(path, format, points_i32, samples_i32, times)?;
         let mut file = AtomicWriter::create(path)?;
-        let mut header = Vec::new();
-        match format {
-            PointCacheFormat::Pc2 => {
-                header.extend_from_slice(PC2_SIGNATURE);
-                header.extend_from_slice(&1i32.to_le_bytes());
-                header.extend_from_slice(&points_i32.to_le_bytes());
-                header.extend_from_slice(&(times.start_frame as f32).to_le_bytes());
-                header.extend_from_slice(&(times.frame_step as f32).to_le_bytes());
-                header.extend_from_slice(&samples_i32.to_le_bytes());
-            }
-            PointCacheFormat::Mdd => {
-                header.extend_from_slice(&samples_i32.to_be_bytes());
-                header.extend_from_slice(&points_i32.to_be_bytes());
-                for k in 0..samples {
-                    let seconds = times.frame(k) / times.fps;
-                    header.extend_from_slice(&(seconds as f32).to_be_bytes());
-                }
-            }
-        }
         file.write(&header)?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -184,6 +166,113 @@ impl PointCacheWriter {
             ));
         }
         self.file.commit()
+    }
+}
+
+/// The header of a cache, checked before anything is written against what the readers (ours,
+/// Blender's) accept: PC2's start frame and sampling finite in 32 bits and the sampling
+/// positive; MDD's times (seconds, 32 bits) finite and increasing. A header that would fail
+/// is refused naming the field, so no file is written that we would then refuse.
+fn header(
+    path: &Path,
+    format: PointCacheFormat,
+    points: i32,
+    samples: i32,
+    times: SampleTimes,
+) -> Result<Vec<u8>, FileError> {
+    let refuse = |why: String| {
+        FileError::format(
+            path,
+            format!(
+                "not written: {why}; the format stores it as a 32-bit float (bake fewer frames, \
+                 frames nearer 0, or another frame rate)"
+            ),
+        )
+    };
+    let mut header = Vec::new();
+    match format {
+        PointCacheFormat::Pc2 => {
+            let (start, sampling) = (times.start_frame as f32, times.frame_step as f32);
+            if !(start.is_finite() && sampling.is_finite() && sampling > 0.0) {
+                return Err(refuse(format!(
+                    "the start frame {} and sampling {} (frames between samples) must be finite \
+                     and the sampling positive",
+                    times.start_frame, times.frame_step
+                )));
+            }
+            header.extend_from_slice(PC2_SIGNATURE);
+            header.extend_from_slice(&1i32.to_le_bytes());
+            header.extend_from_slice(&points.to_le_bytes());
+            header.extend_from_slice(&start.to_le_bytes());
+            header.extend_from_slice(&sampling.to_le_bytes());
+            header.extend_from_slice(&samples.to_le_bytes());
+        }
+        PointCacheFormat::Mdd => {
+            header.extend_from_slice(&samples.to_be_bytes());
+            header.extend_from_slice(&points.to_be_bytes());
+            let mut previous: Option<f32> = None;
+            for k in 0..samples.max(0) as usize {
+                let seconds = (times.frame(k) / times.fps) as f32;
+                if !seconds.is_finite() {
+                    return Err(refuse(format!(
+                        "sample {k}'s time, frame {} at {} fps, is {seconds} s",
+                        times.frame(k),
+                        times.fps
+                    )));
+                }
+                if let Some(before) = previous
+                    && seconds <= before
+                {
+                    return Err(refuse(format!(
+                        "sample {k}'s time, frame {} at {} fps, is {seconds} s, not after the \
+                         sample before it",
+                        times.frame(k),
+                        times.fps
+                    )));
+                }
+                previous = Some(seconds);
+                header.extend_from_slice(&seconds.to_be_bytes());
+            }
+        }
+    }
+    Ok(header)
+}
+
+impl PointCache {
+    /// Checks that the cache can drive a rig's cage vertices: every coordinate within
+    /// ±[`crate::scene::MAX_COORDINATE`] (the deformation runs in 32-bit floats; a pose file is
+    /// held to the same) and every sample's frame within ±[`crate::anim::MAX_FRAME`].
+    pub fn check_as_cage_animation(&self, path: &Path) -> Result<(), FileError> {
+        use crate::scene::MAX_COORDINATE;
+        for (s, sample) in self.samples.iter().enumerate() {
+            if let Some(p) = sample.iter().position(|p| {
+                !(p.is_finite() && f64::from(p.abs().max_element()) <= MAX_COORDINATE)
+            }) {
+                let at = sample[p];
+                return Err(FileError::format(
+                    path,
+                    format!(
+                        "sample {s} puts cage vertex {p} at ({:e}, {:e}, {:e}), beyond \
+                         ±{MAX_COORDINATE:e} (the deformation runs in 32-bit floats); scale \
+                         the animation down in the program that wrote it",
+                        at.x, at.y, at.z
+                    ),
+                ));
+            }
+        }
+        let last = self.start_frame + self.samples.len().saturating_sub(1) as f64 * self.frame_step;
+        let limit = crate::anim::MAX_FRAME as f64;
+        if !(self.start_frame.abs() <= limit && last.abs() <= limit) {
+            return Err(FileError::format(
+                path,
+                format!(
+                    "its samples run from frame {} to {last}, beyond frame ±{limit} (Blender's \
+                     limit); write the cache nearer frame 0",
+                    self.start_frame
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 

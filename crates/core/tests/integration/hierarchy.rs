@@ -564,4 +564,23 @@ fn validate_reports_pose_states_that_deform_would_refuse() {
         text.contains("pose 'fig13'") && text.contains("pose_states"),
         "{text}"
     );
+    // A re-bound vertex listed twice (which record would it follow?).
+    let mut bad = scene.clone();
+    let state = bad.pose_states.get_mut("fig13").unwrap();
+    let first = state.rebound[0].clone();
+    state.rebound.push(first.clone());
+    let errors = starcages_core::scene::validate_scene(&bad).errors;
+    let text = errors
+        .iter()
+        .find(|e| matches!(e, SceneProblem::PoseState { .. }))
+        .map(ToString::to_string)
+        .unwrap_or_else(|| panic!("not reported: {errors:?}"));
+    assert!(
+        text.contains("pose 'fig13'")
+            && text.contains(&format!(
+                "vertex {}: it is listed twice in \"rebound\"",
+                first.vertex
+            )),
+        "{text}"
+    );
 }

@@ -4,6 +4,7 @@
 
 mod animation;
 mod autorig;
+mod bake_headers;
 mod common;
 mod fbx;
 mod fuzz_readers;

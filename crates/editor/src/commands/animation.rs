@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use starcages_core::anim::{Interpolation, Key};
+use starcages_core::anim::{FPS_RANGE, Interpolation, Key, MAX_FRAME};
 use starcages_core::io::read_point_cache;
 
 use super::Command;
@@ -47,10 +47,13 @@ pub fn apply_animation(state: &mut EditorState, command: Command) {
             state.show_frame(state.timeline.frame);
         }
         Command::SetAnimationRange { fps, start, end } => {
-            if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) || start > end {
+            let far = start.abs() > MAX_FRAME || end.abs() > MAX_FRAME;
+            if !FPS_RANGE.contains(&fps) || start > end || far {
                 state.error(EditorError::Animation(format!(
-                    "{fps} fps from frame {start} to {end}: the rate must be in (0, 1000] and \
-                     the range not empty"
+                    "{fps} fps from frame {start} to {end}: the rate must be from {} to {}, \
+                     the range not empty and within frame ±{MAX_FRAME}",
+                    FPS_RANGE.start(),
+                    FPS_RANGE.end()
                 )));
             } else {
                 state.edit_scene("animation range", |scene| {
@@ -92,8 +95,9 @@ pub fn key_after_edit(state: &mut EditorState) {
 /// those frames are replaced), one undo step.
 fn import_cage_animation(state: &mut EditorState, path: &Path) {
     let scene = &state.doc.scene;
-    let cache = match read_point_cache(path, Some(scene.cages.vertices.len()), scene.animation.fps)
-    {
+    let cache = read_point_cache(path, Some(scene.cages.vertices.len()), scene.animation.fps)
+        .and_then(|cache| cache.check_as_cage_animation(path).map(|()| cache));
+    let cache = match cache {
         Ok(cache) => cache,
         Err(e) => {
             state.error(EditorError::ImportCageAnimation(e));

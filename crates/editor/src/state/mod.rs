@@ -578,6 +578,9 @@ impl EditorState {
         if !frame.is_finite() {
             return;
         }
+        // A key can only be set where a scene may hold one.
+        let limit = starcages_core::anim::MAX_FRAME as f64;
+        let frame = frame.clamp(-limit, limit);
         self.timeline.frame = frame;
         let scene = &mut self.doc.scene;
         if scene.animation.is_empty() || self.gesture.is_some() {
