@@ -601,3 +601,31 @@ proptest! {
         }
     }
 }
+
+/// A mesh whose triangles are repeated in place (a file of 2,000 copies of one shape's faces,
+/// each with its own vertices) gets the rig of the shape itself: exact duplicates add nothing
+/// to the shape and are dropped before the work that scales with triangles (issue 42, class 5;
+/// before, each copy was rasterised again and the rig came out different).
+#[test]
+fn duplicated_triangles_give_the_rig_of_the_shape_once() {
+    let shape = shape_y();
+    let (positions, triangles) = (shape.welded_positions(), shape.welded_triangles());
+    let copies = 2_000;
+    let mut all_positions = Vec::with_capacity(positions.len() * copies);
+    let mut all_triangles = Vec::with_capacity(triangles.len() * copies);
+    for copy in 0..copies {
+        let base = (copy * positions.len()) as u32;
+        all_positions.extend_from_slice(positions);
+        all_triangles.extend(triangles.iter().map(|t| t.map(|v| v + base)));
+    }
+    let stacked = Mesh::new(all_positions, all_triangles, None, None).unwrap();
+    assert_eq!(stacked.welded_positions().len(), positions.len());
+    let settings = AutorigSettings::default();
+    let (stacked_rig, shape_rig) = (rig(&stacked, &settings), rig(&shape, &settings));
+    assert!(
+        stacked_rig == shape_rig,
+        "the stacked copies get another rig: {} leaf cages, the shape {}",
+        stacked_rig.leaves.len(),
+        shape_rig.leaves.len()
+    );
+}

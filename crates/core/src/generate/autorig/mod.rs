@@ -170,6 +170,34 @@ const BODY_SLAB_SHARE: f64 = 0.7;
 /// Steps reported through the control's progress.
 const STEPS: usize = 6;
 
+/// `mesh` without its exact duplicate triangles (the same three welded vertices, in the same
+/// turn: a file that repeats its faces, or many copies of one part stacked in place), which
+/// add nothing to the shape the rig follows but cost the voxelisation, the winding numbers and
+/// the crossing test each their share (200,000 copies of a cube took minutes). The welded
+/// vertices, and so every vertex index the rig reports, stay as they are. A triangle and its
+/// reverse (a two-sided sheet) are both kept.
+fn without_duplicate_triangles(mesh: &Mesh) -> std::borrow::Cow<'_, Mesh> {
+    use std::borrow::Cow;
+    let triangles = mesh.welded_triangles();
+    let mut seen = std::collections::HashSet::with_capacity(triangles.len());
+    let unique: Vec<[u32; 3]> = triangles
+        .iter()
+        .filter(|t| {
+            // The same triangle whichever corner it starts from.
+            let first = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+            seen.insert([t[first], t[(first + 1) % 3], t[(first + 2) % 3]])
+        })
+        .copied()
+        .collect();
+    if unique.len() == triangles.len() {
+        return Cow::Borrowed(mesh);
+    }
+    match Mesh::new(mesh.welded_positions().to_vec(), unique, None, None) {
+        Ok(lean) if lean.welded_positions() == mesh.welded_positions() => Cow::Owned(lean),
+        _ => Cow::Borrowed(mesh),
+    }
+}
+
 /// Builds a shape-following rig around `mesh` (in the scene's Z-up frame). Deterministic: the
 /// same mesh and settings give the same cages on any number of threads.
 pub fn autorig(
@@ -208,6 +236,8 @@ pub fn autorig(
     // so a cage may hold two of them: the grid is refined (at most three times, by a quarter) until
     // every cage holds one piece, else the rig with fewest such cages is kept. Parts of one
     // component are never the reason: their cells merge with what joins them (the palm).
+    let deduplicated = without_duplicate_triangles(mesh);
+    let mesh: &Mesh = &deduplicated;
     let (cells, _) = resolution(settings.detail);
     let surface = SurfaceMesh::new(mesh);
     let mut best: Option<Autorig> = None;
