@@ -4,7 +4,6 @@
 
 mod animation;
 mod autorig;
-mod bake_headers;
 mod common;
 mod fbx;
 mod fuzz_readers;
@@ -24,3 +23,4 @@ mod rig_inset;
 mod rig_script;
 mod scenes;
 mod star;
+mod written_files;

@@ -1,7 +1,8 @@
-//! Every file a bake writes, our readers read back (issue 42, class 2): any animation that
+//! Every file we write, our readers read back (issue 42, class 2): any animation that
 //! validates, sampled as `bake` and `cages --out` sample it, goes through every writer (PC2,
 //! MDD, animated glTF) to files that `read_point_cache` and the glTF readers accept with the
-//! same samples. The validation bounds (fps, frames) are what make this hold: the negative
+//! same samples; any mesh goes through the deform writers (OBJ, GLB) to files that read back
+//! with the same triangles. The validation bounds (fps, frames) are what make this hold: the negative
 //! controls show the writers refusing what validation refuses, and the reader refusing the
 //! header a writer without those checks wrote.
 
@@ -17,7 +18,7 @@ use starcages_core::io::{
 use starcages_core::mesh::Mesh;
 
 fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-bake-headers-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("starcages-written-files-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
@@ -289,4 +290,63 @@ fn what_validation_refuses_is_never_written() {
     let error = read_point_cache(&path, None, 24.0).unwrap_err().to_string();
     assert!(error.contains("sampling inf"), "{error}");
     assert!(Path::new(&path).exists());
+}
+
+/// A coordinate: ordinary, tiny, or at the edge of the supported range.
+fn any_coordinate() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        -10.0f64..10.0,
+        -1e9f64..1e9,
+        -1e-30f64..1e-30,
+        Just(1e9),
+        Just(-1e9),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(crate::fuzz_readers::fuzz_cases()))]
+
+    /// Every mesh the deform and export paths write (OBJ, GLB) reads back with its vertices
+    /// and triangles, wherever in the supported range its coordinates lie.
+    #[test]
+    fn every_mesh_we_write_reads_back(
+        points in prop::collection::vec(prop::array::uniform3(any_coordinate()), 3..24),
+        corners in prop::collection::vec(prop::array::uniform3(0usize..24), 1..30),
+        with_uvs in any::<bool>(),
+        case in 0u32..1_000_000,
+    ) {
+        let positions: Vec<DVec3> = points.iter().map(|p| DVec3::from_array(*p)).collect();
+        let n = positions.len();
+        let triangles: Vec<[u32; 3]> = corners
+            .iter()
+            .map(|t| t.map(|i| (i % n) as u32))
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+            .collect();
+        let uvs = with_uvs.then(|| (0..n).map(|i| glam::Vec2::new(i as f32 * 0.1, 0.5)).collect());
+        let Ok(mesh) = Mesh::new(positions.clone(), triangles, None, uvs) else {
+            return Ok(());
+        };
+        let dir = scratch();
+        for extension in ["obj", "glb"] {
+            let path = dir.join(format!("mesh{case}.{extension}"));
+            starcages_core::io::write_mesh(&path, &mesh, mesh.positions())
+                .map_err(|e| TestCaseError::fail(format!("{extension}: not written: {e}")))?;
+            let read = read_mesh(&path)
+                .map_err(|e| TestCaseError::fail(format!("{extension}: written, then refused: {e}")))?;
+            prop_assert_eq!(read.triangles().len(), mesh.triangles().len(), "{}", extension);
+            // Each triangle's corners where they were (an OBJ reader lays vertices out in the
+            // order the faces first use them); GLB holds 32-bit floats.
+            let corner = |m: &Mesh, t: usize, k: usize| m.positions()[m.triangles()[t][k] as usize];
+            for t in 0..mesh.triangles().len() {
+                for k in 0..3 {
+                    let (a, b) = (corner(&read, t, k), corner(&mesh, t, k));
+                    let tolerance = 1e-6 * b.abs().max_element().max(1e-30);
+                    prop_assert!(
+                        (a - b).abs().max_element() <= tolerance,
+                        "{}: triangle {}: {} for {}", extension, t, a, b
+                    );
+                }
+            }
+        }
+    }
 }
