@@ -215,6 +215,17 @@ pub fn parse_off(path: &Path, text: &str) -> Result<Mesh, FileError> {
             triangles.push([corners[0], corners[t], corners[t + 1]]);
         }
     }
+    if let Some((number, _)) = lines.next() {
+        return Err(FileError::parse(
+            path,
+            number,
+            format!(
+                "data after the {vertices} vertices and {faces} faces the counts announce: the \
+                 counts are wrong (a mesh with more vertices or faces than it says?); export the \
+                 file again"
+            ),
+        ));
+    }
     if triangles.is_empty() {
         return Err(FileError::format(path, "no faces: a mesh needs a surface"));
     }

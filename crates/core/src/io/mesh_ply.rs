@@ -242,6 +242,15 @@ pub fn parse_ply(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
             }
         }
     }
+    if let Some(left) = reader.left_over() {
+        return Err(FileError::format(
+            path,
+            format!(
+                "{left} after the last element the header announces: its counts are wrong (a \
+                 mesh with more vertices or faces than it says?); export the file again"
+            ),
+        ));
+    }
     if triangles.is_empty() {
         return Err(FileError::format(
             path,
@@ -415,6 +424,10 @@ trait Values {
         }
     }
 
+    /// What is left after the last element, described (`None` when nothing: the header's
+    /// counts took the whole data).
+    fn left_over(&mut self) -> Option<String>;
+
     /// Skips a list.
     fn skip_list(&mut self, path: &Path, count: Scalar, item: Scalar) -> Result<(), FileError> {
         let n = self.count(path, count)?;
@@ -434,6 +447,11 @@ struct BinaryValues<'a> {
 }
 
 impl Values for BinaryValues<'_> {
+    fn left_over(&mut self) -> Option<String> {
+        let left = self.data.len().saturating_sub(self.at);
+        (left > 0).then(|| format!("{left} bytes of data remain"))
+    }
+
     fn scalar(&mut self, path: &Path, scalar: Scalar) -> Result<f64, FileError> {
         let size = scalar.size();
         let Some(raw) = self.data.get(self.at..self.at + size) else {
@@ -482,6 +500,11 @@ impl<'a> AsciiValues<'a> {
 }
 
 impl Values for AsciiValues<'_> {
+    fn left_over(&mut self) -> Option<String> {
+        let (line, token) = self.tokens.next()?;
+        Some(format!("line {line} still holds data ('{token}')"))
+    }
+
     fn scalar(&mut self, path: &Path, scalar: Scalar) -> Result<f64, FileError> {
         let Some((line, token)) = self.tokens.next() else {
             return Err(FileError::format(

@@ -310,6 +310,27 @@ fn nonsense_is_refused_not_read_as_another_mesh() {
         parse_ply(at, twice.as_bytes()),
         "property 'y' is declared twice",
     );
+    // Counts smaller than the data (the last vertices or faces would be dropped without a
+    // word): refused, in PLY (text and binary) and OFF.
+    says(
+        parse_ply(
+            at,
+            ascii_ply()
+                .replace("element edge 1", "element edge 0")
+                .as_bytes(),
+        ),
+        "line 32 still holds data ('0') after the last element the header announces",
+    );
+    let mut longer = binary_ply(false);
+    longer.extend([0u8; 12]);
+    says(
+        parse_ply(at, &longer),
+        "12 bytes of data remain after the last element",
+    );
+    says(
+        parse_off(at, &off().replace("8 6 12", "8 5 12")),
+        "bad:17: data after the 8 vertices and 5 faces the counts announce",
+    );
     // OFF: 4-D vertices, by either spelling; nOFF of dimension 3 is a plain OFF.
     let plain = off().replacen("COFF", "OFF", 1);
     says(
