@@ -345,6 +345,7 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
         Command::SetInfluence(choice) => state.view.influence = choice,
         Command::SetMirrorX(on) => state.view.mirror_x = on,
         Command::SetSnapToVertices(on) => state.view.snap_to_vertices = on,
+        Command::SetPivotPoint(pivot) => state.view.pivot_point = pivot,
         Command::Camera(change) => camera(state, change),
         Command::SetViewport(rect) => state.view.viewport = rect,
         Command::Info(text) => state.info(text),

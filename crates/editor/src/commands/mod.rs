@@ -227,6 +227,8 @@ pub enum Command {
     SetMirrorX(bool),
     /// Snapping to cage vertices while moving on or off.
     SetSnapToVertices(bool),
+    /// What R and S turn and scale about (a tool setting: not an undo step, as in Blender).
+    SetPivotPoint(crate::state::PivotPoint),
     /// Move the camera.
     Camera(CameraChange),
     /// Where the viewport is on screen.

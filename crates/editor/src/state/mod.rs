@@ -31,7 +31,7 @@ pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
 pub use rig::{Rig, rebind_scope};
 pub use selection::{SelectMode, Selection};
-pub use view::{InfluenceChoice, ScreenRect, SelectElement, ViewState};
+pub use view::{InfluenceChoice, PivotPoint, ScreenRect, SelectElement, ViewState};
 
 use jobs::{BindResult, LoadResult, Scope};
 use undo::{Snapshot, UndoStack};
@@ -264,6 +264,7 @@ impl EditorState {
             self.view.viewport,
             self.view.mirror_x,
             self.view.snap_to_vertices,
+            self.view.pivot_point,
         );
         let recent = std::mem::take(&mut self.recent);
         let recent_file = self.recent_file.take();
@@ -275,6 +276,7 @@ impl EditorState {
             self.view.viewport,
             self.view.mirror_x,
             self.view.snap_to_vertices,
+            self.view.pivot_point,
         ) = keep_view;
         self.recent = recent;
         self.recent_file = recent_file;

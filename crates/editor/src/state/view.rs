@@ -27,6 +27,41 @@ pub enum InfluenceChoice {
     Difference(CoordinateKind),
 }
 
+/// What R and S turn and scale about, as Blender's Transform Pivot Point. The origin of a
+/// whole control (every vertex of an internal cage with a joint, as the auto rig makes them) is
+/// its joint, as a bone's is its head; of another whole cage its centroid; of a loose vertex
+/// itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PivotPoint {
+    /// The mean of the selection's origins: one control turns about its joint, loose
+    /// vertices about their centroid (Blender's default).
+    #[default]
+    MedianPoint,
+    /// The centre of the box around the selection's origins.
+    BoundingBoxCenter,
+    /// Each selected control or cage about its own origin (loose vertices about their
+    /// centroid): two legs selected bend each at its own hip.
+    IndividualOrigins,
+}
+
+impl PivotPoint {
+    /// All of them, in the order the menu lists them.
+    pub const ALL: [Self; 3] = [
+        Self::BoundingBoxCenter,
+        Self::IndividualOrigins,
+        Self::MedianPoint,
+    ];
+
+    /// The menu's label (Blender's words).
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::MedianPoint => "Median Point",
+            Self::BoundingBoxCenter => "Bounding Box Center",
+            Self::IndividualOrigins => "Individual Origins",
+        }
+    }
+}
+
 /// What clicks and region drags select in Rig mode (Pose mode always selects cage vertices).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SelectElement {
@@ -117,6 +152,8 @@ pub struct ViewState {
     /// G snaps the selection onto the cage vertex under the pointer (Ctrl while moving does
     /// the opposite, as Blender's snapping toggle).
     pub snap_to_vertices: bool,
+    /// What R and S turn and scale about.
+    pub pivot_point: PivotPoint,
     /// Where the 3D view was drawn last frame.
     pub viewport: ScreenRect,
 }

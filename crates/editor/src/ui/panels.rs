@@ -5,7 +5,7 @@ use starcages_core::coords::CoordinateKind;
 
 use super::UiState;
 use crate::commands::{Command, CommandSender};
-use crate::state::{EditorState, InfluenceChoice};
+use crate::state::{EditorState, InfluenceChoice, PivotPoint};
 
 fn influence_name(choice: InfluenceChoice) -> String {
     match choice {
@@ -100,6 +100,22 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
         .changed()
     {
         sender.send(Command::SetSnapToVertices(snap));
+    }
+    let mut pivot = state.view.pivot_point;
+    egui::ComboBox::from_label("Pivot point")
+        .selected_text(pivot.label())
+        .show_ui(ui, |ui| {
+            for choice in PivotPoint::ALL {
+                ui.selectable_value(&mut pivot, choice, choice.label());
+            }
+        })
+        .response
+        .on_hover_text(
+            "What R and S turn and scale about. A whole control's origin is its joint (as a \
+             bone's is its head), another whole cage's its centroid, a loose vertex itself",
+        );
+    if pivot != state.view.pivot_point {
+        sender.send(Command::SetPivotPoint(pivot));
     }
     if let Some(values) = state.map.values() {
         ui.label(RichText::new(&values.title).small());

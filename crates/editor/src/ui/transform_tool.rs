@@ -4,7 +4,7 @@
 use glam::{DQuat, DVec3, Vec2};
 use starcages_viewport::OrbitCamera;
 
-use crate::state::{EditorState, GestureId, ScreenRect};
+use crate::state::{EditorState, GestureId, PivotPoint, ScreenRect};
 
 /// G, R or S.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,8 +79,12 @@ pub struct TransformTool {
     /// selected vertex nearest it lands exactly on it.
     pub snap: Option<(u32, DVec3)>,
     start_pointer: Vec2,
+    /// The pivot the pointer's turn and stretch are measured around (and drawn).
     centre: DVec3,
     start: Vec<(u32, DVec3)>,
+    /// Per vertex of `start`, the point it turns and scales about: `centre`, or with
+    /// Individual Origins its own control's or cage's origin.
+    origins: Vec<DVec3>,
 }
 
 /// How far a transform has gone.
@@ -134,10 +138,44 @@ impl TransformTool {
             return None;
         }
         // A whole control selected (the auto rig's `leg.L.2`) turns and scales about its
-        // joint, carried where its parents moved it; any other selection about its median.
-        let centre = control_pivot(state, pose)
-            .unwrap_or_else(|| start.iter().map(|s| s.1).sum::<DVec3>() / start.len() as f64);
+        // joint, carried where its parents moved it; the pivot-point setting says how the
+        // origins of several combine.
+        let elements = selection_elements(state, pose, &start);
+        // As Blender: a control counts by its joint (a bone by its head), anything else by
+        // its vertices.
+        let points: Vec<DVec3> = elements
+            .iter()
+            .flat_map(|e| match e.joint {
+                true => vec![e.origin],
+                false => e.members.iter().map(|&k| start[k].1).collect(),
+            })
+            .collect();
+        let centre = match state.view.pivot_point {
+            PivotPoint::BoundingBoxCenter => {
+                let (lo, hi) = points.iter().fold(
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), &p| (lo.min(p), hi.max(p)),
+                );
+                (lo + hi) * 0.5
+            }
+            PivotPoint::MedianPoint | PivotPoint::IndividualOrigins => {
+                points.iter().sum::<DVec3>() / points.len().max(1) as f64
+            }
+        };
+        let origins = match state.view.pivot_point {
+            PivotPoint::IndividualOrigins => {
+                let mut origins = vec![centre; start.len()];
+                for element in &elements {
+                    for &k in &element.members {
+                        origins[k] = element.origin;
+                    }
+                }
+                origins
+            }
+            _ => vec![centre; start.len()],
+        };
         Some(Self {
+            origins,
             mode,
             axis: None,
             typed: String::new(),
@@ -195,25 +233,28 @@ impl TransformTool {
         rect: ScreenRect,
         pointer: Vec2,
     ) -> Vec<(u32, DVec3)> {
-        let centre = self.centre;
-        let map: Box<dyn Fn(DVec3) -> DVec3> = match self.amount(camera, rect, pointer) {
-            Amount::Delta(delta) => Box::new(move |p| p + delta),
+        let map: Box<dyn Fn(DVec3, DVec3) -> DVec3> = match self.amount(camera, rect, pointer) {
+            Amount::Delta(delta) => Box::new(move |p, _| p + delta),
             Amount::Degrees(degrees) => {
                 let axis = self
                     .axis
                     .map_or_else(|| camera.backward().as_dvec3(), Axis::vector);
                 let turn = DQuat::from_axis_angle(axis, degrees.to_radians());
-                Box::new(move |p| centre + turn * (p - centre))
+                Box::new(move |p, origin| origin + turn * (p - origin))
             }
             Amount::Factor(factor) => {
                 let axis = self.axis.map(Axis::vector);
-                Box::new(move |p| match axis {
-                    Some(a) => p + a * (p - centre).dot(a) * (factor - 1.0),
-                    None => centre + (p - centre) * factor,
+                Box::new(move |p, origin| match axis {
+                    Some(a) => p + a * (p - origin).dot(a) * (factor - 1.0),
+                    None => origin + (p - origin) * factor,
                 })
             }
         };
-        self.start.iter().map(|&(v, p)| (v, map(p))).collect()
+        self.start
+            .iter()
+            .zip(&self.origins)
+            .map(|(&(v, p), &origin)| (v, map(p, origin)))
+            .collect()
     }
 
     /// The vertices being moved, by index.
@@ -280,17 +321,73 @@ impl TransformTool {
     }
 }
 
-/// The pivot of the control whose vertices are exactly the selection, where it has one, in
-/// `pose`.
-fn control_pivot(state: &EditorState, pose: &[DVec3]) -> Option<DVec3> {
+/// One thing the selection holds whole (a control, another cage) or its loose vertices: the
+/// indices into the tool's `start` it covers and the point it turns about.
+struct Element {
+    members: Vec<usize>,
+    origin: DVec3,
+    /// The origin is a control's joint.
+    joint: bool,
+}
+
+/// The selection as elements: every internal cage wholly selected (a control's origin is its
+/// joint, carried where its parents moved it; another's its centroid), then every leaf cage
+/// wholly selected among the vertices left (its centroid), then the loose vertices (their
+/// centroid). A vertex belongs to the first element that takes it: a control owns the next
+/// control's box, so each box is taken by its own control, smallest first.
+fn selection_elements(state: &EditorState, pose: &[DVec3], start: &[(u32, DVec3)]) -> Vec<Element> {
     let set = &state.doc.scene.cages;
-    let selected = &state.selection.vertices;
-    set.internals.iter().find_map(|cage| {
-        cage.pivot?;
-        let own = set.cage_vertices(&cage.name)?;
-        own.iter()
-            .eq(selected.iter())
-            .then(|| starcages_core::hierarchy::posed_pivot(set, cage, pose))
-            .flatten()
-    })
+    let index_of: std::collections::HashMap<u32, usize> = start
+        .iter()
+        .enumerate()
+        .map(|(k, &(v, _))| (v, k))
+        .collect();
+    let mut taken = vec![false; start.len()];
+    let mut elements = Vec::new();
+    let mut candidates: Vec<(Vec<u32>, Option<&starcages_core::scene::InternalCage>)> = set
+        .internals
+        .iter()
+        .filter_map(|cage| Some((set.cage_vertices(&cage.name)?, Some(cage))))
+        .chain(
+            set.leaves
+                .iter()
+                .filter_map(|leaf| Some((set.cage_vertices(&leaf.name)?, None))),
+        )
+        .collect();
+    // Internal cages first, each before the larger ones that may hold its box.
+    candidates.sort_by_key(|(vertices, cage)| (cage.is_none(), vertices.len()));
+    for (vertices, cage) in candidates {
+        let Some(members) = vertices
+            .iter()
+            .map(|v| index_of.get(v).copied().filter(|&k| !taken[k]))
+            .collect::<Option<Vec<usize>>>()
+        else {
+            continue;
+        };
+        if members.is_empty() {
+            continue;
+        }
+        let centroid = members.iter().map(|&k| start[k].1).sum::<DVec3>() / members.len() as f64;
+        let joint = cage
+            .filter(|c| c.pivot.is_some())
+            .and_then(|c| starcages_core::hierarchy::posed_pivot(set, c, pose));
+        for &k in &members {
+            taken[k] = true;
+        }
+        elements.push(Element {
+            members,
+            origin: joint.unwrap_or(centroid),
+            joint: joint.is_some(),
+        });
+    }
+    let loose: Vec<usize> = (0..start.len()).filter(|&k| !taken[k]).collect();
+    if !loose.is_empty() {
+        let origin = loose.iter().map(|&k| start[k].1).sum::<DVec3>() / loose.len() as f64;
+        elements.push(Element {
+            members: loose,
+            origin,
+            joint: false,
+        });
+    }
+    elements
 }

@@ -360,6 +360,103 @@ fn r_on_a_control_turns_it_about_its_pivot() {
     }
 }
 
+/// The pivot point, chosen by its menu's accessibility label as in Blender's header, with a
+/// control and three loose leaf-cage vertices selected (Rig mode, where every cage vertex is
+/// the user's to move): Median Point (the default) turns everything about the mean of the
+/// control's joint and the loose vertices, as Blender counts a bone by its head; Bounding Box
+/// Center about the centre of their box; Individual Origins the control about its own joint and
+/// the loose vertices about their centroid.
+#[test]
+fn the_pivot_point_menu_turns_about_joints_medians_or_individual_origins() {
+    let (mut harness, head, joint) = critter_with_pivot("head", |lo, hi| {
+        glam::DVec3::new(0.5 * (lo.x + hi.x), lo.y, lo.z)
+    });
+    harness
+        .state_mut()
+        .run(Command::SetMode(starcages_editor::state::EditMode::Rig));
+    harness.run_steps(2);
+    let set = &harness.state().state.doc.scene.cages;
+    let in_internals: Vec<u32> = set
+        .internals
+        .iter()
+        .flat_map(|c| set.cage_vertices(&c.name).unwrap())
+        .collect();
+    let loose: Vec<u32> = (0..set.vertices.len() as u32)
+        .rev()
+        .filter(|v| !in_internals.contains(v))
+        .step_by(7)
+        .take(3)
+        .collect();
+    assert_eq!(loose.len(), 3, "three loose vertices");
+    let mut both: Vec<u32> = head.iter().chain(&loose).copied().collect();
+    both.sort_unstable();
+    let turn = glam::DQuat::from_axis_angle(glam::DVec3::Z, 90f64.to_radians());
+    let centre = harness.state().state.view.viewport.center();
+    for (choice, label) in [
+        (None, "Median Point"),
+        (Some("Individual Origins"), "Individual Origins"),
+        (Some("Bounding Box Center"), "Bounding Box Center"),
+    ] {
+        if let Some(choice) = choice {
+            harness.get_by_label("Pivot point").click();
+            harness.run_steps(2);
+            harness.get_by_label(choice).click();
+            harness.run_steps(2);
+        }
+        assert_eq!(harness.state().state.view.pivot_point.label(), label);
+        harness.hover_at(egui::pos2(centre.x, centre.y));
+        let before = harness.state().state.doc.scene.cages.vertices.clone();
+        harness.state_mut().run(Command::Select {
+            vertices: both.clone(),
+            mode: starcages_editor::state::SelectMode::Replace,
+        });
+        harness.run_steps(1);
+        harness.key_press(egui::Key::R);
+        harness.run_steps(1);
+        for text in ["z", "9", "0"] {
+            harness.event(egui::Event::Text(text.into()));
+            harness.run_steps(1);
+        }
+        harness.key_press(egui::Key::Enter);
+        harness.run_steps(2);
+        let after = harness.state().state.doc.scene.cages.vertices.clone();
+        let loose_points: Vec<glam::DVec3> = loose.iter().map(|&v| before[v as usize]).collect();
+        let points: Vec<glam::DVec3> = std::iter::once(joint).chain(loose_points.clone()).collect();
+        let together = match label {
+            "Bounding Box Center" => {
+                let lo = points.iter().fold(glam::DVec3::INFINITY, |a, &p| a.min(p));
+                let hi = points
+                    .iter()
+                    .fold(glam::DVec3::NEG_INFINITY, |a, &p| a.max(p));
+                (lo + hi) * 0.5
+            }
+            _ => points.iter().sum::<glam::DVec3>() / points.len() as f64,
+        };
+        let loose_centroid = loose_points.iter().sum::<glam::DVec3>() / 3.0;
+        for (vertices, own) in [(&head, joint), (&loose, loose_centroid)] {
+            let origin = if label == "Individual Origins" {
+                own
+            } else {
+                together
+            };
+            for &v in vertices.iter() {
+                let expected = origin + turn * (before[v as usize] - origin);
+                let got = after[v as usize];
+                assert!(
+                    (got - expected).length() < 1e-6,
+                    "{label}: vertex {v}: {got} instead of {expected}"
+                );
+            }
+        }
+        crate::common::undo(&mut harness);
+        assert_eq!(
+            harness.state().state.doc.scene.cages.vertices,
+            before,
+            "{label}: undone"
+        );
+    }
+}
+
 /// In Pose mode a click on the mesh, away from every cage vertex, selects the whole control
 /// moving that part (here the critter's head cage, which owns the head's leaf vertices), ready
 /// for R about its pivot; a click on empty space still clears the selection.
