@@ -24,6 +24,26 @@ fn memory_limit(file_bytes: usize) -> usize {
     (64usize << 20).saturating_add(file_bytes.saturating_mul(48))
 }
 
+/// What every load of an FBX file here shares: memory bounded by `limit`, FBX only (never
+/// guessed from content or name), no animation, embedded or external files.
+fn bounded_options(limit: usize) -> ufbx::LoadOpts<'static> {
+    let allocator = || ufbx::AllocatorOpts {
+        memory_limit: limit,
+        ..Default::default()
+    };
+    ufbx::LoadOpts {
+        temp_allocator: allocator(),
+        result_allocator: allocator(),
+        ignore_animation: true,
+        ignore_embedded: true,
+        load_external_files: false,
+        file_format: ufbx::FileFormat::Fbx,
+        no_format_from_content: true,
+        no_format_from_extension: true,
+        ..Default::default()
+    }
+}
+
 /// Reads an FBX mesh.
 pub(super) fn read_fbx_mesh(path: &Path) -> Result<Mesh, FileError> {
     let bytes = super::read_file_bytes(path)?;
@@ -34,27 +54,15 @@ pub(super) fn read_fbx_mesh(path: &Path) -> Result<Mesh, FileError> {
 /// world space, metres, +Y up.
 pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
     let limit = memory_limit(bytes.len());
-    let allocator = || ufbx::AllocatorOpts {
-        memory_limit: limit,
-        ..Default::default()
-    };
     let options = ufbx::LoadOpts {
-        temp_allocator: allocator(),
-        result_allocator: allocator(),
-        ignore_animation: true,
-        ignore_embedded: true,
-        load_external_files: false,
         target_axes: ufbx::CoordinateAxes::right_handed_y_up(),
         target_unit_meters: 1.0,
         space_conversion: ufbx::SpaceConversion::ModifyGeometry,
-        file_format: ufbx::FileFormat::Fbx,
-        no_format_from_content: true,
-        no_format_from_extension: true,
         // An attribute index past its array becomes "no index" (checked below, naming the
         // polygon) rather than a silently clamped corner. (ufbx refuses a position index past
         // the vertices itself, without a reason: see `diagnose_geometry`.)
         index_error_handling: ufbx::IndexErrorHandling::NoIndex,
-        ..Default::default()
+        ..bounded_options(limit)
     };
     let scene = ufbx::load_memory(bytes, options).map_err(|error| {
         if error.type_ == ufbx::ErrorType::Unknown
@@ -125,22 +133,10 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
 /// that names a vertex past the mesh's vertex list this way, and skips the arrays when asked to
 /// ignore geometry, so the meshes are named and the likely reasons given.
 fn diagnose_geometry(path: &Path, bytes: &[u8], limit: usize) -> Option<FileError> {
-    let allocator = || ufbx::AllocatorOpts {
-        memory_limit: limit,
-        ..Default::default()
-    };
     let options = ufbx::LoadOpts {
-        temp_allocator: allocator(),
-        result_allocator: allocator(),
-        ignore_animation: true,
-        ignore_embedded: true,
         ignore_geometry: true,
         retain_dom: true,
-        load_external_files: false,
-        file_format: ufbx::FileFormat::Fbx,
-        no_format_from_content: true,
-        no_format_from_extension: true,
-        ..Default::default()
+        ..bounded_options(limit)
     };
     let scene = ufbx::load_memory(bytes, options).ok()?;
     let root = scene.dom_root.as_ref()?;
