@@ -8,6 +8,7 @@
 //! * [`io`]: cage OBJ files and point lists, with errors naming file and line.
 //! * [`geometry`]: small geometric primitives.
 //! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
+//! * [`posing`]: the one posing engine: a pose, a frame or a pose file plus edits, as cages.
 //! * [`rig`]: rig operations on the rest cages (one file per operation) and their scripts.
 //! * [`scene`]: the scene model, its validation and files.
 //! * [`star`]: *Cages deformation compiled into one sparse operator.
@@ -22,6 +23,7 @@ pub mod hierarchy;
 pub mod io;
 pub mod mesh;
 mod messages;
+pub mod posing;
 pub mod rig;
 pub mod scene;
 pub mod star;

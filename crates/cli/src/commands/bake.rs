@@ -12,6 +12,7 @@ use starcages_core::anim::bake::FrameDeformer;
 use starcages_core::io::{
     MorphAnimation, PointCacheFormat, PointCacheWriter, SampleTimes, read_point_cache,
 };
+use starcages_core::posing::PoseRequest;
 use starcages_core::scene::{ExportLayout, Scene, UpAxis};
 
 use super::frames::{SampleArgs, animation_samples};
@@ -117,10 +118,11 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
     for (k, &frame) in samples.frames.iter().enumerate() {
         let (cages, h) = match &samples.cages {
             Some(cages) => (cages[k].clone(), Default::default()),
-            None => (
-                super::pose::frame_pose(&scene, frame, &args.scene)?,
-                scene.animation.h_at(frame),
-            ),
+            None => {
+                let request = PoseRequest::frame(frame);
+                let pose = super::pose::resolve(&scene, &request, &args.scene)?;
+                (pose.cages, pose.h)
+            }
         };
         let deform_start = Instant::now();
         let welded = deformer

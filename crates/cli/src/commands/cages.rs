@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use glam::Vec3;
 use starcages_core::io::{PointCacheFormat, PointCacheWriter, cage_set_obj_text, write_atomic};
+use starcages_core::posing::{PoseRequest, PoseSource};
 
 use super::frames::{SampleArgs, animation_samples};
 
@@ -44,8 +45,9 @@ pub fn run(args: &CagesArgs) -> anyhow::Result<()> {
                 )
                 .into());
             }
-            let positions = super::pose::named_pose(&scene, args.pose.as_deref(), &args.scene)?;
-            let positions: Vec<_> = positions.iter().map(|&p| up.from_scene(p)).collect();
+            let request = PoseRequest::new(PoseSource::Named(args.pose.clone()));
+            let pose = super::pose::resolve(&scene, &request, &args.scene)?;
+            let positions: Vec<_> = pose.cages.iter().map(|&p| up.from_scene(p)).collect();
             write_atomic(
                 &args.out,
                 cage_set_obj_text(&scene.cages, &positions).as_bytes(),
@@ -67,9 +69,12 @@ pub fn run(args: &CagesArgs) -> anyhow::Result<()> {
                 times,
             )?;
             for &frame in &frames {
-                let pose = super::pose::frame_pose(&scene, frame, &args.scene)?;
-                let positions: Vec<Vec3> =
-                    pose.iter().map(|&p| up.from_scene(p).as_vec3()).collect();
+                let pose = super::pose::resolve(&scene, &PoseRequest::frame(frame), &args.scene)?;
+                let positions: Vec<Vec3> = pose
+                    .cages
+                    .iter()
+                    .map(|&p| up.from_scene(p).as_vec3())
+                    .collect();
                 writer.write_sample(&positions)?;
             }
             writer.finish()?;

@@ -259,3 +259,39 @@ fn bad_caches_and_unanimated_scenes_are_refused_without_writing() {
         "first frame comes after the last",
     );
 }
+
+/// At a keyed frame the edits go on from the key's hierarchy state, as in the editor and as
+/// with the key's pose by name; before the posing engine `--frame` started from rest.
+#[test]
+fn deform_at_a_keyed_frame_with_edits_equals_the_key_pose_with_the_same_edits() {
+    let d = dir("frame-edits");
+    ok(&cli(&["demo", "critter", "--out", s(&d)]));
+    let scene = d.join("critter.json");
+    let (at_frame, by_name) = (d.join("frame.obj"), d.join("name.obj"));
+    let edit = "head: rotate 0 0 1 10";
+    ok(&cli(&[
+        "deform",
+        s(&scene),
+        "--frame",
+        "12",
+        "--apply",
+        edit,
+        "--out",
+        s(&at_frame),
+    ]));
+    ok(&cli(&[
+        "deform",
+        s(&scene),
+        "--pose",
+        "ears_back",
+        "--apply",
+        edit,
+        "--out",
+        s(&by_name),
+    ]));
+    let by_name: Vec<glam::Vec3> = obj_vertices(&by_name)
+        .into_iter()
+        .map(glam::Vec3::from_array)
+        .collect();
+    assert_eq!(largest_difference(&obj_vertices(&at_frame), &by_name), 0.0);
+}

@@ -173,6 +173,12 @@ impl Hierarchy {
     /// Binds every owned vertex to its parent at rest, then restores the scene's current
     /// hierarchy state.
     pub fn bind(scene: &Scene) -> Result<Self, HierarchyError> {
+        Self::bind_in_state(scene, &scene.pose_state)
+    }
+
+    /// Binds every owned vertex to its parent at rest, then restores `state` (a stored pose's
+    /// or key's hierarchy state rather than the current one).
+    pub fn bind_in_state(scene: &Scene, state: &HierarchyState) -> Result<Self, HierarchyError> {
         let mut problems = Vec::new();
         check_hierarchy(scene, &mut problems);
         if let Some(problem) = problems.into_iter().next() {
@@ -242,7 +248,7 @@ impl Hierarchy {
                 ..HierarchyStats::default()
             },
         };
-        hierarchy.restore(&scene.pose_state)?;
+        hierarchy.restore(state)?;
         Ok(hierarchy)
     }
 

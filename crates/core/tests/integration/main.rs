@@ -18,6 +18,7 @@ mod layout;
 mod mean_value;
 mod mesh_formats;
 mod posable_rig;
+mod posing;
 mod rig_edit;
 mod rig_inset;
 mod rig_script;

@@ -23,6 +23,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use glam::{DVec3, Vec3};
+use starcages_core::posing::PoseRequest;
 
 pub use cage_id::CageId;
 pub use document::{Document, NewMeshOptions, NewRig};
@@ -588,26 +589,15 @@ impl EditorState {
         if scene.animation.is_empty() || self.gesture.is_some() {
             return;
         }
-        let Some(pose) = scene.animation.pose_at(&scene.poses, frame) else {
+        // The posing engine the CLI and the bake use: on a key its pose's hierarchy state comes
+        // back (hand moves go on from there); between keys the interpolated pose starts from
+        // the rest state.
+        let Ok(pose) = PoseRequest::frame(frame).resolve(scene) else {
             return;
         };
-        if pose.len() != scene.cages.vertices.len() {
-            return;
-        }
-        scene.pose = pose;
-        // On a key its pose's hierarchy state comes back (hand moves go on from there); between
-        // keys the interpolated pose starts from the rest state.
-        scene.pose_state = scene
-            .animation
-            .key_at(frame)
-            .and_then(|k| {
-                scene
-                    .pose_states
-                    .get(&scene.animation.keys[k].pose)
-                    .cloned()
-            })
-            .unwrap_or_default();
-        let h = scene.animation.h_at(frame);
+        scene.pose = pose.cages;
+        scene.pose_state = pose.state;
+        let h = pose.h;
         if !starcages_core::anim::bake::apply_keyed_h(scene, &h).is_empty() {
             // Keyed h shapes the operator: bind the cages whose h changed.
             self.document_changed();

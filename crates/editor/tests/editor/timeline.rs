@@ -234,3 +234,31 @@ fn dragging_on_the_timeline_scrubs_and_dragging_a_key_retimes_it() {
     press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
 }
+
+/// The editor poses a frame with core's posing engine, as the CLI and the bake do: at a keyed
+/// frame an edit goes on from the key's hierarchy state and gives the cages
+/// `deform --frame 12 --apply "head: rotate 0 0 1 10"` poses.
+#[test]
+fn an_edit_at_a_keyed_frame_gives_the_cages_the_cli_poses() {
+    use starcages_core::hierarchy::CageEdit;
+    use starcages_core::posing::{PoseRequest, PoseSource};
+    let mut harness = harness();
+    let edit: CageEdit = "head: rotate 0 0 1 10".parse().unwrap();
+    let expected = PoseRequest {
+        source: PoseSource::Frame(12.0),
+        edits: vec![edit.clone()],
+    }
+    .resolve(&harness.state().state.doc.scene)
+    .unwrap();
+    harness.state_mut().run(Command::SetFrame(12.0));
+    harness.run_steps(1);
+    let app = harness.state_mut();
+    let scene = &app.state.doc.scene;
+    assert_eq!(scene.pose, scene.poses["ears_back"]);
+    let moves = edit.moves(&scene.cages, &scene.pose).unwrap();
+    app.run(Command::MoveVertices(moves));
+    harness.run_steps(1);
+    let scene = &harness.state().state.doc.scene;
+    assert_eq!(scene.pose, expected.cages);
+    assert_eq!(scene.pose_state, expected.state);
+}
