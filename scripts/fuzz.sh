@@ -3,9 +3,9 @@
 # skins and meshopt, cage OBJ, points, point caches, binding cache), every writer against those
 # readers (point caches, animated glTF, OBJ and GLB meshes: what we write reads back) and the
 # auto rig's settings for a while: the proptest harnesses of
-# crates/core/tests/integration/fuzz_readers.rs, mesh_formats.rs, fbx.rs and written_files.rs, and the
-# auto rig on random unions of capsules under random detail, mirror and internal-cage settings
-# (autorig.rs: valid, and symmetric when asked), run again and again with fresh random seeds,
+# crates/io/tests/integration/fuzz_readers.rs, mesh_formats.rs, fbx.rs and written_files.rs, and
+# the auto rig on random unions of capsules under random detail, mirror and internal-cage settings
+# (crates/core/tests/integration/autorig.rs: valid, and symmetric when asked), run again and again with fresh random seeds,
 # until the time is up or something panics, hangs or fails.
 #
 #   bash scripts/fuzz.sh [SECONDS]      (default 600: ten minutes)
@@ -22,12 +22,12 @@ rig_cases=40
 # OFF (6 damaged files), FBX (a binary and an ASCII file, damaged); written files: an animation
 # baked through 3 writers and read back, a mesh through 2.
 per_case=$((2 + 8 + 2 + 2 + 8 + 6 + 2 + 3 + 2))
-cargo test -p starcages-core --test integration --no-run --quiet 2>/dev/null
+cargo test -p starcages-io -p starcages-core --test integration --no-run --quiet 2>/dev/null
 start=$(date +%s)
 runs=0
 while [ $(( $(date +%s) - start )) -lt "$seconds" ]; do
     if ! STARCAGES_FUZZ_CASES=$cases timeout 600 \
-        cargo test -p starcages-core --test integration --quiet -- fuzz_readers mesh_formats::damaged fbx::damaged written_files >/tmp/starcages-fuzz.log 2>&1; then
+        cargo test -p starcages-io --test integration --quiet -- fuzz_readers mesh_formats::damaged fbx::damaged written_files >/tmp/starcages-fuzz.log 2>&1; then
         cat /tmp/starcages-fuzz.log
         echo "fuzz: FAILED after $runs runs ($((runs * cases * per_case)) inputs); see above" >&2
         exit 1

@@ -78,7 +78,7 @@ const INTERRUPTED: i32 = 130;
 /// before the temporary file's destructor ran.
 fn remove_unfinished_saves_on_signals() {
     let installed = ctrlc::set_handler(|| {
-        let removed = starcages_core::io::remove_unfinished_saves();
+        let removed = starcages_io::remove_unfinished_saves();
         if removed > 0 {
             crate::note!(
                 "interrupted: the unfinished save was removed; the file keeps its old content"
@@ -152,8 +152,8 @@ fn main() -> ExitCode {
 /// (exit status 1): a write the system refused (a full disk, a read-only folder, a quota) is
 /// not bad input, though the file is ours to name.
 fn is_bad_input(error: &anyhow::Error) -> bool {
-    use starcages_core::io::FileError;
-    use starcages_core::scene::SceneFileError;
+    use starcages_io::FileError;
+    use starcages_io::SceneFileError;
     if error.downcast_ref::<InputError>().is_some() {
         return true;
     }

@@ -1,11 +1,12 @@
 //! StarCages core: the deformation math and the scene model, with no GPU, window or UI
-//! dependency.
+//! dependency and no C or C++ code; files are `starcages-io`'s.
 //!
 //! * [`anim`]: keys on a timeline and their evaluation at any frame.
+//! * [`bake`]: the mesh at a run of frames through one binding, re-bound where keyed h changes.
 //! * [`cage`]: validated closed triangle cages (polygon faces kept for eq. 7 of *Cages).
+//! * [`check`]: validation of a whole scene: the model's rules and the engine's dry runs.
 //! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
 //! * [`generate`]: rigs and scenes made by the program (the auto rig, box grids, demos).
-//! * [`io`]: cage OBJ files and point lists, with errors naming file and line.
 //! * [`geometry`]: small geometric primitives.
 //! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
 //! * [`posing`]: the one posing engine: a pose, a frame or a pose file plus edits, as cages.
@@ -15,12 +16,13 @@
 //! * [`surface_nets`]: closed meshes of implicit surfaces (the creature demo).
 
 pub mod anim;
+pub mod bake;
 pub mod cage;
+pub mod check;
 pub mod coords;
 pub mod generate;
 pub mod geometry;
 pub mod hierarchy;
-pub mod io;
 pub mod mesh;
 mod messages;
 pub mod posing;

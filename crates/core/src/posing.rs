@@ -45,7 +45,7 @@ pub struct Pose {
     /// The hierarchy state the cages were posed in (after the edits).
     pub state: HierarchyState,
     /// h per leaf cage name as keyed at the frame (empty for other sources): it shapes the
-    /// operator, so a caller binds with it ([`crate::anim::bake::apply_keyed_h`]).
+    /// operator, so a caller binds with it ([`Scene::apply_keyed_h`]).
     pub h: BTreeMap<String, f64>,
 }
 

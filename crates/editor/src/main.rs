@@ -11,7 +11,7 @@ fn main() -> anyhow::Result<()> {
     // Ctrl-C or SIGTERM in the terminal: remove a save's temporary file before exiting (the
     // file saved to keeps its old content).
     ctrlc::set_handler(|| {
-        starcages_core::io::remove_unfinished_saves();
+        starcages_io::remove_unfinished_saves();
         std::process::exit(130);
     })
     .ok();

@@ -1,6 +1,7 @@
 //! `starcages-cli bake`: the scene's animation (or cage positions per frame from another
 //! tool's point cache) through one binding into a point cache (PC2, MDD) or an animated glTF.
 
+use starcages_core::anim::SampleTimes;
 use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -8,12 +9,11 @@ use std::time::Instant;
 use clap::Args;
 use glam::{DVec3, Vec3};
 use starcages_core::BindControl;
-use starcages_core::anim::bake::FrameDeformer;
-use starcages_core::io::{
-    MorphAnimation, PointCacheFormat, PointCacheWriter, SampleTimes, read_point_cache,
-};
+use starcages_core::bake::FrameDeformer;
 use starcages_core::posing::PoseRequest;
-use starcages_core::scene::{ExportLayout, Scene, UpAxis};
+use starcages_core::scene::{Scene, UpAxis};
+use starcages_io::ExportLayout;
+use starcages_io::{MorphAnimation, PointCacheFormat, PointCacheWriter, read_point_cache};
 
 use super::frames::{SampleArgs, animation_samples};
 use crate::InputError;
@@ -70,7 +70,8 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
     super::check_output("--out", &args.out, &inputs, &WRITES)?;
     let scene = super::load(&args.scene)?;
     let label = args.scene.display().to_string();
-    if !super::report(&scene, &label).is_valid() {
+    let checked = super::report(&scene, &label);
+    if !checked.is_valid() {
         return Err(InputError(format!(
             "{label}: the scene does not validate; see the problems above"
         ))
@@ -83,7 +84,10 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
         Some(kind) => starcages_core::star::single_cage_scene(&scene, kind),
         None => scene,
     };
-    let binding = super::deform::bind(&scene, &args.scene, args.cache, &label)?;
+    // The topology validation built, unless the bind takes the single-cage baseline.
+    let topology = checked.topology.filter(|_| args.single_cage.is_none());
+    let binding =
+        super::deform::bind(&scene, topology.as_deref(), &args.scene, args.cache, &label)?;
     let mut output = match PointCacheFormat::of(&args.out) {
         Some(format) => {
             let layout = ExportLayout::of(&scene)?;
@@ -108,7 +112,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
             Output::Gltf(MorphAnimation::new(&args.out, &scene.mesh, rest)?)
         }
     };
-    let seconds = starcages_core::anim::bake::gltf_seconds(&samples.frames, samples.times.fps);
+    let seconds = starcages_core::anim::sampling::gltf_seconds(&samples.frames, samples.times.fps);
     let mut deformer = FrameDeformer::new(scene.clone(), binding);
     let control = BindControl::default();
     let start = Instant::now();

@@ -487,7 +487,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
     }
     for file in &args.scene {
-        let scene = starcages_core::scene::load_scene(file)?;
+        let scene = starcages_io::load_scene(file)?;
         let name = file
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());

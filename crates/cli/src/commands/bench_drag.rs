@@ -131,7 +131,7 @@ fn bench_drag(
 
 /// Runs the drag bench on the scene at `path`.
 pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
-    let scene = starcages_core::scene::load_scene(path)?;
+    let scene = starcages_io::load_scene(path)?;
     if scene.cages.internals.is_empty() {
         return Err(crate::InputError(format!(
             "{}: the scene has no internal cages to drag; make a rig with \
@@ -144,7 +144,7 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let t = Instant::now();
-    let binding = super::deform::bind(&scene, path, false, &name)?;
+    let binding = super::deform::bind(&scene, None, path, false, &name)?;
     let bind_s = t.elapsed().as_secs_f64();
     let (lo, hi) = scene.mesh.bounds();
     let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);

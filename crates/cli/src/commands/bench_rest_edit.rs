@@ -97,11 +97,11 @@ fn median(mut values: Vec<f64>) -> f64 {
 
 /// Runs the rest-edit bench on the scene at `path`.
 pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
-    let scene = starcages_core::scene::load_scene(path)?;
+    let scene = starcages_io::load_scene(path)?;
     let name = path
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-    let binding = super::deform::bind(&scene, path, false, &name)?;
+    let binding = super::deform::bind(&scene, None, path, false, &name)?;
     let control = BindControl::default();
     // A full bind from scratch (no harmonic solve kept), the yardstick.
     starcages_core::coords::clear_harmonic_cache();

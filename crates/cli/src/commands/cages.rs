@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use glam::Vec3;
-use starcages_core::io::{PointCacheFormat, PointCacheWriter, cage_set_obj_text, write_atomic};
 use starcages_core::posing::{PoseRequest, PoseSource};
+use starcages_io::{PointCacheFormat, PointCacheWriter, cage_set_obj_text, write_atomic};
 
 use super::frames::{SampleArgs, animation_samples};
 

@@ -5,8 +5,9 @@ use std::time::Instant;
 
 use clap::Args;
 use starcages_core::BindControl;
-use starcages_core::scene::write_deformed_mesh;
-use starcages_core::star::{CacheOutcome, StarBinding};
+use starcages_core::star::StarBinding;
+use starcages_io::CacheOutcome;
+use starcages_io::write_deformed_mesh;
 
 use super::pose::PoseArgs;
 use crate::InputError;
@@ -37,10 +38,15 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
         .chain(args.pose.pose_file())
         .collect();
     super::check_output("--out", &args.out, &inputs, &["obj", "glb"])?;
-    let (scene, posed, label) = args.pose.load_posed(&args.scene)?;
+    let super::pose::PosedScene {
+        scene,
+        cages: posed,
+        label,
+        topology,
+    } = args.pose.load_posed(&args.scene)?;
     let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--out", &args.out, &mesh, &["obj", "glb"])?;
-    let binding = bind(&scene, &args.scene, args.cache, &label)?;
+    let binding = bind(&scene, topology.as_deref(), &args.scene, args.cache, &label)?;
     let start = Instant::now();
     let welded = binding.deform(&scene.cages.vertices, &posed);
     let seconds_frame = start.elapsed().as_secs_f64();
@@ -70,9 +76,10 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
 }
 
 /// Binds `scene` (read from `scene_path`) with a progress line, through the binding cache
-/// beside the scene when `cache` is set.
+/// beside the scene when `cache` is set; with `topology` where validation built it.
 pub fn bind(
     scene: &starcages_core::scene::Scene,
+    topology: Option<&starcages_core::star::Topology>,
     scene_path: &std::path::Path,
     cache: bool,
     label: &str,
@@ -80,9 +87,12 @@ pub fn bind(
     let control = BindControl::default();
     let binding = with_progress("binding", &control, || {
         if !cache {
-            return StarBinding::bind_scene(scene, &control);
+            return match topology {
+                Some(topology) => StarBinding::bind_scene_with(scene, topology, &control),
+                None => StarBinding::bind_scene(scene, &control),
+            };
         }
-        let (binding, outcome) = StarBinding::bind_scene_cached(scene, scene_path, &control)?;
+        let (binding, outcome) = starcages_io::bind_scene_cached(scene, scene_path, &control)?;
         match outcome {
             CacheOutcome::Hit => crate::note!("{label}: binding read from its cache"),
             CacheOutcome::Written => {}

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use starcages_core::generate::demo::{DEMOS, demo_scene};
-use starcages_core::scene::save_scene;
+use starcages_io::save_scene;
 
 use crate::InputError;
 

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use starcages_core::rig::{RigOp, apply_rig_op, parse_rig_script};
-use starcages_core::scene::{CageSet, Scene, SceneSettings, UpAxis, load_scene};
+use starcages_core::scene::{CageSet, Scene, SceneSettings, UpAxis};
+use starcages_io::load_scene;
 
 /// Arguments of `edit`.
 #[derive(Debug, Args)]
@@ -74,7 +75,7 @@ pub fn run(args: &EditArgs) -> anyhow::Result<()> {
     // where it came from ("rig.ops line 12", "--op 2") in errors.
     let mut ops: Vec<(String, String, RigOp)> = Vec::new();
     if let Some(script) = &args.script {
-        let text = starcages_core::io::read_text(script)?;
+        let text = starcages_io::read_text(script)?;
         let parsed = parse_rig_script(&text)
             .map_err(|e| crate::InputError(format!("{}: {e}", script.display())))?;
         let lines: Vec<&str> = text.lines().collect();

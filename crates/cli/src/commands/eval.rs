@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 use starcages_core::BindControl;
-use starcages_core::io::read_points;
 use starcages_core::star::evaluate_points;
+use starcages_io::read_points;
 
 use super::pose::PoseArgs;
 use crate::InputError;

@@ -3,8 +3,8 @@
 
 use std::str::FromStr;
 
-use starcages_core::anim::bake::{self, SamplingError};
-use starcages_core::io::SampleTimes;
+use starcages_core::anim::SampleTimes;
+use starcages_core::anim::sampling::{self, SamplingError};
 use starcages_core::scene::Scene;
 
 use crate::InputError;
@@ -57,7 +57,7 @@ pub fn animation_samples(
     fps: Option<f64>,
 ) -> anyhow::Result<(Vec<f64>, SampleTimes)> {
     let range = range.map(|r| (r.first, r.last));
-    bake::animation_samples(&scene.animation, range, fps).map_err(|error| {
+    sampling::animation_samples(&scene.animation, range, fps).map_err(|error| {
         let flag = match &error {
             SamplingError::Rate { .. } => "--fps: ",
             SamplingError::Far { .. } | SamplingError::Count { .. } if range.is_some() => {

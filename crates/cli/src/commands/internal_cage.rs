@@ -91,8 +91,8 @@ fn import(
     mut scene: starcages_core::scene::Scene,
 ) -> anyhow::Result<()> {
     super::check_output("--out", &args.out, &[from], &["json"])?;
-    let mut set = starcages_core::io::read_cage_set_obj(from, args.kind)
-        .map_err(|e| InputError(e.to_string()))?;
+    let mut set =
+        starcages_io::read_cage_set_obj(from, args.kind).map_err(|e| InputError(e.to_string()))?;
     let up = scene.export_up();
     for p in &mut set.vertices {
         *p = up.to_scene(*p);

@@ -24,7 +24,9 @@ pub mod weights;
 
 use std::path::Path;
 
-use starcages_core::scene::{MeshSource, Scene, ValidationReport, load_scene, validate_scene};
+use starcages_core::check::{CheckedScene, check_scene};
+use starcages_core::scene::{MeshSource, Scene};
+use starcages_io::load_scene;
 
 /// Loads a scene file (errors are input errors: exit status 2).
 pub fn load(path: &Path) -> anyhow::Result<Scene> {
@@ -34,7 +36,7 @@ pub fn load(path: &Path) -> anyhow::Result<Scene> {
 /// Saves a new scene, prints its diagnostics and `summary`; an invalid scene is still written
 /// (so it can be fixed) but the command fails with status 2.
 pub fn save_new_scene(scene: &Scene, out: &Path, summary: &str) -> anyhow::Result<()> {
-    starcages_core::scene::save_scene(scene, out)?;
+    starcages_io::save_scene(scene, out)?;
     let report = report(scene, &out.display().to_string());
     crate::output::line(format_args!("{}: {summary}", out.display()))?;
     if report.is_valid() {
@@ -48,11 +50,11 @@ pub fn save_new_scene(scene: &Scene, out: &Path, summary: &str) -> anyhow::Resul
 }
 
 /// Prints a validation report to standard error; returns whether the scene is valid.
-pub fn report(scene: &Scene, label: &str) -> ValidationReport {
-    let report = validate_scene(scene);
-    print_capped("warning", label, &report.warnings);
-    print_capped("error", label, &report.errors);
-    report
+pub fn report(scene: &Scene, label: &str) -> CheckedScene {
+    let checked = check_scene(scene);
+    print_capped("warning", label, &checked.report.warnings);
+    print_capped("error", label, &checked.report.errors);
+    checked
 }
 
 /// The most problems of one severity printed for a scene: a file with millions of problems
@@ -97,7 +99,7 @@ pub fn read_new_scene_mesh(
     up: Option<starcages_core::scene::UpAxis>,
 ) -> anyhow::Result<(starcages_core::mesh::Mesh, starcages_core::scene::UpAxis)> {
     use starcages_core::scene::UpAxis;
-    let up = match (starcages_core::io::declares_axes(path), up) {
+    let up = match (starcages_io::declares_axes(path), up) {
         (true, Some(UpAxis::Z)) => {
             return Err(crate::InputError(format!(
                 "--up z: {} declares its own axes (glTF is Y-up by specification; FBX is read \
@@ -110,7 +112,7 @@ pub fn read_new_scene_mesh(
         (_, Some(up)) => up,
         (_, None) => UpAxis::Y,
     };
-    Ok((starcages_core::io::read_mesh_as(path, up)?, up))
+    Ok((starcages_io::read_mesh_as(path, up)?, up))
 }
 
 /// A padding fraction in [0, 10].
@@ -162,7 +164,7 @@ pub fn check_output(
     }
     if let Some(input) = inputs
         .iter()
-        .find(|input| starcages_core::io::is_same_file(out, input))
+        .find(|input| starcages_io::is_same_file(out, input))
     {
         return Err(crate::InputError(format!(
             "{flag} {} is the command's input {}; writing it would destroy that input, choose \

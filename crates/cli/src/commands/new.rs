@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use starcages_core::coords::CoordinateKind;
-use starcages_core::io::read_cage_set_obj;
 use starcages_core::scene::{OutsidePolicy, Scene, SceneSettings, UpAxis};
+use starcages_io::read_cage_set_obj;
 
 /// `--outside` values.
 #[derive(Debug, Clone, Copy, ValueEnum)]

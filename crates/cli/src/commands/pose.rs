@@ -1,17 +1,30 @@
 //! Options shared by the commands that deform: which pose, which method.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use clap::Args;
 use glam::DVec3;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::CageEdit;
-use starcages_core::io::read_pose_obj;
 use starcages_core::posing::{Pose, PoseError, PoseRequest, PoseSource};
 use starcages_core::scene::Scene;
-use starcages_core::star::single_cage_scene;
+use starcages_core::star::{Topology, single_cage_scene};
+use starcages_io::read_pose_obj;
 
 use crate::InputError;
+
+/// A loaded, validated scene in the pose asked for.
+pub struct PosedScene {
+    /// The scene to bind (keyed h applied; the single-cage baseline where asked).
+    pub scene: Scene,
+    /// Posed cage vertices.
+    pub cages: Vec<DVec3>,
+    /// The scene file's name, for messages.
+    pub label: String,
+    /// The scene's topology as validation built it, for the bind.
+    pub topology: Option<Arc<Topology>>,
+}
 
 /// Pose and method options.
 #[derive(Debug, Args)]
@@ -45,13 +58,11 @@ impl PoseArgs {
 
     /// Loads and validates the scene at `path` (problems printed, an input error if invalid),
     /// and returns the scene to bind, the posed cage vertices and the file's label.
-    pub fn load_posed(
-        &self,
-        path: &std::path::Path,
-    ) -> anyhow::Result<(Scene, Vec<DVec3>, String)> {
+    pub fn load_posed(&self, path: &std::path::Path) -> anyhow::Result<PosedScene> {
         let mut scene = super::load(path)?;
         let label = path.display().to_string();
-        if !super::report(&scene, &label).is_valid() {
+        let checked = super::report(&scene, &label);
+        if !checked.is_valid() {
             return Err(InputError(format!(
                 "{label}: the scene does not validate; see the problems above"
             ))
@@ -59,8 +70,16 @@ impl PoseArgs {
         }
         let pose = self.resolve(&scene, path)?;
         // h keyed at a frame shapes the operator: the scene is bound with it.
-        starcages_core::anim::bake::apply_keyed_h(&mut scene, &pose.h);
-        Ok((self.method_scene(scene), pose.cages, label))
+        scene.apply_keyed_h(&pose.h);
+        // The topology validation built is the bind's, unless the bind takes the single-cage
+        // baseline instead (keyed h does not change it).
+        let topology = checked.topology.filter(|_| self.single_cage.is_none());
+        Ok(PosedScene {
+            scene: self.method_scene(scene),
+            cages: pose.cages,
+            label,
+            topology,
+        })
     }
 
     /// The scene to bind: the scene itself, or its single-cage baseline.

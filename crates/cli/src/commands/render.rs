@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::io::write_atomic;
 use starcages_core::star::{StarBinding, single_cage_scene};
+use starcages_io::write_atomic;
 use starcages_viewport::influence;
 use starcages_viewport::offscreen::encode_png;
 use starcages_viewport::{
@@ -84,7 +84,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         .chain(args.pose.pose_file())
         .collect();
     super::check_output("--png", &args.png, &inputs, &["png"])?;
-    let (scene, pose, label) = args.pose.load_posed(&args.scene)?;
+    let super::pose::PosedScene {
+        scene,
+        cages: pose,
+        label,
+        topology,
+    } = args.pose.load_posed(&args.scene)?;
     let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--png", &args.png, &mesh, &["png"])?;
     let control = BindControl::default();
@@ -94,7 +99,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         })
         .map_err(|e| InputError(format!("{label}: {e}")))
     };
-    let binding = bind(&scene)?;
+    let binding = match &topology {
+        Some(topology) => with_progress("binding", &control, || {
+            StarBinding::bind_scene_with(&scene, topology, &control)
+        })
+        .map_err(|e| InputError(format!("{label}: {e}")))?,
+        None => bind(&scene)?,
+    };
     let map = if let Some(which) = &args.influence {
         let cage = match which.as_str() {
             "all" => None,

@@ -16,7 +16,7 @@ pub struct ValidateArgs {
 /// Runs the command.
 pub fn run(args: &ValidateArgs) -> anyhow::Result<()> {
     let scene = super::load(&args.scene)?;
-    let report = super::report(&scene, &args.scene.display().to_string());
+    let report = super::report(&scene, &args.scene.display().to_string()).report;
     if report.is_valid() {
         crate::output::line(format_args!(
             "{}: valid ({} leaf cages, {} internal)",

@@ -12,8 +12,8 @@ use anyhow::Context as _;
 use clap::Args;
 use serde::Serialize;
 use starcages_core::coords::HarmonicSettings;
-use starcages_core::io::{read_cage_obj, read_points};
 use starcages_core::{BindControl, BindSettings, CageWeights, CoordError, CoordinateKind, bind};
+use starcages_io::{read_cage_obj, read_points};
 
 use crate::InputError;
 use crate::progress::with_progress;

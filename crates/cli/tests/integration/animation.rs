@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use starcages_core::io::read_point_cache;
+use starcages_io::read_point_cache;
 
 use crate::common::{cli, dir, ok, s, stderr};
 
@@ -113,7 +113,7 @@ fn baked_caches_equal_deform_at_each_frame_and_cage_caches_drive_the_rig() {
         "1..4",
         "--cache",
     ]));
-    assert!(starcages_core::io::read_mesh(&glb).is_ok());
+    assert!(starcages_io::read_mesh(&glb).is_ok());
 }
 
 #[test]

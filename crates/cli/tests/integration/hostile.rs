@@ -52,7 +52,7 @@ fn negative_numbers_reach_the_range_checks() {
         "--out",
         s(&cache),
     ]));
-    let read = starcages_core::io::read_point_cache(&cache, None, 24.0).unwrap();
+    let read = starcages_io::read_point_cache(&cache, None, 24.0).unwrap();
     assert_eq!(read.samples.len(), 6);
     assert_eq!(read.start_frame, -10.0);
 }

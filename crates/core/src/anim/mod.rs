@@ -3,8 +3,8 @@
 //! playback range. Evaluating it gives the cage vertices (and h) at any frame, which the
 //! compiled operator turns into the mesh without binding again.
 
-pub mod bake;
 pub mod curve;
+pub mod sampling;
 
 use std::collections::BTreeMap;
 
@@ -14,6 +14,7 @@ use thiserror::Error;
 
 pub use curve::Interpolation;
 use curve::Segment;
+pub use sampling::{SampleTimes, SamplingError};
 
 /// One channel's key times, values and interpolations.
 type Channel = (Vec<f64>, Vec<f64>, Vec<Interpolation>);

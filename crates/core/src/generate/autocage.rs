@@ -174,7 +174,8 @@ fn make_manifold(occupied: &mut [bool], grid: UVec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{JoinPolicy, MeshSource, Scene, SceneSettings, validate_scene};
+    use crate::check::validate_scene;
+    use crate::scene::{JoinPolicy, MeshSource, Scene, SceneSettings};
     use crate::star::Topology;
 
     #[test]

@@ -127,7 +127,7 @@ mod tests {
         // The right cage's eight corners, the four it shares with the left cage included.
         assert_eq!(internal.owns.len(), 8);
         assert_eq!(scene.cages.vertices.len(), before + 8);
-        assert!(crate::scene::validate_scene(&scene).is_valid());
+        assert!(crate::check::validate_scene(&scene).is_valid());
         assert!(crate::hierarchy::Hierarchy::bind(&scene).is_ok());
         // A second import of the same box: nothing left without a parent, and the scene stays.
         let unchanged = scene.clone();

@@ -127,8 +127,8 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
+    use crate::check::validate_scene;
     use crate::rig::{RigOp, apply_rig_op};
-    use crate::scene::validate_scene;
 
     /// Two boxes 1e-3 apart along x: their facing faces do not share vertices.
     fn two_boxes_apart(gap: f64) -> Scene {

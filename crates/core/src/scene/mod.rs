@@ -1,12 +1,10 @@
 //! The scene model: a mesh, a set of leaf and internal cages over one vertex array, settings,
-//! named poses, the current pose and the animation; validation of the whole; JSON scene files;
-//! export of the deformed mesh. Editing rigs is [`crate::rig`]'s, generating them
-//! [`crate::generate`]'s.
+//! named poses, the current pose and the animation, and the model's own validation rules.
+//! Editing rigs is [`crate::rig`]'s, generating them [`crate::generate`]'s, the engine's dry
+//! runs [`crate::check`]'s; scene files and export are `starcages-io`'s.
 
 mod cage_set;
 mod containment;
-mod export;
-mod file;
 mod locator;
 mod pose_state;
 mod pretty_json;
@@ -27,10 +25,6 @@ pub use cage_set::{
 };
 pub(crate) use containment::ON_CAGE;
 pub use containment::{Containment, leaf_containment};
-pub use export::{ExportLayout, write_deformed_mesh};
-pub use file::{
-    SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
-};
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
 pub(crate) use settings::product_of;
@@ -38,7 +32,7 @@ pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;
 pub use validate::{
-    MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, name_problem, validate_scene,
+    MAX_COORDINATE, ProblemElements, SceneProblem, ValidationReport, check_model, name_problem,
 };
 
 /// Where the scene's mesh comes from.
@@ -101,7 +95,7 @@ impl Scene {
     }
 
     /// A scene in its rest pose around a mesh read from the file `source` with up axis `up`
-    /// (the mesh already turned to scene coordinates, as [`crate::io::read_mesh_as`] gives it).
+    /// (the mesh already turned to scene coordinates, as `starcages_io::read_mesh_as` gives it).
     pub fn from_mesh_file(
         source: PathBuf,
         up: UpAxis,
@@ -150,6 +144,25 @@ impl Scene {
     /// convention). glTF files are Y-up whatever this says (the format's rule).
     pub fn export_up(&self) -> UpAxis {
         self.mesh_up
+    }
+
+    /// Sets the h of the leaf cages named in `h` (a key's values); returns the indices of the
+    /// cages whose h changed. Names that are not leaf cages are ignored (validation reports
+    /// them).
+    pub fn apply_keyed_h(&mut self, h: &BTreeMap<String, f64>) -> Vec<usize> {
+        let mut changed = Vec::new();
+        for (name, &value) in h {
+            let Some(index) = self.cages.leaf_index(name) else {
+                continue;
+            };
+            if self.cage_h(index) != value
+                && let Some(leaf) = self.cages.leaves.get_mut(index)
+            {
+                leaf.h = Some(value);
+                changed.push(index);
+            }
+        }
+        changed
     }
 
     /// h of leaf cage `index`: its own or the scene default.

@@ -381,8 +381,11 @@ pub fn name_problem(name: &str) -> Option<&'static str> {
     }
 }
 
-/// Validates the whole scene.
-pub fn validate_scene(scene: &Scene) -> ValidationReport {
+/// The model's own rules: names, coordinates, settings, closed and oriented cages, shared
+/// faces, the hierarchy's structure, poses, the animation, overlaps and coverage of the mesh.
+/// [`crate::check::validate_scene`] adds the dry runs of the engine (topology, hierarchy
+/// states) on top.
+pub fn check_model(scene: &Scene) -> ValidationReport {
     let mut report = ValidationReport::default();
     let errors = &mut report.errors;
     let set = &scene.cages;
@@ -491,58 +494,8 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
     if leaves.iter().all(Option::is_some) && !leaves.is_empty() {
         let leaves: Vec<LocalCage> = leaves.into_iter().flatten().collect();
         check_overlaps_and_coverage(scene, &leaves, &mut report);
-        if report.errors.is_empty()
-            && let Err(e) = crate::star::Topology::new(set, scene.settings.join_coordinates)
-        {
-            report.errors.push(SceneProblem::Topology(e.to_string()));
-        }
-    }
-    if report.errors.is_empty() && !set.internals.is_empty() {
-        check_pose_states(scene, &mut report.errors);
     }
     report
-}
-
-/// Binds the hierarchy and restores every stored hierarchy state, as `deform` and the editor
-/// will: a record naming a vertex that has no parent, a parent shape of the wrong size or a
-/// state that cannot be rebuilt is reported here rather than refused later.
-fn check_pose_states(scene: &Scene, errors: &mut Vec<SceneProblem>) {
-    use crate::hierarchy::Hierarchy;
-    // Binding restores the current pose's state: when that fails, bind at rest to tell a bad
-    // state from a bad hierarchy.
-    let mut hierarchy = match Hierarchy::bind(scene) {
-        Ok(h) => h,
-        Err(e) => {
-            let mut at_rest = scene.clone();
-            at_rest.pose_state = Default::default();
-            let (pose, rest) = match Hierarchy::bind(&at_rest) {
-                Ok(h) => ("the current pose", Some(h)),
-                Err(_) => ("every pose", None),
-            };
-            errors.push(SceneProblem::PoseState {
-                pose: pose.into(),
-                why: e.to_string(),
-            });
-            match rest {
-                Some(h) => h,
-                None => return,
-            }
-        }
-    };
-    let named = scene
-        .pose_states
-        .iter()
-        .map(|(n, s)| (format!("pose '{n}'"), s));
-    for (pose, state) in
-        std::iter::once(("the current pose".to_owned(), &scene.pose_state)).chain(named)
-    {
-        if let Err(e) = hierarchy.restore(state) {
-            errors.push(SceneProblem::PoseState {
-                pose,
-                why: e.to_string(),
-            });
-        }
-    }
 }
 
 fn check_shared_faces(scene: &Scene, errors: &mut Vec<SceneProblem>) {

@@ -1,15 +1,11 @@
-//! The binding cache: a binary file beside the scene (`SCENE.json.bind`) holding the compiled
-//! operator, keyed by a hash of the mesh, the cages and the settings, with a checksum of its
-//! content. A missing, stale or corrupt cache is ignored with a reason and rebuilt; it is never
-//! trusted without both the key and the checksum matching.
-
-use std::path::{Path, PathBuf};
+//! The binding cache's bytes: the compiled operator keyed by a hash of the mesh, the cages and
+//! the settings, with a checksum of its content. A cache whose key or checksum does not match
+//! is refused with a reason, never trusted. The file beside the scene (`SCENE.json.bind`) is
+//! `starcages-io`'s.
 
 use glam::Vec3;
 
-use super::{BindStats, GreenDofs, JoinWeights, StarBinding, StarError, StarOperator};
-use crate::coords::BindControl;
-use crate::io::write_atomic;
+use super::{BindStats, GreenDofs, JoinWeights, StarBinding, StarOperator};
 use crate::scene::Scene;
 
 /// 03: harmonic coordinates on grids centred on the cage (session 8); 04: a rest offset per row
@@ -19,30 +15,6 @@ const MAGIC: &[u8; 8] = b"SCBIND04";
 /// How far from 1 the stored (f32) weights of a row may sum: rounding of a few hundred f32
 /// weights stays orders of magnitude below it.
 const PARTITION_OF_UNITY_TOLERANCE: f64 = 1e-3;
-
-/// What happened with the cache.
-#[derive(Debug, Clone, PartialEq)]
-pub enum CacheOutcome {
-    /// The cache matched: no bind was needed.
-    Hit,
-    /// There was no cache; the scene was bound and the cache written.
-    Written,
-    /// The cache was stale or unreadable (the reason); the scene was bound and the cache
-    /// rewritten.
-    Replaced(String),
-    /// The bind succeeded but the cache could not be written (the reason).
-    NotWritten(String),
-}
-
-/// The cache file of a scene file.
-pub fn cache_path(scene_path: &Path) -> PathBuf {
-    let mut name = scene_path
-        .file_name()
-        .map(std::ffi::OsString::from)
-        .unwrap_or_default();
-    name.push(".bind");
-    scene_path.with_file_name(name)
-}
 
 /// FNV-1a, 64 bit: a stable hash (unlike `DefaultHasher`, fixed across Rust versions).
 #[derive(Clone, Copy)]
@@ -277,95 +249,11 @@ fn decode(
     })
 }
 
-impl StarBinding {
-    /// Binds the scene's mesh through the cache beside `scene_path`: a matching cache is used
-    /// as is; otherwise the scene is bound and the cache (re)written atomically.
-    pub fn bind_scene_cached(
-        scene: &Scene,
-        scene_path: &Path,
-        control: &BindControl,
-    ) -> Result<(Self, CacheOutcome), StarError> {
-        let key = binding_key(scene);
-        let path = cache_path(scene_path);
-        let stale = match crate::io::read_file_bytes(&path) {
-            Ok(bytes) => match decode_binding_cache(&bytes, scene) {
-                Ok(binding) => return Ok((binding, CacheOutcome::Hit)),
-                Err(reason) => Some(reason),
-            },
-            Err(_) => None,
-        };
-        let binding = Self::bind_scene(scene, control)?;
-        let outcome = match (write_atomic(&path, &encode(key, &binding)), stale) {
-            (Err(e), _) => CacheOutcome::NotWritten(e.to_string()),
-            (Ok(()), Some(reason)) => CacheOutcome::Replaced(format!(
-                "{}: ignored the binding cache: {reason}",
-                path.display()
-            )),
-            (Ok(()), None) => CacheOutcome::Written,
-        };
-        Ok((binding, outcome))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::coords::BindControl;
     use crate::generate::demo::demo_scene;
-
-    #[test]
-    fn cache_is_used_rebuilt_when_stale_and_never_trusted_when_corrupt() {
-        let dir = std::env::temp_dir().join(format!("starcages-cache-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let scene_path = dir.join("egg.json");
-        let mut scene = demo_scene("egg", 0.2).unwrap();
-        let control = BindControl::default();
-        let (first, outcome) =
-            StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
-        assert_eq!(outcome, CacheOutcome::Written);
-        let (second, outcome) =
-            StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
-        assert_eq!(outcome, CacheOutcome::Hit);
-        assert_eq!(second.operator, first.operator);
-        assert_eq!(second.join_weights, first.join_weights);
-        assert!(!first.join_weights.vertex.is_empty());
-        assert_eq!(second.boundary_weight, first.boundary_weight);
-        // A changed setting makes the cache stale.
-        scene.cages.leaves[0].h = Some(0.3);
-        let (_, outcome) = StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
-        assert!(
-            matches!(&outcome, CacheOutcome::Replaced(r) if r.contains("changed")),
-            "{outcome:?}"
-        );
-        // Flipping one byte of the content is caught by the checksum.
-        let cache = cache_path(&scene_path);
-        let mut bytes = std::fs::read(&cache).unwrap();
-        let last = bytes.len() - 5;
-        bytes[last] ^= 0x40;
-        std::fs::write(&cache, &bytes).unwrap();
-        let (rebound, outcome) =
-            StarBinding::bind_scene_cached(&scene, &scene_path, &control).unwrap();
-        assert!(
-            matches!(&outcome, CacheOutcome::Replaced(r) if r.contains("corrupt")),
-            "{outcome:?}"
-        );
-        let fresh = StarBinding::bind_scene(&scene, &control).unwrap();
-        assert_eq!(rebound.operator, fresh.operator);
-        // Truncated and garbage files too.
-        std::fs::write(&cache, &bytes[..bytes.len() / 2]).unwrap();
-        assert!(matches!(
-            StarBinding::bind_scene_cached(&scene, &scene_path, &control)
-                .unwrap()
-                .1,
-            CacheOutcome::Replaced(_)
-        ));
-        std::fs::write(&cache, b"garbage").unwrap();
-        assert!(matches!(
-            StarBinding::bind_scene_cached(&scene, &scene_path, &control)
-                .unwrap()
-                .1,
-            CacheOutcome::Replaced(_)
-        ));
-    }
 
     #[test]
     fn a_cache_claiming_another_vertex_count_is_refused_before_use() {

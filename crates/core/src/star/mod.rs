@@ -27,9 +27,7 @@ use glam::{DVec3, Vec3};
 use thiserror::Error;
 
 pub use bind::Placement;
-pub use cache::{
-    CacheOutcome, binding_key, cache_path, decode_binding_cache, encode_binding_cache,
-};
+pub use cache::{binding_key, decode_binding_cache, encode_binding_cache};
 pub use drag::DriverMap;
 pub use green_dofs::GreenDofs;
 pub use operator::StarOperator;
@@ -203,6 +201,16 @@ impl StarBinding {
     /// Binds the scene's (welded) mesh vertices.
     pub fn bind_scene(scene: &Scene, control: &BindControl) -> Result<Self, StarError> {
         Self::bind_points(scene, scene.mesh.welded_positions(), control)
+    }
+
+    /// Binds the scene's (welded) mesh vertices with `topology`, the scene's topology built
+    /// by the caller (validation keeps the one it built).
+    pub fn bind_scene_with(
+        scene: &Scene,
+        topology: &Topology,
+        control: &BindControl,
+    ) -> Result<Self, StarError> {
+        Self::bind_points_with(scene, topology, scene.mesh.welded_positions(), control)
     }
 
     /// Binds arbitrary points (at rest) to the scene's leaf cages.

@@ -6,10 +6,11 @@ use glam::DVec3;
 use proptest::array::uniform3;
 use proptest::prelude::*;
 use starcages_core::BindControl;
+use starcages_core::check::validate_scene;
 use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::generate::{AutorigSettings, Mirror, autorig, surface_pieces_per_leaf};
 use starcages_core::mesh::Mesh;
-use starcages_core::scene::{CageSet, MeshSource, Scene, SceneSettings, validate_scene};
+use starcages_core::scene::{CageSet, MeshSource, Scene, SceneSettings};
 use starcages_core::surface_nets::surface_nets;
 
 use crate::common::capsules;

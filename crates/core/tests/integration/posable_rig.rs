@@ -10,10 +10,11 @@ use std::collections::BTreeSet;
 
 use glam::{DQuat, DVec3};
 use starcages_core::BindControl;
+use starcages_core::check::validate_scene;
 use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
 use starcages_core::hierarchy::{CageEdit, Hierarchy, posed_pivot};
 use starcages_core::mesh::Mesh;
-use starcages_core::scene::{LocalCage, MeshSource, Scene, leaf_containment, validate_scene};
+use starcages_core::scene::{LocalCage, MeshSource, Scene, leaf_containment};
 use starcages_core::star::StarBinding;
 
 use crate::common::capsules;

@@ -4,8 +4,9 @@
 
 use glam::DVec3;
 use starcages_core::BindControl;
+use starcages_core::check::validate_scene;
 use starcages_core::rig::{RigEditError, RigOp, apply_rig_op};
-use starcages_core::scene::{OutsidePolicy, Scene, validate_scene};
+use starcages_core::scene::{OutsidePolicy, Scene};
 use starcages_core::star::StarBinding;
 
 use crate::common::empty_scene;

@@ -5,8 +5,8 @@
 use std::collections::BTreeSet;
 
 use glam::DVec3;
+use starcages_core::check::validate_scene;
 use starcages_core::rig::{RigEditError, RigOp, apply_rig_op};
-use starcages_core::scene::validate_scene;
 
 use crate::common::empty_scene;
 

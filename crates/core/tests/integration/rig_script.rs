@@ -5,10 +5,10 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 use starcages_core::BindControl;
+use starcages_core::check::validate_scene;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::generate::creature::{CREATURE_RIG, apply_rig_script, creature};
 use starcages_core::rig::{RigEditError, RigOp, apply_rig_op, parse_rig_script};
-use starcages_core::scene::validate_scene;
 use starcages_core::star::StarBinding;
 use starcages_core::surface_nets::surface_nets;
 

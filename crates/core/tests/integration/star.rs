@@ -820,7 +820,7 @@ fn borders_made_by_extrude_and_loop_cut_are_c1() {
     )
     .unwrap();
     apply_rig_op(&mut scene, &RigOp::parse("split right x 0.5 far").unwrap()).unwrap();
-    let report = starcages_core::scene::validate_scene(&scene);
+    let report = starcages_core::check::validate_scene(&scene);
     assert!(report.is_valid(), "{:?}", report.errors);
     let posed: Vec<DVec3> = scene.cages.vertices.iter().map(|&p| wavy(p)).collect();
     let (y, z) = (0.13, -0.21);

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use starcages_core::anim::{FPS_RANGE, Interpolation, Key, MAX_FRAME};
-use starcages_core::io::read_point_cache;
+use starcages_io::read_point_cache;
 
 use super::Command;
 use crate::state::timeline::{delete_key, key_current_pose, move_key};

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use starcages_core::hierarchy::{AutoInternalCage, add_auto_internal_cage, remove_internal_cage};
-use starcages_core::io::{cage_set_obj_text, write_atomic};
+use starcages_io::{cage_set_obj_text, write_atomic};
 
 use super::{CameraChange, Command, Effect, UnsavedAnswer};
 use crate::state::NewMeshOptions;
@@ -81,7 +81,7 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
             if inputs
                 .iter()
                 .flatten()
-                .any(|p| starcages_core::io::is_same_file(&path, p))
+                .any(|p| starcages_io::is_same_file(&path, p))
             {
                 state.error(EditorError::OutputIsInput(path));
                 return;
@@ -97,7 +97,7 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
         }
         Command::ImportCages(path) => {
             let up = state.doc.scene.export_up();
-            match starcages_core::io::read_cage_set_obj(
+            match starcages_io::read_cage_set_obj(
                 &path,
                 starcages_core::coords::CoordinateKind::MeanValue,
             ) {
@@ -620,7 +620,7 @@ fn add_internal_cage(state: &mut EditorState, kind: starcages_core::coords::Coor
 fn import_internal(state: &mut EditorState, path: &Path) {
     let up = state.doc.scene.export_up();
     let kind = starcages_core::coords::CoordinateKind::MeanValue;
-    let mut set = match starcages_core::io::read_cage_set_obj(path, kind) {
+    let mut set = match starcages_io::read_cage_set_obj(path, kind) {
         Ok(set) => set,
         Err(e) => return state.error(EditorError::Rig(e.to_string())),
     };
@@ -698,14 +698,14 @@ fn export_mesh(state: &mut EditorState, path: &Path) {
         return;
     }
     if let starcages_core::scene::MeshSource::File(source) = &state.doc.scene.mesh_source
-        && starcages_core::io::is_same_file(path, source)
+        && starcages_io::is_same_file(path, source)
     {
         state.error(EditorError::OutputIsInput(path.to_path_buf()));
         return;
     }
     let welded: Vec<glam::DVec3> = rig.deformed.iter().map(|p| p.as_dvec3()).collect();
     // In the mesh file's axes, an OBJ as a copy of its source (same vertex list and order).
-    match starcages_core::scene::write_deformed_mesh(path, &state.doc.scene, &welded) {
+    match starcages_io::write_deformed_mesh(path, &state.doc.scene, &welded) {
         Ok(()) => state.info(format!("exported {}", path.display())),
         Err(e) => state.error(EditorError::Export(e)),
     }

@@ -4,11 +4,13 @@
 use std::path::{Path, PathBuf};
 
 use starcages_core::BindControl;
+use starcages_core::check::validate_scene;
 use starcages_core::generate::demo::demo_scene;
 use starcages_core::generate::{AutocageOptions, autocage};
 use starcages_core::generate::{AutorigSettings, Mirror, autorig, autorig_settings};
-use starcages_core::io::{declares_axes, read_mesh_as};
-use starcages_core::scene::{Scene, SceneSettings, UpAxis, load_scene, save_scene, validate_scene};
+use starcages_core::scene::{Scene, SceneSettings, UpAxis};
+use starcages_io::{declares_axes, read_mesh_as};
+use starcages_io::{load_scene, save_scene};
 
 use super::EditorError;
 

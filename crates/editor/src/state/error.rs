@@ -4,9 +4,9 @@
 use std::path::PathBuf;
 
 use starcages_core::hierarchy::{AutoInternalCageError, HierarchyError, RemoveInternalCageError};
-use starcages_core::io::FileError;
-use starcages_core::scene::SceneFileError;
 use starcages_core::star::StarError;
+use starcages_io::FileError;
+use starcages_io::SceneFileError;
 
 /// An error of an editor operation. The core's errors already name the file, line or element;
 /// these variants add what the editor did and what stays as it was.

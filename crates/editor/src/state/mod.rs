@@ -598,7 +598,7 @@ impl EditorState {
         scene.pose = pose.cages;
         scene.pose_state = pose.state;
         let h = pose.h;
-        if !starcages_core::anim::bake::apply_keyed_h(scene, &h).is_empty() {
+        if !scene.apply_keyed_h(&h).is_empty() {
             // Keyed h shapes the operator: bind the cages whose h changed.
             self.document_changed();
             return;
@@ -626,7 +626,7 @@ impl EditorState {
 
     /// Validates the scene: its problems, and the elements they name for the viewport.
     fn check_rig(&mut self) {
-        let report = starcages_core::scene::validate_scene(&self.doc.scene);
+        let report = starcages_core::check::validate_scene(&self.doc.scene);
         self.rig_warnings =
             rig_warnings::RigWarnings::from_problems(&self.doc.scene, &report.errors);
         self.rig_problems = report.errors.iter().map(ToString::to_string).collect();

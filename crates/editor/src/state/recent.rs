@@ -28,5 +28,5 @@ pub fn store(file: &Path, paths: &[PathBuf]) {
         std::fs::create_dir_all(dir).ok();
     }
     let text: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-    starcages_core::io::write_atomic(file, text.join("\n").as_bytes()).ok();
+    starcages_io::write_atomic(file, text.join("\n").as_bytes()).ok();
 }

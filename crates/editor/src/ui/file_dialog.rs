@@ -57,7 +57,7 @@ impl FilePurpose {
     pub fn extensions(self) -> &'static [&'static str] {
         match self {
             Self::Open => &["json", "obj", "gltf", "glb", "fbx", "ply", "stl", "off"],
-            Self::NewFromMesh => &starcages_core::io::MESH_EXTENSIONS,
+            Self::NewFromMesh => &starcages_io::MESH_EXTENSIONS,
             Self::SaveScene | Self::SaveBeforeContinuing => &["json"],
             Self::ExportMesh => &["obj", "glb"],
             Self::ExportCages | Self::ImportCages | Self::ImportInternalCages => &["obj"],

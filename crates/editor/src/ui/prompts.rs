@@ -7,8 +7,8 @@ use super::inspector::{KINDS, kind_name};
 use crate::commands::{Command, CommandSender, UnsavedAnswer};
 use crate::state::{EditorState, NewRig};
 use starcages_core::generate::Mirror;
-use starcages_core::io::declares_axes;
 use starcages_core::scene::UpAxis;
+use starcages_io::declares_axes;
 
 /// "Unsaved changes" while an action waits for the answer.
 pub fn unsaved_prompt(

@@ -672,7 +672,7 @@ fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
     let dir = std::env::temp_dir().join("starcages-in-app-dialog");
     std::fs::create_dir_all(dir.join("meshes")).unwrap();
     let path = dir.join("bar.json");
-    starcages_core::scene::save_scene(
+    starcages_io::save_scene(
         &starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
         &path,
     )
@@ -1198,7 +1198,7 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
         std::env::temp_dir().join(format!("starcages-save-from-prompt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let other = dir.join("bar.json");
-    starcages_core::scene::save_scene(
+    starcages_io::save_scene(
         &starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
         &other,
     )

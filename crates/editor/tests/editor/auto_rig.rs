@@ -89,11 +89,11 @@ fn app_on(scene: starcages_core::scene::Scene) -> starcages_editor::EditorApp {
 /// with it as one undo step (poses of the old cages go, and come back with undo).
 #[test]
 fn the_auto_rig_is_the_default_for_a_new_mesh_and_one_undo_step_on_a_rig() {
-    use starcages_core::scene::validate_scene;
+    use starcages_core::check::validate_scene;
     let dir = scratch("auto-rig");
     let mesh = dir.join("bar.obj");
     let mut bar = starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap();
-    starcages_core::scene::write_deformed_mesh(&mesh, &bar, bar.mesh.welded_positions()).unwrap();
+    starcages_io::write_deformed_mesh(&mesh, &bar, bar.mesh.welded_positions()).unwrap();
     // An animation of the old rig's pose: its keys go with the rig (a key naming a pose the
     // scene no longer has left the scene invalid, the binding stuck on the old rig).
     bar.animation.keys.push(starcages_core::anim::Key {
@@ -247,8 +247,7 @@ fn a_new_mesh_can_open_in_a_symmetric_auto_rig() {
     let dir = scratch("new-mesh-mirror");
     let mesh = dir.join("critter.obj");
     let critter = starcages_core::generate::demo::demo_scene("critter", 0.3).unwrap();
-    starcages_core::scene::write_deformed_mesh(&mesh, &critter, critter.mesh.welded_positions())
-        .unwrap();
+    starcages_io::write_deformed_mesh(&mesh, &critter, critter.mesh.welded_positions()).unwrap();
     let mut app = app_on(critter);
     let options = starcages_editor::state::NewMeshOptions {
         mirror: starcages_core::generate::Mirror::Axis(0),

@@ -9,11 +9,11 @@ use glam::DVec3;
 use proptest::prelude::*;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::generate::demo::demo_scene;
-use starcages_core::scene::save_scene;
 use starcages_editor::commands::{CameraChange, UnsavedAnswer};
 use starcages_editor::state::undo::Snapshot;
 use starcages_editor::state::{EditorState, GestureId, SelectMode};
 use starcages_editor::{CageId, Command, Document, EditorApp};
+use starcages_io::save_scene;
 
 /// One random step; indices are taken modulo what exists when it runs.
 #[derive(Debug, Clone)]

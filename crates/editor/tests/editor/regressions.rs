@@ -5,10 +5,10 @@
 use egui_kittest::kittest::Queryable as _;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::generate::demo::demo_scene;
-use starcages_core::scene::save_scene;
 use starcages_editor::state::{InfluenceChoice, SelectMode};
 use starcages_editor::ui::viewport_paint::uploaded_mesh;
 use starcages_editor::{CageId, Command};
+use starcages_io::save_scene;
 
 use crate::common::{harness, harness_on, press, scratch, settle};
 

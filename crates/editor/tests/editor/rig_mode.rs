@@ -61,7 +61,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
     }
     assert_eq!(state.doc.scene.cages.leaves.len(), 3, "{:?}", state.message);
     assert_eq!(state.doc.scene.cages.adjacency().len(), 2);
-    assert!(starcages_core::scene::validate_scene(&state.doc.scene).is_valid());
+    assert!(starcages_core::check::validate_scene(&state.doc.scene).is_valid());
     assert_eq!(
         state.rig.as_ref().unwrap().bound_for.0.leaves.len(),
         3,
@@ -110,7 +110,7 @@ fn rig_mode_extrudes_cuts_deletes_and_moves_rest_cages() {
         "{:?}",
         harness.state().state.message
     );
-    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    assert!(starcages_core::check::validate_scene(&scene).is_valid());
     // Moving a vertex in Rig mode moves its rest position; the poses follow.
     let v = face[0];
     let before_rest = scene.cages.vertices[v as usize];
@@ -400,7 +400,7 @@ fn rig_menu_subdivides_every_cage_in_one_undo_step() {
     let state = &harness.state().state;
     let scene = &state.doc.scene;
     assert!(scene.cages.leaves.iter().all(|c| c.faces.len() == 24));
-    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert!(starcages_core::check::validate_scene(scene).is_valid());
     assert_eq!(
         state.rig.as_ref().unwrap().bound_for.0.vertices.len(),
         scene.cages.vertices.len(),
@@ -508,7 +508,7 @@ fn the_loop_cut_slides_with_the_mouse_and_a_typed_fraction_places_it() {
     settle(&mut harness);
     let scene = &harness.state().state.doc.scene;
     assert_eq!(scene.cages.leaves.len(), 3);
-    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert!(starcages_core::check::validate_scene(scene).is_valid());
     // The left cage spans x in [-1.1, 0] in the bar demo at this detail: the cut's vertices
     // sit a quarter of the way along it.
     let xs: Vec<f64> = scene.cages.vertices.iter().map(|p| p.x).collect();
@@ -640,7 +640,7 @@ fn face_select_mode_picks_faces_and_e_extrudes_each_into_a_cage_in_one_step() {
     // neighbouring faces by the same distance, share the wall between them (as Blender's region
     // extrude keeps the common edge joined).
     assert_eq!(scene.cages.adjacency().len(), 4);
-    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    assert!(starcages_core::check::validate_scene(&scene).is_valid());
     assert_eq!(
         harness.state().state.selection.vertices.len(),
         6,
@@ -755,7 +755,7 @@ fn i_insets_the_selected_face_and_e_extrudes_the_inner_face() {
         harness.state().state.message
     );
     assert_eq!(scene.cages.vertices.len(), before.cages.vertices.len() + 4);
-    assert!(starcages_core::scene::validate_scene(&scene).is_valid());
+    assert!(starcages_core::check::validate_scene(&scene).is_valid());
     let inner: std::collections::BTreeSet<u32> = scene.cages.leaves[left].faces[face]
         .iter()
         .copied()
@@ -901,7 +901,7 @@ fn g_snaps_to_a_cage_vertex_and_rig_mode_welds_the_border_in_one_undo_step() {
         2,
         "the box shares its face now"
     );
-    assert!(starcages_core::scene::validate_scene(scene).is_valid());
+    assert!(starcages_core::check::validate_scene(scene).is_valid());
     assert_eq!(
         state.selection.vertices.len(),
         4,

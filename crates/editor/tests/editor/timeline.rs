@@ -139,15 +139,15 @@ fn a_cage_point_cache_imports_as_keys_and_the_timeline_draws_them() {
                 .collect()
         })
         .collect();
-    let times = starcages_core::io::SampleTimes {
+    let times = starcages_core::anim::SampleTimes {
         start_frame: 30.0,
         frame_step: 1.0,
         fps: 24.0,
     };
     let count = scene.cages.vertices.len();
-    let mut writer = starcages_core::io::PointCacheWriter::create(
+    let mut writer = starcages_io::PointCacheWriter::create(
         &path,
-        starcages_core::io::PointCacheFormat::Pc2,
+        starcages_io::PointCacheFormat::Pc2,
         count,
         3,
         times,
@@ -177,9 +177,9 @@ fn a_cage_point_cache_imports_as_keys_and_the_timeline_draws_them() {
     assert_eq!(key_frames(&harness), vec![1.0, 12.0, 24.0]);
     // A cache of another vertex count is refused, saying why.
     let wrong = dir.join("wrong.pc2");
-    let mut writer = starcages_core::io::PointCacheWriter::create(
+    let mut writer = starcages_io::PointCacheWriter::create(
         &wrong,
-        starcages_core::io::PointCacheFormat::Pc2,
+        starcages_io::PointCacheFormat::Pc2,
         3,
         1,
         times,

@@ -37,9 +37,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 use thiserror::Error;
 
+use crate::check::validate_scene;
 use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
-use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings, validate_scene};
+use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;

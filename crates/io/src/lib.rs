@@ -1,10 +1,14 @@
-//! Reading and writing files: meshes (OBJ, glTF, GLB, FBX, PLY, STL, OFF), cage OBJ files, point lists, point
-//! caches (PC2, MDD) and baked glTF animation; atomic saves.
+//! StarCages' files: meshes (OBJ, glTF, GLB, FBX, PLY, STL, OFF) read and written, cage OBJ
+//! files, point lists, point caches (PC2, MDD), baked glTF animation, scene files, deformed
+//! mesh export and the binding cache; atomic saves. Apart from `starcages-core` so that the
+//! maths builds without the C and C++ libraries the readers use (ufbx, meshoptimizer).
 //!
 //! Every error names the file, and for text formats the 1-based line, with the reason.
 
 mod atomic;
+mod bind_cache;
 mod cage_set_obj;
+mod export;
 mod gltf_accessor;
 mod gltf_animation;
 mod gltf_meshopt;
@@ -21,16 +25,19 @@ mod obj_like_source;
 mod obj_lint;
 mod point_cache;
 mod points;
+mod scene_file;
 
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::cage::CageError;
-use crate::mesh::{Mesh, MeshError};
+use starcages_core::cage::CageError;
+use starcages_core::mesh::{Mesh, MeshError};
 
 pub use atomic::{AtomicWriter, is_same_file, remove_unfinished_saves, write_atomic};
+pub use bind_cache::{CacheOutcome, bind_scene_cached, cache_path};
 pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
+pub use export::{ExportLayout, write_deformed_mesh};
 pub use gltf_animation::{MAX_GLTF_BYTES, MAX_GLTF_FRAMES, MorphAnimation};
 pub use mesh_fbx::parse_fbx;
 pub use mesh_off::parse_off;
@@ -40,10 +47,12 @@ pub use mesh_write::{glb_bytes, glb_bytes_in_parts, obj_text, write_mesh};
 pub use obj_cage::{ObjCageGroup, ObjCages, parse_obj_cages, read_cage_obj, read_obj_cages};
 pub use obj_like_source::{ObjCopyReport, SourceVertex, source_vertex_list, write_obj_like_source};
 pub use point_cache::{
-    PointCache, PointCacheFormat, PointCacheWriter, SampleTimes, parse_point_cache,
-    read_point_cache,
+    PointCache, PointCacheFormat, PointCacheWriter, parse_point_cache, read_point_cache,
 };
 pub use points::{parse_points, read_points};
+pub use scene_file::{
+    SCENE_FORMAT, SCENE_VERSION, SceneFileError, load_scene, save_scene, scene_to_json,
+};
 
 /// The mesh file types StarCages reads, by extension.
 pub const MESH_EXTENSIONS: [&str; 7] = ["obj", "gltf", "glb", "fbx", "ply", "stl", "off"];
@@ -74,7 +83,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
 }
 
 /// Reads a mesh file written with `up` as its up axis, in scene coordinates (Z up).
-pub fn read_mesh_as(path: &Path, up: crate::scene::UpAxis) -> Result<Mesh, FileError> {
+pub fn read_mesh_as(path: &Path, up: starcages_core::scene::UpAxis) -> Result<Mesh, FileError> {
     read_mesh(path).map(|mesh| up.mesh_to_scene(mesh))
 }
 
@@ -144,7 +153,7 @@ pub enum FileError {
         "{path}: not written: vertex {vertex} has a non-finite coordinate; undo the edit or pose \
          that moved it so far (coordinates must stay within ±{}), the previous file, if any, is \
          unchanged",
-        crate::scene::MAX_COORDINATE
+        starcages_core::scene::MAX_COORDINATE
     )]
     NonFinite {
         /// The file.

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use base64::Engine as _;
-use starcages_core::io::read_mesh;
+use starcages_io::read_mesh;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
@@ -301,7 +301,7 @@ fn primitives_come_back_as_primitives_in_order() {
     assert_eq!(mesh.parts().len(), 2, "two primitive instances");
     assert_eq!(mesh.parts()[1].vertices, 3..6);
     let out = dir.join("back.glb");
-    starcages_core::io::write_mesh(&out, &mesh, mesh.positions()).unwrap();
+    starcages_io::write_mesh(&out, &mesh, mesh.positions()).unwrap();
     let back = read_mesh(&out).unwrap();
     assert_eq!(back.parts(), mesh.parts());
     assert_eq!(back.positions(), mesh.positions());

@@ -14,6 +14,8 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
+use starcages_core::anim::SampleTimes;
+
 use super::{AtomicWriter, FileError, extension, read_file_bytes};
 
 const PC2_SIGNATURE: &[u8; 12] = b"POINTCACHE2\0";
@@ -36,24 +38,6 @@ impl PointCacheFormat {
             "mdd" => Some(Self::Mdd),
             _ => None,
         }
-    }
-}
-
-/// When the samples of a cache were taken.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SampleTimes {
-    /// The frame of the first sample.
-    pub start_frame: f64,
-    /// Frames from one sample to the next (1 for every frame).
-    pub frame_step: f64,
-    /// Frames per second (MDD stores seconds: frame / fps).
-    pub fps: f64,
-}
-
-impl SampleTimes {
-    /// The frame of sample `k`.
-    pub fn frame(&self, k: usize) -> f64 {
-        self.start_frame + k as f64 * self.frame_step
     }
 }
 
@@ -240,10 +224,10 @@ fn header(
 
 impl PointCache {
     /// Checks that the cache can drive a rig's cage vertices: every coordinate within
-    /// ±[`crate::scene::MAX_COORDINATE`] (the deformation runs in 32-bit floats; a pose file is
-    /// held to the same) and every sample's frame within ±[`crate::anim::MAX_FRAME`].
+    /// ±[`starcages_core::scene::MAX_COORDINATE`] (the deformation runs in 32-bit floats; a pose file is
+    /// held to the same) and every sample's frame within ±[`starcages_core::anim::MAX_FRAME`].
     pub fn check_as_cage_animation(&self, path: &Path) -> Result<(), FileError> {
-        use crate::scene::MAX_COORDINATE;
+        use starcages_core::scene::MAX_COORDINATE;
         for (s, sample) in self.samples.iter().enumerate() {
             if let Some(p) = sample.iter().position(|p| {
                 !(p.is_finite() && f64::from(p.abs().max_element()) <= MAX_COORDINATE)
@@ -261,7 +245,7 @@ impl PointCache {
             }
         }
         let last = self.start_frame + self.samples.len().saturating_sub(1) as f64 * self.frame_step;
-        let limit = crate::anim::MAX_FRAME as f64;
+        let limit = starcages_core::anim::MAX_FRAME as f64;
         if !(self.start_frame.abs() <= limit && last.abs() <= limit) {
             return Err(FileError::format(
                 path,

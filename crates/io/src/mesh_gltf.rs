@@ -11,7 +11,7 @@ use glam::{DAffine3, DMat4, DVec3, Vec2, Vec3};
 
 use super::gltf_accessor::{check_accessor, read_elements};
 use super::{FileError, extension};
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// Reads a glTF or GLB file as one mesh.
 pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
@@ -381,7 +381,7 @@ struct Accumulator {
     all_normals: bool,
     all_uvs: bool,
     /// Each primitive (instance) read, in order.
-    parts: Vec<crate::mesh::MeshPart>,
+    parts: Vec<starcages_core::mesh::MeshPart>,
     /// The file uses KHR_mesh_quantization: vertex attributes may be integers.
     quantized: bool,
     /// World matrix of every node (skins place their meshes by their joints' worlds); `None`
@@ -749,7 +749,7 @@ fn add_node_mesh(
                     (0..count as u32 / 3).for_each(|t| push([3 * t, 3 * t + 1, 3 * t + 2]))
                 }
             }
-            out.parts.push(crate::mesh::MeshPart {
+            out.parts.push(starcages_core::mesh::MeshPart {
                 vertices: base..out.positions.len() as u32,
                 triangles: first_triangle..out.triangles.len() as u32,
             });

@@ -8,8 +8,8 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{FileError, read_obj_cages};
-use crate::coords::CoordinateKind;
-use crate::scene::{CageSet, LeafCage};
+use starcages_core::coords::CoordinateKind;
+use starcages_core::scene::{CageSet, LeafCage};
 
 /// Reads an OBJ file of one or more cages into a cage set whose leaf cages all use `kind`.
 /// Face vertex indices are welded; vertices used by no face are dropped.
@@ -113,7 +113,7 @@ pub fn read_pose_obj(path: &Path, expected: usize) -> Result<Vec<DVec3>, FileErr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::generate::demo::demo_scene;
+    use starcages_core::generate::demo::demo_scene;
 
     #[test]
     fn cage_sets_round_trip_and_shared_vertices_are_welded() {

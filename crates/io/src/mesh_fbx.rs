@@ -15,7 +15,7 @@ use std::path::Path;
 use glam::{DAffine3, DMat3, DVec3, Vec2, Vec3};
 
 use super::FileError;
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// Memory ufbx may use while reading: generous for real files (a 1M-triangle binary FBX of
 /// about 60 MB needs a few hundred megabytes), bounded for forged ones (compressed arrays that

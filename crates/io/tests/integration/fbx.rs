@@ -8,9 +8,9 @@ use std::path::Path;
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 use proptest::prelude::*;
-use starcages_core::io::{parse_fbx, read_mesh, read_mesh_as};
 use starcages_core::mesh::Mesh;
 use starcages_core::scene::UpAxis;
+use starcages_io::{parse_fbx, read_mesh, read_mesh_as};
 
 /// One value of an FBX node's property list.
 #[derive(Clone)]

@@ -10,11 +10,13 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use thiserror::Error;
 
-use super::UpAxis;
-use super::{CageSet, HierarchyState, InternalCage, LeafCage, MeshSource, Scene, SceneSettings};
-use crate::anim::Animation;
-use crate::io::{FileError, read_mesh_as, write_atomic};
-use crate::mesh::{Mesh, MeshError};
+use crate::{FileError, read_mesh_as, write_atomic};
+use starcages_core::anim::Animation;
+use starcages_core::mesh::{Mesh, MeshError};
+use starcages_core::scene::UpAxis;
+use starcages_core::scene::{
+    CageSet, HierarchyState, InternalCage, LeafCage, MeshSource, Scene, SceneSettings,
+};
 
 /// The `format` name of scene files.
 pub const SCENE_FORMAT: &str = "starcages-scene";
@@ -239,7 +241,7 @@ fn misplaced_array(value: &Value) -> Option<(String, &'static str)> {
 
 /// Reads a scene file and the mesh it names.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneFileError> {
-    let text = crate::io::read_text(path)?;
+    let text = crate::read_text(path)?;
     let syntax = |e: serde_json::Error| SceneFileError::Syntax {
         path: path.to_path_buf(),
         reason: e.to_string(),
@@ -374,7 +376,7 @@ pub fn scene_to_json(scene: &Scene, scene_path: &Path) -> String {
     };
     // Serialising plain data to a Value cannot fail (no maps with non-string keys).
     let value = serde_json::to_value(&file).unwrap_or(Value::Null);
-    super::pretty_json::to_pretty(&value)
+    starcages_core::scene::to_pretty_json(&value)
 }
 
 /// Saves the scene atomically: a failed save leaves the previous file intact and says why.

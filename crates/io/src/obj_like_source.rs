@@ -11,7 +11,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{FileError, parse_finite, read_text, write_atomic};
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// What an OBJ export kept and changed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,16 +6,17 @@
 //! controls show the writers refusing what validation refuses, and the reader refusing the
 //! header a writer without those checks wrote.
 
+use starcages_core::anim::SampleTimes;
 use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
-use starcages_core::anim::bake::{animation_samples, gltf_seconds};
+use starcages_core::anim::sampling::{animation_samples, gltf_seconds};
 use starcages_core::anim::{Animation, Interpolation, Key};
-use starcages_core::io::{
-    MorphAnimation, PointCacheFormat, PointCacheWriter, SampleTimes, read_mesh, read_point_cache,
-};
 use starcages_core::mesh::Mesh;
+use starcages_io::{
+    MorphAnimation, PointCacheFormat, PointCacheWriter, read_mesh, read_point_cache,
+};
 
 fn scratch() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("starcages-written-files-{}", std::process::id()));
@@ -329,7 +330,7 @@ proptest! {
         let dir = scratch();
         for extension in ["obj", "glb"] {
             let path = dir.join(format!("mesh{case}.{extension}"));
-            starcages_core::io::write_mesh(&path, &mesh, mesh.positions())
+            starcages_io::write_mesh(&path, &mesh, mesh.positions())
                 .map_err(|e| TestCaseError::fail(format!("{extension}: not written: {e}")))?;
             let read = read_mesh(&path)
                 .map_err(|e| TestCaseError::fail(format!("{extension}: written, then refused: {e}")))?;

@@ -12,7 +12,7 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::FileError;
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// The storage of a scalar property.
 #[derive(Debug, Clone, Copy, PartialEq)]

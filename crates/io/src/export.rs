@@ -6,11 +6,11 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{MeshSource, Scene, UpAxis};
-use crate::io::{
+use crate::{
     FileError, SourceVertex, extension, read_text, source_vertex_list, write_mesh,
     write_obj_like_source,
 };
+use starcages_core::scene::{MeshSource, Scene, UpAxis};
 
 /// Writes the scene's mesh deformed to `welded` (welded positions, scene coordinates) to
 /// `path` (.obj or .glb), turned back to the mesh file's up axis ([`Scene::export_up`]). A

@@ -12,7 +12,7 @@ use glam::{DVec3, Vec3};
 
 use super::mesh_write::{GltfBuilder, glb_container, whole_if_empty};
 use super::{FileError, extension, write_atomic};
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// The most frames one glTF bake holds: its weights grow as frames², and engines load every
 /// target (bake longer animations to PC2 or MDD, or in ranges with `--frames`).

@@ -5,7 +5,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{FileError, parse_finite, read_text};
-use crate::cage::MAX_COORDINATE;
+use starcages_core::cage::MAX_COORDINATE;
 
 /// Reads a point list file.
 pub fn read_points(path: &Path) -> Result<Vec<DVec3>, FileError> {

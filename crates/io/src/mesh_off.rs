@@ -11,7 +11,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::FileError;
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// Reads an OFF mesh.
 pub(super) fn read_off_mesh(path: &Path) -> Result<Mesh, FileError> {

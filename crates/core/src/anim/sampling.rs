@@ -1,14 +1,24 @@
-//! Baking: the mesh at a run of frames through one compiled operator. Cage positions change
-//! per frame at the cost of one sparse product; a frame whose keyed h differs from the
-//! operator's re-binds only the cages whose h changed (h shapes their rows of S, eq. 11).
+//! Sampling an animation: which scene frames a bake or a cage cache takes, and when they fall
+//! (the headers of point caches and the times of an animated glTF), within the bounds every
+//! reader accepts.
 
-use std::collections::BTreeMap;
+/// When the samples of a cache were taken.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleTimes {
+    /// The frame of the first sample.
+    pub start_frame: f64,
+    /// Frames from one sample to the next (1 for every frame).
+    pub frame_step: f64,
+    /// Frames per second (MDD stores seconds: frame / fps).
+    pub fps: f64,
+}
 
-use glam::DVec3;
-
-use crate::coords::BindControl;
-use crate::scene::Scene;
-use crate::star::{StarBinding, StarError};
+impl SampleTimes {
+    /// The frame of sample `k`.
+    pub fn frame(&self, k: usize) -> f64 {
+        self.start_frame + k as f64 * self.frame_step
+    }
+}
 
 /// The most samples one bake takes (a day at 120 frames per second).
 pub const MAX_SAMPLES: usize = 10_368_000;
@@ -90,7 +100,7 @@ pub fn animation_samples(
     animation: &super::Animation,
     range: Option<(i64, i64)>,
     rate: Option<f64>,
-) -> Result<(Vec<f64>, crate::io::SampleTimes), SamplingError> {
+) -> Result<(Vec<f64>, SampleTimes), SamplingError> {
     let (first, last) = range.unwrap_or((animation.frame_start, animation.frame_end));
     if !super::FPS_RANGE.contains(&animation.fps) {
         return Err(SamplingError::SceneFps { fps: animation.fps });
@@ -110,7 +120,7 @@ pub fn animation_samples(
     })?;
     Ok((
         frames,
-        crate::io::SampleTimes {
+        SampleTimes {
             start_frame: first as f64,
             frame_step: step,
             fps: animation.fps,
@@ -124,65 +134,6 @@ pub fn animation_samples(
 pub fn gltf_seconds(frames: &[f64], fps: f64) -> Vec<f64> {
     let origin = frames.first().copied().unwrap_or(0.0).min(0.0);
     frames.iter().map(|frame| (frame - origin) / fps).collect()
-}
-
-/// Sets the h of the leaf cages named in `h` (a key's values); returns the indices of the
-/// cages whose h changed. Names that are not leaf cages are ignored (validation reports them).
-pub fn apply_keyed_h(scene: &mut Scene, h: &BTreeMap<String, f64>) -> Vec<usize> {
-    let mut changed = Vec::new();
-    for (name, &value) in h {
-        let Some(index) = scene.cages.leaf_index(name) else {
-            continue;
-        };
-        if scene.cage_h(index) != value {
-            scene.cages.leaves[index].h = Some(value);
-            changed.push(index);
-        }
-    }
-    changed
-}
-
-/// A scene's mesh deformed frame after frame by one binding.
-pub struct FrameDeformer {
-    scene: Scene,
-    binding: StarBinding,
-}
-
-impl FrameDeformer {
-    /// Deforms `scene`'s mesh with `binding` (a binding of that scene).
-    pub fn new(scene: Scene, binding: StarBinding) -> Self {
-        Self { scene, binding }
-    }
-
-    /// The scene as bound now (its h as the last frame keyed it).
-    pub fn scene(&self) -> &Scene {
-        &self.scene
-    }
-
-    /// The binding as it stands now.
-    pub fn binding(&self) -> &StarBinding {
-        &self.binding
-    }
-
-    /// The welded mesh, in scene coordinates, for cage vertices at `cage_positions` and the
-    /// keyed h values `h` (re-binding the cages whose h changed since the last frame).
-    pub fn deform(
-        &mut self,
-        cage_positions: &[DVec3],
-        h: &BTreeMap<String, f64>,
-        control: &BindControl,
-    ) -> Result<Vec<DVec3>, StarError> {
-        let changed = apply_keyed_h(&mut self.scene, h);
-        if !changed.is_empty() {
-            self.binding = self.binding.rebind_leaves(&self.scene, &changed, control)?;
-        }
-        Ok(self
-            .binding
-            .deform(&self.scene.cages.vertices, cage_positions)
-            .iter()
-            .map(|p| p.as_dvec3())
-            .collect())
-    }
 }
 
 #[cfg(test)]

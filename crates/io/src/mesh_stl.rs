@@ -11,7 +11,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::FileError;
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// Reads an STL mesh, binary or ASCII.
 pub(super) fn read_stl_mesh(path: &Path) -> Result<Mesh, FileError> {

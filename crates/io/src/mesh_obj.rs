@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::FileError;
-use crate::mesh::Mesh;
+use starcages_core::mesh::Mesh;
 
 /// Reads all objects of an OBJ file as one mesh.
 pub(super) fn read_obj_mesh(path: &Path) -> Result<Mesh, FileError> {

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use glam::DVec3;
 use proptest::prelude::*;
-use starcages_core::io::{parse_off, parse_ply, parse_stl, read_mesh};
+use starcages_io::{parse_off, parse_ply, parse_stl, read_mesh};
 
 /// The unit cube's corners and its six quads, outward.
 const CORNERS: [[f64; 3]; 8] = [
@@ -194,8 +194,7 @@ fn the_same_cube_reads_from_every_format() {
 #[test]
 fn forged_and_broken_files_are_refused_with_the_reason() {
     let at = Path::new("bad");
-    let says = |result: Result<starcages_core::mesh::Mesh, starcages_core::io::FileError>,
-                text: &str| {
+    let says = |result: Result<starcages_core::mesh::Mesh, starcages_io::FileError>, text: &str| {
         let error = result.unwrap_err().to_string();
         assert!(error.contains(text), "{text:?} not in {error}");
     };
@@ -285,8 +284,7 @@ fn forged_and_broken_files_are_refused_with_the_reason() {
 #[test]
 fn nonsense_is_refused_not_read_as_another_mesh() {
     let at = Path::new("bad");
-    let says = |result: Result<starcages_core::mesh::Mesh, starcages_core::io::FileError>,
-                text: &str| {
+    let says = |result: Result<starcages_core::mesh::Mesh, starcages_io::FileError>, text: &str| {
         let error = result.unwrap_err().to_string();
         assert!(error.contains(text), "{text:?} not in {error}");
     };

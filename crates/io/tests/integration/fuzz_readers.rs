@@ -14,9 +14,9 @@ use std::path::PathBuf;
 use proptest::prelude::*;
 use serde_json::Value;
 use starcages_core::generate::demo::demo_scene;
-use starcages_core::io::{glb_bytes, parse_obj_cages, parse_points, read_cage_obj, read_mesh};
-use starcages_core::scene::{load_scene, save_scene};
 use starcages_core::star::{StarBinding, decode_binding_cache, encode_binding_cache};
+use starcages_io::{glb_bytes, parse_obj_cages, parse_points, read_cage_obj, read_mesh};
+use starcages_io::{load_scene, save_scene};
 
 /// Cases per property: 64 in the test suite, more from `scripts/fuzz.sh`
 /// (`STARCAGES_FUZZ_CASES`).
@@ -90,7 +90,7 @@ proptest! {
             std::fs::write(&path, &bytes).unwrap();
             // What loads is validated and played: a damaged animation never panics either.
             if let Ok(scene) = load_scene(&path) {
-                let _ = starcages_core::scene::validate_scene(&scene);
+                let _ = starcages_core::check::validate_scene(&scene);
                 for frame in [-1.0, 1.0, 6.5, 12.0, 1e300] {
                     let _ = scene.animation.pose_at(&scene.poses, frame);
                     let _ = scene.animation.h_at(frame);
@@ -103,7 +103,8 @@ proptest! {
     /// panic or an allocation the file's length does not back.
     #[test]
     fn point_cache_readers_never_panic(cuts in prop::collection::vec((any::<usize>(), any::<u8>()), 1..6), raw in prop::collection::vec(any::<u8>(), 0..200)) {
-        use starcages_core::io::{PointCacheFormat, PointCacheWriter, SampleTimes, parse_point_cache};
+        use starcages_core::anim::SampleTimes;
+        use starcages_io::{PointCacheFormat, PointCacheWriter, parse_point_cache};
         let dir = scratch();
         for format in [PointCacheFormat::Pc2, PointCacheFormat::Mdd] {
             let path = dir.join(format!("{}-valid-{format:?}", std::process::id()));

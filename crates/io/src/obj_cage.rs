@@ -9,7 +9,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::{FileError, parse_finite, read_text};
-use crate::cage::Cage;
+use starcages_core::cage::Cage;
 
 /// One `o`/`g` group of an OBJ file.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use starcages_core::io::read_mesh;
+use starcages_io::read_mesh;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("starcages-gltf-{name}-{}", std::process::id()));

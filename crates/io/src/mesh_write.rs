@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DVec3, Vec2, Vec3};
 
 use super::{FileError, extension, write_atomic};
-use crate::mesh::{Mesh, MeshPart};
+use starcages_core::mesh::{Mesh, MeshPart};
 
 /// Writes `mesh` with vertex `positions` (original layout) to an OBJ or GLB file, with normals
 /// recomputed from those positions, atomically.
@@ -292,7 +292,7 @@ pub(crate) fn glb_container(document: &serde_json::Value, bin: &[u8]) -> Vec<u8>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::read_mesh;
+    use crate::read_mesh;
 
     fn quad() -> Mesh {
         let p = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
