@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Plot `starcages-cli bench --scale MESH --json` output: bind time and peak memory against
+"""Plot `starcages-bench --scale MESH --json` output: bind time and peak memory against
 mesh vertices, for *Cages, the single MVC cage and (where measured) Blender's Mesh Deform.
 
 Usage (matplotlib in a throw-away venv, never a project dependency):
-    starcages-cli bench --scale ../shared/meshes/armadillo.obj --blender VENV/bin/python \\
+    starcages-bench --scale ../shared/meshes/armadillo.obj --blender VENV/bin/python \\
         --json > scale.json
     VENV/bin/python scripts/plot_scale.py scale.json docs/images/bind_scale.png
 """

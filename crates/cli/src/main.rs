@@ -1,24 +1,16 @@
-//! `starcages-cli`: the headless StarCages tool over the core crate.
+//! `starcages-cli`: the headless StarCages tool over the core crate (the commands are the
+//! `starcages_cli` library's; benchmarks are `starcages-bench`'s).
 //!
 //! Exit status: 0 on success, 2 when an input file or its content is bad (the message names
 //! the file, the line or element, and the fix), 1 for any other failure (a write the system
 //! refuses among them: a full disk is not bad input).
 
-mod commands;
-mod output;
-mod progress;
-
 use std::process::ExitCode;
 
 use clap::{CommandFactory as _, FromArgMatches as _, Parser, Subcommand};
-use peakmem_alloc::{INSTRUMENTED_SYSTEM, PeakMemAlloc};
-
-/// The system allocator, counting the heap's peak since a reset: `bench --scale` reports each
-/// bind's peak memory from it (two atomic adds per allocation; the binds allocate in large
-/// blocks).
-#[global_allocator]
-static ALLOCATOR: &PeakMemAlloc<std::alloc::System> = &INSTRUMENTED_SYSTEM;
-
+use starcages_cli::{
+    commands, exit_status, negative_numbers_as_values, remove_unfinished_saves_on_signals,
+};
 /// StarCages command-line tool: scenes, cages, coordinates.
 #[derive(Debug, Parser)]
 #[command(name = "starcages-cli", version, about)]
@@ -59,56 +51,18 @@ enum Command {
     Render(commands::render::RenderArgs),
     /// Deformed positions of arbitrary points, as JSON.
     Eval(commands::eval::EvalArgs),
-    /// GPU deformation and drawing against the CPU operator, per frame (prism demo).
-    BenchGpu(commands::bench_gpu::BenchGpuArgs),
-    /// *Cages against single-cage baselines: memory, bind, frame and move times.
-    Bench(commands::bench::BenchArgs),
+    /// Moved to `starcages-bench` (kept to say so).
+    #[command(hide = true, name = "bench", alias = "bench-gpu")]
+    MovedBench {
+        /// Whatever followed.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        rest: Vec<String>,
+    },
 }
 
-/// An error the user caused with their input (exit status 2).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct InputError(pub String);
-
-/// Exit status after Ctrl-C or SIGTERM: 128 + SIGINT, as shells report an interrupted program.
-const INTERRUPTED: i32 = 130;
-
-/// On Ctrl-C, SIGTERM or SIGHUP: remove the temporary file of a save in progress (the target
-/// keeps its old content) and exit. Without this the default action would kill the process
-/// before the temporary file's destructor ran.
-fn remove_unfinished_saves_on_signals() {
-    let installed = ctrlc::set_handler(|| {
-        let removed = starcages_io::remove_unfinished_saves();
-        if removed > 0 {
-            crate::note!(
-                "interrupted: the unfinished save was removed; the file keeps its old content"
-            );
-        } else {
-            crate::note!("interrupted");
-        }
-        std::process::exit(INTERRUPTED);
-    });
-    if let Err(e) = installed {
-        crate::note!(
-            "warning: no Ctrl-C handler ({e}); an interrupted save may leave a temporary file"
-        );
-    }
-}
-
-/// The command line parsed, with negative numbers taken as values everywhere (`--margin -1`
-/// reaches the range check that names the allowed range, instead of clap's "unexpected
-/// argument '-1'" and its wrong tip), and values that start with a minus (`--frames -10..-5`)
-/// taken by the options whose values may (see their `allow_hyphen_values`).
+/// The command line parsed, negative numbers taken as values ([`negative_numbers_as_values`]).
 fn parse_command_line() -> Cli {
-    let command = Cli::command().mut_subcommands(|subcommand| {
-        subcommand.mut_args(|arg| {
-            if arg.get_long().is_some() && arg.get_action().takes_values() {
-                arg.allow_negative_numbers(true)
-            } else {
-                arg
-            }
-        })
-    });
+    let command = Cli::command().mut_subcommands(negative_numbers_as_values);
     let matches = command.get_matches();
     Cli::from_arg_matches(&matches).unwrap_or_else(|error| error.exit())
 }
@@ -131,41 +85,13 @@ fn main() -> ExitCode {
         Command::Bake(args) => commands::bake::run(&args),
         Command::Eval(args) => commands::eval::run(&args),
         Command::Render(args) => commands::render::run(&args),
-        Command::Bench(args) => commands::bench::run(&args),
-        Command::BenchGpu(args) => commands::bench_gpu::run(&args),
+        Command::MovedBench { .. } => Err(starcages_cli::InputError(
+            "the benchmarks moved to their own binary: run `starcages-bench` (bench) or \
+             `starcages-bench gpu` (bench-gpu), e.g. `cargo run --release -p starcages-bench -- \
+             --json`"
+                .into(),
+        )
+        .into()),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(error) if output::is_broken_pipe(&error) => ExitCode::SUCCESS,
-        Err(error) => {
-            crate::note!("error: {error:#}");
-            if is_bad_input(&error) {
-                ExitCode::from(2)
-            } else {
-                ExitCode::FAILURE
-            }
-        }
-    }
-}
-
-/// Whether `error` is the user's input (exit status 2) rather than a failure of the system
-/// (exit status 1): a write the system refused (a full disk, a read-only folder, a quota) is
-/// not bad input, though the file is ours to name.
-fn is_bad_input(error: &anyhow::Error) -> bool {
-    use starcages_io::FileError;
-    use starcages_io::SceneFileError;
-    if error.downcast_ref::<InputError>().is_some() {
-        return true;
-    }
-    let file_error = error.downcast_ref::<FileError>().or_else(|| {
-        match error.downcast_ref::<SceneFileError>() {
-            Some(SceneFileError::File(file)) => Some(file),
-            _ => None,
-        }
-    });
-    match file_error {
-        Some(FileError::Write { .. }) => false,
-        Some(_) => true,
-        None => error.downcast_ref::<SceneFileError>().is_some(),
-    }
+    exit_status(result)
 }

@@ -3,11 +3,6 @@
 pub mod autocage;
 pub mod autorig;
 pub mod bake;
-pub mod bench;
-pub mod bench_drag;
-pub mod bench_gpu;
-pub mod bench_rest_edit;
-pub mod bench_scale;
 pub mod cages;
 pub mod deform;
 pub mod demo;

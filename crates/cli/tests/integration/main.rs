@@ -3,7 +3,6 @@
 #![allow(clippy::unwrap_used)]
 
 mod animation;
-mod bench;
 mod common;
 mod deform;
 mod hostile;

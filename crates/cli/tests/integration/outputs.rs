@@ -167,16 +167,6 @@ fn an_edit_that_blows_the_mesh_up_writes_nothing() {
     assert!(!out.exists());
 }
 
-#[test]
-fn absurd_benchmark_sizes_are_refused_at_once() {
-    refused(
-        &["bench", "--grid", "1000", "1000", "1000"],
-        "1000 is not in 1..=32",
-    );
-    refused(&["bench", "--prism-detail", "1000"], "out of range");
-    refused(&["bench-gpu", "--frames", "1000000000"], "not in 1..=10000");
-}
-
 /// SIGTERM (and Ctrl-C, the same handler) in the middle of a save: the temporary file is
 /// removed, the target keeps its old content, and the status says the program was interrupted.
 #[cfg(unix)]
@@ -293,4 +283,14 @@ fn a_full_disk_exits_1_and_leaves_nothing() {
         .filter(|e| e.file_name().to_string_lossy().ends_with(".starcages-tmp"))
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+/// `bench` and `bench-gpu` moved to `starcages-bench`: the old names say where, with status 2.
+#[test]
+fn the_old_benchmark_commands_say_where_they_moved() {
+    for args in [&["bench", "--json"][..], &["bench-gpu", "--frames", "2"]] {
+        let out = cli(args);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(stderr(&out).contains("starcages-bench"), "{}", stderr(&out));
+    }
 }

@@ -50,29 +50,3 @@ fn renders_pngs_with_maps_and_refuses_bad_options() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("no leaf cage named 'nose'"));
 }
-
-#[test]
-fn bench_gpu_reports_deformation_and_draw_times() {
-    let out = cli(&[
-        "bench-gpu",
-        "--detail",
-        "0.4",
-        "--frames",
-        "2",
-        "--width",
-        "160",
-        "--json",
-    ]);
-    ok(&out);
-    let report: serde_json::Value = serde_json::from_str(&common::stdout(&out)).unwrap();
-    for key in [
-        "gpu_deform_ms",
-        "gpu_draw_ms",
-        "cpu_deform_ms",
-        "triangles",
-        "adapter",
-    ] {
-        assert!(!report[key].is_null(), "{key} missing");
-    }
-    assert!(report["gpu_deform_ms"].as_f64().unwrap() > 0.0);
-}

@@ -338,10 +338,9 @@ fn edit_builds_a_rig_from_nothing_and_refuses_a_bad_op_writing_nothing() {
 }
 
 /// `edit --script` runs a file of operations (comments allowed) before the `--op` ones; a bad
-/// line is named by file and line and nothing is written. `bench --scene --table2` benches the
-/// result against the single cages of the same kind.
+/// line is named by file and line and nothing is written.
 #[test]
-fn edit_runs_a_script_file_and_bench_measures_the_result_as_table_two() {
+fn edit_runs_a_script_file_and_names_a_bad_line() {
     let d = dir("edit-script");
     let tower = write_tower(&d);
     let script = d.join("rig.ops");
@@ -373,25 +372,6 @@ fn edit_runs_a_script_file_and_bench_measures_the_result_as_table_two() {
         cages[0]["faces"], 40,
         "the inset's ten faces, subdivided: the top grew from its inner face"
     );
-    let bench = cli(&[
-        "bench",
-        "--scene",
-        s(&scene),
-        "--only",
-        "rig",
-        "--no-hc",
-        "--table2",
-        "--json",
-    ]);
-    ok(&bench);
-    let report: serde_json::Value = serde_json::from_slice(&bench.stdout).unwrap();
-    let pairs = report["table2"].as_array().unwrap();
-    assert_eq!(pairs.len(), 2);
-    assert!(pairs.iter().all(|p| {
-        ["memory_ratio", "move_work_ratio"]
-            .iter()
-            .all(|k| p[k].as_f64().is_some_and(|r| r.is_finite() && r > 0.0))
-    }));
     // A bad line: named by file and line; nothing written.
     std::fs::write(
         &script,

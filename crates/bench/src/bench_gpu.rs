@@ -1,4 +1,4 @@
-//! `starcages-cli bench-gpu`: per-frame cost of GPU deformation and rendering against the CPU
+//! `starcages-bench gpu`: per-frame cost of GPU deformation and rendering against the CPU
 //! operator on the prism demo (about 200k triangles at detail 3, a million at detail 7), on
 //! whatever adapter wgpu picks (a discrete GPU when there is one).
 
@@ -14,10 +14,10 @@ use starcages_viewport::framing_camera;
 use starcages_viewport::gpu::cpu_normals;
 use starcages_viewport::gpu::{GpuContext, Layers, OFFSCREEN_FORMAT, SceneRenderer, ViewTarget};
 
-use crate::InputError;
-use crate::progress::with_progress;
+use starcages_cli::InputError;
+use starcages_cli::progress::with_progress;
 
-/// Arguments of `bench-gpu`.
+/// Arguments of `starcages-bench gpu`.
 #[derive(Debug, Args)]
 pub struct BenchGpuArgs {
     /// Tessellation of the prism demo (3: about 200k triangles; 7: about a million).
@@ -149,15 +149,15 @@ pub fn run(args: &BenchGpuArgs) -> anyhow::Result<()> {
         cpu_to_gpu_deform_ratio: (cpu_deform_ms + cpu_normals_ms) / gpu_deform_ms.max(1e-9),
     };
     if !report.deforms_on_gpu {
-        crate::note!(
+        starcages_cli::note!(
             "the operator does not fit this device's buffer limits (or it has no compute): \
              the GPU deformation column times the CPU path's upload"
         );
     }
     if args.json {
-        crate::output::line(serde_json::to_string_pretty(&report)?)?;
+        starcages_cli::output::line(serde_json::to_string_pretty(&report)?)?;
     } else {
-        crate::output::line(format_args!(
+        starcages_cli::output::line(format_args!(
             "{} ({}, {}): {} triangles, {} non-zeros; bind {:.2} s\n\
              CPU deform {:.2} ms + normals {:.2} ms; GPU deform+normals {:.2} ms, draw {:.2} ms \
              ({:.0} fps); CPU/GPU deformation {:.1}×",

@@ -2,13 +2,11 @@
 //! `bench --scale`: the bind's time and memory against mesh size; `bench --drags`: drags of
 //! internal cages.
 
-use crate::common::{cli, dir, ok, s, stderr};
+use crate::common::{bench, demo, dir, ok, s, stderr, stdout};
 
 #[test]
 fn bench_sweeps_h_and_reports_bind_ratios() {
-    let out = cli(&[
-        "bench", "--only", "bar", "--h", "1.0,0.5", "--no-hc", "--json",
-    ]);
+    let out = bench(&["--only", "bar", "--h", "1.0,0.5", "--no-hc", "--json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let methods: Vec<&str> = report["rows"]
@@ -32,7 +30,7 @@ fn bench_sweeps_h_and_reports_bind_ratios() {
     let rows = report["rows"].as_array().unwrap();
     let nnz = |i: usize| rows[i]["nonzeros_per_row"].as_f64().unwrap();
     assert!(nnz(0) >= nnz(1), "{} vs {}", nnz(0), nnz(1));
-    let bad = cli(&["bench", "--h", "0"]);
+    let bad = bench(&["--h", "0"]);
     assert_eq!(bad.status.code(), Some(2));
 }
 
@@ -48,8 +46,7 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
     )
     .unwrap();
-    let out = cli(&[
-        "bench",
+    let out = bench(&[
         "--scale",
         mesh.to_str().unwrap(),
         "--segments",
@@ -72,13 +69,7 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
         assert!(size["single_mvc"]["seconds"].as_f64().unwrap() > 0.0);
         assert!(size.get("blender").is_none());
     }
-    let bad = cli(&[
-        "bench",
-        "--scale",
-        mesh.to_str().unwrap(),
-        "--segments",
-        "0",
-    ]);
+    let bad = bench(&["--scale", mesh.to_str().unwrap(), "--segments", "0"]);
     assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
     assert!(stderr(&bad).contains("--segments 0"), "{}", stderr(&bad));
     // A size past the benchmark's bound is refused before any work: 3,000 tetrahedra (12,000
@@ -97,13 +88,7 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
         ));
     }
     std::fs::write(&fine, text).unwrap();
-    let huge = cli(&[
-        "bench",
-        "--scale",
-        fine.to_str().unwrap(),
-        "--segments",
-        "64",
-    ]);
+    let huge = bench(&["--scale", fine.to_str().unwrap(), "--segments", "64"]);
     assert_eq!(huge.status.code(), Some(2), "{}", stderr(&huge));
     assert!(
         stderr(&huge).contains("use fewer cuts"),
@@ -118,15 +103,7 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
 #[test]
 fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
     let d = dir("bench-drags");
-    ok(&cli(&[
-        "demo",
-        "critter",
-        "--detail",
-        "0.4",
-        "--out",
-        s(&d),
-    ]));
-    let path = d.join("critter.json");
+    let path = demo("critter", 0.4, &d);
     let mut scene: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     for cage in scene["cages"].as_array_mut().unwrap() {
@@ -135,7 +112,7 @@ fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
         }
     }
     std::fs::write(&path, serde_json::to_string(&scene).unwrap()).unwrap();
-    let out = cli(&["bench", "--drags", s(&path), "--json"]);
+    let out = bench(&["--drags", s(&path), "--json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let drags = report["drags"].as_array().unwrap();
@@ -146,8 +123,8 @@ fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
         assert!(drag["map_error"].as_f64().unwrap() < 1e-5, "{drag}");
         assert!(drag["rows"].as_u64().unwrap() > 0, "{drag}");
     }
-    ok(&cli(&["demo", "bar", "--out", s(&d)]));
-    let bar = cli(&["bench", "--drags", s(&d.join("bar.json"))]);
+    let bar = demo("bar", 1.0, &d);
+    let bar = bench(&["--drags", s(&bar)]);
     assert_eq!(bar.status.code(), Some(2));
     assert!(
         stderr(&bar).contains("no internal cages"),
@@ -163,8 +140,8 @@ fn bench_drags_times_each_internal_cage_s_drag_both_ways() {
 #[test]
 fn bench_rest_edits_reports_each_vertex_s_reach() {
     let d = dir("bench-rest-edits");
-    ok(&cli(&["demo", "bar", "--detail", "0.3", "--out", s(&d)]));
-    let out = cli(&["bench", "--rest-edits", s(&d.join("bar.json")), "--json"]);
+    let bar = demo("bar", 0.3, &d);
+    let out = bench(&["--rest-edits", s(&bar), "--json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let edits = report["edits"].as_array().unwrap();
@@ -196,4 +173,62 @@ fn bench_rest_edits_reports_each_vertex_s_reach() {
         assert!((rows + other - seconds).abs() < 1e-9, "{e}");
     }
     assert!(report["median_other_s"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn bench_gpu_reports_deformation_and_draw_times() {
+    let out = bench(&[
+        "gpu", "--detail", "0.4", "--frames", "2", "--width", "160", "--json",
+    ]);
+    ok(&out);
+    let report: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    for key in [
+        "gpu_deform_ms",
+        "gpu_draw_ms",
+        "cpu_deform_ms",
+        "triangles",
+        "adapter",
+    ] {
+        assert!(!report[key].is_null(), "{key} missing");
+    }
+    assert!(report["gpu_deform_ms"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn absurd_benchmark_sizes_are_refused_at_once() {
+    let refused = |args: &[&str], expected: &str| {
+        let out = bench(args);
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains(expected), "{}", stderr(&out));
+    };
+    refused(&["--grid", "1000", "1000", "1000"], "1000 is not in 1..=32");
+    refused(&["--prism-detail", "1000"], "out of range");
+    refused(&["gpu", "--frames", "1000000000"], "not in 1..=10000");
+}
+
+/// `--scene --table2` benches a rig of mean value and Green cages (the bumpy demo, written as
+/// a scene file) against the single cages of the same kind.
+#[test]
+fn table_two_pairs_each_kind_with_its_single_cage() {
+    let d = dir("table2");
+    let scene = d.join("rig.json");
+    std::fs::rename(demo("bumpy", 0.2, &d), &scene).unwrap();
+    let out = bench(&[
+        "--scene",
+        s(&scene),
+        "--only",
+        "rig",
+        "--no-hc",
+        "--table2",
+        "--json",
+    ]);
+    ok(&out);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let pairs = report["table2"].as_array().unwrap();
+    assert_eq!(pairs.len(), 2);
+    assert!(pairs.iter().all(|p| {
+        ["memory_ratio", "move_work_ratio"]
+            .iter()
+            .all(|k| p[k].as_f64().is_some_and(|r| r.is_finite() && r > 0.0))
+    }));
 }

@@ -1,4 +1,4 @@
-//! `starcages-cli bench --scale MESH`: the bind's scaling with mesh size. The mesh is
+//! `starcages-bench --scale MESH`: the bind's scaling with mesh size. The mesh is
 //! subdivided uniformly (`--segments`, each edge cut into n parts: n² × the triangles), put in
 //! the automatic 3×3×3 grid with default settings, and bound by *Cages and by the single MVC
 //! cage; per size it prints the bind time split by phase, the bind's peak heap (measured by the
@@ -73,9 +73,10 @@ fn bind(scene: &Scene, what: &str) -> anyhow::Result<Bind> {
     let control = BindControl::default();
     crate::ALLOCATOR.reset_peak_memory();
     let start = Instant::now();
-    let binding =
-        crate::progress::with_progress(what, &control, || StarBinding::bind_scene(scene, &control))
-            .map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
+    let binding = starcages_cli::progress::with_progress(what, &control, || {
+        StarBinding::bind_scene(scene, &control)
+    })
+    .map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
     let seconds = start.elapsed().as_secs_f64();
     let peak = crate::ALLOCATOR.get_peak_memory();
     let stats = binding.stats;
@@ -174,7 +175,7 @@ pub fn run(
 ) -> anyhow::Result<()> {
     let script = PathBuf::from("scripts/blender_mesh_deform_bind.py");
     if blender_python.is_some() && !script.is_file() {
-        return Err(crate::InputError(format!(
+        return Err(starcages_cli::InputError(format!(
             "--blender needs {} (run from the repository's root)",
             script.display()
         ))
@@ -182,18 +183,18 @@ pub fn run(
     }
     let limit = starcages_core::mesh::MAX_SUBDIVISION_SEGMENTS;
     if let Some(n) = segments.iter().find(|&&n| n == 0 || n > limit) {
-        return Err(crate::InputError(format!(
+        return Err(starcages_cli::InputError(format!(
             "--segments {n}: each must be 1 to {limit} (edge cuts; 10 gives 100× the triangles)"
         ))
         .into());
     }
-    let (base, up) = super::read_new_scene_mesh(mesh_path, None)?;
+    let (base, up) = starcages_cli::commands::read_new_scene_mesh(mesh_path, None)?;
     // Refused before any work: each size must fit this machine (a 25k-vertex mesh at 64 cuts
     // would be 200 million triangles).
     for &n in segments {
         let triangles = base.welded_triangles().len() as u64 * u64::from(n) * u64::from(n);
         if triangles > MAX_SCALE_TRIANGLES {
-            return Err(crate::InputError(format!(
+            return Err(starcages_cli::InputError(format!(
                 "--segments {n} would make {triangles} triangles of {}'s {}, past the {} this \
                  benchmark allows; use fewer cuts",
                 mesh_path.display(),
@@ -206,7 +207,7 @@ pub fn run(
     let mut sizes = Vec::new();
     for &n in segments {
         let mesh = base.subdivided(n)?;
-        crate::note!(
+        starcages_cli::note!(
             "{} × {n}²: {} vertices",
             mesh_path.display(),
             mesh.welded_positions().len()
@@ -226,7 +227,7 @@ pub fn run(
         let single_mvc = bind(&single, "single MVC bind")?;
         let blender = match blender_python {
             Some(python) => {
-                crate::note!("Blender Mesh Deform bind …");
+                starcages_cli::note!("Blender Mesh Deform bind …");
                 Some(blender(python, &script, &scene)?)
             }
             None => None,
@@ -244,7 +245,7 @@ pub fn run(
         });
     }
     if json {
-        return crate::output::line(serde_json::to_string_pretty(&sizes)?);
+        return starcages_cli::output::line(serde_json::to_string_pretty(&sizes)?);
     }
     let mut table = String::from(
         "| vertices | *Cages bind (cage / join / other) s | s per 1M vertices | peak MB | mesh + kept MB | peak / kept | single MVC bind s (peak MB) | Blender bind s (peak RSS MB) | move ms: *Cages / single MVC / Blender |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
@@ -271,5 +272,5 @@ pub fn run(
             blender.map_or("–".into(), |x| format!("{:.2}", x.move_seconds * 1e3)),
         ));
     }
-    crate::output::line(table.trim_end())
+    starcages_cli::output::line(table.trim_end())
 }

@@ -1,4 +1,4 @@
-//! `starcages-cli bench --drags SCENE`: what one update of a drag of each internal cage costs,
+//! `starcages-bench --drags SCENE`: what one update of a drag of each internal cage costs,
 //! as the editor runs it. Each internal cage's vertices are turned about their centre in
 //! small steps through the hierarchy; per update it times the hierarchy's propagation, the
 //! sparse path the editor used before (`StarOperator::apply_after_move`: the rows the moved
@@ -133,7 +133,7 @@ fn bench_drag(
 pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
     let scene = starcages_io::load_scene(path)?;
     if scene.cages.internals.is_empty() {
-        return Err(crate::InputError(format!(
+        return Err(starcages_cli::InputError(format!(
             "{}: the scene has no internal cages to drag; make a rig with \
              `autorig --internal` or add one with `internal-cage`",
             path.display()
@@ -144,7 +144,7 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let t = Instant::now();
-    let binding = super::deform::bind(&scene, None, path, false, &name)?;
+    let binding = starcages_cli::commands::deform::bind(&scene, None, path, false, &name)?;
     let bind_s = t.elapsed().as_secs_f64();
     let (lo, hi) = scene.mesh.bounds();
     let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);
@@ -160,13 +160,13 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
         drags,
     };
     if json {
-        return crate::output::line(serde_json::to_string_pretty(&report)?);
+        return starcages_cli::output::line(serde_json::to_string_pretty(&report)?);
     }
-    crate::output::line(format!(
+    starcages_cli::output::line(format!(
         "{}: {} mesh vertices, {} weights, bound in {:.2} s; one drag update per internal cage (best of {UPDATES}):",
         report.scene, report.mesh_vertices, report.nonzeros, report.bind_s
     ))?;
-    crate::output::line(format!(
+    starcages_cli::output::line(format!(
         "{:<20} {:>7} {:>9} {:>9} {:>12} {:>10} {:>8} {:>12} {:>10}",
         "cage",
         "drivers",
@@ -180,7 +180,7 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
     ))?;
     let or_dash = |v: Option<f64>, digits: usize| v.map_or("-".into(), |v| format!("{v:.digits$}"));
     for d in &report.drags {
-        crate::output::line(format!(
+        starcages_cli::output::line(format!(
             "{:<20} {:>7} {:>9} {:>9} {:>12.2} {:>10.2} {:>8} {:>12} {:>10}",
             d.cage,
             d.drivers,

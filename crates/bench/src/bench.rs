@@ -1,4 +1,4 @@
-//! `starcages-cli bench`: the paper's Table II in one run: *Cages against single-cage MVC, GC
+//! `starcages-bench`: the paper's Table II in one run: *Cages against single-cage MVC, GC
 //! and HC on the demo scenes (and optionally real meshes in an automatic grid, 3×3×3 unless
 //! `--grid` says otherwise): memory, bind time (cage coordinates / total), time per full frame
 //! and per single cage-vertex move, plus a plain array read for the machine's memory bandwidth.
@@ -267,7 +267,7 @@ fn bench_method(name: &str, method: &str, scene: &Scene, pose: &[DVec3]) -> anyh
             Err(e) => {
                 // The small move can push mesh vertices that touch a cage outside it: the
                 // scene's other figures stand, this one is left out.
-                crate::note!("{name} ({method}): no rest-edit figure: {e}");
+                starcages_cli::note!("{name} ({method}): no rest-edit figure: {e}");
                 (None, None, None)
             }
         }
@@ -395,7 +395,7 @@ fn bench_rest_edit(
     }) else {
         return Ok((0.0, 0.0, 0.0));
     };
-    let edited = super::bench_rest_edit::edited(scene, vertex);
+    let edited = crate::bench_rest_edit::edited(scene, vertex);
     let control = BindControl::default();
     let rows = binding.rows_affected_by_rest_edit(&edited, &[vertex])?;
     let start = Instant::now();
@@ -433,22 +433,22 @@ fn wave(scene: &Scene) -> Vec<DVec3> {
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     if let Some(scene) = &args.rest_edits {
-        return super::bench_rest_edit::run(scene, args.json);
+        return crate::bench_rest_edit::run(scene, args.json);
     }
     if let Some(scene) = &args.drags {
-        return super::bench_drag::run(scene, args.json);
+        return crate::bench_drag::run(scene, args.json);
     }
     if let Some(mesh) = &args.scale {
-        return super::bench_scale::run(mesh, &args.segments, args.blender.as_ref(), args.json);
+        return crate::bench_scale::run(mesh, &args.segments, args.blender.as_ref(), args.json);
     }
     if !(0.1..=6.0).contains(&args.prism_detail) {
-        return Err(crate::InputError(format!(
+        return Err(starcages_cli::InputError(format!(
             "--prism-detail {} is out of range; use 0.1 to 6 (6: about 2 million triangles)",
             args.prism_detail
         ))
         .into());
     }
-    let grid = super::three_counts(&args.grid, "--grid", 32)?;
+    let grid = starcages_cli::commands::three_counts(&args.grid, "--grid", 32)?;
     let mut scenes: Vec<(String, Scene)> = Vec::new();
     for (name, detail) in [
         ("bar", 1.0),
@@ -463,7 +463,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     if let Some(folder) = &args.meshes {
         let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
-            .map_err(|e| crate::InputError(format!("{}: cannot list: {e}", folder.display())))?
+            .map_err(|e| {
+                starcages_cli::InputError(format!("{}: cannot list: {e}", folder.display()))
+            })?
             .filter_map(Result::ok)
             .map(|e| e.path())
             .filter(|p| p.extension().is_some_and(|e| e == "obj"))
@@ -471,7 +473,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         files.sort();
         for file in files {
             // Y-up as every OBJ: turned to Z-up, as `autocage` and the editor do.
-            let (mesh, up) = super::read_new_scene_mesh(&file, None)?;
+            let (mesh, up) = starcages_cli::commands::read_new_scene_mesh(&file, None)?;
             let cages = autocage(
                 &mesh,
                 &AutocageOptions {
@@ -498,7 +500,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let mut ratios = Vec::new();
     let mut table2 = Vec::new();
     if let Some(h) = args.h.iter().find(|h| !(**h > 0.0 && **h <= 1.0)) {
-        return Err(crate::InputError(format!("--h {h}: each h must be in (0, 1]")).into());
+        return Err(starcages_cli::InputError(format!("--h {h}: each h must be in (0, 1]")).into());
     }
     for (name, scene) in &scenes {
         let pose = wave(scene);
@@ -579,7 +581,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             )?);
         }
         if !args.json {
-            crate::note!("benched {name}");
+            starcages_cli::note!("benched {name}");
         }
     }
     let report = Report {
@@ -591,16 +593,16 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         table2,
     };
     if args.json {
-        crate::output::line(starcages_core::scene::to_pretty_json(
+        starcages_cli::output::line(starcages_core::scene::to_pretty_json(
             &serde_json::to_value(&report)?,
         ))?;
         return Ok(());
     }
-    crate::output::line(format_args!(
+    starcages_cli::output::line(format_args!(
         "threads: {}; SIMD: {}; plain array read: {:.1} GB/s",
         report.threads, report.simd, report.array_read_gb_s
     ))?;
-    crate::output::line(format_args!(
+    starcages_cli::output::line(format_args!(
         "{:<16} {:<13} {:>8} {:>5} {:>9} {:>7} {:>7} {:>9} {:>9} {:>10} {:>10} {:>8}",
         "scene",
         "method",
@@ -616,7 +618,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "GB/s"
     ))?;
     for r in &report.rows {
-        crate::output::line(format_args!(
+        starcages_cli::output::line(format_args!(
             "{:<16} {:<13} {:>8} {:>5} {:>9.2} {:>7.1} {:>7.1} {:>9.3} {:>9.3} {:>10.5} {:>10.6} {:>8.1}",
             r.scene,
             r.method,
@@ -633,7 +635,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ))?;
     }
     for q in &report.ratios {
-        crate::output::line(format_args!(
+        starcages_cli::output::line(format_args!(
             "{:<16} {} vs single MVC: bind {:.2}x (kernel floor {:.2}x), frame {:.1}x, move {:.1}x, memory {:.1}x; vs single GC: frame {:.1}x, move {:.1}x, memory {:.1}x; a one-vertex rest edit re-binds {:.0} % of the rows in {:.0} % of a full bind's time; a leaf's switch to HC re-binds in {:.0} ms at most, its preview in {:.0} ms",
             q.scene,
             q.method,
@@ -652,7 +654,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ))?;
     }
     for t in &report.table2 {
-        crate::output::line(format_args!(
+        starcages_cli::output::line(format_args!(
             "{:<16} Table II, every leaf {} against the single {} cage: memory {:.1}x less, bind {:.2}x, one cage-vertex move {:.1}x faster ({:.1}x fewer weights read), whole frame {:.1}x faster",
             t.scene,
             t.kind,

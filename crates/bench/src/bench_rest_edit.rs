@@ -1,4 +1,4 @@
-//! `starcages-cli bench --rest-edits SCENE`: one-vertex rest edits spread over the rig. For up
+//! `starcages-bench --rest-edits SCENE`: one-vertex rest edits spread over the rig. For up
 //! to 64 leaf-cage vertices (all of them, or spread evenly over their indices) it moves the
 //! vertex's rest position by 1 % of its shortest edge and re-binds what that can change
 //! (`StarBinding::rebind_rest_edit`, as the editor does), and reports per vertex the cages that
@@ -101,7 +101,7 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
     let name = path
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-    let binding = super::deform::bind(&scene, None, path, false, &name)?;
+    let binding = starcages_cli::commands::deform::bind(&scene, None, path, false, &name)?;
     let control = BindControl::default();
     // A full bind from scratch (no harmonic solve kept), the yardstick.
     starcages_core::coords::clear_harmonic_cache();
@@ -148,18 +148,18 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
         edits,
     };
     if json {
-        return crate::output::line(serde_json::to_string_pretty(&report)?);
+        return starcages_cli::output::line(serde_json::to_string_pretty(&report)?);
     }
-    crate::output::line(format!(
+    starcages_cli::output::line(format!(
         "{}: {} mesh vertices, a full bind in {:.3} s; one-vertex rest edits:",
         report.scene, report.mesh_vertices, report.full_bind_s
     ))?;
-    crate::output::line(format!(
+    starcages_cli::output::line(format!(
         "{:>7} {:>7} {:>9} {:>9} {:>9}  cages",
         "vertex", "rows %", "seconds", "of bind %", "other s"
     ))?;
     for e in &report.edits {
-        crate::output::line(format!(
+        starcages_cli::output::line(format!(
             "{:>7} {:>7.1} {:>9.3} {:>9.1} {:>9.3}  {}",
             e.vertex,
             100.0 * e.rows,
@@ -169,13 +169,13 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
             e.cages.join(", ")
         ))?;
     }
-    crate::output::line(format!(
+    starcages_cli::output::line(format!(
         "median: {:.0} % of the rows in {:.0} % of a full bind; {:.0} % of the edited vertices re-bind within a tenth of a full bind",
         100.0 * report.median_rows,
         100.0 * report.median_share_of_bind,
         100.0 * report.within_a_tenth
     ))?;
-    crate::output::line(format!(
+    starcages_cli::output::line(format!(
         "an edit's costs besides binding its rows (topology, finding the rows, splicing): median {:.1} ms, {:.0} % of a full bind",
         1e3 * report.median_other_s,
         100.0 * report.median_other_share_of_bind
