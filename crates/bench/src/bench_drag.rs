@@ -1,17 +1,19 @@
 //! `starcages-bench --drags SCENE`: what one update of a drag of each internal cage costs,
-//! as the editor runs it. Each internal cage's vertices are turned about their centre in
-//! small steps through the hierarchy; per update it times the hierarchy's propagation, the
-//! sparse path the editor used before (`StarOperator::apply_after_move`: the rows the moved
-//! cage vertices touch, or the whole product when those hold most weights) and the driver map
-//! (`DriverMap`, built once after the drag's first update), and checks that both give the same
-//! mesh.
+//! through core's `LiveRig`, the code the editor drives. Each internal cage's vertices are
+//! turned about their centre in small steps through the hierarchy; per update it times the
+//! hierarchy's propagation, the sparse path (`LiveRig::redeform_rows`: the moved columns'
+//! DOFs, then the rows they touch, or the whole product when those hold most weights) and the
+//! driver map (`LiveRig::redeform_drag`, its map built by the drag's first update), and checks
+//! that both give the same mesh.
 
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
-use glam::{DQuat, DVec3, Vec3};
+use glam::{DQuat, DVec3};
 use serde::Serialize;
 use starcages_core::hierarchy::Hierarchy;
+use starcages_core::live::LiveRig;
 use starcages_core::scene::Scene;
 use starcages_core::star::{DriverMap, StarBinding};
 
@@ -65,52 +67,71 @@ fn turned(drivers: &[u32], start: &[DVec3], angle: f64) -> Vec<(u32, DVec3)> {
         .collect()
 }
 
-/// Times a drag of internal cage `index`.
+/// Times a drag of internal cage `index` through two live rigs, as the editor drives them: one
+/// updating the rows the moves touch at every step, one following the drag's driver map.
 fn bench_drag(
     scene: &Scene,
-    binding: &StarBinding,
+    binding: &Arc<StarBinding>,
     index: usize,
     diagonal: f64,
 ) -> anyhow::Result<Drag> {
-    let rest = &scene.cages.vertices;
-    let operator = &binding.operator;
-    let mut hierarchy = Hierarchy::bind(scene)?;
+    let bound_for = (scene.cages.clone(), scene.settings);
+    let mut sparse = LiveRig::new(
+        Arc::clone(binding),
+        Hierarchy::bind(scene)?,
+        bound_for.clone(),
+        scene,
+    );
+    let mut through_map = LiveRig::new(
+        Arc::clone(binding),
+        Hierarchy::bind(scene)?,
+        bound_for,
+        scene,
+    );
     let name = &scene.cages.internals[index].name;
     let drivers = scene.cages.cage_vertices(name).unwrap_or_default();
     let start: Vec<DVec3> = drivers.iter().map(|&d| scene.pose[d as usize]).collect();
-    let mut pose = scene.pose.clone();
-    let mut sparse: Vec<Vec3> = binding.deform(rest, &pose);
-    // The drag's first update, as the editor makes it, then the map from where it left.
-    let changed = hierarchy.apply(&mut pose, &turned(&drivers, &start, 0.01))?;
-    operator.apply_after_move(&changed, &operator.dofs(rest, &pose), &mut sparse);
+    let (mut sparse_scene, mut map_scene) = (scene.clone(), scene.clone());
+    // The drag's first update, as the editor makes it: the map rig builds its map there.
+    let first = turned(&drivers, &start, 0.01);
+    sparse.move_vertices(&mut sparse_scene, &first, false)?;
+    let changed = through_map.move_vertices(&mut map_scene, &first, true)?;
+    // The map's construction alone, timed apart (the rig built its own above).
     let build = Instant::now();
-    let sensitivity = hierarchy.driver_sensitivity(&drivers);
-    let map = sensitivity
-        .as_ref()
-        .and_then(|s| DriverMap::new(operator, &drivers, s, &pose, &sparse));
-    let map_build_ms = map.as_ref().map(|_| milliseconds(build));
-    let mut through_map = sparse.clone();
+    let sensitivity = through_map.hierarchy.driver_sensitivity(&drivers);
+    let built = sensitivity.as_ref().and_then(|s| {
+        DriverMap::new(
+            &binding.operator,
+            &drivers,
+            s,
+            &map_scene.pose,
+            &through_map.deformed,
+        )
+    });
+    let map_build_ms = built.as_ref().map(|_| milliseconds(build));
+    let has_map = through_map.drag_map().is_some();
     let (mut hierarchy_ms, mut sparse_ms, mut map_ms) = (f64::MAX, f64::MAX, f64::MAX);
     let mut map_error: f64 = 0.0;
     for step in 1..=UPDATES {
         let moves = turned(&drivers, &start, 0.01 * (step + 1) as f64);
         let t = Instant::now();
-        let changed = hierarchy.apply(&mut pose, &moves)?;
+        let changed = sparse.hierarchy.apply(&mut sparse_scene.pose, &moves)?;
         hierarchy_ms = hierarchy_ms.min(milliseconds(t));
         let t = Instant::now();
-        let dofs = operator.dofs(rest, &pose);
-        operator.apply_after_move(&changed, &dofs, &mut sparse);
+        sparse.redeform_rows(&sparse_scene, &changed);
         sparse_ms = sparse_ms.min(milliseconds(t));
-        if let Some(map) = &map {
+        if has_map {
+            let changed = through_map.hierarchy.apply(&mut map_scene.pose, &moves)?;
             let t = Instant::now();
-            let _dofs = operator.dofs(rest, &pose); // the GPU path reads them
-            if !map.apply(&pose, &mut through_map) {
+            through_map.redeform_drag(&map_scene, &drivers, &changed);
+            map_ms = map_ms.min(milliseconds(t));
+            if through_map.drag_map().is_none() {
                 anyhow::bail!("the driver map does not describe step {step} of the drag");
             }
-            map_ms = map_ms.min(milliseconds(t));
             let worst = sparse
+                .deformed
                 .iter()
-                .zip(&through_map)
+                .zip(through_map.deformed.iter())
                 .map(|(a, b)| f64::from((*a - *b).length()))
                 .fold(0.0, f64::max);
             map_error = map_error.max(worst / diagonal);
@@ -120,12 +141,12 @@ fn bench_drag(
         cage: name.clone(),
         drivers: drivers.len(),
         followers: sensitivity.map_or(changed.len(), |s| s.len()),
-        rows: map.as_ref().map_or(0, DriverMap::row_count),
+        rows: through_map.drag_map().map_or(0, DriverMap::row_count),
         hierarchy_ms,
         sparse_ms,
-        map_ms: map.as_ref().map(|_| map_ms),
+        map_ms: has_map.then_some(map_ms),
         map_build_ms,
-        map_error: map.as_ref().map(|_| map_error),
+        map_error: has_map.then_some(map_error),
     })
 }
 
@@ -144,7 +165,9 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let t = Instant::now();
-    let binding = starcages_cli::commands::deform::bind(&scene, None, path, false, &name)?;
+    let binding = Arc::new(starcages_cli::commands::deform::bind(
+        &scene, None, path, false, &name,
+    )?);
     let bind_s = t.elapsed().as_secs_f64();
     let (lo, hi) = scene.mesh.bounds();
     let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);

@@ -8,6 +8,7 @@
 //! * [`coords`]: Mean Value, Harmonic and Green coordinates behind one [`coords::bind`] API.
 //! * [`generate`]: rigs and scenes made by the program (the auto rig, box grids, demos).
 //! * [`geometry`]: small geometric primitives.
+//! * [`live`]: a rig being posed: binding, hierarchy, DOFs and mesh kept up to date move by move.
 //! * [`hierarchy`]: internal cages driving lower-level cage vertices (section 3.4).
 //! * [`posing`]: the one posing engine: a pose, a frame or a pose file plus edits, as cages.
 //! * [`rig`]: rig operations on the rest cages (one file per operation) and their scripts.
@@ -23,6 +24,7 @@ pub mod coords;
 pub mod generate;
 pub mod geometry;
 pub mod hierarchy;
+pub mod live;
 pub mod mesh;
 mod messages;
 pub mod posing;

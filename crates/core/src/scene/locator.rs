@@ -22,8 +22,7 @@ pub enum Location {
 /// Cells along the longest side: eight per cube root of the triangle count (up to 128), so the
 /// marked shell stays thin for large cages while small cages get a grid worth building. With
 /// four (up to 64), more points fell in the thicker shell, each paying the exact tests over
-/// every triangle: placing the armadillo's auto rig took 43-46 ms, the creature's
-/// union cage 22-27 ms; now 27-36 and 6-7 ms (the creature's 18 small cages 8 and 8-11 ms).
+/// every triangle (docs/performance.md, "Design measurements").
 fn cells_along_longest_side(triangles: usize) -> f64 {
     (8.0 * (triangles as f64).cbrt()).clamp(8.0, 128.0)
 }

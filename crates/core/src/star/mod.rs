@@ -399,10 +399,9 @@ fn bind_chunk_points(points: usize) -> usize {
 
 /// `points` split into chunks of about `chunk` (at least one point): the number of chunks
 /// rounded to the nearest (at least 1), the points spread evenly over them. Each chunk has a
-/// fixed cost (its cages' row plans, its join cages' point lists; before `bind::JoinMemo`, also
-/// the join cages' data at the cage vertices, about 20 ms on the armadillo's auto rig), so a
-/// last sliver of a chunk (426 of 25,002 points there) cost as much as a whole one; chunks now
-/// hold at most 1.5 times `chunk`. Returns the chunk size and count.
+/// fixed cost (its cages' row plans, its join cages' point lists), so a last sliver of a chunk
+/// would cost as much as a whole one; chunks hold at most 1.5 times `chunk`. Returns the chunk
+/// size and count.
 fn even_chunks(points: usize, chunk: usize) -> (usize, usize) {
     let chunk = chunk.max(1);
     let chunks = ((points + chunk / 2) / chunk).max(1);

@@ -503,10 +503,8 @@ impl StarOperator {
     /// cage vertices `moved` changed: only the rows that reference them
     /// ([`StarOperator::rows_touched`], [`StarOperator::apply_rows`]), or every row when the
     /// moved columns hold more than a fifth of the weights (a move of an internal cage over
-    /// most of a mesh): finding the rows then costs more than one parallel product. Measured
-    /// on a 625k-vertex auto rig (98 M weights): the whole body's box (57 M weights in its
-    /// columns, 81 % of the rows) 167 ms found row by row against 53 ms as a full product; a
-    /// limb's box (8.6 M, 19 % of the rows) 28 ms against 53 ms; one leaf vertex far less.
+    /// most of a mesh): finding the rows then costs more than one parallel product
+    /// (docs/performance.md, "Design measurements").
     pub fn apply_after_move(&self, moved: &[u32], x: &[Vec3], out: &mut [Vec3]) {
         let columns = self.columns_of_moved_vertices(moved);
         if self.holds_most_weights(&columns) {

@@ -30,8 +30,9 @@ pub use document::{Document, NewMeshOptions, NewRig};
 pub use error::EditorError;
 pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
-pub use rig::{Rig, rebind_scope};
+pub use rig::rebind_scope;
 pub use selection::{SelectMode, Selection};
+pub use starcages_core::live::LiveRig;
 pub use view::{InfluenceChoice, PivotPoint, ScreenRect, SelectElement, ViewState};
 
 use jobs::{BindResult, LoadResult, Scope};
@@ -165,7 +166,7 @@ pub struct EditorState {
     /// A gesture in progress.
     pub gesture: Option<Gesture>,
     /// The binding in use, once bound.
-    pub rig: Option<Rig>,
+    pub rig: Option<LiveRig>,
     /// A bind in progress (dropping it cancels it).
     pub bind_job: Option<Job<BindResult>>,
     /// A file being opened.
@@ -365,19 +366,10 @@ impl EditorState {
                     .as_ref()
                     .is_some_and(|rig| Arc::ptr_eq(&rig.binding, &bound.binding));
                 let preview = bound.preview;
-                let mut rig = Rig {
-                    binding: bound.binding,
-                    hierarchy,
-                    deformed: Arc::new(Vec::new()),
-                    dofs: Arc::new(Vec::new()),
-                    bound_for: bound.bound_for,
-                    preview,
-                    coarse_leaves: bound.coarse_leaves,
-                    rest_view: std::sync::OnceLock::new(),
-                    drag: None,
-                    drag_without_map: None,
-                };
-                rig.redeform_all(&self.doc.scene);
+                let mut rig =
+                    LiveRig::new(bound.binding, hierarchy, bound.bound_for, &self.doc.scene);
+                rig.preview = preview;
+                rig.coarse_leaves = bound.coarse_leaves;
                 self.rig = Some(rig);
                 if !same_mesh {
                     self.generations.mesh += 1;
@@ -552,23 +544,13 @@ impl EditorState {
                 None => EditorError::NotBound,
             });
         };
+        let start = Instant::now();
         let changed = rig
-            .hierarchy
-            .apply(&mut scene.pose, &moves)
+            .move_vertices(scene, &moves, self.gesture.is_some())
             .map_err(EditorError::Move)?;
-        scene.pose_state = rig.hierarchy.state();
         self.doc.dirty = true;
         if changed.is_empty() {
             return Ok(());
-        }
-        let start = Instant::now();
-        if self.gesture.is_some() {
-            let mut drivers: Vec<u32> = moves.iter().map(|(v, _)| *v).collect();
-            drivers.sort_unstable();
-            drivers.dedup();
-            rig.redeform_drag(scene, &drivers, &changed);
-        } else {
-            rig.redeform_rows(scene, &changed);
         }
         self.stats.deform_ms = start.elapsed().as_secs_f64() * 1e3;
         self.generations.deformation += 1;
@@ -866,13 +848,21 @@ impl EditorState {
                 return Err(format!("cage {id:?} names a vertex past the end"));
             }
         }
+        if let Some(rig) = &self.rig {
+            // Settled (no bind on its way, bound for these cages): the incremental DOFs and
+            // mesh are a full deformation's.
+            let settled = self.bind_job.is_none() && rig.is_current_for(scene);
+            if settled && !rig.is_up_to_date(scene) {
+                return Err("the live rig's DOFs or mesh differ from a full deformation".into());
+            }
+        }
         Ok(())
     }
 }
 
 /// The bind that refines the preview `rig`: its coarse leaf cages' rows at full resolution,
 /// or everything with harmonic join cages.
-fn refinement(rig: &Rig) -> (&'static str, Scope) {
+fn refinement(rig: &LiveRig) -> (&'static str, Scope) {
     if rig.coarse_leaves.is_empty() {
         ("refining: harmonic join cages", Scope::Full)
     } else {

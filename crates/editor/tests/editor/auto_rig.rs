@@ -296,7 +296,9 @@ fn an_undo_while_the_auto_rig_runs_cancels_it_with_a_message() {
         harness.state().state.autorig_job.is_some(),
         "runs on a worker"
     );
-    crate::common::undo(&mut harness);
+    // The undo while the job runs, with no frame between (a frame could land a job that
+    // finished first, and the undo would then rightly undo the rig).
+    harness.state_mut().run(Command::Undo);
     settle(&mut harness);
     let app = harness.state();
     assert!(app.state.autorig_job.is_none());

@@ -30,9 +30,9 @@ const COARSEST: usize = 512;
 const COARSE_SWEEPS: usize = 24;
 const SMOOTHING_SWEEPS: usize = 2;
 /// Over-relaxation of the red-black smoother (SOR). Pre- and post-smoothing sweep the colours
-/// in opposite orders with the same ω, so the V-cycle stays symmetric for 0 < ω < 2. Measured
-/// on the creature's harmonic thighs (res 48, tolerance 1e-8): ω = 1 (Gauss–Seidel) took 7–9
-/// CG iterations per batch, ω = 1.15 or 1.3 took 7–8, and the harmonic bind 0.42 → 0.38 s.
+/// in opposite orders with the same ω, so the V-cycle stays symmetric for 0 < ω < 2; ω = 1.2
+/// saves a CG iteration per batch over Gauss–Seidel (docs/performance.md, "Design
+/// measurements").
 const OMEGA: f64 = 1.2;
 const OMEGA_F32: f32 = OMEGA as f32;
 

@@ -329,9 +329,9 @@ fn rig_on_grid(
         body_fraction: 0.55,
         segment_length,
         // Body slabs shorter than limb segments: a slab's neighbourhood (itself, the slabs
-        // beside it and the limbs it carries) is then a smaller share of a long body. Measured
-        // at detail 3 (docs/autorig.md): horse 3.8x -> 4.3x less memory than single MVC,
-        // armadillo 4.3x -> 4.8x, creature's mesh 4.1x -> 4.7x; 0.5 made too many slabs.
+        // beside it and the limbs it carries) is then a smaller share of a long body, which
+        // saves memory against single MVC (docs/performance.md, "Design measurements"); 0.5
+        // made too many slabs.
         slab_length: BODY_SLAB_SHARE * segment_length,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
