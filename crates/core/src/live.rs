@@ -19,6 +19,8 @@ pub type RestView = (Arc<Vec<Vec3>>, Arc<Vec<Vec3>>);
 /// How much of a live rig a change of its scene makes stale.
 #[derive(Debug, Clone)]
 pub enum RebindScope {
+    /// Everything: the mesh and the hierarchy.
+    Full,
     /// Everything, quickly first (a preview with mean value join cages where some would be
     /// harmonic), then refined.
     Preview,

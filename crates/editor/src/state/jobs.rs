@@ -110,25 +110,8 @@ impl<T> Drop for Job<T> {
     }
 }
 
-/// How much to bind again.
-#[derive(Debug, Clone)]
-pub enum Scope {
-    /// Everything: the mesh and the hierarchy.
-    Full,
-    /// Everything, quickly first: when some join cages would use harmonic coordinates (the
-    /// slow part of a bind), bind with mean value join cages and deliver that as a preview,
-    /// to be refined by a [`Scope::Full`] bind; otherwise the same as [`Scope::Full`].
-    Preview,
-    /// The mesh rows of these leaf cages (their kind or h changed), and the hierarchy. With
-    /// `quick`, leaf cages turned harmonic are bound at the preview resolution first and
-    /// delivered as a preview, to be refined by the same scope without `quick`.
-    Leaves(Arc<StarBinding>, Vec<usize>, bool),
-    /// Only the hierarchy (internal cages changed); the mesh binding is kept.
-    Hierarchy(Arc<StarBinding>),
-    /// The rest positions of these cage vertices moved: the rows they can change, and the
-    /// hierarchy.
-    RestEdit(Arc<StarBinding>, Vec<u32>),
-}
+/// How much to bind again (core's [`RebindScope`], whose `Full` the editor asks for itself).
+pub use starcages_core::live::RebindScope as Scope;
 
 /// What a finished bind delivers.
 #[derive(Debug)]

@@ -30,7 +30,6 @@ pub use document::{Document, NewMeshOptions, NewRig};
 pub use error::EditorError;
 pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
-pub use rig::rebind_scope;
 pub use selection::{SelectMode, Selection};
 pub use starcages_core::live::LiveRig;
 pub use view::{InfluenceChoice, PivotPoint, ScreenRect, SelectElement, ViewState};
@@ -298,7 +297,7 @@ impl EditorState {
         let scope = self
             .rig
             .as_ref()
-            .map_or(Scope::Preview, |rig| rebind_scope(rig, &self.doc.scene));
+            .map_or(Scope::Preview, |rig| rig.rebind_scope(&self.doc.scene));
         self.generations.edit += 1;
         self.spawn_bind(label, scope);
     }

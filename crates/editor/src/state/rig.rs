@@ -1,22 +1,6 @@
-//! The editor's side of the live rig (`starcages_core::live::LiveRig`): the bind job a change
-//! of the document calls for, and X-mirrored moves.
+//! X-mirrored moves for the live rig (`starcages_core::live::LiveRig`).
 
 use glam::DVec3;
-use starcages_core::live::{LiveRig, RebindScope};
-use starcages_core::scene::Scene;
-
-use super::jobs::Scope;
-
-/// How much of `rig` must be bound again for `scene` ([`LiveRig::rebind_scope`]), as a bind
-/// job's scope.
-pub fn rebind_scope(rig: &LiveRig, scene: &Scene) -> Scope {
-    match rig.rebind_scope(scene) {
-        RebindScope::Preview => Scope::Preview,
-        RebindScope::Leaves(binding, leaves, quick) => Scope::Leaves(binding, leaves, quick),
-        RebindScope::Hierarchy(binding) => Scope::Hierarchy(binding),
-        RebindScope::RestEdit(binding, moved) => Scope::RestEdit(binding, moved),
-    }
-}
 
 /// `moves` plus their mirror partners' moves across x = 0 (`partners` from
 /// [`super::mirror::partners`]); a vertex on the plane stays on it.
