@@ -4,7 +4,14 @@
 
 mod animation;
 mod apply;
+mod files;
+mod history;
+mod jobs;
+mod pose;
+mod rig;
+mod selection;
 mod table;
+mod view;
 
 use std::path::PathBuf;
 

@@ -7,6 +7,7 @@ mod cage_id;
 pub mod document;
 mod error;
 mod influence_map;
+mod job_polling;
 pub mod jobs;
 pub mod mirror;
 pub mod recent;
@@ -18,7 +19,6 @@ pub mod undo;
 mod view;
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -34,7 +34,7 @@ pub use selection::{SelectMode, Selection};
 pub use starcages_core::live::LiveRig;
 pub use view::{InfluenceChoice, PivotPoint, ScreenRect, SelectElement, ViewState};
 
-use jobs::{BindResult, LoadResult, Scope};
+use jobs::{BindResult, LoadResult};
 use undo::{Snapshot, UndoStack};
 
 /// A message in the status bar.
@@ -290,239 +290,6 @@ impl EditorState {
         self.view.revalidate(set);
     }
 
-    /// Starts binding the current scene on a worker, as much as changed since the binding in
-    /// use (which stays in use meanwhile). A bind already running is stale: it is cancelled.
-    pub fn start_bind(&mut self, label: &str) {
-        self.bind_after_gesture = false;
-        let scope = self
-            .rig
-            .as_ref()
-            .map_or(Scope::Preview, |rig| rig.rebind_scope(&self.doc.scene));
-        self.generations.edit += 1;
-        self.spawn_bind(label, scope);
-    }
-
-    /// Starts the full bind that replaces a preview binding, unless a bind is running already.
-    pub fn refine_preview(&mut self) {
-        let Some(rig) = self.rig.as_ref().filter(|rig| rig.preview) else {
-            return;
-        };
-        if self.bind_job.is_none() {
-            let (label, scope) = refinement(rig);
-            self.spawn_bind(label, scope);
-        }
-    }
-
-    /// Starts a bind of `scope` for the current edit generation, replacing (cancelling) the
-    /// one running.
-    fn spawn_bind(&mut self, label: &str, scope: Scope) {
-        let generation = self.generations.edit;
-        let scene = self.doc.scene.clone();
-        self.bind_job = Some(Job::spawn("binding", label, self.waker.clone(), move |c| {
-            jobs::bind(&scene, scope, generation, c)
-        }));
-    }
-
-    /// Takes finished jobs (bind, load, baseline) and refreshes the influence map; `wait`
-    /// blocks until every running job has ended (tests and headless use).
-    pub fn poll_jobs(&mut self, wait: bool) {
-        loop {
-            self.poll_load(wait);
-            self.poll_autorig(wait);
-            self.poll_bind(wait);
-            self.poll_baseline(wait);
-            self.refresh_map();
-            let busy = self.load_job.is_some()
-                || self.autorig_job.is_some()
-                || self.bind_job.is_some()
-                || self.map.baseline_progress().is_some();
-            if !wait || !busy {
-                return;
-            }
-        }
-    }
-
-    fn poll_bind(&mut self, wait: bool) {
-        let Some(job) = &self.bind_job else {
-            return;
-        };
-        let result = if wait { Some(job.wait()) } else { job.poll() };
-        let Some(result) = result else {
-            return;
-        };
-        self.bind_job = None;
-        match result.and_then(|r| r) {
-            Ok(bound) if bound.generation == self.generations.edit => {
-                let mut hierarchy = bound.hierarchy;
-                // The pose may have changed while binding: follow the current state.
-                if let Err(e) = hierarchy.restore(&self.doc.scene.pose_state) {
-                    self.error(EditorError::Hierarchy(e));
-                    self.doc.scene.pose_state = hierarchy.state();
-                }
-                self.stats.bind_seconds = bound.seconds;
-                let same_mesh = self
-                    .rig
-                    .as_ref()
-                    .is_some_and(|rig| Arc::ptr_eq(&rig.binding, &bound.binding));
-                let preview = bound.preview;
-                let mut rig =
-                    LiveRig::new(bound.binding, hierarchy, bound.bound_for, &self.doc.scene);
-                rig.preview = preview;
-                rig.coarse_leaves = bound.coarse_leaves;
-                self.rig = Some(rig);
-                if !same_mesh {
-                    self.generations.mesh += 1;
-                }
-                self.generations.deformation += 1;
-                if let Some(rig) = self.rig.as_ref().filter(|rig| rig.preview) {
-                    // Deformable now; the full resolution follows in the background.
-                    let (label, scope) = refinement(rig);
-                    self.spawn_bind(label, scope);
-                }
-            }
-            Ok(_) => {} // a newer edit superseded it
-            Err(e) => self.error(e),
-        }
-    }
-
-    fn poll_load(&mut self, wait: bool) {
-        let Some(job) = &self.load_job else {
-            return;
-        };
-        let result = if wait { Some(job.wait()) } else { job.poll() };
-        let Some(result) = result else {
-            return;
-        };
-        self.load_job = None;
-        match result.and_then(|r| r) {
-            Ok(doc) => {
-                let path = doc.path.clone();
-                // Taken first: installing the document starts a fresh state.
-                let autorig = self.pending_autorig.take();
-                self.install_document(doc);
-                if let Some(path) = path {
-                    self.remember(&path);
-                    self.info(format!("opened {}", path.display()));
-                }
-                if let Some(settings) = autorig {
-                    // The grid is not bound meanwhile: the auto rig gets every core, and its
-                    // rig is bound when it arrives (the grid is, should it not).
-                    self.bind_job = None;
-                    self.start_autorig(settings);
-                }
-            }
-            Err(e) => {
-                self.pending_autorig = None;
-                self.error(e);
-            }
-        }
-    }
-
-    /// Takes the auto rig's cages once they are made: they replace the rig as one undo step
-    /// (poses and animation keys are of the old cages, so they go; undo brings them back), with
-    /// mean value join cages as [`starcages_core::generate::autorig_settings`] says.
-    ///
-    /// It lands in the document it was asked for or not at all: an edit, undo or redo while
-    /// it runs cancels it ([`Self::cancel_autorig_for_edit`]), and it waits for a gesture in
-    /// progress (a grab begun on the old cages) to end.
-    fn poll_autorig(&mut self, wait: bool) {
-        let Some(job) = &self.autorig_job else {
-            return;
-        };
-        if self.gesture.is_some() && !wait {
-            return;
-        }
-        let result = if wait { Some(job.wait()) } else { job.poll() };
-        let Some(result) = result else {
-            return;
-        };
-        self.autorig_job = None;
-        match result.and_then(|r| r) {
-            Ok(cages) => {
-                let (leaves, vertices) = (cages.leaves.len(), cages.vertices.len());
-                self.selection = Selection::default();
-                let mut dropped = (0, 0);
-                self.edit_scene("auto rig", |scene| {
-                    scene.settings.join_coordinates =
-                        starcages_core::generate::autorig_settings().join_coordinates;
-                    dropped = scene.replace_rig(cages);
-                });
-                let went = match dropped {
-                    (0, 0) => String::new(),
-                    (poses, keys) => format!(
-                        "; the old rig's {poses} pose(s) and {keys} animation key(s) went with it"
-                    ),
-                };
-                self.info(format!(
-                    "auto rig: {leaves} leaf cages, {vertices} cage vertices{went} (Ctrl+Z brings the old rig back)"
-                ));
-            }
-            Err(e) => {
-                self.error(e);
-                self.bind_if_unbound();
-            }
-        }
-    }
-
-    /// Binds the scene if nothing is bound or binding (a mesh whose auto rig did not come:
-    /// its grid was left unbound while the auto rig ran).
-    pub fn bind_if_unbound(&mut self) {
-        if self.rig.is_none() && self.bind_job.is_none() {
-            self.start_bind("binding the scene");
-        }
-    }
-
-    /// Starts the auto rig of the current mesh on a worker, with the scene's settings kept.
-    pub fn start_autorig(&mut self, settings: starcages_core::generate::AutorigSettings) {
-        self.info("auto rig…");
-        self.autorig_job = Some(jobs::autorig(
-            self.doc.scene.mesh.clone(),
-            settings,
-            self.waker.clone(),
-        ));
-    }
-
-    /// Starts reading a mesh and rigging it on a worker, as [`Self::start_load`]. With the auto
-    /// rig, the mesh opens at once in the automatic grid and the auto rig follows in the
-    /// background, replacing the grid as one undo step (Ctrl+Z brings the grid back; Cancel or
-    /// a mesh the auto rig cannot rig keeps it): a million-triangle mesh shows while its rig is
-    /// made.
-    pub fn start_new_from_mesh(&mut self, path: PathBuf, mut options: NewMeshOptions) {
-        self.info(format!("reading {}…", path.display()));
-        self.pending_autorig = match options.rig {
-            NewRig::Auto => {
-                options.rig = NewRig::Grid;
-                Some(starcages_core::generate::AutorigSettings {
-                    detail: options.detail,
-                    mirror: options.mirror,
-                    ..starcages_core::generate::AutorigSettings::default()
-                })
-            }
-            NewRig::Grid => None,
-        };
-        self.load_job = Some(jobs::new_from_mesh(path, options, self.waker.clone()));
-    }
-
-    /// Starts opening `path` on a worker; the current document stays until it has loaded,
-    /// and for good if it fails. A mesh (not a `.json` scene) opens as File ▸ New from mesh
-    /// does: at once in the grid, its auto rig following.
-    pub fn start_load(&mut self, path: PathBuf) {
-        let scene = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-        if !scene {
-            return self.start_new_from_mesh(path, NewMeshOptions::default());
-        }
-        self.info(format!("opening {}…", path.display()));
-        self.load_job = Some(jobs::load(path, self.waker.clone()));
-    }
-
-    /// Starts generating the demo `name` on a worker, as [`Self::start_load`].
-    pub fn start_load_demo(&mut self, name: String) {
-        self.info(format!("generating the {name} demo…"));
-        self.load_job = Some(jobs::load_demo(name, self.waker.clone()));
-    }
-
     /// Hand moves (vertex, new position), mirrored when X mirroring is on, propagated down the
     /// hierarchy; the mesh follows incrementally.
     pub fn move_vertices(&mut self, moves: &[(u32, DVec3)]) -> Result<(), EditorError> {
@@ -717,18 +484,6 @@ impl EditorState {
         out
     }
 
-    /// An edit, undo or redo changed the document while the auto rig was being made for it:
-    /// the rig would land on another document (on top of an undone step, or over a stray
-    /// move), so it is cancelled, with a message saying how to make it again.
-    fn cancel_autorig_for_edit(&mut self) {
-        if self.autorig_job.take().is_some() {
-            self.info(
-                "auto rig cancelled: the rig changed while it was being made (the Rig menu's \
-                 Auto rig makes it again)",
-            );
-        }
-    }
-
     /// One undo step around `change`, the path every edit takes (scene edits through
     /// [`Self::edit_scene`], pose moves directly): the editable state before it is pushed under
     /// `label` when `change` altered it, unless a gesture runs (a gesture is one step, recorded
@@ -856,18 +611,5 @@ impl EditorState {
             }
         }
         Ok(())
-    }
-}
-
-/// The bind that refines the preview `rig`: its coarse leaf cages' rows at full resolution,
-/// or everything with harmonic join cages.
-fn refinement(rig: &LiveRig) -> (&'static str, Scope) {
-    if rig.coarse_leaves.is_empty() {
-        ("refining: harmonic join cages", Scope::Full)
-    } else {
-        (
-            "refining: harmonic leaf cages",
-            Scope::Leaves(Arc::clone(&rig.binding), rig.coarse_leaves.clone(), false),
-        )
     }
 }
