@@ -171,7 +171,16 @@ fn the_fig13_sequence_carries_hand_edits_along() {
     }
     // The left ear's lower vertices belong to the head, which did not move.
     let ear_left = scene.cages.cage_vertices("ear_left").unwrap();
-    for &v in ear_left.iter().filter(|v| !ears_reach.contains(v)) {
+    let lower: Vec<u32> = ear_left
+        .iter()
+        .copied()
+        .filter(|v| !ears_reach.contains(v))
+        .collect();
+    assert!(
+        !lower.is_empty(),
+        "the left ear has vertices the ears' cage does not reach"
+    );
+    for &v in &lower {
         assert_eq!(pose[v as usize], after_leaf[v as usize]);
     }
     let after_parent = pose.clone();
@@ -478,10 +487,10 @@ fn removing_an_internal_cage_undoes_adding_it_and_frees_what_it_owned() {
             .iter()
             .any(|p| p.owns.iter().any(|v| own.contains(v)))
     });
-    if let Some(child) = driven {
-        let error = remove_internal_cage(&mut scene.clone(), child).unwrap_err();
-        assert!(error.to_string().contains("remove '"), "{error}");
-    }
+    // The critter's ears cage owns vertices its head cage drives: one of the two is driven.
+    let child = driven.expect("one internal cage owns vertices another drives");
+    let error = remove_internal_cage(&mut scene.clone(), child).unwrap_err();
+    assert!(error.to_string().contains("remove '"), "{error}");
     let top = [ears, head]
         .into_iter()
         .find(|&c| Some(c) != driven)

@@ -20,3 +20,4 @@ mod rig_inset;
 mod rig_script;
 mod scenes;
 mod star;
+mod star_rebind;

@@ -223,7 +223,17 @@ fn fit_pulls_a_cage_to_the_mesh_keeping_the_margin_and_shared_vertices() {
             .unwrap();
     let (lo, hi) = scene.mesh.bounds();
     let gap = 0.01 * (hi - lo).length();
-    for p in scene.mesh.welded_positions().iter().filter(|p| p.z < 1.0) {
+    let low: Vec<&DVec3> = scene
+        .mesh
+        .welded_positions()
+        .iter()
+        .filter(|p| p.z < 1.0)
+        .collect();
+    assert!(
+        !low.is_empty(),
+        "the mesh has vertices below z = 1 for the fitted cage"
+    );
+    for p in low {
         assert!(local.cage.winding_number(*p) > 0.5);
         assert!(
             local.cage.closest_point(*p).2 >= gap * 0.999,

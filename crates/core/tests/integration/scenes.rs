@@ -57,36 +57,19 @@ fn two_box_scene() -> Scene {
     demo_scene("bar", 0.3).unwrap()
 }
 
-#[test]
-fn validation_names_cage_element_and_fix() {
-    // Open cage.
-    let mut s = two_box_scene();
-    s.cages.leaves[0].faces.pop();
-    let p = problems(&s);
-    assert!(
-        matches!(&p[0], SceneProblem::Cage { cage, .. } if cage == "cage_0_0_0"),
-        "{p:?}"
-    );
-    assert!(p[0].to_string().contains("not closed"), "{}", p[0]);
+/// One way to break the two-box scene, and what validation must say about it.
+struct ValidationCase {
+    /// What is broken.
+    name: &'static str,
+    /// Breaks the scene.
+    break_it: fn(&mut Scene),
+    /// Whether the problems name it (and say the fix).
+    named: fn(&Scene, &[SceneProblem]) -> bool,
+}
 
-    // Inward cage: also runs the shared face the same way as its neighbour.
-    let mut s = two_box_scene();
-    for f in &mut s.cages.leaves[1].faces {
-        f.reverse();
-    }
-    let p = problems(&s);
-    assert!(
-        p.iter().any(|e| e.to_string().contains("oriented inwards")),
-        "{p:?}"
-    );
-    assert!(
-        p.iter()
-            .any(|e| matches!(e, SceneProblem::SharedFaceSameOrientation { .. })),
-        "{p:?}"
-    );
-
-    // Overlap: move the left cage's right face into the right cage.
-    let mut s = two_box_scene();
+/// Moves the left cage's right face into the right cage (its own copies of the old border keep
+/// both cages closed): the cages overlap.
+fn overlap_the_cages(s: &mut Scene) {
     let mut shared: Vec<u32> = s.cages.leaves[0]
         .faces
         .iter()
@@ -100,18 +83,15 @@ fn validation_names_cage_element_and_fix() {
     for v in shared {
         // Into the right cage, strictly inside it (not on its edges).
         let p = &mut moved.vertices[v as usize];
-        *p = glam::DVec3::new(0.5, p.y * 0.9, p.z * 0.9);
+        *p = DVec3::new(0.5, p.y * 0.9, p.z * 0.9);
     }
-    // Give the right cage its own copies of the old border so both cages stay closed.
     let offset = moved.vertices.len() as u32;
     let border: Vec<u32> = (0..moved.vertices.len() as u32)
         .filter(|&v| moved.vertices[v as usize].x == 0.5)
         .collect();
     for &v in &border {
         let p = moved.vertices[v as usize];
-        moved
-            .vertices
-            .push(glam::DVec3::new(0.0, p.y / 0.9, p.z / 0.9));
+        moved.vertices.push(DVec3::new(0.0, p.y / 0.9, p.z / 0.9));
     }
     for f in &mut moved.leaves[1].faces {
         for v in f.iter_mut() {
@@ -123,81 +103,148 @@ fn validation_names_cage_element_and_fix() {
     s.pose = moved.vertices.clone();
     s.poses.clear();
     s.cages = moved;
-    let p = problems(&s);
-    assert!(
-        p.iter()
-            .any(|e| matches!(e, SceneProblem::MeshVertexInTwoCages { .. })),
-        "{p:?}"
-    );
-    assert!(
-        p.iter()
-            .any(|e| matches!(e, SceneProblem::CageVertexInsideCage { .. })),
-        "{p:?}"
-    );
+}
 
-    // Mesh outside every cage: error by default, warning with the 'nearest' policy.
-    let mut s = two_box_scene();
+/// Shrinks the cages along x so that the mesh's ends stick out.
+fn shrink_the_cages(s: &mut Scene) {
     for v in &mut s.cages.vertices {
         v.x *= 0.8;
     }
     s.pose = s.cages.vertices.clone();
     s.poses.clear();
-    let p = problems(&s);
-    let outside = p.iter().find_map(|e| match e {
-        SceneProblem::MeshOutside {
-            count, vertices, ..
-        } => Some((*count, vertices.clone())),
-        _ => None,
-    });
-    let (count, vertices) = outside.expect("outside vertices reported");
-    assert!(
-        count > 0
-            && vertices
-                .iter()
-                .all(|&v| s.mesh.welded_positions()[v].x.abs() > 0.88 - 1e-9)
-    );
-    assert!(p.iter().any(|e| {
-        e.to_string()
-            .contains("set the scene's outside policy to 'nearest'")
-    }));
-    s.settings.outside = OutsidePolicy::Nearest;
-    let report = validate_scene(&s);
+}
+
+/// Every case is checked and every failing one reported, not only the first.
+#[test]
+fn validation_names_cage_element_and_fix() {
+    let cases = [
+        ValidationCase {
+            name: "an open cage",
+            break_it: |s| drop(s.cages.leaves[0].faces.pop()),
+            named: |_, p| {
+                matches!(p.first(), Some(SceneProblem::Cage { cage, .. }) if cage == "cage_0_0_0")
+                    && p[0].to_string().contains("not closed")
+            },
+        },
+        ValidationCase {
+            name: "an inward cage",
+            break_it: |s| s.cages.leaves[1].faces.iter_mut().for_each(|f| f.reverse()),
+            named: |_, p| p.iter().any(|e| e.to_string().contains("oriented inwards")),
+        },
+        ValidationCase {
+            name: "a shared face run the same way by both cages",
+            break_it: |s| s.cages.leaves[1].faces.iter_mut().for_each(|f| f.reverse()),
+            named: |_, p| {
+                p.iter()
+                    .any(|e| matches!(e, SceneProblem::SharedFaceSameOrientation { .. }))
+            },
+        },
+        ValidationCase {
+            name: "a mesh vertex in two cages",
+            break_it: overlap_the_cages,
+            named: |_, p| {
+                p.iter()
+                    .any(|e| matches!(e, SceneProblem::MeshVertexInTwoCages { .. }))
+            },
+        },
+        ValidationCase {
+            name: "a cage vertex inside another cage",
+            break_it: overlap_the_cages,
+            named: |_, p| {
+                p.iter()
+                    .any(|e| matches!(e, SceneProblem::CageVertexInsideCage { .. }))
+            },
+        },
+        ValidationCase {
+            name: "mesh vertices outside every cage, named, with the fix",
+            break_it: shrink_the_cages,
+            named: |s, p| {
+                let outside = p.iter().find_map(|e| match e {
+                    SceneProblem::MeshOutside {
+                        count, vertices, ..
+                    } => Some((*count, vertices.clone())),
+                    _ => None,
+                });
+                outside.is_some_and(|(count, vertices)| {
+                    count > 0
+                        && vertices
+                            .iter()
+                            .all(|&v| s.mesh.welded_positions()[v].x.abs() > 0.88 - 1e-9)
+                }) && p.iter().any(|e| {
+                    e.to_string()
+                        .contains("set the scene's outside policy to 'nearest'")
+                })
+            },
+        },
+        ValidationCase {
+            name: "h outside (0, 1]",
+            break_it: |s| s.cages.leaves[0].h = Some(1.5),
+            named: |_, p| {
+                p.iter()
+                    .any(|e| matches!(e, SceneProblem::InvalidH { h, .. } if *h == 1.5))
+            },
+        },
+        ValidationCase {
+            name: "a border h for a cage that does not exist",
+            break_it: |s| {
+                s.cages.leaves[0].border_h.insert("nobody".into(), 0.5);
+            },
+            named: |_, p| {
+                p.iter().any(|e| {
+                    matches!(e, SceneProblem::UnknownBorder { neighbour, .. } if neighbour == "nobody")
+                })
+            },
+        },
+        ValidationCase {
+            name: "a default h outside (0, 1], printed short",
+            break_it: |s| s.settings.default_h = 1e308,
+            named: |_, p| {
+                p.iter().any(|e| {
+                    e.to_string()
+                        == "settings: default_h = 1e308 is outside (0, 1]; choose a value in \
+                            that range (0.5 is the default)"
+                })
+            },
+        },
+        ValidationCase {
+            name: "two cages of one name",
+            break_it: |s| s.cages.leaves[1].name = "cage_0_0_0".into(),
+            named: |_, p| {
+                p.iter()
+                    .any(|e| matches!(e, SceneProblem::DuplicateName { .. }))
+            },
+        },
+        ValidationCase {
+            name: "a pose of the wrong length",
+            break_it: |s| drop(s.poses.insert("short".into(), vec![DVec3::ZERO; 3])),
+            named: |_, p| {
+                p.iter().any(
+                    |e| matches!(e, SceneProblem::PoseLength { pose, got: 3, .. } if pose == "short"),
+                )
+            },
+        },
+    ];
+    let mut unnamed = Vec::new();
+    for case in &cases {
+        let mut scene = two_box_scene();
+        (case.break_it)(&mut scene);
+        let found = problems(&scene);
+        if !(case.named)(&scene, &found) {
+            unnamed.push(format!("{}: {found:?}", case.name));
+        }
+    }
+    assert!(unnamed.is_empty(), "not named:\n{}", unnamed.join("\n"));
+}
+
+/// Mesh vertices outside every cage are a warning, not an error, under the 'nearest' policy.
+#[test]
+fn the_nearest_policy_makes_outside_vertices_a_warning() {
+    let mut scene = two_box_scene();
+    shrink_the_cages(&mut scene);
+    scene.settings.outside = OutsidePolicy::Nearest;
+    let report = validate_scene(&scene);
     assert!(report.is_valid(), "{:?}", report.errors);
     assert_eq!(report.warnings.len(), 1);
-
-    // Bad h values, unknown border, duplicate names, pose length.
-    let mut s = two_box_scene();
-    s.cages.leaves[0].h = Some(1.5);
-    s.cages.leaves[0].border_h.insert("nobody".into(), 0.5);
-    s.cages.leaves[1].name = "cage_0_0_0".into();
-    s.poses.insert("short".into(), vec![DVec3::ZERO; 3]);
-    let p = problems(&s);
-    assert!(
-        p.iter()
-            .any(|e| matches!(e, SceneProblem::InvalidH { h, .. } if *h == 1.5)),
-        "{p:?}"
-    );
-    assert!(p.iter().any(
-        |e| matches!(e, SceneProblem::UnknownBorder { neighbour, .. } if neighbour == "nobody")
-    ));
-    // The scene's default h is a setting, and an extreme value prints short.
-    let mut d = two_box_scene();
-    d.settings.default_h = 1e308;
-    let default_problems = problems(&d);
-    assert!(
-        default_problems.iter().any(|e| e.to_string()
-            == "settings: default_h = 1e308 is outside (0, 1]; choose a value in that range \
-                (0.5 is the default)"),
-        "{default_problems:?}"
-    );
-    assert!(
-        p.iter()
-            .any(|e| matches!(e, SceneProblem::DuplicateName { .. }))
-    );
-    assert!(
-        p.iter()
-            .any(|e| matches!(e, SceneProblem::PoseLength { pose, got: 3, .. } if pose == "short"))
-    );
 }
 
 #[test]

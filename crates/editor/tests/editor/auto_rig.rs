@@ -4,7 +4,7 @@
 use egui_kittest::kittest::Queryable as _;
 use starcages_editor::{Command, Document};
 
-use crate::common::{harness, scratch, settle};
+use crate::common::{harness, scratch, send, send_and_settle, settle};
 
 /// New from mesh reads an OBJ Y-up (the convention) and stands it up along Z; the dialog's
 /// "Z up" reads it as it is.
@@ -282,10 +282,7 @@ fn an_undo_while_the_auto_rig_runs_cancels_it_with_a_message() {
     let grid = harness.state().state.doc.scene.cages.clone();
     let rest = harness.state().state.doc.scene.pose.clone();
     let moved = rest[0] + glam::DVec3::new(0.0, 0.0, 0.05);
-    harness
-        .state_mut()
-        .run(Command::MoveVertices(vec![(0, moved)]));
-    harness.run_steps(1);
+    send(&mut harness, Command::MoveVertices(vec![(0, moved)]));
     assert_eq!(harness.state().state.doc.scene.pose[0], moved);
     harness.state_mut().run(Command::AutoRig {
         detail: 2,
@@ -298,8 +295,7 @@ fn an_undo_while_the_auto_rig_runs_cancels_it_with_a_message() {
     );
     // The undo while the job runs, with no frame between (a frame could land a job that
     // finished first, and the undo would then rightly undo the rig).
-    harness.state_mut().run(Command::Undo);
-    settle(&mut harness);
+    send_and_settle(&mut harness, Command::Undo);
     let app = harness.state();
     assert!(app.state.autorig_job.is_none());
     assert_eq!(app.state.doc.scene.cages, grid, "the rig did not land");
@@ -312,12 +308,14 @@ fn an_undo_while_the_auto_rig_runs_cancels_it_with_a_message() {
         "{message:?}"
     );
     // Left alone, it lands as one step over the grid.
-    harness.state_mut().run(Command::AutoRig {
-        detail: 2,
-        controls: true,
-        mirror: starcages_core::generate::Mirror::None,
-    });
-    settle(&mut harness);
+    send_and_settle(
+        &mut harness,
+        Command::AutoRig {
+            detail: 2,
+            controls: true,
+            mirror: starcages_core::generate::Mirror::None,
+        },
+    );
     assert_ne!(harness.state().state.doc.scene.cages, grid);
     crate::common::undo(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages, grid);
@@ -335,11 +333,13 @@ fn r_on_a_control_turns_it_about_its_pivot() {
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
     let before = harness.state().state.doc.scene.pose.clone();
-    harness.state_mut().run(Command::Select {
-        vertices: vertices.clone(),
-        mode: starcages_editor::state::SelectMode::Replace,
-    });
-    harness.run_steps(1);
+    send(
+        &mut harness,
+        Command::Select {
+            vertices: vertices.clone(),
+            mode: starcages_editor::state::SelectMode::Replace,
+        },
+    );
     harness.key_press(egui::Key::R);
     harness.run_steps(1);
     assert!(harness.state().ui.tool.is_some(), "R started a rotation");
@@ -407,11 +407,13 @@ fn the_pivot_point_menu_turns_about_joints_medians_or_individual_origins() {
         assert_eq!(harness.state().state.view.pivot_point.label(), label);
         harness.hover_at(egui::pos2(centre.x, centre.y));
         let before = harness.state().state.doc.scene.cages.vertices.clone();
-        harness.state_mut().run(Command::Select {
-            vertices: both.clone(),
-            mode: starcages_editor::state::SelectMode::Replace,
-        });
-        harness.run_steps(1);
+        send(
+            &mut harness,
+            Command::Select {
+                vertices: both.clone(),
+                mode: starcages_editor::state::SelectMode::Replace,
+            },
+        );
         harness.key_press(egui::Key::R);
         harness.run_steps(1);
         for text in ["z", "9", "0"] {

@@ -5,7 +5,7 @@ use std::sync::{Arc, Mutex};
 
 use egui_kittest::Harness;
 use starcages_core::generate::demo::demo_scene;
-use starcages_editor::{CageId, Document, EditorApp};
+use starcages_editor::{CageId, Command, Document, EditorApp};
 
 /// The critter demo at a reduced detail.
 pub fn document() -> Document {
@@ -50,6 +50,18 @@ pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("starcages-editor-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// Sends `command` as the UI would, then runs one frame for it to show.
+pub fn send(harness: &mut Harness<'static, EditorApp>, command: Command) {
+    harness.state_mut().run(command);
+    harness.run_steps(1);
+}
+
+/// Sends `command`, then waits for the jobs it starts and lets the UI take them.
+pub fn send_and_settle(harness: &mut Harness<'static, EditorApp>, command: Command) {
+    harness.state_mut().run(command);
+    settle(harness);
 }
 
 /// Waits for background jobs to finish and lets the UI take them.

@@ -8,10 +8,13 @@
 
 mod app;
 mod auto_rig;
+mod binding;
 mod common;
 mod drag;
+mod files;
 mod layering;
 mod model;
 mod regressions;
 mod rig_mode;
+mod rig_tools;
 mod timeline;

@@ -10,7 +10,7 @@ use starcages_editor::ui::viewport_paint::uploaded_mesh;
 use starcages_editor::{CageId, Command};
 use starcages_io::save_scene;
 
-use crate::common::{harness, harness_on, press, scratch, settle};
+use crate::common::{harness, harness_on, press, scratch, send_and_settle, settle};
 
 #[test]
 fn opening_a_second_scene_draws_its_own_mesh() {
@@ -23,10 +23,10 @@ fn opening_a_second_scene_draws_its_own_mesh() {
     let drawn = || uploaded_mesh(&render_state.renderer.read().callback_resources);
     for path in [&egg, &critter, &egg] {
         harness.state_mut().run(Command::Open(path.clone()));
-        harness.state_mut().run(Command::AnswerUnsaved(
-            starcages_editor::commands::UnsavedAnswer::Discard,
-        ));
-        settle(&mut harness);
+        send_and_settle(
+            &mut harness,
+            Command::AnswerUnsaved(starcages_editor::commands::UnsavedAnswer::Discard),
+        );
         harness.run_steps(2);
         // kittest paints (and so runs the paint callback) when asked for an image.
         harness.render().unwrap();
@@ -111,8 +111,7 @@ fn undoing_an_internal_cage_while_it_is_inspected_and_shift_dragging_after_do_no
         harness.state().state.check_invariants().unwrap();
     }
     // Undo everything back to the demo: still consistent.
-    harness.state_mut().run(Command::Undo);
-    settle(&mut harness);
+    send_and_settle(&mut harness, Command::Undo);
     harness.state().state.check_invariants().unwrap();
 }
 
@@ -151,8 +150,7 @@ fn the_difference_map_binds_its_baseline_in_the_background() {
     harness.get_by_label_contains("identical");
     // Posed, they differ.
     let pose = state.doc.scene.poses.keys().next().unwrap().clone();
-    harness.state_mut().run(Command::SwitchPose(Some(pose)));
-    settle(&mut harness);
+    send_and_settle(&mut harness, Command::SwitchPose(Some(pose)));
     let values = harness.state().state.map.values().expect("the map").clone();
     assert!(!values.title.contains("identical"), "{}", values.title);
     assert!(values.values.iter().any(|&v| v > 0.5));
@@ -172,10 +170,10 @@ fn replacing_the_document_cancels_its_running_bind() {
     let path = scratch("cancel-on-replace").join("bar.json");
     save_scene(&demo_scene("bar", 0.3).unwrap(), &path).unwrap();
     harness.state_mut().run(Command::Open(path));
-    harness.state_mut().run(Command::AnswerUnsaved(
-        starcages_editor::commands::UnsavedAnswer::Discard,
-    ));
-    settle(&mut harness);
+    send_and_settle(
+        &mut harness,
+        Command::AnswerUnsaved(starcages_editor::commands::UnsavedAnswer::Discard),
+    );
     assert!(control.is_cancelled(), "the old document's bind still runs");
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
 }

@@ -9,7 +9,7 @@ use egui_kittest::kittest::Queryable as _;
 use glam::{DVec3, Vec3};
 use starcages_editor::{Command, EditorApp};
 
-use crate::common::{harness, leaf, press_with, scratch};
+use crate::common::{harness, leaf, press_with, scratch, send};
 
 type Harness = egui_kittest::Harness<'static, EditorApp>;
 
@@ -70,10 +70,7 @@ fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
     assert_eq!(key_pose(&harness), moved);
     // At a keyed frame an edit updates the key, in the edit's own undo step.
     let further = moved + DVec3::new(0.1, 0.0, 0.0);
-    harness
-        .state_mut()
-        .run(Command::MoveVertices(vec![(v, further)]));
-    harness.run_steps(1);
+    send(&mut harness, Command::MoveVertices(vec![(v, further)]));
     assert_eq!(key_pose(&harness), further);
     press_with(&mut harness, Modifiers::COMMAND, Key::Z);
     assert_eq!(key_pose(&harness), moved);
@@ -94,10 +91,7 @@ fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
     harness.run_steps(2);
     assert!(harness.state().state.timeline.auto_key);
     harness.state_mut().run(Command::SetFrame(8.0));
-    harness
-        .state_mut()
-        .run(Command::MoveVertices(vec![(v, further)]));
-    harness.run_steps(1);
+    send(&mut harness, Command::MoveVertices(vec![(v, further)]));
     assert_eq!(key_frames(&harness), vec![1.0, 8.0, 12.0, 24.0]);
     // Retiming keeps the order; a frame with a key already is refused.
     harness.state_mut().run(Command::MoveKey {
@@ -250,8 +244,7 @@ fn an_edit_at_a_keyed_frame_gives_the_cages_the_cli_poses() {
     }
     .resolve(&harness.state().state.doc.scene)
     .unwrap();
-    harness.state_mut().run(Command::SetFrame(12.0));
-    harness.run_steps(1);
+    send(&mut harness, Command::SetFrame(12.0));
     let app = harness.state_mut();
     let scene = &app.state.doc.scene;
     assert_eq!(scene.pose, scene.poses["ears_back"]);
