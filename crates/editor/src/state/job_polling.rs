@@ -37,8 +37,9 @@ impl EditorState {
     pub(super) fn spawn_bind(&mut self, label: &str, scope: Scope) {
         let generation = self.generations.edit;
         let scene = self.doc.scene.clone();
+        let topology = self.checked_topology.as_ref().and_then(|t| t.of(&scene));
         self.bind_job = Some(Job::spawn("binding", label, self.waker.clone(), move |c| {
-            jobs::bind(&scene, scope, generation, c)
+            jobs::bind(&scene, topology.as_deref(), scope, generation, c)
         }));
     }
 

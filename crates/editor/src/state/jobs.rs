@@ -135,15 +135,17 @@ pub struct Bound {
     pub coarse_leaves: Vec<usize>,
 }
 
-/// Binds `scene` as far as `scope` says (runs on a worker).
+/// Binds `scene` as far as `scope` says (runs on a worker); a full bind takes `topology`, the
+/// scene's as validation built it, where given.
 pub fn bind(
     scene: &Scene,
+    topology: Option<&Topology>,
     scope: Scope,
     generation: u64,
     control: &BindControl,
 ) -> Result<Bound, EditorError> {
     let start = Instant::now();
-    let mut preview = matches!(scope, Scope::Preview) && has_harmonic_join_cages(scene);
+    let mut preview = matches!(scope, Scope::Preview) && has_harmonic_join_cages(scene, topology);
     let mut coarse_leaves = Vec::new();
     let binding = match scope {
         Scope::Preview if preview => {
@@ -151,7 +153,11 @@ pub fn bind(
             quick.settings.join_coordinates = JoinPolicy::Mvc;
             StarBinding::bind_scene(&quick, control).map(Arc::new)
         }
-        Scope::Full | Scope::Preview => StarBinding::bind_scene(scene, control).map(Arc::new),
+        Scope::Full | Scope::Preview => match topology {
+            Some(topology) => StarBinding::bind_scene_with(scene, topology, control),
+            None => StarBinding::bind_scene(scene, control),
+        }
+        .map(Arc::new),
         Scope::Leaves(old, leaves, quick) if quick && turns_harmonic(scene, &leaves) => {
             // A harmonic leaf at full resolution is one large grid solve: bind it coarsely
             // first, so the change shows at once.
@@ -192,17 +198,20 @@ fn turns_harmonic(scene: &Scene, leaves: &[usize]) -> bool {
 }
 
 /// Whether binding `scene` solves harmonic coordinates in some join cage (its policy is
-/// harmonic, or automatic with a concave join cage). A topology that cannot be built gives
-/// `false`: the bind itself then reports why.
-fn has_harmonic_join_cages(scene: &Scene) -> bool {
-    match scene.settings.join_coordinates {
-        JoinPolicy::Mvc => false,
-        policy => Topology::new(&scene.cages, policy).is_ok_and(|topology| {
-            topology
-                .joins
-                .values()
-                .any(|join| join.kind == CoordinateKind::Harmonic)
-        }),
+/// harmonic, or automatic with a concave join cage), read from `topology` (the scene's) or a
+/// topology built here. One that cannot be built gives `false`: the bind itself then reports
+/// why.
+fn has_harmonic_join_cages(scene: &Scene, topology: Option<&Topology>) -> bool {
+    let harmonic = |topology: &Topology| {
+        topology
+            .joins
+            .values()
+            .any(|join| join.kind == CoordinateKind::Harmonic)
+    };
+    match (scene.settings.join_coordinates, topology) {
+        (JoinPolicy::Mvc, _) => false,
+        (_, Some(topology)) => harmonic(topology),
+        (policy, None) => Topology::new(&scene.cages, policy).is_ok_and(|t| harmonic(&t)),
     }
 }
 

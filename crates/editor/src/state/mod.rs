@@ -19,6 +19,7 @@ pub mod undo;
 mod view;
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -160,6 +161,9 @@ pub struct EditorState {
     pub rig_problems: Vec<String>,
     /// The cages and vertices those problems name, drawn in the warning colour.
     pub rig_warnings: rig_warnings::RigWarnings,
+    /// The *Cages topology the last validation built, with the cages and join policy it is of:
+    /// a full bind of those takes it instead of building it again.
+    pub checked_topology: Option<CheckedTopology>,
     /// Undo and redo.
     pub undo: UndoStack,
     /// A gesture in progress.
@@ -198,6 +202,28 @@ pub struct EditorState {
     waker: Option<Waker>,
 }
 
+/// A topology validation built, and what it is of.
+#[derive(Debug, Clone)]
+pub struct CheckedTopology {
+    /// The cages it was built for.
+    pub cages: starcages_core::scene::CageSet,
+    /// The join policy it was built with.
+    pub policy: starcages_core::scene::JoinPolicy,
+    /// The topology.
+    pub topology: Arc<starcages_core::star::Topology>,
+}
+
+impl CheckedTopology {
+    /// The topology when it is `scene`'s.
+    pub fn of(
+        &self,
+        scene: &starcages_core::scene::Scene,
+    ) -> Option<Arc<starcages_core::star::Topology>> {
+        (self.cages == scene.cages && self.policy == scene.settings.join_coordinates)
+            .then(|| Arc::clone(&self.topology))
+    }
+}
+
 impl std::fmt::Debug for EditorState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("EditorState")
@@ -221,6 +247,7 @@ impl EditorState {
             mode: EditMode::Pose,
             rig_problems: Vec::new(),
             rig_warnings: rig_warnings::RigWarnings::default(),
+            checked_topology: None,
             gesture_continues: None,
             undo: UndoStack::default(),
             gesture: None,
@@ -374,7 +401,14 @@ impl EditorState {
 
     /// Validates the scene: its problems, and the elements they name for the viewport.
     fn check_rig(&mut self) {
-        let report = starcages_core::check::validate_scene(&self.doc.scene);
+        let checked = starcages_core::check::check_scene(&self.doc.scene);
+        let scene = &self.doc.scene;
+        self.checked_topology = checked.topology.map(|topology| CheckedTopology {
+            cages: scene.cages.clone(),
+            policy: scene.settings.join_coordinates,
+            topology,
+        });
+        let report = checked.report;
         self.rig_warnings =
             rig_warnings::RigWarnings::from_problems(&self.doc.scene, &report.errors);
         self.rig_problems = report.errors.iter().map(ToString::to_string).collect();

@@ -315,3 +315,26 @@ fn editing_rest_positions_in_the_item_panel_rebinds_and_moves_the_poses_along() 
     assert_eq!(scene.cages.vertices, before.cages.vertices);
     assert_eq!(scene.poses, before.poses);
 }
+
+/// Validation keeps the topology it built, and a bind of the same cages and join policy takes
+/// it; another policy or other cages do not.
+#[test]
+fn the_bind_takes_the_topology_validation_built_for_the_same_cages_only() {
+    use starcages_core::scene::JoinPolicy;
+    let harness = crate::common::harness();
+    let state = &harness.state().state;
+    let checked = state
+        .checked_topology
+        .as_ref()
+        .expect("validation kept its topology");
+    assert!(checked.of(&state.doc.scene).is_some());
+    let mut other_policy = state.doc.scene.clone();
+    other_policy.settings.join_coordinates = match other_policy.settings.join_coordinates {
+        JoinPolicy::Mvc => JoinPolicy::Hc,
+        _ => JoinPolicy::Mvc,
+    };
+    assert!(checked.of(&other_policy).is_none());
+    let mut other_cages = state.doc.scene.clone();
+    other_cages.cages.vertices[0].z += 0.01;
+    assert!(checked.of(&other_cages).is_none());
+}
