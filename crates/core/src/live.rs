@@ -13,8 +13,48 @@ use crate::hierarchy::{Hierarchy, HierarchyError};
 use crate::scene::{CageSet, Scene, SceneSettings};
 use crate::star::{DriverMap, StarBinding};
 
-/// DOFs and deformed mesh positions of one pose.
-pub type RestView = (Arc<Vec<Vec3>>, Arc<Vec<Vec3>>);
+/// The deformed mesh of one set of DOFs, computed when first read (a GPU that deforms from the
+/// DOFs never needs it), then kept.
+#[derive(Debug)]
+pub struct DeformedMesh {
+    binding: Arc<StarBinding>,
+    /// The DOFs it is the product of.
+    pub dofs: Arc<Vec<Vec3>>,
+    positions: OnceLock<Arc<Vec<Vec3>>>,
+}
+
+impl DeformedMesh {
+    /// The mesh of `dofs`, not computed yet.
+    fn lazy(binding: &Arc<StarBinding>, dofs: Arc<Vec<Vec3>>) -> Self {
+        Self {
+            binding: Arc::clone(binding),
+            dofs,
+            positions: OnceLock::new(),
+        }
+    }
+
+    /// The mesh of `dofs`, already computed as `positions`.
+    fn computed(binding: &Arc<StarBinding>, dofs: Arc<Vec<Vec3>>, positions: Vec<Vec3>) -> Self {
+        let mesh = Self::lazy(binding, dofs);
+        let _ = mesh.positions.set(Arc::new(positions));
+        mesh
+    }
+
+    /// The deformed welded mesh positions: S·x, computed on the first call.
+    pub fn positions(&self) -> &Arc<Vec<Vec3>> {
+        self.positions.get_or_init(|| {
+            let operator = &self.binding.operator;
+            let mut positions = vec![Vec3::ZERO; operator.row_count()];
+            operator.apply(&self.dofs, &mut positions);
+            Arc::new(positions)
+        })
+    }
+
+    /// The positions if something read them already.
+    pub fn computed_positions(&self) -> Option<&Arc<Vec<Vec3>>> {
+        self.positions.get()
+    }
+}
 
 /// How much of a live rig a change of its scene makes stale.
 #[derive(Debug, Clone)]
@@ -41,10 +81,9 @@ pub struct LiveRig {
     pub binding: Arc<StarBinding>,
     /// Internal cages.
     pub hierarchy: Hierarchy,
-    /// Deformed welded mesh positions of the scene's current pose, updated incrementally.
-    pub deformed: Arc<Vec<Vec3>>,
-    /// The operator's degrees of freedom for the current pose (GPU deformation reads them).
-    pub dofs: Arc<Vec<Vec3>>,
+    /// The operator's degrees of freedom for the current pose and the deformed mesh, computed
+    /// only when something reads it and from then on kept up to date move by move.
+    mesh: Arc<DeformedMesh>,
     /// The cages and settings this binding is for.
     pub bound_for: (CageSet, SceneSettings),
     /// A preview binding (mean value join cages in place of harmonic ones, or harmonic leaf
@@ -53,7 +92,7 @@ pub struct LiveRig {
     /// The leaf cages a leaf preview bound coarsely (empty for a join-cage preview).
     pub coarse_leaves: Vec<usize>,
     /// The rest pose's DOFs and deformed mesh: computed when first asked for.
-    rest_view: OnceLock<RestView>,
+    rest_view: OnceLock<Arc<DeformedMesh>>,
     /// The drag in progress as an affine map of the vertices it moves by hand, when its moves
     /// reach far through the hierarchy ([`LiveRig::redeform_drag`]).
     drag: Option<DriverMap>,
@@ -71,33 +110,46 @@ impl LiveRig {
         bound_for: (CageSet, SceneSettings),
         scene: &Scene,
     ) -> Self {
-        let mut rig = Self {
+        let dofs = Arc::new(binding.operator.dofs(&scene.cages.vertices, &scene.pose));
+        let mesh = Arc::new(DeformedMesh::lazy(&binding, dofs));
+        Self {
             binding,
             hierarchy,
-            deformed: Arc::new(Vec::new()),
-            dofs: Arc::new(Vec::new()),
+            mesh,
             bound_for,
             preview: false,
             coarse_leaves: Vec::new(),
             rest_view: OnceLock::new(),
             drag: None,
             drag_without_map: None,
-        };
-        rig.redeform_all(scene);
-        rig
+        }
     }
 
-    /// The DOFs and the deformed mesh of the rest cages this binding was made for (computed
-    /// once per rig).
-    pub fn rest_view(&self) -> RestView {
-        let (dofs, deformed) = self.rest_view.get_or_init(|| {
+    /// The DOFs and the deformed mesh of the rest cages this binding was made for (the DOFs
+    /// computed once per rig, the mesh when read).
+    pub fn rest_view(&self) -> Arc<DeformedMesh> {
+        let view = self.rest_view.get_or_init(|| {
             let rest = &self.bound_for.0.vertices;
-            (
-                Arc::new(self.binding.operator.dofs(rest, rest)),
-                Arc::new(self.binding.deform(rest, rest)),
-            )
+            let dofs = Arc::new(self.binding.operator.dofs(rest, rest));
+            Arc::new(DeformedMesh::lazy(&self.binding, dofs))
         });
-        (Arc::clone(dofs), Arc::clone(deformed))
+        Arc::clone(view)
+    }
+
+    /// The current pose's DOFs and deformed mesh (a cheap handle: the mesh is computed when
+    /// read).
+    pub fn mesh(&self) -> Arc<DeformedMesh> {
+        Arc::clone(&self.mesh)
+    }
+
+    /// The current pose's DOFs.
+    pub fn dofs(&self) -> &Arc<Vec<Vec3>> {
+        &self.mesh.dofs
+    }
+
+    /// The current pose's deformed welded mesh (computed now if nothing read it before).
+    pub fn deformed(&self) -> &Arc<Vec<Vec3>> {
+        self.mesh.positions()
     }
 
     /// Whether the binding still fits `scene`'s cages and settings.
@@ -146,27 +198,43 @@ impl LiveRig {
         Ok(changed)
     }
 
-    /// Recomputes the whole deformation of `scene`'s current pose.
+    /// Recomputes the DOFs of `scene`'s current pose; the mesh follows when read (playback
+    /// calls this every frame).
     pub fn redeform_all(&mut self, scene: &Scene) {
-        // The DOFs once, for the product and for the GPU (playback calls this every frame).
-        let operator = &self.binding.operator;
-        let dofs = operator.dofs(&scene.cages.vertices, &scene.pose);
-        let mut deformed = vec![Vec3::ZERO; operator.row_count()];
-        operator.apply(&dofs, &mut deformed);
-        self.dofs = Arc::new(dofs);
-        self.deformed = Arc::new(deformed);
+        let dofs = self
+            .binding
+            .operator
+            .dofs(&scene.cages.vertices, &scene.pose);
+        self.mesh = Arc::new(DeformedMesh::lazy(&self.binding, Arc::new(dofs)));
     }
 
-    /// Brings the DOFs up to date after the cage vertices `changed` moved: their columns and
-    /// the Green DOFs of their triangles, not every column.
-    fn update_dofs(&mut self, scene: &Scene, changed: &[u32]) {
+    /// The DOFs after the cage vertices `changed` moved: the previous ones with their columns
+    /// and the Green DOFs of their triangles brought up to date, not every column.
+    fn updated_dofs(&self, scene: &Scene, changed: &[u32]) -> Vec<Vec3> {
         let operator = &self.binding.operator;
-        if self.dofs.len() == operator.dof_count() {
-            let dofs = Arc::make_mut(&mut self.dofs);
-            operator.update_dofs(&scene.cages.vertices, &scene.pose, changed, dofs);
+        let mut dofs = (*self.mesh.dofs).clone();
+        if dofs.len() == operator.dof_count() {
+            operator.update_dofs(&scene.cages.vertices, &scene.pose, changed, &mut dofs);
+            dofs
         } else {
-            self.dofs = Arc::new(operator.dofs(&scene.cages.vertices, &scene.pose));
+            operator.dofs(&scene.cages.vertices, &scene.pose)
         }
+    }
+
+    /// The previous mesh's positions to update in place, if something read them (taken
+    /// without a copy where no one else holds them).
+    fn take_computed_positions(&mut self) -> Option<Vec<Vec3>> {
+        self.mesh.computed_positions()?;
+        let placeholder = Arc::new(DeformedMesh::lazy(
+            &self.binding,
+            Arc::clone(&self.mesh.dofs),
+        ));
+        let mesh = std::mem::replace(&mut self.mesh, placeholder);
+        let positions = match Arc::try_unwrap(mesh) {
+            Ok(mesh) => mesh.positions.into_inner(),
+            Err(shared) => shared.computed_positions().cloned(),
+        }?;
+        Some(Arc::try_unwrap(positions).unwrap_or_else(|shared| (*shared).clone()))
     }
 
     /// Updates the deformation during a drag of the vertices `drivers` (sorted) that moved the
@@ -178,17 +246,25 @@ impl LiveRig {
     /// [`LiveRig::redeform_rows`]; a drag that can have no map tries once. The drag's end makes
     /// the result exact again ([`LiveRig::end_drag`]).
     pub fn redeform_drag(&mut self, scene: &Scene, drivers: &[u32], changed: &[u32]) {
-        if let Some(map) = self.drag.as_ref().filter(|map| map.drivers() == drivers) {
-            let deformed = Arc::make_mut(&mut self.deformed);
-            if map.apply(&scene.pose, deformed) {
-                self.update_dofs(scene, changed);
+        let mapped = self
+            .drag
+            .as_ref()
+            .is_some_and(|map| map.drivers() == drivers);
+        if mapped && self.mesh.computed_positions().is_some() {
+            let dofs = Arc::new(self.updated_dofs(scene, changed));
+            if let (Some(mut positions), Some(map)) = (self.take_computed_positions(), &self.drag)
+                && map.apply(&scene.pose, &mut positions)
+            {
+                self.mesh = Arc::new(DeformedMesh::computed(&self.binding, dofs, positions));
                 return;
             }
         }
         self.redeform_rows(scene, changed);
         self.drag = None;
         let tried = self.drag_without_map.as_deref() == Some(drivers);
-        if changed.len() > drivers.len() && !tried {
+        // A map moves the CPU mesh: worth building only where something reads it.
+        let read = self.mesh.computed_positions().is_some();
+        if read && changed.len() > drivers.len() && !tried {
             self.drag = self
                 .hierarchy
                 .driver_sensitivity(drivers)
@@ -198,7 +274,7 @@ impl LiveRig {
                         drivers,
                         &sensitivity,
                         &scene.pose,
-                        &self.deformed,
+                        self.mesh.positions(),
                     )
                 });
             if self.drag.is_none() {
@@ -230,27 +306,33 @@ impl LiveRig {
     /// the mesh rows they touch, or all of them in one parallel product where those are most
     /// of the mesh (`StarOperator::apply_after_move`).
     pub fn redeform_rows(&mut self, scene: &Scene, changed: &[u32]) {
-        self.update_dofs(scene, changed);
-        let operator = &self.binding.operator;
-        let deformed = Arc::make_mut(&mut self.deformed);
-        if deformed.len() == operator.row_count() {
-            operator.apply_after_move(changed, &self.dofs, deformed);
-        } else {
-            *deformed = self.binding.deform(&scene.cages.vertices, &scene.pose);
-        }
+        let dofs = Arc::new(self.updated_dofs(scene, changed));
+        let binding = Arc::clone(&self.binding);
+        let operator = &binding.operator;
+        self.mesh = Arc::new(match self.take_computed_positions() {
+            Some(mut positions) if positions.len() == operator.row_count() => {
+                operator.apply_after_move(changed, &dofs, &mut positions);
+                DeformedMesh::computed(&self.binding, dofs, positions)
+            }
+            _ => DeformedMesh::lazy(&self.binding, dofs),
+        });
     }
 
-    /// Whether the DOFs and the deformed mesh are those a full deformation of `scene`'s
-    /// current pose gives (a drag through a driver map aside, which is exact at its end):
-    /// the invariant every update keeps, for tests.
+    /// Whether the DOFs and the deformed mesh (where computed) are those a full deformation of
+    /// `scene`'s current pose gives (a drag through a driver map aside, which is exact at its
+    /// end): the invariant every update keeps, for tests.
     pub fn is_up_to_date(&self, scene: &Scene) -> bool {
         let operator = &self.binding.operator;
         let dofs = operator.dofs(&scene.cages.vertices, &scene.pose);
-        if *self.dofs != dofs {
+        if *self.mesh.dofs != dofs {
             return false;
         }
-        self.drag.is_some()
-            || *self.deformed == self.binding.deform(&scene.cages.vertices, &scene.pose)
+        match self.mesh.computed_positions() {
+            Some(positions) if self.drag.is_none() => {
+                **positions == self.binding.deform(&scene.cages.vertices, &scene.pose)
+            }
+            _ => true,
+        }
     }
 
     /// How much of this rig must be bound again for `scene`: a full bind (preview first) only

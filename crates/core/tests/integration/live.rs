@@ -39,6 +39,9 @@ fn moves_and_drags_keep_dofs_and_mesh_those_of_a_full_deformation() {
     }
     let mut rig = live(&scene);
     assert!(rig.is_up_to_date(&scene));
+    // The CPU mesh read, as picking or a viewport without compute reads it: kept up to date
+    // move by move from here on.
+    let _ = rig.deformed();
     // Single moves of a leaf cage and of an internal cage (whose leaf cages follow).
     for edit in ["ear_left: translate 0 0 0.1", "head: rotate 0 0 1 10"] {
         let m = moves(&scene, edit);
@@ -56,7 +59,8 @@ fn moves_and_drags_keep_dofs_and_mesh_those_of_a_full_deformation() {
             .operator
             .dofs(&scene.cages.vertices, &scene.pose);
         assert_eq!(
-            *rig.dofs, full,
+            **rig.dofs(),
+            full,
             "step {step}: the DOFs follow column by column"
         );
         assert!(
@@ -88,4 +92,27 @@ fn a_scene_change_makes_stale_only_what_it_touches() {
     let mut settings = scene.clone();
     settings.settings.default_h = 0.25;
     assert!(matches!(rig.rebind_scope(&settings), RebindScope::Preview));
+}
+
+/// The CPU mesh is computed only when something reads it: moves and drags without a reader
+/// update the DOFs alone (and build no driver map); a read then gives the full product.
+#[test]
+fn the_cpu_mesh_is_computed_only_when_read() {
+    let mut scene = demo_scene("critter", 0.3).unwrap();
+    let mut rig = live(&scene);
+    assert!(
+        rig.mesh().computed_positions().is_none(),
+        "nothing read it yet"
+    );
+    for step in 1..=3 {
+        let m = moves(&scene, &format!("ears: rotate 1 0 0 {}", -3 * step));
+        rig.move_vertices(&mut scene, &m, true).unwrap();
+        assert!(rig.mesh().computed_positions().is_none(), "step {step}");
+        assert!(rig.drag_map().is_none(), "no map without a reader");
+    }
+    rig.end_drag(&scene);
+    assert!(rig.is_up_to_date(&scene));
+    let full = rig.binding.deform(&scene.cages.vertices, &scene.pose);
+    assert_eq!(**rig.deformed(), full, "a read gives the full product");
+    assert!(rig.mesh().computed_positions().is_some());
 }

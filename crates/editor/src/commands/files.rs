@@ -172,7 +172,7 @@ fn export_mesh(state: &mut EditorState, path: &Path) {
         state.error(EditorError::OutputIsInput(path.to_path_buf()));
         return;
     }
-    let welded: Vec<glam::DVec3> = rig.deformed.iter().map(|p| p.as_dvec3()).collect();
+    let welded: Vec<glam::DVec3> = rig.deformed().iter().map(|p| p.as_dvec3()).collect();
     // In the mesh file's axes, an OBJ as a copy of its source (same vertex list and order).
     match starcages_io::write_deformed_mesh(path, &state.doc.scene, &welded) {
         Ok(()) => state.info(format!("exported {}", path.display())),

@@ -196,7 +196,7 @@ impl EditorState {
                 Some(baseline) if baseline_ready => {
                     let scene = &self.doc.scene;
                     let other = baseline.binding.deform(&scene.cages.vertices, &scene.pose);
-                    Some(influence::difference(&rig.deformed, &other).0)
+                    Some(influence::difference(rig.deformed(), &other).0)
                 }
                 _ => {
                     self.map.note = Some("binding the single-cage baseline…".into());
@@ -204,7 +204,7 @@ impl EditorState {
                 }
             },
         };
-        let count = rig.deformed.len();
+        let count = rig.deformed().len();
         let colors = influence::vertex_colors(values.as_ref().map(|m| m.values.as_slice()), count);
         let generation = self.map.colors.as_ref().map_or(0, |c| c.0 + 1);
         self.map.key = Some(key);

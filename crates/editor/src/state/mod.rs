@@ -598,7 +598,7 @@ impl EditorState {
 
     /// The deformed welded mesh (empty before the first bind).
     pub fn deformed(&self) -> &[Vec3] {
-        self.rig.as_ref().map_or(&[], |r| r.deformed.as_slice())
+        self.rig.as_ref().map_or(&[], |r| r.deformed().as_slice())
     }
 
     /// The id of the gesture in progress.

@@ -4,6 +4,7 @@
 //! document's identity as well as its generations, so a newly opened scene always draws its
 //! own mesh.
 
+use starcages_core::live::DeformedMesh;
 use std::sync::Arc;
 
 use egui_wgpu::{CallbackResources, CallbackTrait, RenderState, ScreenDescriptor};
@@ -63,9 +64,9 @@ pub struct MeshUpload {
     pub binding: Option<Arc<StarBinding>>,
 }
 
-/// A deformation to show: its generation, the degrees of freedom (GPU path) and the deformed
-/// positions (CPU path).
-pub type Deformation = (u64, Arc<Vec<Vec3>>, Arc<Vec<Vec3>>);
+/// A deformation to show: its generation, and the degrees of freedom (GPU path) with the
+/// deformed positions (CPU path, computed only where the GPU cannot deform).
+pub type Deformation = (u64, Arc<DeformedMesh>);
 
 /// Everything the viewport draws this frame.
 #[derive(Debug, Clone)]
@@ -173,11 +174,11 @@ impl CallbackTrait for ViewportCallback {
             r.deformation_generation = u64::MAX;
             r.color_generation = u64::MAX;
         }
-        if let Some((generation, dofs, positions)) = &data.deformation
+        if let Some((generation, mesh)) = &data.deformation
             && *generation != r.deformation_generation
         {
-            if !r.renderer.deform_on_gpu(&r.gpu, encoder, dofs) {
-                r.renderer.set_positions(&r.gpu, positions);
+            if !r.renderer.deform_on_gpu(&r.gpu, encoder, &mesh.dofs) {
+                r.renderer.set_positions(&r.gpu, mesh.positions());
             }
             r.deformation_generation = *generation;
         }
@@ -283,15 +284,8 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     let deformation = state.rig.as_ref().map(|rig| match state.mode {
         // Rig mode shows the mesh at rest: the binding's own rest positions (for the rest
         // cages it was made for), under a generation of their own.
-        crate::state::EditMode::Rig => {
-            let (dofs, deformed) = rig.rest_view();
-            (u64::MAX - 1, dofs, deformed)
-        }
-        crate::state::EditMode::Pose => (
-            state.generations.deformation,
-            Arc::clone(&rig.dofs),
-            Arc::clone(&rig.deformed),
-        ),
+        crate::state::EditMode::Rig => (u64::MAX - 1, rig.rest_view()),
+        crate::state::EditMode::Pose => (state.generations.deformation, rig.mesh()),
     });
     let data = FrameData {
         camera: state.view.camera,

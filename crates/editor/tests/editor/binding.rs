@@ -172,7 +172,7 @@ fn harmonic_join_cages_arrive_after_a_deformable_preview() {
         first.preview,
         "critter has harmonic join cages: a preview comes first"
     );
-    assert!(!first.deformed.is_empty(), "the preview deforms the mesh");
+    assert!(!first.deformed().is_empty(), "the preview deforms the mesh");
     let mut quick = scene.clone();
     quick.settings.join_coordinates = starcages_core::scene::JoinPolicy::Mvc;
     let expected =

@@ -35,10 +35,17 @@ fn keys_navigate_play_insert_and_delete_as_in_blender_and_undo_one_step_each() {
     let app = harness.state();
     let scene = &app.state.doc.scene;
     assert_eq!(scene.pose, scene.poses["ears_back"]);
-    let deformed_at_key = app.state.rig.as_ref().unwrap().deformed.clone();
+    let deformed_at_key = app.state.rig.as_ref().unwrap().deformed().clone();
     press_with(&mut harness, Modifiers::SHIFT, Key::ArrowRight);
     assert_eq!(frame(&harness), 24.0);
-    let rest_again = harness.state().state.rig.as_ref().unwrap().deformed.clone();
+    let rest_again = harness
+        .state()
+        .state
+        .rig
+        .as_ref()
+        .unwrap()
+        .deformed()
+        .clone();
     assert_ne!(deformed_at_key, rest_again, "the mesh moved with the frame");
     press_with(&mut harness, Modifiers::NONE, Key::ArrowDown);
     assert_eq!(frame(&harness), 12.0);
