@@ -110,7 +110,8 @@ impl<T> Drop for Job<T> {
     }
 }
 
-/// How much to bind again (core's [`RebindScope`], whose `Full` the editor asks for itself).
+/// How much to bind again: core's [`starcages_core::live::RebindScope`], whose `Full` the
+/// editor asks for itself.
 pub use starcages_core::live::RebindScope as Scope;
 
 /// What a finished bind delivers.
