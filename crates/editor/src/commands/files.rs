@@ -12,7 +12,9 @@ use crate::state::{CageId, EditorError, EditorState, Pending};
 pub fn apply_files(state: &mut EditorState, command: Command) {
     match command {
         Command::Open(path) => {
-            if state.doc.dirty {
+            if let Err(e) = crate::state::document::check_openable(&path, true) {
+                state.error(e);
+            } else if state.doc.dirty {
                 state.pending = Some(Pending::Open(path));
             } else {
                 state.start_load(path);
@@ -26,7 +28,9 @@ pub fn apply_files(state: &mut EditorState, command: Command) {
             }
         }
         Command::NewFromMesh(path, options) => {
-            if state.doc.dirty {
+            if let Err(e) = crate::state::document::check_openable(&path, false) {
+                state.error(e);
+            } else if state.doc.dirty {
                 state.pending = Some(Pending::NewFromMesh(path, options));
             } else {
                 new_from_mesh(state, &path, &options);

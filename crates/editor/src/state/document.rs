@@ -28,6 +28,44 @@ pub struct Document {
     pub dirty: bool,
 }
 
+/// Whether `path` is a file the editor can open: a mesh of a type the readers know, or (with
+/// `scenes`) a scene file (`.json`). Checked before any prompt about unsaved
+/// work, so that no one confirms losing work for a file that is then refused.
+pub fn check_openable(path: &Path, scenes: bool) -> Result<(), EditorError> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let mesh = starcages_io::MESH_EXTENSIONS.contains(&extension.as_str());
+    let known = mesh || (scenes && extension == "json");
+    let cannot = |why: String| EditorError::CannotOpen {
+        path: path.to_path_buf(),
+        why,
+    };
+    if !known {
+        let what = if extension.is_empty() {
+            "a file without an extension".to_owned()
+        } else {
+            format!("a .{extension} file")
+        };
+        let wanted = starcages_io::MESH_EXTENSIONS.join(", ");
+        return Err(cannot(if scenes {
+            format!("{what} is neither a scene (.json) nor a mesh ({wanted})")
+        } else {
+            format!("{what} is not a mesh ({wanted})")
+        }));
+    }
+    if !path.is_file() {
+        return Err(cannot(if path.exists() {
+            "it is not a file".into()
+        } else {
+            "there is no such file".into()
+        }));
+    }
+    Ok(())
+}
+
 impl Document {
     /// The built-in demo scene (generated, nothing read from disk).
     pub fn demo() -> Self {

@@ -12,6 +12,14 @@ use starcages_io::SceneFileError;
 /// these variants add what the editor did and what stays as it was.
 #[derive(Debug, thiserror::Error)]
 pub enum EditorError {
+    /// A file that cannot be opened at all (checked before any question about unsaved work).
+    #[error("cannot open {}: {why}. The current scene is unchanged", path.display())]
+    CannotOpen {
+        /// The file.
+        path: PathBuf,
+        /// Why: its type, or that it is not a file.
+        why: String,
+    },
     /// A scene file could not be read.
     #[error("could not open {0}. The current scene is unchanged")]
     OpenScene(#[source] SceneFileError),

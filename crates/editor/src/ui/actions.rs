@@ -20,7 +20,10 @@ pub fn execute(
 ) {
     let camera = |change| Command::Camera(change);
     let animation = &state.doc.scene.animation;
-    let mut choose = |purpose| ui_state.files.request(purpose, None);
+    let mut choose = |purpose: FilePurpose| {
+        let name = purpose.suggested_name_for(state);
+        ui_state.files.request(purpose, name, None);
+    };
     let command = match action {
         UiCommand::NewFromMesh => return choose(FilePurpose::NewFromMesh),
         UiCommand::Open => return choose(FilePurpose::Open),

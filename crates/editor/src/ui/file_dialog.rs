@@ -65,26 +65,46 @@ impl FilePurpose {
         }
     }
 
-    /// The file name a save starts with.
-    pub fn default_name(self) -> &'static str {
+    /// The file name a save starts with, from the scene file's name (`scene_file`) or else the
+    /// mesh file's (`mesh_file`): `armadillo.json`, `armadillo_deformed.obj`,
+    /// `armadillo_cages.obj`; generic names for a scene with neither (a demo).
+    pub fn suggested_name(self, scene_file: Option<&Path>, mesh_file: Option<&Path>) -> String {
+        let stem_of = |path: &Path| {
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .filter(|s| !s.is_empty())
+        };
+        let scene_stem = scene_file.and_then(stem_of);
+        let stem = scene_stem.clone().or_else(|| mesh_file.and_then(stem_of));
         match self {
-            Self::SaveScene | Self::SaveBeforeContinuing => "scene.json",
-            Self::ExportMesh => "deformed.obj",
-            Self::ExportCages => "cages.obj",
+            Self::SaveScene | Self::SaveBeforeContinuing => {
+                format!("{}.json", stem.as_deref().unwrap_or("scene"))
+            }
+            Self::ExportMesh => stem.map_or("deformed.obj".into(), |s| format!("{s}_deformed.obj")),
+            Self::ExportCages => stem.map_or("cages.obj".into(), |s| format!("{s}_cages.obj")),
             Self::Open
             | Self::NewFromMesh
             | Self::ImportCages
             | Self::ImportInternalCages
-            | Self::ImportCageAnimation => "",
+            | Self::ImportCageAnimation => String::new(),
         }
     }
 
-    fn native(self) -> Option<PathBuf> {
+    /// [`FilePurpose::suggested_name`] for the document `state` holds.
+    pub fn suggested_name_for(self, state: &crate::state::EditorState) -> String {
+        let mesh_file = match &state.doc.scene.mesh_source {
+            starcages_core::scene::MeshSource::File(path) => Some(path.as_path()),
+            starcages_core::scene::MeshSource::Embedded => None,
+        };
+        self.suggested_name(state.doc.path.as_deref(), mesh_file)
+    }
+
+    fn native(self, name: &str) -> Option<PathBuf> {
         let dialog = rfd::FileDialog::new()
             .set_title(self.title())
             .add_filter(self.title(), self.extensions());
         if self.is_save() {
-            dialog.set_file_name(self.default_name()).save_file()
+            dialog.set_file_name(name).save_file()
         } else {
             dialog.pick_file()
         }
@@ -117,12 +137,12 @@ pub struct InAppDialog {
 }
 
 impl InAppDialog {
-    /// The dialog for `purpose` showing `folder`.
-    pub fn new(purpose: FilePurpose, folder: PathBuf) -> Self {
+    /// The dialog for `purpose` showing `folder`, the file name field holding `name`.
+    pub fn new(purpose: FilePurpose, folder: PathBuf, name: String) -> Self {
         let mut dialog = Self {
             purpose,
             folder,
-            name: purpose.default_name().to_owned(),
+            name,
             problem: None,
             entries: Vec::new(),
         };
@@ -287,6 +307,8 @@ pub struct FileDialogs {
     native: Option<(FilePurpose, Receiver<Option<PathBuf>>, Instant)>,
     /// The folder the last chosen file was in (where the in-app dialog starts).
     last_folder: Option<PathBuf>,
+    /// The file name the open request proposes.
+    name: String,
 }
 
 impl FileDialogs {
@@ -303,18 +325,20 @@ impl FileDialogs {
         self.in_app.is_some() || self.native.is_some()
     }
 
-    /// Asks for a file for `purpose`: a native dialog on a worker, or the in-app one.
-    pub fn request(&mut self, purpose: FilePurpose, wake: Option<egui::Context>) {
+    /// Asks for a file for `purpose`, a save proposing `name`: a native dialog on a worker, or
+    /// the in-app one.
+    pub fn request(&mut self, purpose: FilePurpose, name: String, wake: Option<egui::Context>) {
         if self.is_open() {
             return;
         }
+        self.name = name.clone();
         if self.in_app_only {
             self.open_in_app(purpose);
             return;
         }
         let (sender, receiver) = channel();
         std::thread::spawn(move || {
-            sender.send(purpose.native()).ok();
+            sender.send(purpose.native(&name)).ok();
             if let Some(ctx) = wake {
                 ctx.request_repaint();
             }
@@ -328,7 +352,7 @@ impl FileDialogs {
             .clone()
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_else(|| PathBuf::from("."));
-        self.in_app = Some(InAppDialog::new(purpose, folder));
+        self.in_app = Some(InAppDialog::new(purpose, folder, self.name.clone()));
     }
 
     /// Takes what the dialogs answered this frame (drawing the in-app one): the purpose and
@@ -382,7 +406,7 @@ mod tests {
         std::fs::write(dir.join("a.json"), "{}").unwrap();
         std::fs::write(dir.join("b.txt"), "").unwrap();
         std::fs::write(dir.join(".hidden.json"), "").unwrap();
-        let mut open = InAppDialog::new(FilePurpose::Open, dir.clone());
+        let mut open = InAppDialog::new(FilePurpose::Open, dir.clone(), String::new());
         let names: Vec<&str> = open.entries.iter().map(|e| e.name.as_str()).collect();
         assert_eq!(names, ["sub", "a.json"]);
         assert!(open.chosen().is_err(), "nothing typed");
@@ -390,7 +414,8 @@ mod tests {
         assert!(open.chosen().unwrap_err().contains("not a file"));
         open.name = "a.json".into();
         assert_eq!(open.chosen().unwrap(), dir.join("a.json"));
-        let mut save = InAppDialog::new(FilePurpose::SaveScene, dir.join("nowhere"));
+        let name = FilePurpose::SaveScene.suggested_name(None, None);
+        let mut save = InAppDialog::new(FilePurpose::SaveScene, dir.join("nowhere"), name);
         assert_eq!(save.name, "scene.json");
         assert!(save.chosen().unwrap_err().contains("does not exist"));
         save.enter(dir.clone());
@@ -403,6 +428,7 @@ mod tests {
         sender.send(None).unwrap();
         let mut dialogs = FileDialogs {
             native: Some((FilePurpose::ExportMesh, receiver, Instant::now())),
+            name: "deformed.obj".into(),
             ..FileDialogs::default()
         };
         let ctx = egui::Context::default();
@@ -436,5 +462,36 @@ mod tests {
         });
         output.textures_delta.clear();
         assert!(!dialogs.in_app_only && dialogs.in_app.is_none());
+    }
+
+    #[test]
+    fn saves_propose_the_scene_s_or_else_the_mesh_s_name() {
+        let mesh = Path::new("/meshes/armadillo.obj");
+        let scene = Path::new("/rigs/walk.json");
+        let name = |purpose: FilePurpose, scene: Option<&Path>, mesh: Option<&Path>| {
+            purpose.suggested_name(scene, mesh)
+        };
+        assert_eq!(
+            name(FilePurpose::SaveScene, None, Some(mesh)),
+            "armadillo.json"
+        );
+        assert_eq!(
+            name(FilePurpose::SaveScene, Some(scene), Some(mesh)),
+            "walk.json"
+        );
+        assert_eq!(
+            name(FilePurpose::SaveBeforeContinuing, None, None),
+            "scene.json"
+        );
+        assert_eq!(
+            name(FilePurpose::ExportMesh, None, Some(mesh)),
+            "armadillo_deformed.obj"
+        );
+        assert_eq!(
+            name(FilePurpose::ExportCages, Some(scene), None),
+            "walk_cages.obj"
+        );
+        assert_eq!(name(FilePurpose::ExportMesh, None, None), "deformed.obj");
+        assert_eq!(name(FilePurpose::Open, Some(scene), Some(mesh)), "");
     }
 }

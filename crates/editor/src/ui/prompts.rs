@@ -35,9 +35,9 @@ pub fn unsaved_prompt(
                     answer = Some(UnsavedAnswer::Save(None));
                 } else {
                     // Answered when a file is chosen (or not, if the dialog is cancelled).
-                    ui_state
-                        .files
-                        .request(FilePurpose::SaveBeforeContinuing, None);
+                    let purpose = FilePurpose::SaveBeforeContinuing;
+                    let name = purpose.suggested_name_for(state);
+                    ui_state.files.request(purpose, name, None);
                 }
             }
             if ui.button("Don't save").clicked() {

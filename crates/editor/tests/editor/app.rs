@@ -284,7 +284,7 @@ fn shortcuts_wait_while_a_dialog_is_open() {
         mode: starcages_editor::state::SelectMode::Replace,
     });
     app.ui.files.in_app_only = true;
-    app.ui.files.request(FilePurpose::SaveScene, None);
+    app.ui.files.request(FilePurpose::SaveScene, "scene.json".into(), None);
     harness.run_steps(2);
     // Nothing in the dialog has the keyboard, as after a click beside its name field.
     harness

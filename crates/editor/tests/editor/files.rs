@@ -96,6 +96,61 @@ fn opening_over_unsaved_work_asks_first() {
     assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
 }
 
+/// A dropped or opened file that cannot be opened (a type no reader knows, a file that is
+/// not there) is refused at once, naming it: no one is asked about unsaved work first.
+#[test]
+fn a_file_that_cannot_be_opened_is_refused_before_the_unsaved_prompt() {
+    let mut harness = harness();
+    let folder = scratch("refused");
+    let notes = folder.join("notes.txt");
+    std::fs::write(&notes, "not a mesh").unwrap();
+    {
+        let app = harness.state_mut();
+        let to = app.state.doc.scene.pose[0] + DVec3::Z * 0.2;
+        app.run(Command::MoveVertices(vec![(0, to)]));
+        assert!(app.state.doc.dirty);
+    }
+    for (path, why) in [
+        (notes, "a .txt file is neither a scene (.json) nor a mesh"),
+        (folder.join("gone.json"), "there is no such file"),
+        (folder.clone(), "a file without an extension"),
+    ] {
+        harness.state_mut().run(Command::Open(path.clone()));
+        harness.run_steps(2);
+        let state = &harness.state().state;
+        assert!(
+            state.pending.is_none(),
+            "{}: no unsaved prompt",
+            path.display()
+        );
+        assert!(state.load_job.is_none());
+        let message = state
+            .message
+            .as_ref()
+            .map(|m| m.text.clone())
+            .unwrap_or_default();
+        assert!(
+            message.contains(&path.display().to_string()) && message.contains(why),
+            "{message}"
+        );
+        assert!(state.doc.dirty, "the work is kept");
+    }
+    // New from mesh refuses a scene file the same way.
+    harness.state_mut().run(Command::NewFromMesh(
+        folder.join("scene.json"),
+        Default::default(),
+    ));
+    harness.run_steps(2);
+    let state = &harness.state().state;
+    assert!(state.pending.is_none());
+    let message = state
+        .message
+        .as_ref()
+        .map(|m| m.text.clone())
+        .unwrap_or_default();
+    assert!(message.contains("is not a mesh"), "{message}");
+}
+
 /// The window's close button goes through the same command as every other action: a saved
 /// document closes at once, unsaved work asks first and the window stays until the answer.
 #[test]
@@ -283,4 +338,30 @@ fn file_open_demo_lists_the_demos_and_opens_one() {
     assert_eq!(state.doc.scene.cages.leaves.len(), 3);
     assert!(!state.doc.dirty && state.doc.path.is_none());
     assert!(state.rig.is_some(), "bound");
+}
+
+/// File ▸ Save as… proposes the mesh's name for a scene never saved, and Export the mesh's
+/// name with what is exported.
+#[test]
+fn save_as_proposes_the_mesh_s_name() {
+    let mut harness = harness();
+    {
+        let app = harness.state_mut();
+        app.ui.files.in_app_only = true;
+        app.state.doc.scene.mesh_source =
+            starcages_core::scene::MeshSource::File(scratch("names").join("armadillo.obj"));
+    }
+    for (item, proposed) in [
+        ("Save as…", "armadillo.json"),
+        ("Export deformed mesh…", "armadillo_deformed.obj"),
+    ] {
+        harness.get_by_label("File").click();
+        harness.run_steps(2);
+        harness.get_by_label_contains(item).click();
+        harness.run_steps(2);
+        let app = harness.state_mut();
+        let dialog = app.ui.files.in_app.take().expect("the in-app dialog is open");
+        assert_eq!(dialog.name, proposed, "{item}");
+        harness.run_steps(1);
+    }
 }
