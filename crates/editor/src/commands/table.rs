@@ -79,6 +79,10 @@ pub enum UiCommand {
     ToggleOrthographic,
     /// View ▸ Item panel (the selection's coordinates)
     ToggleItemPanel,
+    /// View ▸ Outliner (the left panel)
+    ToggleOutliner,
+    /// View ▸ Properties (the right panel)
+    ToggleProperties,
     /// Help ▸ Keyboard shortcuts
     ShowShortcuts,
     /// Edit ▸ Pose / Rig mode
@@ -216,6 +220,7 @@ impl ToolKey {
 }
 
 const CMD_SHIFT: Modifiers = Modifiers::COMMAND.plus(Modifiers::SHIFT);
+const SHIFT: Modifiers = Modifiers::SHIFT;
 
 impl UiCommand {
     /// The label in menus ("…" where a dialog follows).
@@ -247,6 +252,8 @@ impl UiCommand {
             Self::ViewBottom => "Bottom",
             Self::ToggleOrthographic => "Perspective / orthographic",
             Self::ToggleItemPanel => "Item panel",
+            Self::ToggleOutliner => "Outliner",
+            Self::ToggleProperties => "Properties panel",
             Self::ShowShortcuts => "Keyboard shortcuts",
             Self::ToggleMode => "Pose / Rig mode",
             Self::Extrude => "Extrude face",
@@ -320,6 +327,13 @@ impl UiCommand {
             }
             Self::ToggleItemPanel => {
                 "Show or hide the coordinates of the selected vertices (rest and posed), editable"
+            }
+            Self::ToggleOutliner => {
+                "Show or hide the left panel (the cages); a narrow window hides it by itself"
+            }
+            Self::ToggleProperties => {
+                "Show or hide the right panel (cage, view, stats, poses); a narrow window hides \
+                 it by itself"
             }
             Self::ShowShortcuts => "List every action with its keys",
             Self::ToggleMode => {
@@ -418,6 +432,8 @@ impl UiCommand {
             Self::ViewBottom => &const { [key(CMD, Key::Num7)] },
             Self::ToggleOrthographic => &const { [key(NONE, Key::Num5)] },
             Self::ToggleItemPanel => &const { [key(NONE, Key::N)] },
+            Self::ToggleOutliner => &const { [key(NONE, Key::T)] },
+            Self::ToggleProperties => &const { [key(SHIFT, Key::T)] },
             Self::ToggleMode => &const { [key(NONE, Key::Tab)] },
             Self::Extrude => &const { [key(NONE, Key::E)] },
             Self::InsetFaces => &const { [key(NONE, Key::I)] },

@@ -52,6 +52,16 @@ pub fn execute(
         UiCommand::ToggleOrthographic => camera(CameraChange::ToggleOrthographic),
         UiCommand::ToggleItemPanel => {
             ui_state.show_item_panel = !ui_state.show_item_panel;
+            // The Item panel lives in the right panel: showing it shows that.
+            ui_state.show_properties |= ui_state.show_item_panel;
+            return;
+        }
+        UiCommand::ToggleOutliner => {
+            ui_state.show_outliner = !ui_state.show_outliner;
+            return;
+        }
+        UiCommand::ToggleProperties => {
+            ui_state.show_properties = !ui_state.show_properties;
             return;
         }
         UiCommand::ShowShortcuts => {

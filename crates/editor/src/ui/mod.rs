@@ -62,6 +62,10 @@ pub struct UiState {
     pub slider_gesture: Option<GestureId>,
     /// The Item panel (N) is shown.
     pub show_item_panel: bool,
+    /// The left panel (the outliner) is wanted (T); a narrow window may still hide it.
+    pub show_outliner: bool,
+    /// The right panel (properties) is wanted (Shift+T); a narrow window may still hide it.
+    pub show_properties: bool,
     /// The keyboard shortcuts window (F1) is shown.
     pub show_shortcuts: bool,
     /// Give up the keyboard focus egui moved on Tab (next frame).
@@ -113,6 +117,8 @@ impl UiState {
             new_mesh_dialog: None,
             slider_gesture: None,
             show_item_panel: false,
+            show_outliner: true,
+            show_properties: true,
             show_shortcuts: false,
             drop_focus: false,
             pose_prompt: None,
@@ -195,11 +201,25 @@ pub fn frame_ui(
     }
     Panel::top("menu").show(ui, |ui| menu::menu_bar(state, ui_state, ui, sender));
     Panel::bottom("status").show(ui, |ui| status_bar::status_bar(state, ui_state, ui, sender));
-    Panel::left("outliner").default_size(220.0).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| outliner::outliner(state, ui, sender));
-    });
+    let layout = SidePanels::for_width(
+        ui.max_rect().width(),
+        ui_state.show_outliner,
+        ui_state.show_properties,
+    );
+    if let Some(max) = layout.outliner {
+        Panel::left("outliner")
+            .default_size(220.0_f32.min(max))
+            .max_size(max)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| outliner::outliner(state, ui, sender));
+            });
+    }
+    let Some(properties_max) = layout.properties else {
+        return frame_rest(state, ui_state, ui, sender, &ctx);
+    };
     Panel::right("inspector")
-        .default_size(280.0)
+        .default_size(280.0_f32.min(properties_max))
+        .max_size(properties_max)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 if ui_state.show_item_panel {
@@ -211,6 +231,47 @@ pub fn frame_ui(
                 panels::poses(state, ui_state, ui, sender);
             });
         });
+    frame_rest(state, ui_state, ui, sender, &ctx);
+}
+
+/// Which side panels show at a window width, and how wide each may grow: the outliner up to a
+/// fifth of the window and the properties up to three tenths, so that the viewport keeps at
+/// least half; a panel that would be narrower than it can be read collapses instead (the
+/// outliner first).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SidePanels {
+    /// The outliner's greatest width, or `None` when hidden.
+    pub outliner: Option<f32>,
+    /// The properties panel's greatest width, or `None` when hidden.
+    pub properties: Option<f32>,
+}
+
+impl SidePanels {
+    /// The narrowest outliner worth showing, in points.
+    const OUTLINER_MIN: f32 = 150.0;
+    /// The narrowest properties panel worth showing, in points.
+    const PROPERTIES_MIN: f32 = 200.0;
+
+    /// The panels for a window `width` points wide, each where wanted.
+    pub fn for_width(width: f32, outliner: bool, properties: bool) -> Self {
+        let (outliner_max, properties_max) = (0.2 * width, 0.3 * width);
+        Self {
+            outliner: (outliner && outliner_max >= Self::OUTLINER_MIN).then_some(outliner_max),
+            properties: (properties && properties_max >= Self::PROPERTIES_MIN)
+                .then_some(properties_max),
+        }
+    }
+}
+
+/// The rest of the frame after the side panels: the timeline, the viewport and the dialogs.
+fn frame_rest(
+    state: &EditorState,
+    ui_state: &mut UiState,
+    ui: &mut egui::Ui,
+    sender: &mut CommandSender,
+    ctx: &egui::Context,
+) {
+    let ctx = ctx.clone();
     // Under the viewport only, between the side panels (as Blender's timeline).
     Panel::bottom("timeline").show(ui, |ui| timeline::timeline(state, ui_state, ui, sender));
     egui::CentralPanel::default()
@@ -237,5 +298,29 @@ fn dropped_files(ctx: &egui::Context, sender: &mut CommandSender) {
         .find(|p| !p.as_os_str().is_empty())
     {
         sender.send(Command::Open(path));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SidePanels;
+
+    #[test]
+    fn side_panels_leave_half_the_width_and_collapse_the_outliner_first() {
+        let wide = SidePanels::for_width(1400.0, true, true);
+        assert_eq!(wide.outliner, Some(280.0));
+        assert!(wide.properties.is_some_and(|w| (w - 420.0).abs() < 1e-3));
+        let middle = SidePanels::for_width(700.0, true, true);
+        assert_eq!(middle.outliner, None, "a 140-point outliner collapses");
+        assert!(middle.properties.is_some_and(|w| (w - 210.0).abs() < 1e-3));
+        let small = SidePanels::for_width(640.0, true, true);
+        assert_eq!((small.outliner, small.properties), (None, None));
+        let unwanted = SidePanels::for_width(1400.0, false, true);
+        assert_eq!(unwanted.outliner, None);
+        for width in [300.0, 640.0, 900.0, 1280.0, 3000.0] {
+            let panels = SidePanels::for_width(width, true, true);
+            let taken = panels.outliner.unwrap_or(0.0) + panels.properties.unwrap_or(0.0);
+            assert!(taken <= 0.5 * width, "{width}");
+        }
     }
 }

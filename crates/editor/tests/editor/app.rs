@@ -284,7 +284,9 @@ fn shortcuts_wait_while_a_dialog_is_open() {
         mode: starcages_editor::state::SelectMode::Replace,
     });
     app.ui.files.in_app_only = true;
-    app.ui.files.request(FilePurpose::SaveScene, "scene.json".into(), None);
+    app.ui
+        .files
+        .request(FilePurpose::SaveScene, "scene.json".into(), None);
     harness.run_steps(2);
     // Nothing in the dialog has the keyboard, as after a click beside its name field.
     harness
@@ -706,4 +708,60 @@ fn a_long_status_message_is_cut_and_shown_whole_on_hover() {
         whole(&harness) > before,
         "no tooltip with the whole message on hover ({before} nodes with its end before)"
     );
+}
+
+/// T and Shift+T (View ▸ Outliner, View ▸ Properties panel) hide and show the side panels; N's
+/// Item panel brings the right panel back.
+#[test]
+fn t_and_shift_t_hide_the_side_panels_and_the_view_menu_names_them() {
+    let mut harness = harness();
+    let viewport_width = |harness: &egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        harness.state().state.view.viewport.size.x
+    };
+    let full = viewport_width(&harness);
+    harness.get_by_label("Outliner");
+    press(&mut harness, egui::Key::T);
+    assert!(
+        harness.query_by_label("Outliner").is_none(),
+        "T hid the outliner"
+    );
+    let without_outliner = viewport_width(&harness);
+    assert!(
+        without_outliner > full + 100.0,
+        "{full} -> {without_outliner}"
+    );
+    press_with(&mut harness, egui::Modifiers::SHIFT, egui::Key::T);
+    assert!(
+        harness.query_by_label("Scene settings").is_none(),
+        "Shift+T hid the properties"
+    );
+    assert!(viewport_width(&harness) > without_outliner + 100.0);
+    press(&mut harness, egui::Key::N);
+    harness.get_by_label("Item");
+    harness.get_by_label("Scene settings");
+    press(&mut harness, egui::Key::T);
+    harness.get_by_label("Outliner");
+    harness
+        .get_all_by_label("View")
+        .next()
+        .expect("the View menu")
+        .click();
+    harness.run_steps(2);
+    harness.get_by_label_contains("Properties panel");
+}
+
+/// In a small window the side panels give way first: the viewport keeps at least half the
+/// window's width, and the panels come back when the window is wide again.
+#[test]
+fn a_small_window_keeps_half_of_its_width_for_the_viewport() {
+    for (width, height) in [(640.0, 420.0), (420.0, 300.0), (900.0, 600.0)] {
+        let (mut harness, _) =
+            crate::common::harness_sized(crate::common::document(), egui::vec2(width, height));
+        harness.run_steps(2);
+        let viewport = harness.state().state.view.viewport.size.x;
+        assert!(
+            viewport >= 0.5 * width - 1.0,
+            "{width}×{height}: viewport {viewport}"
+        );
+    }
 }

@@ -19,10 +19,18 @@ pub fn document() -> Document {
 /// The real app on `doc` in a 1280×800 window rendered by wgpu, its first bind done; also
 /// hands back egui-wgpu's render state (the viewport's GPU resources live in it).
 pub fn harness_on(doc: Document) -> (Harness<'static, EditorApp>, egui_wgpu::RenderState) {
+    harness_sized(doc, egui::vec2(1280.0, 800.0))
+}
+
+/// [`harness_on`] in a window of `size` points.
+pub fn harness_sized(
+    doc: Document,
+    size: egui::Vec2,
+) -> (Harness<'static, EditorApp>, egui_wgpu::RenderState) {
     let render_state = Arc::new(Mutex::new(None));
     let keep = Arc::clone(&render_state);
     let mut harness = Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
+        .with_size(size)
         .wgpu()
         .build_eframe(move |cc| {
             *keep.lock().unwrap() = cc.wgpu_render_state.clone();

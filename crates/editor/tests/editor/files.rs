@@ -360,7 +360,12 @@ fn save_as_proposes_the_mesh_s_name() {
         harness.get_by_label_contains(item).click();
         harness.run_steps(2);
         let app = harness.state_mut();
-        let dialog = app.ui.files.in_app.take().expect("the in-app dialog is open");
+        let dialog = app
+            .ui
+            .files
+            .in_app
+            .take()
+            .expect("the in-app dialog is open");
         assert_eq!(dialog.name, proposed, "{item}");
         harness.run_steps(1);
     }
