@@ -8,6 +8,8 @@ struct Frame {
     // Background gradient, top and bottom.
     background_top: vec4<f32>,
     background_bottom: vec4<f32>,
+    // x: the mesh's opacity (below 1 in X-ray); y: the cages' opacity; z, w: unused.
+    opacity: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -37,7 +37,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         discard;
     }
     if (r > 1.0) {
-        return vec4<f32>(0.02, 0.02, 0.03, 1.0);
+        return vec4<f32>(0.02, 0.02, 0.03, frame.opacity.y);
     }
-    return in.color;
+    return vec4<f32>(in.color.rgb, in.color.a * frame.opacity.y);
 }

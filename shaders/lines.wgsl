@@ -25,6 +25,12 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     return in.color;
 }
 
+// Cage edges: their colour at the cages' opacity.
+@fragment
+fn fs_cage(in: VertexOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.color.rgb, in.color.a * frame.opacity.y);
+}
+
 // The mesh wireframe: positions straight from the mesh's vertex buffer, one dark colour.
 @vertex
 fn vs_wire(@location(0) position: vec3<f32>) -> VertexOut {

@@ -49,5 +49,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (dot(n, view) < 0.0) {
         n = -n;
     }
-    return vec4<f32>(light(n, view, in.color.rgb), 1.0);
+    return vec4<f32>(light(n, view, in.color.rgb), frame.opacity.x);
 }

@@ -302,3 +302,69 @@ fn gpu_deformation_matches_the_cpu_operator() {
         "GPU and CPU differ by {worst} (diagonal {diagonal})"
     );
 }
+
+/// X-ray draws the mesh translucent and the cages over it: cage vertices and edges behind the
+/// mesh show (more dark vertex pixels and blue edge pixels than without), the mesh is still
+/// there; a low cage opacity fades the cages. Snapshots of both.
+#[test]
+fn xray_shows_the_cages_through_the_mesh_and_cage_opacity_fades_them() {
+    let (scene, binding) = bound("critter", 0.3);
+    let pose = &scene.poses["fig13"];
+    let with = |layers: Layers| {
+        render(
+            &scene,
+            &binding,
+            pose,
+            &RenderOptions {
+                layers,
+                ..options()
+            },
+        )
+    };
+    let plain = with(Layers::default());
+    let xray = with(Layers {
+        xray: true,
+        ..Layers::default()
+    });
+    let faded = with(Layers {
+        cage_opacity: 0.15,
+        ..Layers::default()
+    });
+    keep("critter_plain", &plain);
+    keep("critter_xray", &xray);
+    keep("critter_faded_cages", &faded);
+    let vertex = colors::to_u8(colors::VERTEX);
+    let mvc = colors::to_u8(colors::kind(
+        starcages_core::coords::CoordinateKind::MeanValue,
+    ));
+    let cage_pixels =
+        |image: &RgbaImage| count_near(image, vertex, 12) + count_near(image, mvc, 30);
+    let clay = |image: &RgbaImage| {
+        image
+            .pixels()
+            .filter(|p| p.0[0] > 90 && p.0[0].abs_diff(p.0[1]) < 25 && p.0[2] < p.0[0])
+            .count()
+    };
+    assert!(
+        cage_pixels(&xray) > cage_pixels(&plain) + 40,
+        "x-ray shows the cages behind the mesh: {} vs {}",
+        cage_pixels(&xray),
+        cage_pixels(&plain)
+    );
+    assert!(
+        clay(&xray) > 300,
+        "the mesh is still drawn in x-ray: {}",
+        clay(&xray)
+    );
+    assert!(clay(&xray) < clay(&plain), "x-ray's mesh is translucent");
+    // Faded edges blend into the background (faded vertices would look like it too).
+    let edges = |image: &RgbaImage| count_near(image, mvc, 30);
+    assert!(
+        edges(&faded) * 3 < edges(&plain),
+        "faded cage edges: {} vs {}",
+        edges(&faded),
+        edges(&plain)
+    );
+    check_snapshot("critter_xray", &xray);
+    check_snapshot("critter_plain_cages", &plain);
+}

@@ -79,6 +79,8 @@ pub enum UiCommand {
     ToggleOrthographic,
     /// View ▸ Item panel (the selection's coordinates)
     ToggleItemPanel,
+    /// View ▸ X-ray
+    ToggleXray,
     /// View ▸ Outliner (the left panel)
     ToggleOutliner,
     /// View ▸ Properties (the right panel)
@@ -252,6 +254,7 @@ impl UiCommand {
             Self::ViewBottom => "Bottom",
             Self::ToggleOrthographic => "Perspective / orthographic",
             Self::ToggleItemPanel => "Item panel",
+            Self::ToggleXray => "X-ray",
             Self::ToggleOutliner => "Outliner",
             Self::ToggleProperties => "Properties panel",
             Self::ShowShortcuts => "Keyboard shortcuts",
@@ -327,6 +330,9 @@ impl UiCommand {
             }
             Self::ToggleItemPanel => {
                 "Show or hide the coordinates of the selected vertices (rest and posed), editable"
+            }
+            Self::ToggleXray => {
+                "See the cages through the mesh, drawn translucent (its opacity in the View panel)"
             }
             Self::ToggleOutliner => {
                 "Show or hide the left panel (the cages); a narrow window hides it by itself"
@@ -432,6 +438,7 @@ impl UiCommand {
             Self::ViewBottom => &const { [key(CMD, Key::Num7)] },
             Self::ToggleOrthographic => &const { [key(NONE, Key::Num5)] },
             Self::ToggleItemPanel => &const { [key(NONE, Key::N)] },
+            Self::ToggleXray => &const { [key(Modifiers::ALT, Key::Z)] },
             Self::ToggleOutliner => &const { [key(NONE, Key::T)] },
             Self::ToggleProperties => &const { [key(SHIFT, Key::T)] },
             Self::ToggleMode => &const { [key(NONE, Key::Tab)] },

@@ -56,6 +56,11 @@ pub fn execute(
             ui_state.show_properties |= ui_state.show_item_panel;
             return;
         }
+        UiCommand::ToggleXray => {
+            let mut layers = state.view.layers;
+            layers.xray = !layers.xray;
+            Command::SetLayers(layers)
+        }
         UiCommand::ToggleOutliner => {
             ui_state.show_outliner = !ui_state.show_outliner;
             return;

@@ -100,6 +100,7 @@ pub fn menu_bar(
                 item(ui, action, None, true, &mut chosen);
             }
             item(ui, UiCommand::ToggleItemPanel, None, true, &mut chosen);
+            item(ui, UiCommand::ToggleXray, None, true, &mut chosen);
             item(ui, UiCommand::ToggleOutliner, None, true, &mut chosen);
             item(ui, UiCommand::ToggleProperties, None, true, &mut chosen);
             let projection = if state.view.camera.orthographic {

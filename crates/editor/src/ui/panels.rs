@@ -78,6 +78,14 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
         .on_hover_text("Draw the cage vertices you pick and move");
     ui.checkbox(&mut layers.ground, "Ground grid")
         .on_hover_text("The plane z = 0, with the X axis in red and the Y axis in green");
+    ui.checkbox(&mut layers.xray, "X-ray")
+        .on_hover_text("See the cages through the mesh, drawn translucent (Alt+Z)");
+    if layers.xray {
+        ui.add(egui::Slider::new(&mut layers.xray_opacity, 0.05..=1.0).text("Mesh opacity"))
+            .on_hover_text("How opaque the mesh is in X-ray");
+    }
+    ui.add(egui::Slider::new(&mut layers.cage_opacity, 0.05..=1.0).text("Cage opacity"))
+        .on_hover_text("How opaque the cages' edges and vertices are");
     if layers != state.view.layers {
         sender.send(Command::SetLayers(layers));
     }

@@ -765,3 +765,17 @@ fn a_small_window_keeps_half_of_its_width_for_the_viewport() {
         );
     }
 }
+
+/// Alt+Z (View ▸ X-ray) turns X-ray on and off; its mesh opacity slider shows while it is on,
+/// the cage opacity slider always.
+#[test]
+fn alt_z_toggles_x_ray_and_its_opacity_slider() {
+    let mut harness = harness();
+    assert!(harness.query_all_by_label_contains("Cage opacity").count() > 0);
+    assert!(harness.query_by_label_contains("Mesh opacity").is_none());
+    press_with(&mut harness, egui::Modifiers::ALT, egui::Key::Z);
+    assert!(harness.state().state.view.layers.xray);
+    assert!(harness.query_all_by_label_contains("Mesh opacity").count() > 0);
+    press_with(&mut harness, egui::Modifiers::ALT, egui::Key::Z);
+    assert!(!harness.state().state.view.layers.xray);
+}

@@ -24,6 +24,7 @@ struct FrameUniforms {
     viewport: [f32; 4],
     background_top: [f32; 4],
     background_bottom: [f32; 4],
+    opacity: [f32; 4],
 }
 
 /// Which layers to draw and how.
@@ -41,6 +42,13 @@ pub struct Layers {
     pub vertices: bool,
     /// The ground grid and the X and Y axis lines (set by [`SceneRenderer::set_guides`]).
     pub ground: bool,
+    /// X-ray: the mesh drawn translucent at [`Layers::xray_opacity`] and the cages over it,
+    /// seen and picked through it.
+    pub xray: bool,
+    /// The mesh's opacity in X-ray, in [0.05, 1].
+    pub xray_opacity: f32,
+    /// The cages' opacity (edges and vertices), in [0.05, 1].
+    pub cage_opacity: f32,
 }
 
 impl Default for Layers {
@@ -52,6 +60,9 @@ impl Default for Layers {
             cages: true,
             vertices: true,
             ground: false,
+            xray: false,
+            xray_opacity: 0.5,
+            cage_opacity: 1.0,
         }
     }
 }
@@ -103,9 +114,13 @@ pub struct SceneRenderer {
     frame_group: wgpu::BindGroup,
     background: wgpu::RenderPipeline,
     mesh_pipeline: wgpu::RenderPipeline,
+    mesh_xray_pipeline: wgpu::RenderPipeline,
     wire_pipeline: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
+    cage_line_pipeline: wgpu::RenderPipeline,
+    cage_line_xray_pipeline: wgpu::RenderPipeline,
     dot_pipeline: wgpu::RenderPipeline,
+    dot_xray_pipeline: wgpu::RenderPipeline,
     mesh: Option<MeshBuffers>,
     lines: Dynamic,
     guides: Dynamic,
@@ -180,6 +195,7 @@ impl SceneRenderer {
                         vertex_entry: &str,
                         buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
                         topology: wgpu::PrimitiveTopology,
+                        fragment_entry: &str,
                         depth_write: bool,
                         depth_compare: wgpu::CompareFunction| {
             let module = shaders::module(device, name);
@@ -209,7 +225,7 @@ impl SceneRenderer {
                 },
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(fragment_entry),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format,
@@ -228,19 +244,33 @@ impl SceneRenderer {
             "vs_main",
             &[],
             wgpu::PrimitiveTopology::TriangleList,
+            "fs_main",
             false,
             wgpu::CompareFunction::Always,
         );
+        let mesh_buffers = [
+            Some(layout(12, vertex, &POSITION)),
+            Some(layout(12, vertex, &NORMAL)),
+            Some(layout(4, vertex, &COLOR)),
+        ];
+        let triangles = wgpu::PrimitiveTopology::TriangleList;
         let mesh_pipeline = pipeline(
             "mesh",
             "vs_main",
-            &[
-                Some(layout(12, vertex, &POSITION)),
-                Some(layout(12, vertex, &NORMAL)),
-                Some(layout(4, vertex, &COLOR)),
-            ],
-            wgpu::PrimitiveTopology::TriangleList,
+            &mesh_buffers,
+            triangles,
+            "fs_main",
             true,
+            less,
+        );
+        // X-ray: translucent, writing no depth, so the cages behind show through.
+        let mesh_xray_pipeline = pipeline(
+            "mesh",
+            "vs_main",
+            &mesh_buffers,
+            triangles,
+            "fs_main",
+            false,
             less,
         );
         let wire_pipeline = pipeline(
@@ -248,24 +278,59 @@ impl SceneRenderer {
             "vs_wire",
             &[Some(layout(12, vertex, &POSITION))],
             wgpu::PrimitiveTopology::LineList,
+            "fs_main",
             false,
             wgpu::CompareFunction::LessEqual,
         );
+        let line_buffers = [Some(layout(16, vertex, &LINE))];
+        let lines = wgpu::PrimitiveTopology::LineList;
+        let less_equal = wgpu::CompareFunction::LessEqual;
+        let always = wgpu::CompareFunction::Always;
         let line_pipeline = pipeline(
             "lines",
             "vs_main",
-            &[Some(layout(16, vertex, &LINE))],
-            wgpu::PrimitiveTopology::LineList,
+            &line_buffers,
+            lines,
+            "fs_main",
             true,
-            wgpu::CompareFunction::LessEqual,
+            less_equal,
         );
+        let cage_line_pipeline = pipeline(
+            "lines",
+            "vs_main",
+            &line_buffers,
+            lines,
+            "fs_cage",
+            true,
+            less_equal,
+        );
+        let cage_line_xray_pipeline = pipeline(
+            "lines",
+            "vs_main",
+            &line_buffers,
+            lines,
+            "fs_cage",
+            false,
+            always,
+        );
+        let dot_buffers = [Some(layout(20, wgpu::VertexStepMode::Instance, &DOT))];
         let dot_pipeline = pipeline(
             "dots",
             "vs_main",
-            &[Some(layout(20, wgpu::VertexStepMode::Instance, &DOT))],
-            wgpu::PrimitiveTopology::TriangleList,
+            &dot_buffers,
+            triangles,
+            "fs_main",
             true,
-            wgpu::CompareFunction::LessEqual,
+            less_equal,
+        );
+        let dot_xray_pipeline = pipeline(
+            "dots",
+            "vs_main",
+            &dot_buffers,
+            triangles,
+            "fs_main",
+            false,
+            always,
         );
         Self {
             sample_count,
@@ -273,9 +338,13 @@ impl SceneRenderer {
             frame_group,
             background,
             mesh_pipeline,
+            mesh_xray_pipeline,
             wire_pipeline,
             line_pipeline,
+            cage_line_pipeline,
+            cage_line_xray_pipeline,
             dot_pipeline,
+            dot_xray_pipeline,
             mesh: None,
             lines: Dynamic {
                 buffer: None,
@@ -440,6 +509,16 @@ impl SceneRenderer {
             viewport: [size.x, size.y, if layers.flat { 1.0 } else { 0.0 }, 0.0],
             background_top: colors::BACKGROUND_TOP,
             background_bottom: colors::BACKGROUND_BOTTOM,
+            opacity: [
+                if layers.xray {
+                    layers.xray_opacity.clamp(0.05, 1.0)
+                } else {
+                    1.0
+                },
+                layers.cage_opacity.clamp(0.05, 1.0),
+                0.0,
+                0.0,
+            ],
         };
         gpu.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
@@ -453,7 +532,11 @@ impl SceneRenderer {
         pass.draw(0..3, 0..1);
         if let Some(mesh) = &self.mesh {
             if layers.mesh && mesh.index_count > 0 {
-                pass.set_pipeline(&self.mesh_pipeline);
+                pass.set_pipeline(if layers.xray {
+                    &self.mesh_xray_pipeline
+                } else {
+                    &self.mesh_pipeline
+                });
                 pass.set_vertex_buffer(0, mesh.positions.slice(..));
                 pass.set_vertex_buffer(1, mesh.normals.slice(..));
                 pass.set_vertex_buffer(2, mesh.colors.slice(..));
@@ -479,7 +562,11 @@ impl SceneRenderer {
             && self.lines.count > 0
             && let Some(buffer) = &self.lines.buffer
         {
-            pass.set_pipeline(&self.line_pipeline);
+            pass.set_pipeline(if layers.xray {
+                &self.cage_line_xray_pipeline
+            } else {
+                &self.cage_line_pipeline
+            });
             pass.set_vertex_buffer(0, buffer.slice(..));
             pass.draw(0..self.lines.count, 0..1);
         }
@@ -487,7 +574,11 @@ impl SceneRenderer {
             && self.dots.count > 0
             && let Some(buffer) = &self.dots.buffer
         {
-            pass.set_pipeline(&self.dot_pipeline);
+            pass.set_pipeline(if layers.xray {
+                &self.dot_xray_pipeline
+            } else {
+                &self.dot_pipeline
+            });
             pass.set_vertex_buffer(0, buffer.slice(..));
             pass.draw(0..6, 0..self.dots.count);
         }
