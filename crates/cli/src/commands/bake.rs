@@ -160,7 +160,18 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<()> {
         }
     }
     match output {
-        Output::Cache(writer, _) => writer.finish()?,
+        Output::Cache(writer, _) => {
+            writer.finish()?;
+            let first = samples.times.start_frame;
+            if first != 0.0 {
+                // Blender's Mesh Cache plays sample 0 at its own Frame Start (0 by default).
+                crate::note!(
+                    "note: in Blender's Mesh Cache modifier set Frame Start to {first} (it starts \
+                     at its own Frame Start, 0 by default, not at the file's first frame), so \
+                     that frame N shows frame N"
+                );
+            }
+        }
         Output::Gltf(animation) => animation.write(&scene.mesh)?,
     }
     if progress {

@@ -295,3 +295,33 @@ fn deform_at_a_keyed_frame_with_edits_equals_the_key_pose_with_the_same_edits() 
         .collect();
     assert_eq!(largest_difference(&obj_vertices(&at_frame), &by_name), 0.0);
 }
+
+/// A point cache that does not start at frame 0 says the one Blender setting that lines it up
+/// (Mesh Cache's Frame Start); one from frame 0 needs none.
+#[test]
+fn a_cache_from_frame_one_names_the_mesh_cache_frame_start_to_set() {
+    let d = dir("mesh-cache-note");
+    ok(&cli(&["demo", "critter", "--out", s(&d)]));
+    let scene = d.join("critter.json");
+    let from_one = cli(&["bake", s(&scene), "--out", s(&d.join("a.pc2"))]);
+    ok(&from_one);
+    assert!(
+        stderr(&from_one).contains("set Frame Start to 1"),
+        "{}",
+        stderr(&from_one)
+    );
+    let from_zero = cli(&[
+        "bake",
+        s(&scene),
+        "--frames",
+        "0..4",
+        "--out",
+        s(&d.join("b.mdd")),
+    ]);
+    ok(&from_zero);
+    assert!(
+        !stderr(&from_zero).contains("Frame Start"),
+        "{}",
+        stderr(&from_zero)
+    );
+}
