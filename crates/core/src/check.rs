@@ -17,6 +17,9 @@ pub struct CheckedScene {
     pub report: ValidationReport,
     /// The scene's *Cages topology, built where the model's rules passed.
     pub topology: Option<Arc<Topology>>,
+    /// The hierarchy as the dry run bound it (in the current pose's state), where the scene
+    /// is valid: posing takes a copy instead of binding it again.
+    pub hierarchy: Option<Hierarchy>,
 }
 
 impl CheckedScene {
@@ -45,13 +48,19 @@ pub fn check_scene(scene: &Scene) -> CheckedScene {
             Err(e) => report.errors.push(SceneProblem::Topology(e.to_string())),
         }
     }
+    let mut hierarchy = None;
     if report.errors.is_empty() && !scene.cages.internals.is_empty() {
-        check_pose_states(scene, &mut report.errors);
+        hierarchy = check_pose_states(scene, &mut report.errors);
     }
     if !report.errors.is_empty() {
         topology = None;
+        hierarchy = None;
     }
-    CheckedScene { report, topology }
+    CheckedScene {
+        report,
+        topology,
+        hierarchy,
+    }
 }
 
 /// Validates the whole scene: [`check_scene`]'s report.
@@ -62,7 +71,7 @@ pub fn validate_scene(scene: &Scene) -> ValidationReport {
 /// Binds the hierarchy and restores every stored hierarchy state, as `deform` and the editor
 /// will: a record naming a vertex that has no parent, a parent shape of the wrong size or a
 /// state that cannot be rebuilt is reported here rather than refused later.
-fn check_pose_states(scene: &Scene, errors: &mut Vec<SceneProblem>) {
+fn check_pose_states(scene: &Scene, errors: &mut Vec<SceneProblem>) -> Option<Hierarchy> {
     // Binding restores the current pose's state: when that fails, bind at rest to tell a bad
     // state from a bad hierarchy.
     let mut hierarchy = match Hierarchy::bind(scene) {
@@ -76,10 +85,7 @@ fn check_pose_states(scene: &Scene, errors: &mut Vec<SceneProblem>) {
                 pose: pose.into(),
                 why: e.to_string(),
             });
-            match rest {
-                Some(h) => h,
-                None => return,
-            }
+            rest?
         }
     };
     let named = scene
@@ -96,4 +102,7 @@ fn check_pose_states(scene: &Scene, errors: &mut Vec<SceneProblem>) {
             });
         }
     }
+    // Kept in the current pose's state, as a fresh bind would be.
+    hierarchy.restore(&scene.pose_state).ok()?;
+    Some(hierarchy)
 }

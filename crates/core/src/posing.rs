@@ -136,6 +136,16 @@ impl PoseRequest {
 
     /// The cage positions, hierarchy state and keyed h this request gives for `scene`.
     pub fn resolve(&self, scene: &Scene) -> Result<Pose, PoseError> {
+        self.resolve_with(scene, None)
+    }
+
+    /// [`PoseRequest::resolve`] with `scene`'s hierarchy already bound (validation's, in any
+    /// state): edits go through a copy of it instead of a new bind.
+    pub fn resolve_with(
+        &self,
+        scene: &Scene,
+        bound: Option<&Hierarchy>,
+    ) -> Result<Pose, PoseError> {
         let start = self.start(scene)?;
         within_range(&start.cages, false)?;
         if self.edits.is_empty() {
@@ -147,7 +157,14 @@ impl PoseRequest {
             h,
             ..
         } = start;
-        let mut hierarchy = Hierarchy::bind_in_state(scene, &state)?;
+        let mut hierarchy = match bound {
+            Some(bound) => {
+                let mut hierarchy = bound.clone();
+                hierarchy.restore(&state)?;
+                hierarchy
+            }
+            None => Hierarchy::bind_in_state(scene, &state)?,
+        };
         for edit in &self.edits {
             let moves = edit.moves(&scene.cages, &cages)?;
             hierarchy.apply(&mut cages, &moves)?;

@@ -68,7 +68,7 @@ impl PoseArgs {
             ))
             .into());
         }
-        let pose = self.resolve(&scene, path)?;
+        let pose = self.resolve_with(&scene, checked.hierarchy.as_ref(), path)?;
         // h keyed at a frame shapes the operator: the scene is bound with it.
         scene.apply_keyed_h(&pose.h);
         // The topology validation built is the bind's, unless the bind takes the single-cage
@@ -96,12 +96,17 @@ impl PoseArgs {
         scene: &Scene,
         scene_path: &std::path::Path,
     ) -> anyhow::Result<Vec<DVec3>> {
-        Ok(self.resolve(scene, scene_path)?.cages)
+        Ok(self.resolve_with(scene, None, scene_path)?.cages)
     }
 
     /// The pose these options ask for, through core's posing engine. A pose file carries
     /// positions only, so its hierarchy starts from the rest state.
-    fn resolve(&self, scene: &Scene, scene_path: &std::path::Path) -> anyhow::Result<Pose> {
+    fn resolve_with(
+        &self,
+        scene: &Scene,
+        bound: Option<&starcages_core::hierarchy::Hierarchy>,
+        scene_path: &std::path::Path,
+    ) -> anyhow::Result<Pose> {
         let source = match (&self.pose_file, self.frame) {
             (Some(file), _) => PoseSource::Positions(
                 // Written by `cages` in the mesh file's axes: turned back to the scene's.
@@ -117,7 +122,7 @@ impl PoseArgs {
             source,
             edits: self.edits.clone(),
         };
-        request.resolve(scene).map_err(|error| {
+        request.resolve_with(scene, bound).map_err(|error| {
             let message = match (&error, &self.pose_file) {
                 (
                     PoseError::Far {

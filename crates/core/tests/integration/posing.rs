@@ -151,3 +151,37 @@ fn requests_that_give_no_pose_are_refused_by_name() {
         .expect_err("no keys");
     assert_eq!(no_keys, PoseError::NoKeys);
 }
+
+/// Posing through the hierarchy validation bound (a copy restored to the source's state) gives
+/// what a new bind gives, from every source the critter has.
+#[test]
+fn posing_through_validation_s_hierarchy_equals_a_new_bind() {
+    let scene = critter();
+    let checked = starcages_core::check::check_scene(&scene);
+    let bound = checked
+        .hierarchy
+        .as_ref()
+        .expect("the dry run kept its hierarchy");
+    let edits = vec![
+        edit("head: rotate 0 0 1 10"),
+        edit("ears: rotate 1 0 0 -15"),
+    ];
+    let sources = [
+        PoseSource::Frame(12.0),
+        PoseSource::Frame(6.5),
+        PoseSource::Named(Some("fig13".into())),
+        PoseSource::Named(None),
+        PoseSource::Rest,
+    ];
+    for source in sources {
+        let request = PoseRequest {
+            source: source.clone(),
+            edits: edits.clone(),
+        };
+        let fresh = request.resolve(&scene).expect("a new bind");
+        let reused = request
+            .resolve_with(&scene, Some(bound))
+            .expect("validation's");
+        assert_eq!(fresh, reused, "{source:?}");
+    }
+}

@@ -37,9 +37,17 @@ impl EditorState {
     pub(super) fn spawn_bind(&mut self, label: &str, scope: Scope) {
         let generation = self.generations.edit;
         let scene = self.doc.scene.clone();
-        let topology = self.checked_topology.as_ref().and_then(|t| t.of(&scene));
+        let (topology, hierarchy) = self
+            .checked_topology
+            .as_ref()
+            .and_then(|t| t.of(&scene))
+            .unzip();
         self.bind_job = Some(Job::spawn("binding", label, self.waker.clone(), move |c| {
-            jobs::bind(&scene, topology.as_deref(), scope, generation, c)
+            let checked = jobs::Checked {
+                topology: topology.as_deref(),
+                hierarchy: hierarchy.flatten(),
+            };
+            jobs::bind(&scene, checked, scope, generation, c)
         }));
     }
 

@@ -136,16 +136,27 @@ pub struct Bound {
     pub coarse_leaves: Vec<usize>,
 }
 
-/// Binds `scene` as far as `scope` says (runs on a worker); a full bind takes `topology`, the
-/// scene's as validation built it, where given.
+/// What validation built for the scene being bound: a bind takes them instead of building them
+/// again.
+#[derive(Debug, Default)]
+pub struct Checked<'a> {
+    /// The scene's topology (a full or preview bind takes it).
+    pub topology: Option<&'a Topology>,
+    /// The scene's hierarchy, bound by validation's dry run.
+    pub hierarchy: Option<Hierarchy>,
+}
+
+/// Binds `scene` as far as `scope` says (runs on a worker), with what validation built where
+/// given (`checked`).
 pub fn bind(
     scene: &Scene,
-    topology: Option<&Topology>,
+    checked: Checked<'_>,
     scope: Scope,
     generation: u64,
     control: &BindControl,
 ) -> Result<Bound, EditorError> {
     let start = Instant::now();
+    let topology = checked.topology;
     let mut preview = matches!(scope, Scope::Preview) && has_harmonic_join_cages(scene, topology);
     let mut coarse_leaves = Vec::new();
     let binding = match scope {
@@ -173,7 +184,10 @@ pub fn bind(
         Scope::RestEdit(old, moved) => old.rebind_rest_edit(scene, &moved, control).map(Arc::new),
     }
     .map_err(EditorError::Bind)?;
-    let hierarchy = Hierarchy::bind(scene).map_err(EditorError::Hierarchy)?;
+    let hierarchy = match checked.hierarchy {
+        Some(hierarchy) => hierarchy,
+        None => Hierarchy::bind(scene).map_err(EditorError::Hierarchy)?,
+    };
     Ok(Bound {
         binding,
         hierarchy,

@@ -202,25 +202,30 @@ pub struct EditorState {
     waker: Option<Waker>,
 }
 
-/// A topology validation built, and what it is of.
+/// The topology and hierarchy validation built, and what they are of.
 #[derive(Debug, Clone)]
 pub struct CheckedTopology {
-    /// The cages it was built for.
+    /// The cages they were built for.
     pub cages: starcages_core::scene::CageSet,
-    /// The join policy it was built with.
-    pub policy: starcages_core::scene::JoinPolicy,
+    /// The settings they were built with.
+    pub settings: starcages_core::scene::SceneSettings,
     /// The topology.
     pub topology: Arc<starcages_core::star::Topology>,
+    /// The hierarchy bound by the dry run (where the scene has internal cages).
+    pub hierarchy: Option<starcages_core::hierarchy::Hierarchy>,
 }
 
 impl CheckedTopology {
-    /// The topology when it is `scene`'s.
+    /// The topology and hierarchy when they are `scene`'s (its cages and settings).
     pub fn of(
         &self,
         scene: &starcages_core::scene::Scene,
-    ) -> Option<Arc<starcages_core::star::Topology>> {
-        (self.cages == scene.cages && self.policy == scene.settings.join_coordinates)
-            .then(|| Arc::clone(&self.topology))
+    ) -> Option<(
+        Arc<starcages_core::star::Topology>,
+        Option<starcages_core::hierarchy::Hierarchy>,
+    )> {
+        (self.cages == scene.cages && self.settings == scene.settings)
+            .then(|| (Arc::clone(&self.topology), self.hierarchy.clone()))
     }
 }
 
@@ -403,10 +408,12 @@ impl EditorState {
     fn check_rig(&mut self) {
         let checked = starcages_core::check::check_scene(&self.doc.scene);
         let scene = &self.doc.scene;
+        let hierarchy = checked.hierarchy;
         self.checked_topology = checked.topology.map(|topology| CheckedTopology {
             cages: scene.cages.clone(),
-            policy: scene.settings.join_coordinates,
+            settings: scene.settings,
             topology,
+            hierarchy,
         });
         let report = checked.report;
         self.rig_warnings =
