@@ -100,6 +100,11 @@ pub struct CageStyle {
     /// Selected points that are not cage vertices (mesh vertices), small dots in the
     /// selection colour.
     pub selected_points: Vec<glam::Vec3>,
+    /// Cage vertices drawn small and faint (the leaf vertices under a rig's controls in Pose
+    /// mode), unless selected, hovered or warned about.
+    pub quiet_vertices: BTreeSet<u32>,
+    /// Cage vertices not drawn at all, unless selected, hovered or warned about.
+    pub hidden_vertices: BTreeSet<u32>,
 }
 
 /// Hierarchy level of every cage, leaves then internal cages: 0 for leaves, and for an
@@ -272,8 +277,15 @@ pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
             }
         }
     }
+    let marked = |id: u32| {
+        style.hovered == Some(id)
+            || style.selected.contains(&id)
+            || style.warning_vertices.contains(&id)
+    };
     (0..pose.len())
-        .filter(|&v| visible[v])
+        .filter(|&v| {
+            visible[v] && (!style.hidden_vertices.contains(&(v as u32)) || marked(v as u32))
+        })
         .map(|v| {
             let id = v as u32;
             let (colour, size) = if style.hovered == Some(id) {
@@ -282,6 +294,8 @@ pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
                 (colors::SELECTED, 9.0)
             } else if style.warning_vertices.contains(&id) {
                 (colors::WARNING, 11.0)
+            } else if style.quiet_vertices.contains(&id) {
+                (colors::dim(colors::VERTEX, 0.6), 4.0)
             } else if focused[v] {
                 (colors::VERTEX, 7.0)
             } else {
@@ -365,6 +379,29 @@ mod tests {
         assert!(
             dots.iter()
                 .any(|d| d.color == colors::to_u8(colors::HOVERED))
+        );
+    }
+
+    #[test]
+    fn quiet_vertices_are_small_and_hidden_ones_go_unless_selected() {
+        let scene = demo_scene("bar", 0.2).unwrap();
+        let all = cage_dots(&scene.cages, &scene.pose, &CageStyle::default()).len();
+        let style = CageStyle {
+            quiet_vertices: [0, 1].into(),
+            hidden_vertices: [2, 3, 4].into(),
+            selected: [4].into(),
+            ..CageStyle::default()
+        };
+        let dots = cage_dots(&scene.cages, &scene.pose, &style);
+        assert_eq!(
+            dots.len(),
+            all - 2,
+            "two hidden, the selected hidden one still shown"
+        );
+        assert_eq!(
+            dots.iter().filter(|d| d.size == 4.0).count(),
+            2,
+            "two quiet"
         );
     }
 

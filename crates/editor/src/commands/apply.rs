@@ -82,6 +82,7 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
         | Command::SetMirrorX(..)
         | Command::SetSnapToVertices(..)
         | Command::SetPivotPoint(..)
+        | Command::SetLeafVertices(..)
         | Command::Camera(..)
         | Command::SetViewport(..)
         | Command::Info(..)) => super::view::apply_view(state, command),

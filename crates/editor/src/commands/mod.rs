@@ -236,6 +236,8 @@ pub enum Command {
     SetSnapToVertices(bool),
     /// What R and S turn and scale about (a tool setting: not an undo step, as in Blender).
     SetPivotPoint(crate::state::PivotPoint),
+    /// How Pose mode draws the leaf vertices of a rig with controls.
+    SetLeafVertices(crate::state::LeafVertices),
     /// Move the camera.
     Camera(CameraChange),
     /// Where the viewport is on screen.

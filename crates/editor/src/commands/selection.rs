@@ -50,7 +50,7 @@ fn select_all(state: &mut EditorState) {
     let set = &state.doc.scene.cages;
     match state.select_element() {
         crate::state::SelectElement::CageVertices => {
-            let pickable = state.view.pickable(set);
+            let pickable = state.pickable();
             let all = (0..pickable.len() as u32).filter(|&v| pickable[v as usize]);
             state.selection.select(all, SelectMode::Replace);
         }

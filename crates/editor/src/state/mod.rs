@@ -33,7 +33,10 @@ pub use influence_map::InfluenceMap;
 pub use jobs::{Job, Waker};
 pub use selection::{SelectMode, Selection};
 pub use starcages_core::live::LiveRig;
-pub use view::{InfluenceChoice, PivotPoint, ScreenRect, SelectElement, ViewState};
+pub use view::{
+    InfluenceChoice, LeafVertices, PivotPoint, ScreenRect, SelectElement, ViewState,
+    leaf_only_vertices,
+};
 
 use jobs::{BindResult, LoadResult};
 use undo::{Snapshot, UndoStack};
@@ -611,6 +614,27 @@ impl EditorState {
     /// The id of the gesture in progress.
     pub fn gesture_id(&self) -> Option<GestureId> {
         self.gesture.as_ref().map(|g| g.id)
+    }
+
+    /// Whether Pose mode is posing a rig with controls (internal cages): then the leaf
+    /// vertices are drawn and picked as [`ViewState::leaf_vertices`] says.
+    pub fn posing_controls(&self) -> bool {
+        self.mode == EditMode::Pose && !self.doc.scene.cages.internals.is_empty()
+    }
+
+    /// Per cage vertex: whether clicks, regions and snapping may pick it (visible cages; in
+    /// Pose mode with controls, not the leaf vertices when they are hidden).
+    pub fn pickable(&self) -> Vec<bool> {
+        let set = &self.doc.scene.cages;
+        let mut pickable = self.view.pickable(set);
+        if self.posing_controls() && self.view.leaf_vertices == view::LeafVertices::Hidden {
+            for v in view::leaf_only_vertices(set) {
+                if let Some(slot) = pickable.get_mut(v as usize) {
+                    *slot = false;
+                }
+            }
+        }
+        pickable
     }
 
     /// Checks the invariants the UI relies on; the first broken one, described.

@@ -62,6 +62,47 @@ impl PivotPoint {
     }
 }
 
+/// How Pose mode draws the leaf cage vertices of a rig with controls (internal cages): the
+/// controls are what a person poses, the leaf vertices what Rig mode edits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LeafVertices {
+    /// As every other vertex.
+    Shown,
+    /// Small and faint, still picked.
+    #[default]
+    Small,
+    /// Not drawn and not picked (selected ones still show).
+    Hidden,
+}
+
+impl LeafVertices {
+    /// All of them, in the order the menu lists them.
+    pub const ALL: [Self; 3] = [Self::Shown, Self::Small, Self::Hidden];
+
+    /// The menu's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Shown => "Shown",
+            Self::Small => "Small",
+            Self::Hidden => "Hidden",
+        }
+    }
+}
+
+/// The leaf cage vertices that belong to no internal cage: what a rig's controls move.
+pub fn leaf_only_vertices(set: &CageSet) -> std::collections::BTreeSet<u32> {
+    let internal: std::collections::BTreeSet<u32> = set
+        .internals
+        .iter()
+        .flat_map(|c| c.faces.iter().flatten().copied())
+        .collect();
+    set.leaves
+        .iter()
+        .flat_map(|c| c.faces.iter().flatten().copied())
+        .filter(|v| !internal.contains(v))
+        .collect()
+}
+
 /// What clicks and region drags select in Rig mode (Pose mode always selects cage vertices).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SelectElement {
@@ -154,6 +195,8 @@ pub struct ViewState {
     pub snap_to_vertices: bool,
     /// What R and S turn and scale about.
     pub pivot_point: PivotPoint,
+    /// How Pose mode draws the leaf vertices of a rig with controls.
+    pub leaf_vertices: LeafVertices,
     /// Where the 3D view was drawn last frame.
     pub viewport: ScreenRect,
 }

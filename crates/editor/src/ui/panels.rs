@@ -125,6 +125,24 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
     if pivot != state.view.pivot_point {
         sender.send(Command::SetPivotPoint(pivot));
     }
+    if !state.doc.scene.cages.internals.is_empty() {
+        let mut leaf = state.view.leaf_vertices;
+        egui::ComboBox::from_label("Leaf vertices in Pose mode")
+            .selected_text(leaf.label())
+            .show_ui(ui, |ui| {
+                for choice in crate::state::LeafVertices::ALL {
+                    ui.selectable_value(&mut leaf, choice, choice.label());
+                }
+            })
+            .response
+            .on_hover_text(
+                "How Pose mode draws the leaf cage vertices under the rig's controls: you pose \
+                 the controls, Rig mode edits the leaf cages. Hidden ones are not picked",
+            );
+        if leaf != state.view.leaf_vertices {
+            sender.send(Command::SetLeafVertices(leaf));
+        }
+    }
     if let Some(values) = state.map.values() {
         ui.label(RichText::new(&values.title).small());
         ui.label(

@@ -29,7 +29,7 @@ pub fn snap_target(
     moving: &std::collections::BTreeSet<u32>,
 ) -> Option<(u32, glam::DVec3)> {
     let rect = state.view.viewport;
-    let mut pickable = state.view.pickable(&state.doc.scene.cages);
+    let mut pickable = state.pickable();
     for &v in moving {
         if let Some(slot) = pickable.get_mut(v as usize) {
             *slot = false;
@@ -53,7 +53,7 @@ pub fn pick(state: &EditorState, pointer: Vec2) -> Option<u32> {
         &state.view.camera,
         rect.size,
         &pose_f32(state),
-        &state.view.pickable(&state.doc.scene.cages),
+        &state.pickable(),
         rect.local(pointer),
         PICK_RADIUS,
     )

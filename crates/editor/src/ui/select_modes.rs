@@ -167,7 +167,7 @@ pub fn region(state: &EditorState, region: &Region, extend: bool, sender: &mut C
         .map(|i| i as u32)
         .collect()
     };
-    let pickable = state.view.pickable(&state.doc.scene.cages);
+    let pickable = state.pickable();
     let command = match state.select_element() {
         SelectElement::CageVertices => Command::Select {
             vertices: inside(state.shown_positions(), &pickable),

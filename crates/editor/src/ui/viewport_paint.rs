@@ -243,6 +243,15 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     let scene = &state.doc.scene;
     let mut style = state.view.cage_style(&state.selection, &scene.cages);
     state.rig_warnings.mark(scene, &mut style);
+    if state.posing_controls() {
+        // Pose mode poses the controls: the leaf vertices under them step back.
+        use crate::state::{LeafVertices, leaf_only_vertices};
+        match state.view.leaf_vertices {
+            LeafVertices::Shown => {}
+            LeafVertices::Small => style.quiet_vertices = leaf_only_vertices(&scene.cages),
+            LeafVertices::Hidden => style.hidden_vertices = leaf_only_vertices(&scene.cages),
+        }
+    }
     if state.mode == crate::state::EditMode::Rig {
         let rest = scene.mesh.welded_positions();
         style.selected_points = (state.selection.mesh_vertices.iter())

@@ -634,3 +634,48 @@ fn click_at(
     }
     harness.run_steps(2);
 }
+
+/// In Pose mode a rig's leaf vertices (under its controls) step back: small by default, and
+/// when hidden they are neither drawn nor picked, while Rig mode picks them again.
+#[test]
+fn pose_mode_draws_leaf_vertices_small_or_hides_them_from_picking() {
+    use starcages_editor::state::{LeafVertices, leaf_only_vertices};
+    use starcages_editor::ui::{pick, vertex_on_screen};
+    let mut harness = crate::common::harness();
+    let state = &harness.state().state;
+    assert_eq!(state.view.leaf_vertices, LeafVertices::Small);
+    let leaf_only = leaf_only_vertices(&state.doc.scene.cages);
+    assert!(
+        !leaf_only.is_empty(),
+        "the critter has leaf vertices under its controls"
+    );
+    // A leaf vertex whose screen position picks it while shown.
+    let (v, at) = leaf_only
+        .iter()
+        .find_map(|&v| {
+            let at = vertex_on_screen(state, v)?;
+            let pointer = glam::Vec2::new(at.x, at.y);
+            (pick(state, pointer) == Some(v)).then_some((v, pointer))
+        })
+        .expect("a leaf vertex picked where it is drawn");
+    harness
+        .state_mut()
+        .run(Command::SetLeafVertices(LeafVertices::Hidden));
+    harness.run_steps(1);
+    let state = &harness.state().state;
+    assert_ne!(
+        pick(state, at),
+        Some(v),
+        "a hidden leaf vertex is not picked"
+    );
+    assert!(!state.pickable()[v as usize]);
+    harness
+        .state_mut()
+        .run(Command::SetMode(starcages_editor::state::EditMode::Rig));
+    harness.run_steps(1);
+    assert!(
+        harness.state().state.pickable()[v as usize],
+        "Rig mode picks it again"
+    );
+    harness.get_by_label_contains("Leaf vertices in Pose mode");
+}
