@@ -105,6 +105,8 @@ pub struct CageStyle {
     pub quiet_vertices: BTreeSet<u32>,
     /// Cage vertices not drawn at all, unless selected, hovered or warned about.
     pub hidden_vertices: BTreeSet<u32>,
+    /// The 3D cursor, drawn as a large red dot.
+    pub cursor: Option<glam::Vec3>,
 }
 
 /// Hierarchy level of every cage, leaves then internal cages: 0 for leaves, and for an
@@ -316,6 +318,11 @@ pub fn cage_dots(set: &CageSet, pose: &[DVec3], style: &CageStyle) -> Vec<Dot> {
             position: p.to_array(),
             color: colors::to_u8(colors::SELECTED),
             size: 4.0,
+        }))
+        .chain(style.cursor.iter().map(|p| Dot {
+            position: p.to_array(),
+            color: colors::to_u8(colors::X_AXIS),
+            size: 12.0,
         }))
         .collect()
 }

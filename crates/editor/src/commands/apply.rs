@@ -83,6 +83,7 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
         | Command::SetSnapToVertices(..)
         | Command::SetPivotPoint(..)
         | Command::SetLeafVertices(..)
+        | Command::SetCursor(..)
         | Command::Camera(..)
         | Command::SetViewport(..)
         | Command::Info(..)) => super::view::apply_view(state, command),

@@ -236,6 +236,8 @@ pub enum Command {
     SetSnapToVertices(bool),
     /// What R and S turn and scale about (a tool setting: not an undo step, as in Blender).
     SetPivotPoint(crate::state::PivotPoint),
+    /// Places the 3D cursor (scene coordinates).
+    SetCursor(DVec3),
     /// How Pose mode draws the leaf vertices of a rig with controls.
     SetLeafVertices(crate::state::LeafVertices),
     /// Move the camera.

@@ -15,6 +15,7 @@ pub fn apply_view(state: &mut EditorState, command: Command) {
         Command::SetSnapToVertices(on) => state.view.snap_to_vertices = on,
         Command::SetPivotPoint(pivot) => state.view.pivot_point = pivot,
         Command::SetLeafVertices(shown) => state.view.leaf_vertices = shown,
+        Command::SetCursor(at) if at.is_finite() => state.view.cursor = Some(at),
         Command::Camera(change) => camera(state, change),
         Command::SetViewport(rect) => state.view.viewport = rect,
         Command::Info(text) => state.info(text),

@@ -42,12 +42,15 @@ pub enum PivotPoint {
     /// Each selected control or cage about its own origin (loose vertices about their
     /// centroid): two legs selected bend each at its own hip.
     IndividualOrigins,
+    /// The 3D cursor (Shift+right click on the mesh places it).
+    Cursor,
 }
 
 impl PivotPoint {
     /// All of them, in the order the menu lists them.
-    pub const ALL: [Self; 3] = [
+    pub const ALL: [Self; 4] = [
         Self::BoundingBoxCenter,
+        Self::Cursor,
         Self::IndividualOrigins,
         Self::MedianPoint,
     ];
@@ -58,6 +61,7 @@ impl PivotPoint {
             Self::MedianPoint => "Median Point",
             Self::BoundingBoxCenter => "Bounding Box Center",
             Self::IndividualOrigins => "Individual Origins",
+            Self::Cursor => "3D Cursor",
         }
     }
 }
@@ -197,6 +201,8 @@ pub struct ViewState {
     pub pivot_point: PivotPoint,
     /// How Pose mode draws the leaf vertices of a rig with controls.
     pub leaf_vertices: LeafVertices,
+    /// The 3D cursor, where placed (scene coordinates); the origin until then.
+    pub cursor: Option<glam::DVec3>,
     /// Where the 3D view was drawn last frame.
     pub viewport: ScreenRect,
 }

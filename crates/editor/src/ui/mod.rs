@@ -35,7 +35,7 @@ use egui::Panel;
 use crate::commands::{Command, CommandSender};
 use crate::state::{EditorState, GestureId, NewMeshOptions};
 
-pub use picking::{pick, vertex_on_screen};
+pub use picking::{mesh_point_under, pick, vertex_on_screen};
 pub use transform_tool::{Axis, Mode, TransformTool};
 pub use viewport_input::Drag;
 

@@ -120,7 +120,8 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
         .response
         .on_hover_text(
             "What R and S turn and scale about. A whole control's origin is its joint (as a \
-             bone's is its head), another whole cage's its centroid, a loose vertex itself",
+             bone's is its head), another whole cage's its centroid, a loose vertex itself; \
+             the 3D cursor is placed by Shift+right click on the mesh",
         );
     if pivot != state.view.pivot_point {
         sender.send(Command::SetPivotPoint(pivot));

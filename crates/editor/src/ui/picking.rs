@@ -76,6 +76,31 @@ const MESH_PICK_RADIUS: f32 = 8.0;
 /// Leaf cage vertices that vote for the control of a picked mesh point.
 const VOTERS: usize = 6;
 
+/// The mesh vertex nearest `pointer` (screen points) where the mesh is drawn, as the mesh
+/// stands in the viewport: deformed in Pose mode, at rest in Rig mode. None off the mesh.
+pub fn mesh_point_under(state: &EditorState, pointer: Vec2) -> Option<glam::DVec3> {
+    let rect = state.view.viewport;
+    let rest: Vec<glam::Vec3>;
+    let mesh: &[glam::Vec3] = match state.mode {
+        crate::state::EditMode::Pose => state.deformed(),
+        crate::state::EditMode::Rig => {
+            rest = (state.doc.scene.mesh.welded_positions().iter())
+                .map(|p| p.as_vec3())
+                .collect();
+            &rest
+        }
+    };
+    let picked = pick_nearest(
+        &state.view.camera,
+        rect.size,
+        mesh,
+        &[],
+        rect.local(pointer),
+        MESH_PICK_RADIUS,
+    )?;
+    Some(mesh.get(picked)?.as_dvec3())
+}
+
 /// Pose mode: the internal cage (the auto rig's control) moving the part of the deformed mesh
 /// under `pointer`: among the leaf cage vertices nearest the picked mesh point in the current
 /// pose, the internal cage owning most of them. Its vertices (sorted), so that R and S turn

@@ -161,6 +161,7 @@ impl TransformTool {
             PivotPoint::MedianPoint | PivotPoint::IndividualOrigins => {
                 points.iter().sum::<DVec3>() / points.len().max(1) as f64
             }
+            PivotPoint::Cursor => state.view.cursor.unwrap_or(DVec3::ZERO),
         };
         let origins = match state.view.pivot_point {
             PivotPoint::IndividualOrigins => {

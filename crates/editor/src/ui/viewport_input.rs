@@ -62,10 +62,21 @@ pub fn viewport(
     if screen_rect != state.view.viewport {
         sender.send(Command::SetViewport(screen_rect));
     }
-    let (pointer, secondary) = ui.input(|i| {
+    let (pointer, secondary, shift_secondary) = ui.input(|i| {
+        // Shift as the right button was released (the modifiers may change in the same frame).
+        let shifted = i.modifiers.shift
+            || i.events.iter().any(|e| {
+                matches!(e, egui::Event::PointerButton {
+                    button: egui::PointerButton::Secondary,
+                    pressed: false,
+                    modifiers,
+                    ..
+                } if modifiers.shift)
+            });
         (
             i.pointer.latest_pos().map(vec2),
             i.pointer.secondary_clicked(),
+            i.pointer.secondary_clicked() && shifted,
         )
     });
     let on_gizmo = pointer.is_some_and(|p| axis_gizmo::contains(rect, egui::pos2(p.x, p.y)));
@@ -103,6 +114,14 @@ pub fn viewport(
         } else if secondary {
             ui_state.tool = None;
             sender.send(Command::EndGesture { keep: false });
+        }
+    } else if shift_secondary && !on_gizmo {
+        // Shift+right click places the 3D cursor on the mesh point under the pointer.
+        match pointer.and_then(|p| super::picking::mesh_point_under(state, p)) {
+            Some(at) => sender.send(Command::SetCursor(at)),
+            None => sender.send(Command::Info(
+                "Shift+right click on the mesh to place the 3D cursor".into(),
+            )),
         }
     } else if !on_gizmo || ui_state.drag.is_some() {
         mouse(state, ui_state, ui, &response, screen_rect, sender);

@@ -243,6 +243,12 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
     let scene = &state.doc.scene;
     let mut style = state.view.cage_style(&state.selection, &scene.cages);
     state.rig_warnings.mark(scene, &mut style);
+    // The 3D cursor, once placed or while it is the pivot.
+    let cursor_shown =
+        state.view.cursor.is_some() || state.view.pivot_point == crate::state::PivotPoint::Cursor;
+    if cursor_shown {
+        style.cursor = Some(state.view.cursor.unwrap_or_default().as_vec3());
+    }
     if state.posing_controls() {
         // Pose mode poses the controls: the leaf vertices under them step back.
         use crate::state::{LeafVertices, leaf_only_vertices};

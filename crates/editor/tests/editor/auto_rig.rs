@@ -679,3 +679,72 @@ fn pose_mode_draws_leaf_vertices_small_or_hides_them_from_picking() {
     );
     harness.get_by_label_contains("Leaf vertices in Pose mode");
 }
+
+/// Shift+right click on the mesh places the 3D cursor at the mesh point under the pointer, and
+/// the 3D Cursor pivot turns the selection about it (R Z 90 in Rig mode).
+#[test]
+fn shift_right_click_places_the_3d_cursor_and_r_turns_about_it() {
+    let mut harness = crate::common::harness();
+    send(
+        &mut harness,
+        Command::SetMode(starcages_editor::state::EditMode::Rig),
+    );
+    // A rest mesh vertex in view, and where it is drawn.
+    let (target, pointer) = {
+        let state = &harness.state().state;
+        let rect = state.view.viewport;
+        let mesh = state.doc.scene.mesh.welded_positions();
+        mesh.iter()
+            .step_by(97)
+            .find_map(|&p| {
+                let (pixel, _) = state.view.camera.project(p.as_vec3(), rect.size)?;
+                let pointer = rect.min + pixel;
+                let under = starcages_editor::ui::mesh_point_under(state, pointer)?;
+                (under == p).then_some((p, pointer))
+            })
+            .expect("a mesh vertex picked where it is drawn")
+    };
+    let pos = egui::pos2(pointer.x, pointer.y);
+    harness.hover_at(pos);
+    for pressed in [true, false] {
+        harness.event_modifiers(
+            egui::Event::PointerButton {
+                pos,
+                button: egui::PointerButton::Secondary,
+                pressed,
+                modifiers: egui::Modifiers::SHIFT,
+            },
+            egui::Modifiers::SHIFT,
+        );
+    }
+    harness.run_steps(2);
+    assert_eq!(harness.state().state.view.cursor, Some(target));
+    // The 3D Cursor pivot from the menu; R Z 90 turns a vertex about the cursor.
+    harness.get_by_label("Pivot point").click();
+    harness.run_steps(2);
+    harness.get_by_label("3D Cursor").click();
+    harness.run_steps(2);
+    let v = 0u32;
+    let before = harness.state().state.doc.scene.cages.vertices[v as usize];
+    send(
+        &mut harness,
+        Command::Select {
+            vertices: vec![v],
+            mode: starcages_editor::state::SelectMode::Replace,
+        },
+    );
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    harness.key_press(egui::Key::R);
+    harness.run_steps(1);
+    for text in ["z", "9", "0"] {
+        harness.event(egui::Event::Text(text.into()));
+        harness.run_steps(1);
+    }
+    harness.key_press(egui::Key::Enter);
+    harness.run_steps(2);
+    let after = harness.state().state.doc.scene.cages.vertices[v as usize];
+    let turn = glam::DQuat::from_axis_angle(glam::DVec3::Z, 90f64.to_radians());
+    let expected = target + turn * (before - target);
+    assert!(after.distance(expected) < 1e-6, "{after} vs {expected}");
+}
