@@ -106,17 +106,7 @@ pub fn mesh_point_under(state: &EditorState, pointer: Vec2) -> Option<glam::DVec
 /// pose, the internal cage owning most of them. Its vertices (sorted), so that R and S turn
 /// it about its pivot; None off the mesh or where no internal cage owns that part.
 pub fn control_under(state: &EditorState, pointer: Vec2) -> Option<Vec<u32>> {
-    let rect = state.view.viewport;
-    let mesh = state.deformed();
-    let picked = pick_nearest(
-        &state.view.camera,
-        rect.size,
-        mesh,
-        &[],
-        rect.local(pointer),
-        MESH_PICK_RADIUS,
-    )?;
-    let at = mesh.get(picked)?.as_dvec3();
+    let at = mesh_point_under(state, pointer)?;
     let set = &state.doc.scene.cages;
     let mut owner: Vec<Option<usize>> = vec![None; set.vertices.len()];
     for (i, internal) in set.internals.iter().enumerate() {

@@ -414,14 +414,7 @@ fn the_pivot_point_menu_turns_about_joints_medians_or_individual_origins() {
                 mode: starcages_editor::state::SelectMode::Replace,
             },
         );
-        harness.key_press(egui::Key::R);
-        harness.run_steps(1);
-        for text in ["z", "9", "0"] {
-            harness.event(egui::Event::Text(text.into()));
-            harness.run_steps(1);
-        }
-        harness.key_press(egui::Key::Enter);
-        harness.run_steps(2);
+        rotate_z_90(&mut harness);
         let after = harness.state().state.doc.scene.cages.vertices.clone();
         let loose_points: Vec<glam::DVec3> = loose.iter().map(|&v| before[v as usize]).collect();
         let points: Vec<glam::DVec3> = std::iter::once(joint).chain(loose_points.clone()).collect();
@@ -735,6 +728,15 @@ fn shift_right_click_places_the_3d_cursor_and_r_turns_about_it() {
     );
     let centre = harness.state().state.view.viewport.center();
     harness.hover_at(egui::pos2(centre.x, centre.y));
+    rotate_z_90(&mut harness);
+    let after = harness.state().state.doc.scene.cages.vertices[v as usize];
+    let turn = glam::DQuat::from_axis_angle(glam::DVec3::Z, 90f64.to_radians());
+    let expected = target + turn * (before - target);
+    assert!(after.distance(expected) < 1e-6, "{after} vs {expected}");
+}
+
+/// R, Z, 90 typed, Enter: the selection turned 90° about Z about the pivot.
+fn rotate_z_90(harness: &mut egui_kittest::Harness<'static, starcages_editor::EditorApp>) {
     harness.key_press(egui::Key::R);
     harness.run_steps(1);
     for text in ["z", "9", "0"] {
@@ -743,8 +745,4 @@ fn shift_right_click_places_the_3d_cursor_and_r_turns_about_it() {
     }
     harness.key_press(egui::Key::Enter);
     harness.run_steps(2);
-    let after = harness.state().state.doc.scene.cages.vertices[v as usize];
-    let turn = glam::DQuat::from_axis_angle(glam::DVec3::Z, 90f64.to_radians());
-    let expected = target + turn * (before - target);
-    assert!(after.distance(expected) < 1e-6, "{after} vs {expected}");
 }
