@@ -25,6 +25,9 @@ pub struct Selection {
     /// Selected mesh vertices (mesh select mode in Rig mode; indices into the welded mesh
     /// vertices): the region Shift+A can put a box around.
     pub mesh_vertices: BTreeSet<u32>,
+    /// The active element, as Blender's: the first vertex of the last pick that selected
+    /// something (the vertex clicked; for a control, its first vertex). Always selected.
+    pub active: Option<u32>,
 }
 
 /// How a picked set of vertices combines with the selection.
@@ -45,13 +48,18 @@ impl Selection {
             self.vertices.clear();
             self.faces.clear();
         }
+        let mut first_selected = None;
         for v in picked {
             if mode == SelectMode::Toggle && self.vertices.contains(&v) {
                 self.vertices.remove(&v);
             } else {
                 self.vertices.insert(v);
+                first_selected.get_or_insert(v);
             }
         }
+        self.active = first_selected
+            .or(self.active)
+            .filter(|v| self.vertices.contains(v));
     }
 
     /// Combines leaf-cage faces `picked` (cage index, face index in `set`) into the selection,
@@ -145,6 +153,7 @@ impl Selection {
                 .is_some_and(|face| face.iter().all(|v| vertices.contains(v)))
         });
         self.hovered = self.hovered.filter(|&v| (v as usize) < count);
+        self.active = self.active.filter(|v| self.vertices.contains(v));
         self.cage = self.cage.take().and_then(|(id, name)| {
             let id = match id.name(set) {
                 Some(now) if now == name => id,
@@ -159,6 +168,7 @@ impl Selection {
         let count = set.vertices.len();
         self.vertices.iter().all(|&v| (v as usize) < count)
             && self.hovered.is_none_or(|v| (v as usize) < count)
+            && self.active.is_none_or(|v| self.vertices.contains(&v))
             && self
                 .cage
                 .as_ref()
@@ -177,6 +187,22 @@ impl Selection {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_active_vertex_is_the_first_of_the_last_pick_and_always_selected() {
+        let mut selection = Selection::default();
+        selection.select([4, 7], SelectMode::Replace);
+        assert_eq!(selection.active, Some(4));
+        selection.select([9], SelectMode::Add);
+        assert_eq!(selection.active, Some(9));
+        // Toggling the active vertex off leaves nothing active; toggling another off keeps it.
+        selection.select([4], SelectMode::Toggle);
+        assert_eq!(selection.active, Some(9));
+        selection.select([9], SelectMode::Toggle);
+        assert_eq!(selection.active, None);
+        selection.select([], SelectMode::Replace);
+        assert_eq!(selection.active, None);
+    }
 
     #[test]
     fn modes_combine_as_blender_does() {

@@ -44,15 +44,19 @@ pub enum PivotPoint {
     IndividualOrigins,
     /// The 3D cursor (Shift+right click on the mesh places it).
     Cursor,
+    /// The active element's origin (the last vertex or control picked): a control's joint,
+    /// another vertex itself.
+    ActiveElement,
 }
 
 impl PivotPoint {
     /// All of them, in the order the menu lists them.
-    pub const ALL: [Self; 4] = [
+    pub const ALL: [Self; 5] = [
         Self::BoundingBoxCenter,
         Self::Cursor,
         Self::IndividualOrigins,
         Self::MedianPoint,
+        Self::ActiveElement,
     ];
 
     /// The menu's label (Blender's words).
@@ -62,6 +66,7 @@ impl PivotPoint {
             Self::BoundingBoxCenter => "Bounding Box Center",
             Self::IndividualOrigins => "Individual Origins",
             Self::Cursor => "3D Cursor",
+            Self::ActiveElement => "Active Element",
         }
     }
 }

@@ -162,6 +162,19 @@ impl TransformTool {
                 points.iter().sum::<DVec3>() / points.len().max(1) as f64
             }
             PivotPoint::Cursor => state.view.cursor.unwrap_or(DVec3::ZERO),
+            PivotPoint::ActiveElement => {
+                // The active vertex's element: a control by its joint, else the vertex.
+                let active = state.selection.active;
+                let index = active.and_then(|a| start.iter().position(|&(v, _)| v == a));
+                match index {
+                    Some(k) => elements
+                        .iter()
+                        .find(|e| e.joint && e.members.contains(&k))
+                        .map_or(start[k].1, |e| e.origin),
+                    // Nothing active: the median, as Blender falls back to.
+                    None => points.iter().sum::<DVec3>() / points.len().max(1) as f64,
+                }
+            }
         };
         let origins = match state.view.pivot_point {
             PivotPoint::IndividualOrigins => {

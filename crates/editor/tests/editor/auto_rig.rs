@@ -746,3 +746,48 @@ fn rotate_z_90(harness: &mut egui_kittest::Harness<'static, starcages_editor::Ed
     harness.key_press(egui::Key::Enter);
     harness.run_steps(2);
 }
+
+/// The Active Element pivot turns the selection about the last vertex picked (Shift adds it
+/// and makes it active), as Blender's: the active vertex stays, the other turns about it.
+#[test]
+fn the_active_element_pivot_turns_about_the_last_vertex_picked() {
+    use starcages_editor::state::SelectMode;
+    let mut harness = crate::common::harness();
+    send(
+        &mut harness,
+        Command::SetMode(starcages_editor::state::EditMode::Rig),
+    );
+    let (a, b) = (0u32, 5u32);
+    send(
+        &mut harness,
+        Command::Select {
+            vertices: vec![a],
+            mode: SelectMode::Replace,
+        },
+    );
+    send(
+        &mut harness,
+        Command::Select {
+            vertices: vec![b],
+            mode: SelectMode::Add,
+        },
+    );
+    assert_eq!(harness.state().state.selection.active, Some(b));
+    harness.get_by_label("Pivot point").click();
+    harness.run_steps(2);
+    harness.get_by_label("Active Element").click();
+    harness.run_steps(2);
+    let before = harness.state().state.doc.scene.cages.vertices.clone();
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    rotate_z_90(&mut harness);
+    let after = &harness.state().state.doc.scene.cages.vertices;
+    let turn = glam::DQuat::from_axis_angle(glam::DVec3::Z, 90f64.to_radians());
+    let pivot = before[b as usize];
+    assert!(
+        after[b as usize].distance(pivot) < 1e-9,
+        "the active vertex stays"
+    );
+    let expected = pivot + turn * (before[a as usize] - pivot);
+    assert!(after[a as usize].distance(expected) < 1e-6);
+}
