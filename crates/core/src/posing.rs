@@ -103,12 +103,8 @@ pub enum PoseError {
     /// A cage vertex not finite or beyond ±[`MAX_COORDINATE`] (the deformation runs in 32-bit
     /// floats: beyond it a mesh comes out at 1e19 or worse).
     #[error(
-        "{} put cage vertex {vertex} at ({:e}, {:e}, {:e}), beyond ±{MAX_COORDINATE:e} (the \
-         deformation runs in 32-bit floats); use a smaller move, scale or pose",
-        if *by_edits { "the edits" } else { "the pose" },
-        position.x,
-        position.y,
-        position.z
+        "{}",
+        far_message(if *by_edits { "the edits" } else { "the pose" }, *vertex, *position)
     )]
     Far {
         /// The cage vertex.
@@ -235,6 +231,16 @@ impl PoseRequest {
             }
         }
     }
+}
+
+/// What [`PoseError::Far`] says, with `source` naming what put the vertex there ("the edits",
+/// "the pose", or a caller's own words such as a file).
+pub fn far_message(source: &str, vertex: usize, position: DVec3) -> String {
+    format!(
+        "{source} put cage vertex {vertex} at ({:e}, {:e}, {:e}), beyond ±{MAX_COORDINATE:e} \
+         (the deformation runs in 32-bit floats); use a smaller move, scale or pose",
+        position.x, position.y, position.z
+    )
 }
 
 /// Refuses a cage vertex that is not finite or beyond ±[`MAX_COORDINATE`].

@@ -7,7 +7,7 @@ use clap::Args;
 use glam::DVec3;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::CageEdit;
-use starcages_core::posing::{Pose, PoseError, PoseRequest, PoseSource};
+use starcages_core::posing::{Pose, PoseError, PoseRequest, PoseSource, far_message};
 use starcages_core::scene::Scene;
 use starcages_core::star::{Topology, single_cage_scene};
 use starcages_io::read_pose_obj;
@@ -125,20 +125,19 @@ impl PoseArgs {
         request.resolve_with(scene, bound).map_err(|error| {
             let message = match (&error, &self.pose_file) {
                 (
-                    PoseError::Far {
-                        by_edits: false, ..
+                    &PoseError::Far {
+                        vertex,
+                        position,
+                        by_edits,
                     },
-                    Some(file),
-                ) => format!(
-                    "the pose file {} {}",
-                    file.display(),
-                    error.to_string().trim_start_matches("the pose ")
-                ),
-                (PoseError::Far { by_edits: true, .. }, _) => {
-                    format!(
-                        "the --apply {}",
-                        error.to_string().trim_start_matches("the ")
-                    )
+                    file,
+                ) => {
+                    let source = match (by_edits, file) {
+                        (true, _) => "the --apply edits".to_owned(),
+                        (false, Some(file)) => format!("the pose file {}", file.display()),
+                        (false, None) => "the pose".to_owned(),
+                    };
+                    far_message(&source, vertex, position)
                 }
                 (PoseError::NonFiniteFrame { frame }, _) => {
                     format!("--frame {frame}: give a finite frame number")
