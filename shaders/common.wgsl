@@ -10,6 +10,12 @@ struct Frame {
     background_bottom: vec4<f32>,
     // x: the mesh's opacity (below 1 in X-ray); y: the cages' opacity; z, w: unused.
     opacity: vec4<f32>,
+    // The camera's right and up directions (xyz), for matcap lookups.
+    camera_right: vec4<f32>,
+    camera_up: vec4<f32>,
+    // x: shading (0 solid, 1 matcap, 2 textured); y: vertex colours (an influence map)
+    // replace the material's colour (1) or not (0); z, w: unused.
+    shading: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -1,5 +1,23 @@
 // The deformed mesh: smooth (per-vertex normals) or flat (screen-space derivatives) shading,
-// two-sided, lit by a key, a fill and a rim light for a neutral studio look.
+// two-sided. Solid: lit by a key, a fill and a rim light for a neutral studio look. MatCap:
+// the matcap image at the view-space normal. Textured: the material's base colour (factor ×
+// image at the UV) under the studio light. Vertex colours (an influence map) replace the
+// material's colour where `frame.shading.y` says so.
+
+// The matcap (group 1) and the material (group 2).
+@group(1) @binding(0) var matcap_image: texture_2d<f32>;
+@group(1) @binding(1) var matcap_sampler: sampler;
+
+struct Material {
+    // Base colour factor (display values).
+    base_color: vec4<f32>,
+    // x: has an image (1) or not (0); y: UV origin at the bottom (1, OBJ/FBX) or top (0).
+    flags: vec4<f32>,
+};
+
+@group(2) @binding(0) var<uniform> material: Material;
+@group(2) @binding(1) var base_image: texture_2d<f32>;
+@group(2) @binding(2) var base_sampler: sampler;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -7,11 +25,19 @@ struct VertexIn {
     @location(2) color: vec4<f32>,
 };
 
+struct TexturedIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+    @location(3) uv: vec2<f32>,
+};
+
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
+    @location(3) uv: vec2<f32>,
 };
 
 @vertex
@@ -21,6 +47,18 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.world = v.position;
     out.normal = v.normal;
     out.color = v.color;
+    out.uv = vec2<f32>(0.0);
+    return out;
+}
+
+@vertex
+fn vs_textured(v: TexturedIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = frame.view_proj * vec4<f32>(v.position, 1.0);
+    out.world = v.position;
+    out.normal = v.normal;
+    out.color = v.color;
+    out.uv = v.uv;
     return out;
 }
 
@@ -45,9 +83,37 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (frame.viewport.z > 0.5) {
         n = normalize(faceted);
     }
+    // The material's image, sampled in uniform control flow (OBJ and FBX count v from the
+    // image's bottom row).
+    var uv = in.uv;
+    if (material.flags.y > 0.5) {
+        uv.y = 1.0 - uv.y;
+    }
+    let texel = textureSample(base_image, base_sampler, uv);
     // Two-sided: light the side facing the eye.
     if (dot(n, view) < 0.0) {
         n = -n;
     }
-    return vec4<f32>(light(n, view, in.color.rgb), frame.opacity.x);
+    let in_view = vec2<f32>(dot(n, frame.camera_right.xyz), dot(n, frame.camera_up.xyz));
+    let matcap = textureSampleLevel(
+        matcap_image, matcap_sampler, vec2<f32>(0.5 + 0.49 * in_view.x, 0.5 - 0.49 * in_view.y), 0.0
+    ).rgb;
+    let mode = frame.shading.x;
+    let mapped = frame.shading.y > 0.5;
+    if (mode > 0.5 && mode < 1.5) {
+        if (mapped) {
+            // The map's colours keep the matcap's light and shade.
+            let shade = dot(matcap, vec3<f32>(0.299, 0.587, 0.114));
+            return vec4<f32>(in.color.rgb * (0.35 + 0.9 * shade), frame.opacity.x);
+        }
+        return vec4<f32>(matcap, frame.opacity.x);
+    }
+    var base = in.color.rgb;
+    if (mode > 1.5 && !mapped) {
+        base = material.base_color.rgb;
+        if (material.flags.x > 0.5) {
+            base = base * texel.rgb;
+        }
+    }
+    return vec4<f32>(light(n, view, base), frame.opacity.x);
 }

@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use glam::{DVec3, Vec2, Vec3};
 use thiserror::Error;
 
+pub mod look;
 mod subdivide;
 pub use subdivide::MAX_SEGMENTS as MAX_SUBDIVISION_SEGMENTS;
 

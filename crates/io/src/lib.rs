@@ -15,6 +15,7 @@ mod gltf_meshopt;
 mod gltf_skin;
 mod mesh_fbx;
 mod mesh_gltf;
+mod mesh_look;
 mod mesh_obj;
 mod mesh_off;
 mod mesh_ply;
@@ -25,6 +26,7 @@ mod obj_like_source;
 mod obj_lint;
 mod point_cache;
 mod points;
+pub mod sample_files;
 mod scene_file;
 
 use std::path::{Path, PathBuf};
@@ -40,6 +42,7 @@ pub use cage_set_obj::{cage_set_obj_text, read_cage_set_obj, read_pose_obj};
 pub use export::{ExportLayout, write_deformed_mesh};
 pub use gltf_animation::{MAX_GLTF_BYTES, MAX_GLTF_FRAMES, MorphAnimation};
 pub use mesh_fbx::parse_fbx;
+pub use mesh_look::{MAX_TEXTURE_SIDE, load_look_images, load_texture};
 pub use mesh_off::parse_off;
 pub use mesh_ply::parse_ply;
 pub use mesh_stl::parse_stl;
@@ -79,6 +82,35 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, FileError> {
             extension: other.to_owned(),
             supported: MESH_EXTENSIONS_TEXT,
         }),
+    }
+}
+
+/// Reads a mesh file and its look: the materials of glTF/GLB, OBJ (its MTL libraries) and FBX
+/// files, each triangle's material and the UVs' origin (other formats: one plain material).
+/// The mesh is the one [`read_mesh`] reads, except that an OBJ with `usemtl` may split its
+/// vertices where materials change; triangles keep their order. Images are named, not decoded:
+/// [`load_texture`] decodes each.
+pub fn read_mesh_look(
+    path: &Path,
+) -> Result<(Mesh, starcages_core::mesh::look::MeshLook), FileError> {
+    use starcages_core::mesh::look::{Material, MeshLook};
+    let plain = |mesh: Mesh| {
+        let look = MeshLook {
+            materials: vec![Material::default()],
+            triangle_materials: vec![0; mesh.triangles().len()],
+            ..MeshLook::default()
+        };
+        (mesh, look)
+    };
+    match extension(path).as_str() {
+        "obj" => {
+            mesh_obj::read_obj(path, true).map(|(mesh, look)| (mesh, look.unwrap_or_default()))
+        }
+        "gltf" | "glb" => {
+            mesh_gltf::read_gltf(path, true).map(|(mesh, look)| (mesh, look.unwrap_or_default()))
+        }
+        "fbx" => mesh_fbx::read_fbx(path),
+        _ => read_mesh(path).map(plain),
     }
 }
 

@@ -16,6 +16,7 @@ use glam::{DAffine3, DMat3, DVec3, Vec2, Vec3};
 
 use super::FileError;
 use starcages_core::mesh::Mesh;
+use starcages_core::mesh::look::{Material, MeshLook, TextureSource, UvOrigin, display_color};
 
 /// Memory ufbx may use while reading: generous for real files (a 1M-triangle binary FBX of
 /// about 60 MB needs a few hundred megabytes), bounded for forged ones (compressed arrays that
@@ -53,6 +54,22 @@ pub(super) fn read_fbx_mesh(path: &Path) -> Result<Mesh, FileError> {
 /// Parses the bytes of an FBX file (`path` names it in errors): every mesh node's triangles in
 /// world space, metres, +Y up.
 pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
+    parse_fbx_with_look(path, bytes, false).map(|(mesh, _)| mesh)
+}
+
+/// Reads an FBX mesh and its materials ([`MeshLook`]).
+pub(super) fn read_fbx(path: &Path) -> Result<(Mesh, MeshLook), FileError> {
+    let bytes = super::read_file_bytes(path)?;
+    parse_fbx_with_look(path, &bytes, true)
+}
+
+/// Parses an FBX file's meshes and, when `with_look`, keeps the images its materials embed
+/// (the materials and each triangle's material are always collected: four bytes a triangle).
+fn parse_fbx_with_look(
+    path: &Path,
+    bytes: &[u8],
+    with_look: bool,
+) -> Result<(Mesh, MeshLook), FileError> {
     let limit = memory_limit(bytes.len());
     let options = ufbx::LoadOpts {
         target_axes: ufbx::CoordinateAxes::right_handed_y_up(),
@@ -85,7 +102,10 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
         )
     })?;
     check_unit_scale(path, &scene)?;
-    let mut out = Accumulator::default();
+    let mut out = Accumulator {
+        with_look,
+        ..Accumulator::default()
+    };
     for node in &scene.nodes {
         if let Some(mesh) = &node.mesh {
             add_node_mesh(path, node, mesh, &mut out)?;
@@ -113,9 +133,12 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
         all_normals,
         all_uvs,
         same_position_as,
+        mut materials,
+        mut triangle_materials,
+        notes,
         ..
     } = out;
-    Mesh::new_with_known_coincident(
+    let mesh = Mesh::new_with_known_coincident(
         positions,
         triangles,
         all_normals.then_some(normals),
@@ -125,7 +148,99 @@ pub fn parse_fbx(path: &Path, bytes: &[u8]) -> Result<Mesh, FileError> {
     .map_err(|problem| FileError::InvalidMesh {
         path: path.to_path_buf(),
         problem,
-    })
+    })?;
+    // Triangles without a material wear the default one, last.
+    let default = materials.len() as u32;
+    for m in &mut triangle_materials {
+        if *m == u32::MAX {
+            *m = default;
+        }
+    }
+    materials.push(Material::default());
+    let look = MeshLook {
+        materials,
+        triangle_materials,
+        uv_origin: UvOrigin::BottomLeft,
+        notes,
+    };
+    Ok((mesh, look))
+}
+
+/// Index of `material` in the look, added on first use.
+fn material_index(path: &Path, material: &ufbx::Material, out: &mut Accumulator) -> u32 {
+    if let Some(&i) = out.material_of_element.get(&material.element.element_id) {
+        return i;
+    }
+    // The PBR base colour where the file has one, else the classic diffuse colour × factor.
+    let (map, factor) = if material.pbr.base_color.has_value {
+        (
+            &material.pbr.base_color,
+            material.pbr.base_factor.value_vec4.x,
+        )
+    } else {
+        (
+            &material.fbx.diffuse_color,
+            material.fbx.diffuse_factor.value_vec4.x,
+        )
+    };
+    let factor = if factor > 0.0 { factor } else { 1.0 };
+    let colour = if map.has_value {
+        let v = &map.value_vec4;
+        [v.x * factor, v.y * factor, v.z * factor, 1.0].map(|c| c as f32)
+    } else {
+        [1.0; 4]
+    };
+    let name = material.element.name.to_string();
+    let texture = map
+        .texture
+        .as_ref()
+        .or(material.fbx.diffuse_color.texture.as_ref())
+        .and_then(|texture| {
+            if !texture.content.is_empty() {
+                return out.with_look.then(|| TextureSource::Embedded {
+                    name: format!(
+                        "texture '{}' of material '{name}' in {}",
+                        texture.element.name,
+                        path.display()
+                    ),
+                    bytes: std::sync::Arc::new(texture.content.to_vec()),
+                });
+            }
+            let folder = path.parent().unwrap_or(Path::new("."));
+            // ufbx resolves the relative name against the file's folder; an absolute name
+            // from the artist's machine is tried where it points, then beside the file.
+            let relative = texture.relative_filename.to_string();
+            let absolute = texture.absolute_filename.to_string();
+            let beside = |name: &str| super::mesh_look::resolve_beside(folder, name);
+            let candidates = [
+                (!relative.is_empty()).then(|| beside(&relative)),
+                (!absolute.is_empty()).then(|| std::path::PathBuf::from(&absolute)),
+                Path::new(&absolute.replace('\\', "/"))
+                    .file_name()
+                    .map(|n| folder.join(n)),
+            ];
+            let found = candidates.iter().flatten().find(|p| p.is_file()).cloned();
+            match found.or_else(|| candidates.into_iter().flatten().next()) {
+                Some(file) => Some(TextureSource::File(file)),
+                None => {
+                    out.notes.push(format!(
+                        "{}: material '{name}' has a texture without a file name; it is drawn \
+                         without its image",
+                        path.display()
+                    ));
+                    None
+                }
+            }
+        });
+    let index = out.materials.len() as u32;
+    out.materials.push(Material {
+        name,
+        base_color: display_color(colour),
+        texture,
+    });
+    out.material_of_element
+        .insert(material.element.element_id, index);
+    index
 }
 
 /// Why ufbx failed without a reason (its "Failed to load"), when the file's structure reads
@@ -211,6 +326,15 @@ struct Accumulator {
     /// Per vertex, the first vertex made from the same position of the same node (itself
     /// for the first): known coincident, so welding need not sort them.
     same_position_as: Vec<u32>,
+    /// Whether embedded images are kept (they can be large).
+    with_look: bool,
+    /// The materials met so far, and each one's index by ufbx element id.
+    materials: Vec<Material>,
+    material_of_element: std::collections::HashMap<u32, u32>,
+    /// Per triangle, its material (`u32::MAX`: none, the default one once all are known).
+    triangle_materials: Vec<u32>,
+    /// What of the materials could not be used.
+    notes: Vec<String>,
 }
 
 /// Adds one node's instance of `mesh`, placed in world space.
@@ -338,9 +462,23 @@ fn add_node_mesh(
         }
     }
 
+    // Each of the mesh's material slots in the look.
+    let slots: Vec<u32> = mesh
+        .materials
+        .iter()
+        .map(|m| material_index(path, m, out))
+        .collect();
     // Triangles: a polygon of more than three corners by ufbx's ear clipping.
     let mut fan: Vec<u32> = Vec::new();
-    for face in mesh.faces.iter().filter(|f| f.num_indices >= 3) {
+    for (face_index, face) in mesh.faces.iter().enumerate() {
+        if face.num_indices < 3 {
+            continue;
+        }
+        let material = (mesh.face_material.get(face_index))
+            .and_then(|&slot| slots.get(slot as usize))
+            .or(slots.first())
+            .copied()
+            .unwrap_or(u32::MAX);
         let count = if face.num_indices == 3 {
             fan.clear();
             fan.extend(face.index_begin..face.index_begin + 3);
@@ -366,6 +504,7 @@ fn add_node_mesh(
             }
             out.triangles
                 .push(if mirrored { [a, c, b] } else { [a, b, c] });
+            out.triangle_materials.push(material);
         }
     }
     Ok(())

@@ -15,6 +15,15 @@ use starcages_core::mesh::Mesh;
 
 /// Reads a glTF or GLB file as one mesh.
 pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
+    read_gltf(path, false).map(|(mesh, _)| mesh)
+}
+
+/// Reads a glTF or GLB mesh and, when `with_look`, its materials
+/// ([`super::mesh_look::gltf_look`]).
+pub(super) fn read_gltf(
+    path: &Path,
+    with_look: bool,
+) -> Result<(Mesh, Option<starcages_core::mesh::look::MeshLook>), FileError> {
     let bytes = super::read_file_bytes(path)?;
     let kind = if extension(path) == "glb" {
         "GLB"
@@ -84,16 +93,19 @@ pub(super) fn read_gltf_mesh(path: &Path) -> Result<Mesh, FileError> {
         all_normals,
         all_uvs,
         parts,
+        part_materials,
         ..
     } = out;
-    super::mesh_from_file(
+    let look = with_look
+        .then(|| super::mesh_look::gltf_look(path, &gltf, &buffers, &parts, &part_materials));
+    let mesh = super::mesh_from_file(
         path,
         positions,
         triangles,
         all_normals.then_some(normals),
         all_uvs.then_some(uvs),
-    )
-    .map(|mesh| mesh.with_parts(parts))
+    )?;
+    Ok((mesh.with_parts(parts), look))
 }
 
 /// Why a file that read without error gave no triangle: what it lacks, as precisely as the
@@ -355,7 +367,7 @@ fn read_external_buffer(path: &Path, uri: &str, length: usize) -> Result<Vec<u8>
 
 /// `text` with %XX escapes decoded (URIs in glTF are percent-encoded); `None` for a broken
 /// escape or bytes that are not UTF-8.
-fn percent_decode(text: &str) -> Option<String> {
+pub(super) fn percent_decode(text: &str) -> Option<String> {
     let bytes = text.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -382,6 +394,8 @@ struct Accumulator {
     all_uvs: bool,
     /// Each primitive (instance) read, in order.
     parts: Vec<starcages_core::mesh::MeshPart>,
+    /// Each part's material (glTF material index; `None`: the default material).
+    part_materials: Vec<Option<usize>>,
     /// The file uses KHR_mesh_quantization: vertex attributes may be integers.
     quantized: bool,
     /// World matrix of every node (skins place their meshes by their joints' worlds); `None`
@@ -753,6 +767,7 @@ fn add_node_mesh(
                 vertices: base..out.positions.len() as u32,
                 triangles: first_triangle..out.triangles.len() as u32,
             });
+            out.part_materials.push(primitive.material().index());
         }
     }
     Ok(())

@@ -5,8 +5,8 @@
 //!
 //! * [`camera`], [`picking`]: orbit camera, rays, projection, vertex picking, rectangle
 //!   selection — no GPU.
-//! * [`colors`], [`layers`], [`influence`]: the colour code, line and dot geometry of cages,
-//!   influence-map values with their legend — no GPU.
+//! * [`colors`], [`layers`], [`influence`], [`matcap`]: the colour code, line and dot geometry
+//!   of cages, influence-map values with their legend, the built-in matcaps — no GPU.
 //! * [`gpu`]: device, shaders (WGSL in `shaders/`), [`gpu::SceneRenderer`],
 //!   [`gpu::GpuDeformer`].
 //! * [`offscreen`]: images without a window, `render_to_image`.
@@ -16,9 +16,11 @@ pub mod colors;
 pub mod gpu;
 pub mod influence;
 pub mod layers;
+pub mod matcap;
 pub mod offscreen;
 pub mod picking;
 
 pub use camera::{OrbitCamera, View};
-pub use gpu::{GpuContext, GpuError, Layers, SceneRenderer};
+pub use gpu::{GpuContext, GpuError, Layers, SceneRenderer, Shading};
+pub use matcap::Matcap;
 pub use offscreen::{RenderOptions, framing_camera, render_to_image};

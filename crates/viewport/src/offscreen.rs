@@ -3,6 +3,7 @@
 
 use glam::{DVec3, Vec3};
 use image::RgbaImage;
+use starcages_core::mesh::look::LoadedLook;
 use starcages_core::scene::Scene;
 use starcages_core::star::StarBinding;
 
@@ -26,6 +27,10 @@ pub struct RenderOptions {
     pub map: Option<MapValues>,
     /// 4× multisampling where the adapter supports it (off for pixel-exact tests).
     pub msaa: bool,
+    /// The mesh file's look, for Textured shading.
+    pub look: Option<std::sync::Arc<LoadedLook>>,
+    /// Ghosts: other poses of the cages, each with its tint and opacity.
+    pub ghosts: Vec<(Vec<DVec3>, [f32; 4])>,
 }
 
 impl Default for RenderOptions {
@@ -37,6 +42,8 @@ impl Default for RenderOptions {
             style: CageStyle::default(),
             map: None,
             msaa: true,
+            look: None,
+            ghosts: Vec::new(),
         }
     }
 }
@@ -73,6 +80,37 @@ pub fn render_to_image(
     if !renderer.deform_on_gpu(gpu, &mut encoder, &dofs) {
         renderer.set_positions(gpu, &binding.deform(&scene.cages.vertices, pose));
     }
+    if let Some(look) = &options.look {
+        // A look that does not fit draws the mesh without it, as the editor does.
+        let _ = renderer.set_loaded_look(gpu, &scene.mesh, look, &rest);
+    }
+    if let crate::gpu::Shading::MatCap(matcap) = options.layers.shading {
+        renderer.set_matcap(gpu, matcap);
+    }
+    let ghost_shapes: Vec<Vec<Vec3>> = options
+        .ghosts
+        .iter()
+        .map(|(ghost_pose, _)| {
+            if renderer.deforms_on_gpu() {
+                binding.operator.dofs(&scene.cages.vertices, ghost_pose)
+            } else {
+                binding.deform(&scene.cages.vertices, ghost_pose)
+            }
+        })
+        .collect();
+    let ghosts: Vec<crate::gpu::Ghost<'_>> = ghost_shapes
+        .iter()
+        .zip(&options.ghosts)
+        .map(|(shape, (_, tint))| crate::gpu::Ghost {
+            shape: if renderer.deforms_on_gpu() {
+                crate::gpu::GhostShape::Dofs(shape)
+            } else {
+                crate::gpu::GhostShape::Positions(shape)
+            },
+            tint: *tint,
+        })
+        .collect();
+    renderer.set_ghosts(gpu, &mut encoder, &ghosts);
     let values = options.map.as_ref().map(|m| m.values.as_slice());
     renderer.set_colors(gpu, &vertex_colors(values, rest.len()));
     renderer.set_lines(gpu, &cage_lines(&scene.cages, pose, &options.style));

@@ -368,3 +368,200 @@ fn xray_shows_the_cages_through_the_mesh_and_cage_opacity_fades_them() {
     check_snapshot("critter_xray", &xray);
     check_snapshot("critter_plain_cages", &plain);
 }
+
+/// The textured sphere (`starcages_io::sample_files`) as a scene in a grid of cages, with its
+/// loaded look.
+fn textured_sphere(
+    folder: &Path,
+    obj: bool,
+) -> (
+    Scene,
+    StarBinding,
+    std::sync::Arc<starcages_core::mesh::look::LoadedLook>,
+) {
+    let samples = starcages_io::sample_files::write_textured_samples(folder).unwrap();
+    let path = if obj { samples.obj } else { samples.glb };
+    let (mesh, look) = starcages_io::read_mesh_look(&path).unwrap();
+    let up = starcages_core::scene::UpAxis::Y;
+    let mesh = up.mesh_to_scene(mesh);
+    let cages = starcages_core::generate::autocage(
+        &mesh,
+        &starcages_core::generate::AutocageOptions {
+            grid: [1, 1, 1],
+            ..Default::default()
+        },
+    );
+    let scene = Scene::from_mesh_file(path, up, mesh, cages, Default::default());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    let loaded = starcages_io::load_look_images(look);
+    assert!(loaded.problems.is_empty(), "{:?}", loaded.problems);
+    (scene, binding, std::sync::Arc::new(loaded))
+}
+
+fn greenish(image: &RgbaImage) -> usize {
+    image
+        .pixels()
+        .filter(|p| {
+            let [r, g, b, _] = p.0.map(u16::from);
+            g > 90 && g > r + 40 && g > b + 40
+        })
+        .count()
+}
+
+/// Textured shading draws each material: the checker's red squares on the northern half (the
+/// image's top half: its orientation is kept), the green factor on the southern half, the
+/// same from the GLB (UV origin at the top) and the OBJ + MTL (at the bottom); Solid and
+/// MatCap draw no material colour. Snapshots of each mode, looked at.
+#[test]
+fn each_shading_mode_on_a_textured_mesh() {
+    use starcages_viewport::{Matcap, Shading};
+    let folder = tempfile::tempdir().unwrap();
+    let (scene, binding, look) = textured_sphere(folder.path(), false);
+    let pose = scene.cages.vertices.clone();
+    let with = |scene: &Scene, binding: &StarBinding, look, shading| {
+        render(
+            scene,
+            binding,
+            &pose,
+            &RenderOptions {
+                layers: Layers {
+                    shading,
+                    cages: false,
+                    vertices: false,
+                    ..Layers::default()
+                },
+                look,
+                ..options()
+            },
+        )
+    };
+    let textured = with(&scene, &binding, Some(look.clone()), Shading::Textured);
+    let solid = with(&scene, &binding, Some(look.clone()), Shading::Solid);
+    let clay = with(
+        &scene,
+        &binding,
+        Some(look.clone()),
+        Shading::MatCap(Matcap::Clay),
+    );
+    let metal = with(&scene, &binding, None, Shading::MatCap(Matcap::Metal));
+    let unlooked = with(&scene, &binding, None, Shading::Textured);
+    for (name, image) in [
+        ("sphere_textured", &textured),
+        ("sphere_solid", &solid),
+        ("sphere_matcap_clay", &clay),
+        ("sphere_matcap_metal", &metal),
+    ] {
+        keep(name, image);
+        check_snapshot(name, image);
+    }
+    // Red squares above, green below.
+    let mean_row = |keep: &dyn Fn(&image::Rgba<u8>) -> bool| {
+        let rows: Vec<u32> = textured
+            .enumerate_pixels()
+            .filter(|(_, _, p)| keep(p))
+            .map(|(_, y, _)| y)
+            .collect();
+        rows.iter().map(|&y| f64::from(y)).sum::<f64>() / rows.len().max(1) as f64
+    };
+    let red = |p: &image::Rgba<u8>| {
+        let [r, g, b, _] = p.0.map(u16::from);
+        r > 120 && r > 2 * b && r > g + 40
+    };
+    let green = |p: &image::Rgba<u8>| {
+        let [r, g, b, _] = p.0.map(u16::from);
+        g > 90 && g > r + 40 && g > b + 40
+    };
+    assert!(reddish(&textured) > 300, "no checker");
+    assert!(greenish(&textured) > 300, "no green");
+    assert!(
+        mean_row(&red) + 10.0 < mean_row(&green),
+        "checker not above the green"
+    );
+    assert!(
+        bluish(&textured) < reddish(&textured) / 4,
+        "image upside down"
+    );
+    for (name, image) in [("solid", &solid), ("matcap", &clay), ("no look", &unlooked)] {
+        assert_eq!(
+            reddish(image) + greenish(image),
+            0,
+            "{name} shows materials"
+        );
+    }
+    // The OBJ draws as the GLB (its v counts from the bottom row).
+    let (obj_scene, obj_binding, obj_look) = textured_sphere(folder.path(), true);
+    let from_obj = with(&obj_scene, &obj_binding, Some(obj_look), Shading::Textured);
+    keep("sphere_textured_obj", &from_obj);
+    let differing = from_obj
+        .pixels()
+        .zip(textured.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 24))
+        .count();
+    assert!(
+        differing < 100,
+        "{differing} pixels differ between GLB and OBJ"
+    );
+}
+
+/// Ghosts: at frame 8 of the critter's ear fold (ears up at 1, back at 12), frames 2 and 14
+/// drawn translucent in their tints over the mesh; without ghosts neither tint shows.
+#[test]
+fn ghosts_show_the_frames_around_the_ear_fold() {
+    let (scene, binding) = bound("critter", 0.3);
+    let at = |frame: f64| {
+        starcages_core::posing::PoseRequest::frame(frame)
+            .resolve(&scene)
+            .unwrap()
+            .cages
+    };
+    let pose = at(8.0);
+    let before = [0.95, 0.35, 0.25, 0.45];
+    let after = [0.25, 0.55, 0.95, 0.45];
+    // The mesh framed, the cages hidden: the ghosts are what is looked at.
+    let (lo, hi) = scene.mesh.bounds();
+    let mut camera = starcages_viewport::OrbitCamera::default();
+    camera.frame(lo.as_vec3(), hi.as_vec3());
+    let with = |ghosts| {
+        let options = RenderOptions {
+            ghosts,
+            layers: Layers {
+                cages: false,
+                vertices: false,
+                ..Layers::default()
+            },
+            ..options()
+        };
+        render_to_image(&GPU, &scene, &binding, &pose, &camera, &options).unwrap()
+    };
+    let plain = with(Vec::new());
+    let ghosted = with(vec![(at(2.0), before), (at(14.0), after)]);
+    keep("critter_ghosts", &ghosted);
+    check_snapshot("critter_ghosts", &ghosted);
+    let changed = plain
+        .pixels()
+        .zip(ghosted.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 24))
+        .count();
+    assert!(changed > 200, "ghosts changed only {changed} pixels");
+    let tinted = |image: &RgbaImage, blue: bool| {
+        image
+            .pixels()
+            .filter(|p| {
+                let [r, g, b, _] = p.0.map(i32::from);
+                if blue {
+                    b > r + 25 && b > g
+                } else {
+                    r > b + 25 && r > g + 10
+                }
+            })
+            .count()
+    };
+    assert!(
+        tinted(&ghosted, true) > tinted(&plain, true) + 100,
+        "no blue ghost"
+    );
+    assert!(
+        tinted(&ghosted, false) > tinted(&plain, false) + 100,
+        "no red ghost"
+    );
+}

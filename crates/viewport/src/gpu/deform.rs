@@ -12,18 +12,32 @@ use super::shaders;
 
 const WORKGROUP: u32 = 64;
 
-/// The operator and mesh topology on the GPU, bound to a mesh's position and normal buffers.
+/// The operator and mesh topology on the GPU, uploaded once; each [`DeformTarget`] (the
+/// drawn mesh, each ghost of the animation) has its own degrees of freedom and output buffers
+/// and shares them.
 #[derive(Debug)]
 pub struct GpuDeformer {
-    dofs: wgpu::Buffer,
-    dof_count: usize,
-    product_group: wgpu::BindGroup,
-    normals_group: wgpu::BindGroup,
+    operator: [wgpu::Buffer; 4],
+    topology: [wgpu::Buffer; 3],
+    params: wgpu::Buffer,
+    product_layout: wgpu::BindGroupLayout,
+    normals_layout: wgpu::BindGroupLayout,
     deform: wgpu::ComputePipeline,
     normals: wgpu::ComputePipeline,
+    dof_count: usize,
+    rows: usize,
     groups: (u32, u32),
     /// Bytes uploaded once (operator and topology).
     pub resident_bytes: u64,
+}
+
+/// Where one deformation goes: its degrees of freedom and the position and normal buffers it
+/// writes (3 floats per welded vertex, usage STORAGE).
+#[derive(Debug)]
+pub struct DeformTarget {
+    dofs: wgpu::Buffer,
+    product_group: wgpu::BindGroup,
+    normals_group: wgpu::BindGroup,
 }
 
 fn storage(device: &wgpu::Device, label: &str, contents: &[u8]) -> wgpu::Buffer {
@@ -112,16 +126,69 @@ pub fn cpu_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
         .collect()
 }
 
+fn compute_entry(binding: u32, read_only: bool, uniform: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: if uniform {
+                wgpu::BufferBindingType::Uniform
+            } else {
+                wgpu::BufferBindingType::Storage { read_only }
+            },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// The bindings of the product pass (binding, read-only, uniform) and of the normals pass.
+/// Two passes, two bind groups: each stays within the default limit of 8 storage buffers per
+/// stage (the product: 6; the normals: 5).
+const PRODUCT_BINDINGS: [(u32, bool, bool); 7] = [
+    (0, true, true),
+    (1, true, false),
+    (2, true, false),
+    (3, true, false),
+    (4, true, false),
+    (5, false, false),
+    (10, true, false),
+];
+const NORMALS_BINDINGS: [(u32, bool, bool); 6] = [
+    (0, true, true),
+    (5, false, false),
+    (6, true, false),
+    (7, true, false),
+    (8, true, false),
+    (9, false, false),
+];
+
+fn bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    bindings: &[(u32, bool, bool)],
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let resources: Vec<wgpu::BindGroupEntry<'_>> = bindings
+        .iter()
+        .zip(buffers)
+        .map(|(&(b, _, _), buffer)| wgpu::BindGroupEntry {
+            binding: b,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &resources,
+    })
+}
+
 impl GpuDeformer {
-    /// Uploads `operator` and the mesh `triangles`; positions and normals are written into
-    /// `positions` and `normals` (3 floats per vertex, usage STORAGE | VERTEX).
-    pub fn new(
-        gpu: &GpuContext,
-        operator: &StarOperator,
-        triangles: &[[u32; 3]],
-        positions: &wgpu::Buffer,
-        normals: &wgpu::Buffer,
-    ) -> Self {
+    /// Uploads `operator` and the mesh's (welded) `triangles`.
+    pub fn new(gpu: &GpuContext, operator: &StarOperator, triangles: &[[u32; 3]]) -> Self {
         let device = &gpu.device;
         let (_, row_start, columns, values) = operator.parts();
         let rows = operator.row_count();
@@ -132,7 +199,7 @@ impl GpuDeformer {
             .iter()
             .flat_map(|o| o.to_array())
             .collect();
-        let buffers = [
+        let operator_buffers = [
             storage(device, "row starts", bytemuck::cast_slice(row_start)),
             storage(device, "columns", bytemuck::cast_slice(columns)),
             storage(device, "values", bytemuck::cast_slice(values)),
@@ -147,13 +214,6 @@ impl GpuDeformer {
             storage(device, "vertex triangles", bytemuck::cast_slice(&vt_list)),
             storage(device, "triangles", bytemuck::cast_slice(&flat_triangles)),
         ];
-        let dof_count = operator.dof_count();
-        let dofs = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("dofs"),
-            size: (dof_count.max(1) * 12) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let workgroups = (rows as u32).div_ceil(WORKGROUP).max(1);
         let max = device.limits().max_compute_workgroups_per_dimension.max(1);
         let groups = (workgroups.min(max), workgroups.div_ceil(max));
@@ -162,86 +222,18 @@ impl GpuDeformer {
             contents: bytemuck::cast_slice(&[rows as u32, groups.0 * WORKGROUP, 0, 0]),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let entry = |binding: u32, read_only: bool, uniform: bool| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: if uniform {
-                    wgpu::BufferBindingType::Uniform
-                } else {
-                    wgpu::BufferBindingType::Storage { read_only }
-                },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        // Two passes, two bind groups: each stays within the default limit of 8 storage
-        // buffers per stage (the product: 6; the normals: 5).
-        let group = |label: &str, bindings: &[(u32, bool, bool)], buffers: &[&wgpu::Buffer]| {
+        let layout = |label: &str, bindings: &[(u32, bool, bool)]| {
             let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
                 .iter()
-                .map(|&(b, read_only, uniform)| entry(b, read_only, uniform))
+                .map(|&(b, read_only, uniform)| compute_entry(b, read_only, uniform))
                 .collect();
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
                 entries: &entries,
-            });
-            let resources: Vec<wgpu::BindGroupEntry<'_>> = bindings
-                .iter()
-                .zip(buffers)
-                .map(|(&(b, _, _), buffer)| wgpu::BindGroupEntry {
-                    binding: b,
-                    resource: buffer.as_entire_binding(),
-                })
-                .collect();
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout: &layout,
-                entries: &resources,
-            });
-            (layout, bind_group)
+            })
         };
-        let (product_layout, product_group) = group(
-            "deform product",
-            &[
-                (0, true, true),
-                (1, true, false),
-                (2, true, false),
-                (3, true, false),
-                (4, true, false),
-                (5, false, false),
-                (10, true, false),
-            ],
-            &[
-                &params,
-                &buffers[0],
-                &buffers[1],
-                &buffers[2],
-                &dofs,
-                positions,
-                &buffers[3],
-            ],
-        );
-        let (normals_layout, normals_group) = group(
-            "deform normals",
-            &[
-                (0, true, true),
-                (5, false, false),
-                (6, true, false),
-                (7, true, false),
-                (8, true, false),
-                (9, false, false),
-            ],
-            &[
-                &params,
-                positions,
-                &topology[0],
-                &topology[1],
-                &topology[2],
-                normals,
-            ],
-        );
+        let product_layout = layout("deform product", &PRODUCT_BINDINGS);
+        let normals_layout = layout("deform normals", &NORMALS_BINDINGS);
         let module = shaders::module(device, "deform");
         let pipeline = |entry: &str, layout: &wgpu::BindGroupLayout| {
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -258,38 +250,106 @@ impl GpuDeformer {
                 cache: None,
             })
         };
-        let resident_bytes = buffers
+        let resident_bytes = operator_buffers
             .iter()
             .chain(&topology)
             .map(wgpu::Buffer::size)
             .sum();
         Self {
-            dofs,
-            dof_count,
             deform: pipeline("deform", &product_layout),
             normals: pipeline("vertex_normals", &normals_layout),
-            product_group,
-            normals_group,
+            operator: operator_buffers,
+            topology,
+            params,
+            product_layout,
+            normals_layout,
+            dof_count: operator.dof_count(),
+            rows,
             groups,
             resident_bytes,
         }
     }
 
-    /// Uploads this frame's degrees of freedom and records the deformation and the normals.
-    pub fn record(&self, gpu: &GpuContext, encoder: &mut wgpu::CommandEncoder, dofs: &[Vec3]) {
+    /// Welded vertices written per deformation.
+    pub fn vertex_count(&self) -> usize {
+        self.rows
+    }
+
+    /// A target writing into `positions` and `normals` (3 floats per welded vertex, usage
+    /// STORAGE), with its own degrees of freedom.
+    pub fn target(
+        &self,
+        gpu: &GpuContext,
+        positions: &wgpu::Buffer,
+        normals: &wgpu::Buffer,
+    ) -> DeformTarget {
+        let device = &gpu.device;
+        let dofs = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dofs"),
+            size: (self.dof_count.max(1) * 12) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let [row_start, columns, values, rest] = &self.operator;
+        let product_group = bind_group(
+            device,
+            "deform product",
+            &self.product_layout,
+            &PRODUCT_BINDINGS,
+            &[
+                &self.params,
+                row_start,
+                columns,
+                values,
+                &dofs,
+                positions,
+                rest,
+            ],
+        );
+        let [vt_start, vt_list, triangles] = &self.topology;
+        let normals_group = bind_group(
+            device,
+            "deform normals",
+            &self.normals_layout,
+            &NORMALS_BINDINGS,
+            &[
+                &self.params,
+                positions,
+                vt_start,
+                vt_list,
+                triangles,
+                normals,
+            ],
+        );
+        DeformTarget {
+            dofs,
+            product_group,
+            normals_group,
+        }
+    }
+
+    /// Uploads a frame's degrees of freedom into `target` and records its deformation and
+    /// normals.
+    pub fn record(
+        &self,
+        gpu: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &DeformTarget,
+        dofs: &[Vec3],
+    ) {
         let n = dofs.len().min(self.dof_count);
         if n > 0 {
             gpu.queue
-                .write_buffer(&self.dofs, 0, bytemuck::cast_slice(&dofs[..n]));
+                .write_buffer(&target.dofs, 0, bytemuck::cast_slice(&dofs[..n]));
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("deform"),
             timestamp_writes: None,
         });
-        pass.set_bind_group(0, &self.product_group, &[]);
+        pass.set_bind_group(0, &target.product_group, &[]);
         pass.set_pipeline(&self.deform);
         pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
-        pass.set_bind_group(0, &self.normals_group, &[]);
+        pass.set_bind_group(0, &target.normals_group, &[]);
         pass.set_pipeline(&self.normals);
         pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
     }

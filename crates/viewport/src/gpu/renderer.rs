@@ -6,11 +6,14 @@ use glam::{Mat4, Vec2, Vec3};
 use wgpu::util::DeviceExt as _;
 
 use super::context::GpuContext;
-use super::deform::{GpuDeformer, cpu_normals};
+use super::deform::{DeformTarget, GpuDeformer, cpu_normals};
+use super::ghosts::{Ghost, GhostBuffers, GhostMesh, MAX_GHOSTS, ghost_layout};
+use super::look::{LookBuffers, LookError, LookMaterial, MaterialLayout, RenderLook};
 use super::shaders;
 use crate::camera::OrbitCamera;
 use crate::colors;
 use crate::layers::{Dot, LineVertex, mesh_edges};
+use crate::matcap::Matcap;
 
 /// The depth format.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -25,6 +28,21 @@ struct FrameUniforms {
     background_top: [f32; 4],
     background_bottom: [f32; 4],
     opacity: [f32; 4],
+    camera_right: [f32; 4],
+    camera_up: [f32; 4],
+    shading: [f32; 4],
+}
+
+/// How the mesh is shaded (Blender's viewport shading popover).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Shading {
+    /// Studio light on the mesh's colour (light grey, or an influence map).
+    #[default]
+    Solid,
+    /// A built-in matcap at the view-space normal.
+    MatCap(Matcap),
+    /// The file's materials: base colour factor × image, under the studio light.
+    Textured,
 }
 
 /// Which layers to draw and how.
@@ -49,6 +67,11 @@ pub struct Layers {
     pub xray_opacity: f32,
     /// The cages' opacity (edges and vertices), in [0.05, 1].
     pub cage_opacity: f32,
+    /// Solid, MatCap or Textured.
+    pub shading: Shading,
+    /// The vertex colours ([`SceneRenderer::set_colors`]: an influence map) replace the
+    /// material's colour, over any shading.
+    pub vertex_colors: bool,
 }
 
 impl Default for Layers {
@@ -63,6 +86,8 @@ impl Default for Layers {
             xray: false,
             xray_opacity: 0.5,
             cage_opacity: 1.0,
+            shading: Shading::Solid,
+            vertex_colors: false,
         }
     }
 }
@@ -76,8 +101,14 @@ struct MeshBuffers {
     edges: wgpu::Buffer,
     edge_count: u32,
     vertex_count: usize,
+    /// The rest mesh's bounding-box diagonal.
+    diagonal: f32,
     triangles: Vec<[u32; 3]>,
     deformer: Option<GpuDeformer>,
+    /// The drawn mesh's deformation target (with `deformer`).
+    target: Option<DeformTarget>,
+    /// The file's layout and materials, for Textured shading.
+    look: Option<LookBuffers>,
 }
 
 /// A growable vertex buffer for lines and dots.
@@ -115,6 +146,17 @@ pub struct SceneRenderer {
     background: wgpu::RenderPipeline,
     mesh_pipeline: wgpu::RenderPipeline,
     mesh_xray_pipeline: wgpu::RenderPipeline,
+    textured_pipeline: wgpu::RenderPipeline,
+    textured_xray_pipeline: wgpu::RenderPipeline,
+    ghost_pipeline: wgpu::RenderPipeline,
+    ghost_layout: wgpu::BindGroupLayout,
+    ghosts: Vec<GhostBuffers>,
+    ghost_count: usize,
+    matcap_layout: wgpu::BindGroupLayout,
+    matcap_group: wgpu::BindGroup,
+    matcap: Matcap,
+    material_layout: MaterialLayout,
+    default_material: wgpu::BindGroup,
     wire_pipeline: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
     cage_line_pipeline: wgpu::RenderPipeline,
@@ -139,6 +181,7 @@ impl std::fmt::Debug for SceneRenderer {
 const POSITION: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
 const NORMAL: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![1 => Float32x3];
 const COLOR: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![2 => Unorm8x4];
+const UV: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Float32x2];
 const LINE: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
 const DOT: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4, 2 => Float32];
@@ -191,17 +234,36 @@ impl SceneRenderer {
             bind_group_layouts: &[Some(&frame_layout)],
             immediate_size: 0,
         });
-        let pipeline = |name: &str,
-                        vertex_entry: &str,
-                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
-                        topology: wgpu::PrimitiveTopology,
-                        fragment_entry: &str,
-                        depth_write: bool,
-                        depth_compare: wgpu::CompareFunction| {
+        let matcap_layout = super::bindings::image_layout(device, "matcap");
+        let material_layout = MaterialLayout::new(device);
+        let mesh_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("mesh"),
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&matcap_layout),
+                Some(&material_layout.layout),
+            ],
+            immediate_size: 0,
+        });
+        let ghost_bind_layout = ghost_layout(device);
+        let ghost_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("ghost"),
+                bind_group_layouts: &[Some(&frame_layout), Some(&ghost_bind_layout)],
+                immediate_size: 0,
+            });
+        let pipeline_in = |layout: &wgpu::PipelineLayout,
+                           name: &str,
+                           vertex_entry: &str,
+                           buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                           topology: wgpu::PrimitiveTopology,
+                           fragment_entry: &str,
+                           depth_write: bool,
+                           depth_compare: wgpu::CompareFunction| {
             let module = shaders::module(device, name);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(name),
-                layout: Some(&pipeline_layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some(vertex_entry),
@@ -237,6 +299,24 @@ impl SceneRenderer {
                 cache: None,
             })
         };
+        let pipeline = |name: &str,
+                        vertex_entry: &str,
+                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                        topology: wgpu::PrimitiveTopology,
+                        fragment_entry: &str,
+                        depth_write: bool,
+                        depth_compare: wgpu::CompareFunction| {
+            pipeline_in(
+                &pipeline_layout,
+                name,
+                vertex_entry,
+                buffers,
+                topology,
+                fragment_entry,
+                depth_write,
+                depth_compare,
+            )
+        };
         let vertex = wgpu::VertexStepMode::Vertex;
         let less = wgpu::CompareFunction::Less;
         let background = pipeline(
@@ -254,24 +334,58 @@ impl SceneRenderer {
             Some(layout(4, vertex, &COLOR)),
         ];
         let triangles = wgpu::PrimitiveTopology::TriangleList;
-        let mesh_pipeline = pipeline(
-            "mesh",
-            "vs_main",
-            &mesh_buffers,
-            triangles,
-            "fs_main",
-            true,
-            less,
-        );
+        let textured_buffers = [
+            Some(layout(12, vertex, &POSITION)),
+            Some(layout(12, vertex, &NORMAL)),
+            Some(layout(4, vertex, &COLOR)),
+            Some(layout(8, vertex, &UV)),
+        ];
         // X-ray: translucent, writing no depth, so the cages behind show through.
-        let mesh_xray_pipeline = pipeline(
-            "mesh",
+        let [
+            mesh_pipeline,
+            mesh_xray_pipeline,
+            textured_pipeline,
+            textured_xray_pipeline,
+        ] = [
+            ("vs_main", &mesh_buffers[..], true),
+            ("vs_main", &mesh_buffers[..], false),
+            ("vs_textured", &textured_buffers[..], true),
+            ("vs_textured", &textured_buffers[..], false),
+        ]
+        .map(|(entry, buffers, depth_write)| {
+            pipeline_in(
+                &mesh_layout,
+                "mesh",
+                entry,
+                buffers,
+                triangles,
+                "fs_main",
+                depth_write,
+                less,
+            )
+        });
+        let ghost_pipeline = pipeline_in(
+            &ghost_pipeline_layout,
+            "ghost",
             "vs_main",
-            &mesh_buffers,
+            &[
+                Some(layout(12, vertex, &POSITION)),
+                Some(layout(12, vertex, &NORMAL)),
+            ],
             triangles,
             "fs_main",
             false,
             less,
+        );
+        let matcap = Matcap::default();
+        let matcap_group = matcap_group(gpu, &matcap_layout, matcap);
+        let default_material = material_layout.group(
+            gpu,
+            &LookMaterial {
+                base_color: [1.0; 4],
+                image: None,
+            },
+            Default::default(),
         );
         let wire_pipeline = pipeline(
             "lines",
@@ -339,6 +453,17 @@ impl SceneRenderer {
             background,
             mesh_pipeline,
             mesh_xray_pipeline,
+            textured_pipeline,
+            textured_xray_pipeline,
+            ghost_pipeline,
+            ghost_layout: ghost_bind_layout,
+            ghosts: Vec::new(),
+            ghost_count: 0,
+            matcap_layout,
+            matcap_group,
+            matcap,
+            material_layout,
+            default_material,
             wire_pipeline,
             line_pipeline,
             cage_line_pipeline,
@@ -382,16 +507,7 @@ impl SceneRenderer {
             | wgpu::BufferUsages::COPY_SRC;
         let normals = cpu_normals(positions, triangles);
         let init = |label: &str, contents: &[u8], usage| {
-            let padded: &[u8] = if contents.is_empty() {
-                &[0; 16]
-            } else {
-                contents
-            };
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: padded,
-                usage,
-            })
+            super::bindings::buffer_with(device, label, contents, usage)
         };
         let positions_buffer = init("positions", bytemuck::cast_slice(positions), geometry);
         let normals_buffer = init("normals", bytemuck::cast_slice(&normals), geometry);
@@ -416,7 +532,12 @@ impl SceneRenderer {
         let deformer = operator
             .filter(|_| gpu.compute)
             .filter(|op| super::deform::deformer_fits(&device.limits(), op, triangles.len()))
-            .map(|op| GpuDeformer::new(gpu, op, triangles, &positions_buffer, &normals_buffer));
+            .map(|op| GpuDeformer::new(gpu, op, triangles));
+        let target = deformer
+            .as_ref()
+            .map(|d| d.target(gpu, &positions_buffer, &normals_buffer));
+        self.ghosts.clear();
+        self.ghost_count = 0;
         self.mesh = Some(MeshBuffers {
             positions: positions_buffer,
             normals: normals_buffer,
@@ -426,9 +547,135 @@ impl SceneRenderer {
             edges,
             edge_count: edge_list.len() as u32,
             vertex_count: positions.len(),
+            diagonal: {
+                let (lo, hi) = positions.iter().fold(
+                    (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+                );
+                if positions.is_empty() {
+                    0.0
+                } else {
+                    (hi - lo).length()
+                }
+            },
             triangles: triangles.to_vec(),
             deformer,
+            target,
+            look: None,
         });
+    }
+
+    /// Uploads the mesh's look (its file's layout, UVs and materials) for Textured shading,
+    /// at the rest `positions` given to [`SceneRenderer::set_mesh`]; `None` drops it. A look
+    /// that does not fit the mesh is refused (the mesh draws without it).
+    pub fn set_look(
+        &mut self,
+        gpu: &GpuContext,
+        look: Option<&RenderLook<'_>>,
+        rest: &[Vec3],
+    ) -> Result<(), LookError> {
+        let Some(mesh) = &mut self.mesh else {
+            return Ok(());
+        };
+        mesh.look = None;
+        let Some(look) = look else {
+            return Ok(());
+        };
+        let buffers = LookBuffers::new(
+            gpu,
+            &self.material_layout,
+            look,
+            mesh.vertex_count,
+            (&mesh.positions, &mesh.normals),
+        )?;
+        if rest.len() == mesh.vertex_count {
+            buffers.write_gathered(gpu, rest, &cpu_normals(rest, &mesh.triangles));
+        }
+        mesh.look = Some(buffers);
+        Ok(())
+    }
+
+    /// Uploads a loaded look over `mesh` (the mesh [`SceneRenderer::set_mesh`] was given, in
+    /// its welded form): its original layout, UVs and the look's materials and images.
+    pub fn set_loaded_look(
+        &mut self,
+        gpu: &GpuContext,
+        mesh: &starcages_core::mesh::Mesh,
+        loaded: &starcages_core::mesh::look::LoadedLook,
+        rest: &[Vec3],
+    ) -> Result<(), LookError> {
+        let triangle_materials = loaded
+            .look
+            .materials_of(mesh.triangles().len())
+            .ok_or(LookError::Mismatch("a look read for another mesh"))?;
+        let materials: Vec<LookMaterial<'_>> = loaded
+            .look
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| LookMaterial {
+                base_color: m.base_color,
+                image: loaded.images.get(i).and_then(Option::as_ref),
+            })
+            .collect();
+        let look = RenderLook {
+            welded_of: mesh.weld_map(),
+            triangles: mesh.triangles(),
+            uvs: mesh.uvs(),
+            triangle_materials: &triangle_materials,
+            materials: &materials,
+            uv_origin: loaded.look.uv_origin,
+        };
+        self.set_look(gpu, Some(&look), rest)
+    }
+
+    /// Whether a look is uploaded.
+    pub fn has_look(&self) -> bool {
+        self.mesh.as_ref().is_some_and(|m| m.look.is_some())
+    }
+
+    /// The matcap MatCap shading uses.
+    pub fn set_matcap(&mut self, gpu: &GpuContext, matcap: Matcap) {
+        if matcap != self.matcap {
+            self.matcap_group = matcap_group(gpu, &self.matcap_layout, matcap);
+            self.matcap = matcap;
+        }
+    }
+
+    /// Shapes the ghosts drawn from now on (at most [`MAX_GHOSTS`]; an empty list hides
+    /// them): degrees of freedom are deformed on the GPU, positions uploaded. Returns how many
+    /// will be drawn.
+    pub fn set_ghosts(
+        &mut self,
+        gpu: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        ghosts: &[Ghost<'_>],
+    ) -> usize {
+        self.ghost_count = 0;
+        let Some(mesh) = &self.mesh else {
+            return 0;
+        };
+        for ghost in ghosts.iter().take(MAX_GHOSTS) {
+            if self.ghosts.len() <= self.ghost_count {
+                self.ghosts.push(GhostBuffers::new(
+                    gpu,
+                    &self.ghost_layout,
+                    mesh.vertex_count,
+                    mesh.deformer.as_ref(),
+                ));
+            }
+            let buffers = &self.ghosts[self.ghost_count];
+            let shared = GhostMesh {
+                deformer: mesh.deformer.as_ref(),
+                triangles: &mesh.triangles,
+                vertex_count: mesh.vertex_count,
+                push: 0.01 * mesh.diagonal,
+            };
+            if buffers.shape(gpu, encoder, &shared, ghost) {
+                self.ghost_count += 1;
+            }
+        }
+        self.ghost_count
     }
 
     /// Whether deformation runs on the GPU (a mesh with an operator, compute available).
@@ -445,12 +692,24 @@ impl SceneRenderer {
         encoder: &mut wgpu::CommandEncoder,
         dofs: &[Vec3],
     ) -> bool {
-        match self.mesh.as_ref().and_then(|m| m.deformer.as_ref()) {
-            Some(deformer) => {
-                deformer.record(gpu, encoder, dofs);
+        let Some(mesh) = &self.mesh else {
+            return false;
+        };
+        match (&mesh.deformer, &mesh.target) {
+            (Some(deformer), Some(target)) => {
+                deformer.record(gpu, encoder, target, dofs);
+                match &mesh.look {
+                    Some(look) if look.gathers_on_gpu() => look.record_gather(encoder),
+                    Some(look) => {
+                        // No compute for the gather cannot happen with a GPU deformer, but
+                        // should it, the textured layout keeps its rest shape.
+                        let _ = look;
+                    }
+                    None => {}
+                }
                 true
             }
-            None => false,
+            _ => false,
         }
     }
 
@@ -464,6 +723,9 @@ impl SceneRenderer {
                 .write_buffer(&mesh.positions, 0, bytemuck::cast_slice(positions));
             gpu.queue
                 .write_buffer(&mesh.normals, 0, bytemuck::cast_slice(&normals));
+            if let Some(look) = &mesh.look {
+                look.write_gathered(gpu, positions, &normals);
+            }
         }
     }
 
@@ -474,6 +736,9 @@ impl SceneRenderer {
         {
             gpu.queue
                 .write_buffer(&mesh.colors, 0, bytemuck::cast_slice(colours));
+            if let Some(look) = &mesh.look {
+                look.write_colors(gpu, colours);
+            }
         }
     }
 
@@ -503,6 +768,12 @@ impl SceneRenderer {
     /// Writes the camera for a target of `size` pixels.
     pub fn set_camera(&self, gpu: &GpuContext, camera: &OrbitCamera, size: Vec2, layers: &Layers) {
         let view_proj: Mat4 = camera.view_projection(size);
+        let (right, up) = camera.right_up();
+        let shading = match layers.shading {
+            Shading::Solid => 0.0,
+            Shading::MatCap(_) => 1.0,
+            Shading::Textured => 2.0,
+        };
         let uniforms = FrameUniforms {
             view_proj: view_proj.to_cols_array_2d(),
             eye: camera.eye().extend(1.0).to_array(),
@@ -519,6 +790,14 @@ impl SceneRenderer {
                 0.0,
                 0.0,
             ],
+            camera_right: right.extend(0.0).to_array(),
+            camera_up: up.extend(0.0).to_array(),
+            shading: [
+                shading,
+                if layers.vertex_colors { 1.0 } else { 0.0 },
+                0.0,
+                0.0,
+            ],
         };
         gpu.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
@@ -531,17 +810,57 @@ impl SceneRenderer {
         pass.set_pipeline(&self.background);
         pass.draw(0..3, 0..1);
         if let Some(mesh) = &self.mesh {
+            let textured = (layers.shading == Shading::Textured)
+                .then_some(mesh.look.as_ref())
+                .flatten();
             if layers.mesh && mesh.index_count > 0 {
-                pass.set_pipeline(if layers.xray {
-                    &self.mesh_xray_pipeline
-                } else {
-                    &self.mesh_pipeline
-                });
-                pass.set_vertex_buffer(0, mesh.positions.slice(..));
-                pass.set_vertex_buffer(1, mesh.normals.slice(..));
-                pass.set_vertex_buffer(2, mesh.colors.slice(..));
+                pass.set_bind_group(1, &self.matcap_group, &[]);
+                match textured {
+                    Some(look) => {
+                        pass.set_pipeline(if layers.xray {
+                            &self.textured_xray_pipeline
+                        } else {
+                            &self.textured_pipeline
+                        });
+                        pass.set_vertex_buffer(0, look.positions.slice(..));
+                        pass.set_vertex_buffer(1, look.normals.slice(..));
+                        pass.set_vertex_buffer(2, look.colors.slice(..));
+                        pass.set_vertex_buffer(3, look.uvs.slice(..));
+                        pass.set_index_buffer(look.indices.slice(..), wgpu::IndexFormat::Uint32);
+                        for (range, material) in &look.draws {
+                            let group = look.materials.get(*material);
+                            pass.set_bind_group(2, group.unwrap_or(&self.default_material), &[]);
+                            pass.draw_indexed(range.clone(), 0, 0..1);
+                        }
+                    }
+                    None => {
+                        pass.set_pipeline(if layers.xray {
+                            &self.mesh_xray_pipeline
+                        } else {
+                            &self.mesh_pipeline
+                        });
+                        pass.set_bind_group(2, &self.default_material, &[]);
+                        pass.set_vertex_buffer(0, mesh.positions.slice(..));
+                        pass.set_vertex_buffer(1, mesh.normals.slice(..));
+                        pass.set_vertex_buffer(2, mesh.colors.slice(..));
+                        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                        pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+                    }
+                }
+            }
+            // Ghosts over the mesh, translucent, writing no depth, pushed back from the eye by 1 %
+            // of the diagonal: where a ghost nearly coincides with the mesh the mesh shows clean;
+            // where the motion brings it in front it tints the mesh; beyond the silhouette it
+            // shows.
+            if self.ghost_count > 0 && mesh.index_count > 0 {
+                pass.set_pipeline(&self.ghost_pipeline);
                 pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+                for ghost in &self.ghosts[..self.ghost_count] {
+                    pass.set_bind_group(1, &ghost.group, &[]);
+                    pass.set_vertex_buffer(0, ghost.positions.slice(..));
+                    pass.set_vertex_buffer(1, ghost.normals.slice(..));
+                    pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+                }
             }
             if layers.wireframe && mesh.edge_count > 0 {
                 pass.set_pipeline(&self.wire_pipeline);
@@ -583,4 +902,22 @@ impl SceneRenderer {
             pass.draw(0..6, 0..self.dots.count);
         }
     }
+}
+
+/// The matcap bind group for `matcap`.
+fn matcap_group(
+    gpu: &GpuContext,
+    layout: &wgpu::BindGroupLayout,
+    matcap: Matcap,
+) -> wgpu::BindGroup {
+    let image = matcap.image(256);
+    let view = super::look::upload_image(gpu, "matcap", &image, 256)
+        .create_view(&wgpu::TextureViewDescriptor::default());
+    let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("matcap"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    super::bindings::image_group(&gpu.device, "matcap", layout, &view, &sampler)
 }

@@ -3,7 +3,9 @@
 const COMMON: &str = include_str!("../../../../shaders/common.wgsl");
 
 /// The shader modules: name and source as written in `shaders/`.
-pub const SOURCES: [(&str, &str); 6] = [
+pub const SOURCES: [(&str, &str); 8] = [
+    ("gather", include_str!("../../../../shaders/gather.wgsl")),
+    ("ghost", include_str!("../../../../shaders/ghost.wgsl")),
     ("mesh", include_str!("../../../../shaders/mesh.wgsl")),
     ("lines", include_str!("../../../../shaders/lines.wgsl")),
     ("dots", include_str!("../../../../shaders/dots.wgsl")),
@@ -21,7 +23,7 @@ pub fn source(name: &str) -> String {
         .iter()
         .find(|(n, _)| *n == name)
         .map_or("", |(_, s)| s);
-    if name == "deform" || name == "blit" {
+    if matches!(name, "deform" | "blit" | "gather") {
         body.to_owned()
     } else {
         format!("{COMMON}\n{body}")

@@ -130,27 +130,7 @@ impl Blit {
     /// A blit into colour targets of `format` (single-sampled).
     pub fn new(gpu: &GpuContext, format: wgpu::TextureFormat) -> Self {
         let device = &gpu.device;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("blit"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
+        let layout = super::bindings::image_layout(device, "blit");
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("blit"),
             bind_group_layouts: &[Some(&layout)],
@@ -199,20 +179,13 @@ impl Blit {
         let view = target
             .image()
             .create_view(&wgpu::TextureViewDescriptor::default());
-        self.group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("blit"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
-                },
-            ],
-        }));
+        self.group = Some(super::bindings::image_group(
+            &gpu.device,
+            "blit",
+            &self.layout,
+            &view,
+            &self.sampler,
+        ));
     }
 
     /// Draws the image into `pass` over its current viewport.
