@@ -78,6 +78,7 @@ fn apply_to(state: &mut EditorState, command: Command, effects: &mut Vec<Effect>
         | Command::Hover(..)) => super::selection::apply_selection(state, command),
         command @ (Command::SetCageHidden(..)
         | Command::SetLayers(..)
+        | Command::SetGhosts(..)
         | Command::SetInfluence(..)
         | Command::SetMirrorX(..)
         | Command::SetSnapToVertices(..)

@@ -228,6 +228,8 @@ pub enum Command {
     SetCageHidden(CageId, bool),
     /// Layers and shading.
     SetLayers(Layers),
+    /// Ghosts of the animation.
+    SetGhosts(crate::state::GhostSettings),
     /// The influence map.
     SetInfluence(InfluenceChoice),
     /// X mirror editing on or off.

@@ -10,6 +10,7 @@ pub fn apply_view(state: &mut EditorState, command: Command) {
             state.view.set_hidden(cage, hidden, &state.doc.scene.cages);
         }
         Command::SetLayers(layers) => state.view.layers = layers,
+        Command::SetGhosts(ghosts) => state.view.ghosts = ghosts,
         Command::SetInfluence(choice) => state.view.influence = choice,
         Command::SetMirrorX(on) => state.view.mirror_x = on,
         Command::SetSnapToVertices(on) => state.view.snap_to_vertices = on,

@@ -59,8 +59,10 @@ impl EditorState {
             self.poll_autorig(wait);
             self.poll_bind(wait);
             self.poll_baseline(wait);
+            self.poll_look(wait);
             self.refresh_map();
             let busy = self.load_job.is_some()
+                || self.look_job.is_some()
                 || self.autorig_job.is_some()
                 || self.bind_job.is_some()
                 || self.map.baseline_progress().is_some();

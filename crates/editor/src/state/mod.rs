@@ -9,6 +9,7 @@ mod error;
 mod influence_map;
 mod job_polling;
 pub mod jobs;
+mod look;
 pub mod mirror;
 pub mod recent;
 mod rig;
@@ -34,7 +35,7 @@ pub use jobs::{Job, Waker};
 pub use selection::{SelectMode, Selection};
 pub use starcages_core::live::LiveRig;
 pub use view::{
-    InfluenceChoice, LeafVertices, PivotPoint, ScreenRect, SelectElement, ViewState,
+    GhostSettings, InfluenceChoice, LeafVertices, PivotPoint, ScreenRect, SelectElement, ViewState,
     leaf_only_vertices,
 };
 
@@ -109,6 +110,8 @@ pub struct Generations {
     pub deformation: u64,
     /// The edit state (cages and settings), for stale bind results.
     pub edit: u64,
+    /// The mesh's look (read after the document opened).
+    pub look: u64,
 }
 
 /// Identifies a gesture: a drag, a G / R / S tool or a slider drag, one undo step however
@@ -200,6 +203,10 @@ pub struct EditorState {
     pub close_confirmed: bool,
     /// The current frame, playback and auto-key.
     pub timeline: timeline::Timeline,
+    /// The mesh file's materials and images, once read (none for a plain or generated mesh).
+    pub look: Option<Arc<starcages_core::mesh::look::LoadedLook>>,
+    /// Reading them.
+    pub look_job: Option<Job<starcages_core::mesh::look::LoadedLook>>,
     /// Settings changed inside a gesture: bind when it ends.
     bind_after_gesture: bool,
     waker: Option<Waker>,
@@ -273,6 +280,8 @@ impl EditorState {
             recent_file: None,
             close_confirmed: false,
             timeline: timeline::Timeline::default(),
+            look: None,
+            look_job: None,
             bind_after_gesture: false,
             waker,
         };
@@ -288,6 +297,7 @@ impl EditorState {
         state.check_rig();
         state.frame(false);
         state.start_bind("binding the scene");
+        state.start_look();
         state
     }
 
@@ -301,6 +311,7 @@ impl EditorState {
             self.view.mirror_x,
             self.view.snap_to_vertices,
             self.view.pivot_point,
+            self.view.ghosts,
         );
         let recent = std::mem::take(&mut self.recent);
         let recent_file = self.recent_file.take();
@@ -313,6 +324,7 @@ impl EditorState {
             self.view.mirror_x,
             self.view.snap_to_vertices,
             self.view.pivot_point,
+            self.view.ghosts,
         ) = keep_view;
         self.recent = recent;
         self.recent_file = recent_file;

@@ -98,6 +98,66 @@ impl LeafVertices {
     }
 }
 
+/// Ghosts of the animation (View ▸ Ghosts): the mesh at frames before and after the current
+/// one, `step` frames apart, drawn translucent (before in red, after in blue) and following
+/// key edits live.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GhostSettings {
+    /// Drawn at all.
+    pub shown: bool,
+    /// Ghosts before the current frame.
+    pub before: u32,
+    /// Ghosts after it.
+    pub after: u32,
+    /// Frames between ghosts (at least 1).
+    pub step: u32,
+}
+
+impl Default for GhostSettings {
+    fn default() -> Self {
+        Self {
+            shown: false,
+            before: 2,
+            after: 2,
+            step: 3,
+        }
+    }
+}
+
+impl GhostSettings {
+    /// The most ghosts on either side.
+    pub const MAX_PER_SIDE: u32 = 8;
+
+    /// The ghosts' frames around `current` inside `range` (nearest first on each side), with
+    /// whether each is before the current frame.
+    pub fn frames(&self, current: f64, range: (f64, f64)) -> Vec<(f64, bool)> {
+        if !self.shown {
+            return Vec::new();
+        }
+        let step = f64::from(self.step.max(1));
+        let side = |count: u32, sign: f64| {
+            (1..=count.min(Self::MAX_PER_SIDE))
+                .map(move |k| current + sign * step * f64::from(k))
+                .filter(|f| (range.0..=range.1).contains(f))
+        };
+        side(self.before, -1.0)
+            .map(|f| (f, true))
+            .chain(side(self.after, 1.0).map(|f| (f, false)))
+            .collect()
+    }
+
+    /// The tint (RGB) and opacity of the ghost `distance` steps from the current frame,
+    /// before it or after: red before, blue after, fainter further away.
+    pub fn tint(before: bool, distance: u32) -> [f32; 4] {
+        let opacity = 0.5 / (1.0 + 0.35 * distance.saturating_sub(1) as f32);
+        if before {
+            [0.95, 0.38, 0.28, opacity]
+        } else {
+            [0.28, 0.55, 0.98, opacity]
+        }
+    }
+}
+
 /// The leaf cage vertices that belong to no internal cage: what a rig's controls move.
 pub fn leaf_only_vertices(set: &CageSet) -> std::collections::BTreeSet<u32> {
     let internal: std::collections::BTreeSet<u32> = set
@@ -208,6 +268,8 @@ pub struct ViewState {
     pub leaf_vertices: LeafVertices,
     /// The 3D cursor, where placed (scene coordinates); the origin until then.
     pub cursor: Option<glam::DVec3>,
+    /// Ghosts of the animation.
+    pub ghosts: GhostSettings,
     /// Where the 3D view was drawn last frame.
     pub viewport: ScreenRect,
 }

@@ -99,6 +99,13 @@ pub fn menu_bar(
             ] {
                 item(ui, action, None, true, &mut chosen);
             }
+            ui.separator();
+            ui.menu_button("Shading", |ui| {
+                super::shading::shading_controls(state, ui, sender);
+            });
+            ui.menu_button("Ghosts", |ui| {
+                super::shading::ghost_controls(state, ui, sender);
+            });
             item(ui, UiCommand::ToggleItemPanel, None, true, &mut chosen);
             item(ui, UiCommand::ToggleXray, None, true, &mut chosen);
             item(ui, UiCommand::ToggleOutliner, None, true, &mut chosen);

@@ -21,6 +21,7 @@ mod picking;
 pub mod prompts;
 mod rig_keys;
 mod select_modes;
+mod shading;
 mod status_bar;
 mod timeline;
 mod transform_tool;
@@ -91,6 +92,10 @@ pub struct UiState {
     last_frame: Option<Instant>,
     next_gesture: u64,
     mesh_upload: viewport_paint::MeshUploadCache,
+    /// The ghosts drawn last.
+    ghosts: viewport_paint::GhostCache,
+    /// The mesh the look was uploaded over.
+    look_upload: viewport_paint::LookUploadCache,
 }
 
 impl UiState {
@@ -133,6 +138,8 @@ impl UiState {
             last_frame: None,
             next_gesture: 1,
             mesh_upload: viewport_paint::MeshUploadCache::default(),
+            ghosts: viewport_paint::GhostCache::default(),
+            look_upload: viewport_paint::LookUploadCache::default(),
         }
     }
 

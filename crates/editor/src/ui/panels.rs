@@ -64,6 +64,8 @@ pub fn view_options(state: &EditorState, ui: &mut egui::Ui, sender: &mut Command
     if choice != current {
         sender.send(Command::SetInfluence(choice));
     }
+    super::shading::shading_controls(state, ui, sender);
+    super::shading::ghost_controls(state, ui, sender);
     let mut layers = state.view.layers;
     ui.checkbox(&mut layers.wireframe, "Wireframe")
         .on_hover_text("Draw the mesh's edges over it");

@@ -10,7 +10,9 @@ use std::sync::Arc;
 use egui_wgpu::{CallbackResources, CallbackTrait, RenderState, ScreenDescriptor};
 use glam::Vec3;
 use starcages_core::star::StarBinding;
-use starcages_viewport::gpu::{Blit, GpuContext, Layers, SceneRenderer, ViewTarget};
+use starcages_viewport::gpu::{
+    Blit, Ghost, GhostShape, GpuContext, Layers, SceneRenderer, ViewTarget,
+};
 use starcages_viewport::layers::{
     Dot, LineVertex, cage_dots, cage_lines, ghost_lines, ground_grid,
 };
@@ -51,6 +53,109 @@ pub fn uploaded_mesh(resources: &CallbackResources) -> Option<UploadedMesh> {
     resources.get::<Resources>()?.uploaded
 }
 
+/// The ghosts drawn last, reused while their key holds (the same document, binding, frame,
+/// settings and keys).
+#[derive(Debug, Default)]
+pub struct GhostCache(Option<(GhostKey, Ghosts)>);
+
+/// What the ghosts depend on.
+#[derive(Debug, Clone, PartialEq)]
+struct GhostKey {
+    document: u64,
+    binding: usize,
+    frame: f64,
+    settings: crate::state::GhostSettings,
+    animation: starcages_core::anim::Animation,
+}
+
+/// Each ghost's degrees of freedom and tint, with their generation.
+pub type Ghosts = (u64, Arc<Vec<(Vec<Vec3>, [f32; 4])>>);
+
+static NEXT_GHOSTS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+/// The ghosts of the current frame: in Pose mode with keys and ghosts shown, the degrees of
+/// freedom of the poses at the frames around it, deformed through the current binding.
+/// Computed again only when what they depend on changes.
+fn ghosts_of(state: &EditorState, cache: &mut GhostCache) -> Option<Ghosts> {
+    let scene = &state.doc.scene;
+    let rig = state.rig.as_ref()?;
+    let settings = state.view.ghosts;
+    if !settings.shown
+        || state.mode != crate::state::EditMode::Pose
+        || scene.animation.keys.is_empty()
+    {
+        return None;
+    }
+    let key = GhostKey {
+        document: state.document_id,
+        binding: Arc::as_ptr(&rig.binding) as usize,
+        frame: state.timeline.frame,
+        settings,
+        animation: scene.animation.clone(),
+    };
+    if let Some((k, ghosts)) = &cache.0
+        && *k == key
+    {
+        return Some(ghosts.clone());
+    }
+    let range = (
+        scene.animation.frame_start as f64,
+        scene.animation.frame_end as f64,
+    );
+    let step = f64::from(settings.step.max(1));
+    let frames = settings.frames(state.timeline.frame, range);
+    let ghosts: Vec<(Vec<Vec3>, [f32; 4])> = frames
+        .iter()
+        .filter_map(|&(frame, before)| {
+            let pose = starcages_core::posing::PoseRequest::frame(frame)
+                .resolve(scene)
+                .ok()?;
+            let distance = ((frame - state.timeline.frame).abs() / step).round() as u32;
+            let dofs = rig
+                .binding
+                .operator
+                .dofs(&scene.cages.vertices, &pose.cages);
+            Some((dofs, crate::state::GhostSettings::tint(before, distance)))
+        })
+        .collect();
+    let ghosts = (
+        NEXT_GHOSTS.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+        Arc::new(ghosts),
+    );
+    cache.0 = Some((key, ghosts.clone()));
+    Some(ghosts)
+}
+
+/// The look to draw over the current mesh, its generation following the document, the mesh
+/// and the look (the mesh is copied for it only when one of those changes).
+fn look_upload(state: &EditorState, cache: &mut LookUploadCache) -> LookUpload {
+    let key = (
+        state.document_id,
+        state.generations.mesh,
+        state.generations.look,
+    );
+    let Some(look) = &state.look else {
+        cache.0 = None;
+        return (key, None);
+    };
+    let mesh = match &cache.0 {
+        Some((k, mesh)) if *k == key => Arc::clone(mesh),
+        _ => {
+            let mesh = Arc::new(state.doc.scene.mesh.clone());
+            cache.0 = Some((key, Arc::clone(&mesh)));
+            mesh
+        }
+    };
+    (key, Some((Arc::clone(look), mesh)))
+}
+
+/// What the viewport's renderer draws besides the mesh, as the paint callback left it:
+/// whether it holds the mesh file's look, and how many ghosts it draws.
+pub fn drawn_extras(resources: &CallbackResources) -> Option<(bool, usize)> {
+    let r = resources.get::<Resources>()?;
+    Some((r.renderer.has_look(), r.renderer.ghost_count()))
+}
+
 /// A mesh to upload: welded rest positions, triangles, and the binding whose operator the GPU
 /// deforms with.
 #[derive(Debug)]
@@ -63,6 +168,23 @@ pub struct MeshUpload {
     /// is drawn meanwhile).
     pub binding: Option<Arc<StarBinding>>,
 }
+
+/// A look to upload: its generation, the look, and the mesh it is drawn over (its file
+/// layout and UVs).
+pub type LookUpload = (
+    LookKey,
+    Option<(
+        Arc<starcages_core::mesh::look::LoadedLook>,
+        Arc<starcages_core::mesh::Mesh>,
+    )>,
+);
+
+/// Which look an upload is: the document, its mesh generation and its look generation.
+pub type LookKey = (u64, u64, u64);
+
+/// The mesh the look was last uploaded over, shared while the document, mesh and look stay.
+#[derive(Debug, Default)]
+pub struct LookUploadCache(Option<(LookKey, Arc<starcages_core::mesh::Mesh>)>);
 
 /// A deformation to show: its generation, and the degrees of freedom (GPU path) with the
 /// deformed positions (CPU path, computed only where the GPU cannot deform).
@@ -88,6 +210,10 @@ pub struct FrameData {
     pub deformation: Option<Deformation>,
     /// Vertex colours and their generation.
     pub colors: Option<(u64, Arc<Vec<[u8; 4]>>)>,
+    /// The mesh file's look over its mesh, and its generation.
+    pub look: LookUpload,
+    /// Ghosts of the animation.
+    pub ghosts: Option<Ghosts>,
 }
 
 /// GPU state kept across frames in egui-wgpu's callback resources.
@@ -101,6 +227,10 @@ struct Resources {
     uploaded: Option<UploadedMesh>,
     deformation_generation: u64,
     color_generation: u64,
+    look_key: Option<LookKey>,
+    ghost_generation: u64,
+    /// Whether the renderer drew ghosts last frame.
+    ghosts_shown: bool,
 }
 
 /// Installs the viewport's GPU resources into eframe's renderer. Returns false without wgpu.
@@ -120,6 +250,9 @@ pub fn install(render_state: &RenderState) -> bool {
         uploaded: None,
         deformation_generation: u64::MAX,
         color_generation: u64::MAX,
+        look_key: None,
+        ghost_generation: u64::MAX,
+        ghosts_shown: false,
         gpu,
     };
     render_state
@@ -173,6 +306,27 @@ impl CallbackTrait for ViewportCallback {
             });
             r.deformation_generation = u64::MAX;
             r.color_generation = u64::MAX;
+            r.look_key = None;
+            r.ghost_generation = u64::MAX;
+        }
+        if let Some((_, upload)) = &data.mesh
+            && Some(data.look.0) != r.look_key
+        {
+            // A look that does not fit the mesh (a file changed since) draws it without.
+            let _ = match &data.look.1 {
+                // The rest shape until the next deformation is gathered into the layout.
+                Some((look, mesh)) => {
+                    r.renderer
+                        .set_loaded_look(&r.gpu, mesh, look, &upload.positions)
+                }
+                None => r.renderer.set_look(&r.gpu, None, &[]),
+            };
+            r.look_key = Some(data.look.0);
+            r.deformation_generation = u64::MAX;
+            r.color_generation = u64::MAX;
+        }
+        if let starcages_viewport::Shading::MatCap(matcap) = data.layers.shading {
+            r.renderer.set_matcap(&r.gpu, matcap);
         }
         if let Some((generation, mesh)) = &data.deformation
             && *generation != r.deformation_generation
@@ -187,6 +341,45 @@ impl CallbackTrait for ViewportCallback {
         {
             r.renderer.set_colors(&r.gpu, colors);
             r.color_generation = *generation;
+        }
+        match &data.ghosts {
+            Some((generation, ghosts)) if *generation != r.ghost_generation => {
+                let binding = data.mesh.as_ref().and_then(|(_, m)| m.binding.clone());
+                let on_gpu = r.renderer.deforms_on_gpu();
+                // Where the GPU cannot deform, each ghost is deformed here on the CPU.
+                let positions: Vec<Vec<Vec3>> = match (&binding, on_gpu) {
+                    (Some(binding), false) => ghosts
+                        .iter()
+                        .map(|(dofs, _)| {
+                            let mut out = vec![Vec3::ZERO; binding.operator.row_count()];
+                            binding.operator.apply(dofs, &mut out);
+                            out
+                        })
+                        .collect(),
+                    _ => Vec::new(),
+                };
+                let shapes: Vec<Ghost<'_>> = ghosts
+                    .iter()
+                    .enumerate()
+                    .map(|(i, (dofs, tint))| Ghost {
+                        shape: match positions.get(i) {
+                            Some(p) => GhostShape::Positions(p),
+                            None => GhostShape::Dofs(dofs),
+                        },
+                        tint: *tint,
+                    })
+                    .collect();
+                r.renderer.set_ghosts(&r.gpu, encoder, &shapes);
+                r.ghost_generation = *generation;
+                r.ghosts_shown = true;
+            }
+            Some(_) => {}
+            None if r.ghosts_shown => {
+                r.renderer.set_ghosts(&r.gpu, encoder, &[]);
+                r.ghosts_shown = false;
+                r.ghost_generation = u64::MAX;
+            }
+            None => {}
         }
         r.renderer.set_lines(&r.gpu, &data.lines);
         r.renderer.set_guides(&r.gpu, &data.guides);
@@ -302,15 +495,21 @@ pub fn paint(state: &EditorState, ui_state: &mut UiState, ui: &mut egui::Ui, rec
         crate::state::EditMode::Rig => (u64::MAX - 1, rig.rest_view()),
         crate::state::EditMode::Pose => (state.generations.deformation, rig.mesh()),
     });
+    let mut layers = state.view.layers;
+    // An influence map shows over any shading.
+    layers.vertex_colors = state.view.influence != crate::state::InfluenceChoice::None;
+    let ghosts = ghosts_of(state, &mut ui_state.ghosts);
     let data = FrameData {
         camera: state.view.camera,
-        layers: state.view.layers,
+        layers,
         lines,
         dots,
         guides,
         mesh: Some(mesh),
         deformation,
         colors: state.map.colors(),
+        look: look_upload(state, &mut ui_state.look_upload),
+        ghosts,
     };
     ui.painter().add(egui_wgpu::Callback::new_paint_callback(
         rect,

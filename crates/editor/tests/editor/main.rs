@@ -17,4 +17,5 @@ mod model;
 mod regressions;
 mod rig_mode;
 mod rig_tools;
+mod shading;
 mod timeline;

@@ -629,6 +629,11 @@ impl SceneRenderer {
         self.set_look(gpu, Some(&look), rest)
     }
 
+    /// How many ghosts are drawn.
+    pub fn ghost_count(&self) -> usize {
+        self.ghost_count
+    }
+
     /// Whether a look is uploaded.
     pub fn has_look(&self) -> bool {
         self.mesh.as_ref().is_some_and(|m| m.look.is_some())
