@@ -13,8 +13,8 @@ struct Frame {
     // The camera's right and up directions (xyz), for matcap lookups.
     camera_right: vec4<f32>,
     camera_up: vec4<f32>,
-    // x: shading (0 solid, 1 matcap, 2 textured); y: vertex colours (an influence map)
-    // replace the material's colour (1) or not (0); z, w: unused.
+    // x: unused (the shading mode picks the mesh's fragment entry point); y: vertex colours
+    // (an influence map) replace the material's colour (1) or not (0); z, w: unused.
     shading: vec4<f32>,
 };
 

@@ -75,6 +75,20 @@ fn light(n: vec3<f32>, view: vec3<f32>, base: vec3<f32>) -> vec3<f32> {
     return base * (0.22 + diffuse) + vec3<f32>(rim + specular);
 }
 
+fn view_normal(in: VertexOut, view: vec3<f32>) -> vec3<f32> {
+    var n = normalize(in.normal + vec3<f32>(0.0, 0.0, 1e-12));
+    if (frame.viewport.z > 0.5) {
+        n = normalize(cross(dpdxFine(in.world), dpdyFine(in.world)));
+    }
+    // Two-sided: the side facing the eye.
+    if (dot(n, view) < 0.0) {
+        n = -n;
+    }
+    return n;
+}
+
+// Solid: the vertex colour (light grey, or an influence map) under the studio light. No
+// texture is read: the plain path costs what it did before the other modes existed.
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let view = normalize(frame.eye.xyz - in.world);
@@ -83,37 +97,47 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (frame.viewport.z > 0.5) {
         n = normalize(faceted);
     }
-    // The material's image, sampled in uniform control flow (OBJ and FBX count v from the
-    // image's bottom row).
-    var uv = in.uv;
-    if (material.flags.y > 0.5) {
-        uv.y = 1.0 - uv.y;
-    }
-    let texel = textureSample(base_image, base_sampler, uv);
     // Two-sided: light the side facing the eye.
     if (dot(n, view) < 0.0) {
         n = -n;
     }
+    return vec4<f32>(light(n, view, in.color.rgb), frame.opacity.x);
+}
+
+// MatCap: the matcap at the view-space normal; an influence map keeps its light and shade.
+@fragment
+fn fs_matcap(in: VertexOut) -> @location(0) vec4<f32> {
+    let view = normalize(frame.eye.xyz - in.world);
+    let n = view_normal(in, view);
     let in_view = vec2<f32>(dot(n, frame.camera_right.xyz), dot(n, frame.camera_up.xyz));
     let matcap = textureSampleLevel(
         matcap_image, matcap_sampler, vec2<f32>(0.5 + 0.49 * in_view.x, 0.5 - 0.49 * in_view.y), 0.0
     ).rgb;
-    let mode = frame.shading.x;
-    let mapped = frame.shading.y > 0.5;
-    if (mode > 0.5 && mode < 1.5) {
-        if (mapped) {
-            // The map's colours keep the matcap's light and shade.
-            let shade = dot(matcap, vec3<f32>(0.299, 0.587, 0.114));
-            return vec4<f32>(in.color.rgb * (0.35 + 0.9 * shade), frame.opacity.x);
-        }
-        return vec4<f32>(matcap, frame.opacity.x);
+    if (frame.shading.y > 0.5) {
+        let shade = dot(matcap, vec3<f32>(0.299, 0.587, 0.114));
+        return vec4<f32>(in.color.rgb * (0.35 + 0.9 * shade), frame.opacity.x);
     }
-    var base = in.color.rgb;
-    if (mode > 1.5 && !mapped) {
-        base = material.base_color.rgb;
-        if (material.flags.x > 0.5) {
-            base = base * texel.rgb;
-        }
+    return vec4<f32>(matcap, frame.opacity.x);
+}
+
+// Textured: the material's base colour factor × its image at the UV (OBJ and FBX count v from
+// the image's bottom row) under the studio light; an influence map replaces it.
+@fragment
+fn fs_textured(in: VertexOut) -> @location(0) vec4<f32> {
+    var uv = in.uv;
+    if (material.flags.y > 0.5) {
+        uv.y = 1.0 - uv.y;
+    }
+    // Sampled in uniform control flow, before anything depends on the fragment.
+    let texel = textureSample(base_image, base_sampler, uv);
+    let view = normalize(frame.eye.xyz - in.world);
+    let n = view_normal(in, view);
+    var base = material.base_color.rgb;
+    if (material.flags.x > 0.5) {
+        base = base * texel.rgb;
+    }
+    if (frame.shading.y > 0.5) {
+        base = in.color.rgb;
     }
     return vec4<f32>(light(n, view, base), frame.opacity.x);
 }

@@ -1,10 +1,12 @@
 //! `starcages-bench`: the benchmarks, apart from the user's tool (`starcages-cli`) so that
 //! the counting allocator wraps only them. Without a subcommand, *Cages against single-cage
-//! baselines (and `--scale`, `--drags`, `--rest-edits`); `gpu`, GPU deformation and drawing.
+//! baselines (and `--scale`, `--drags`, `--rest-edits`); `gpu`, GPU deformation and drawing;
+//! `frame`, the editor's whole 3D frame with shading and ghosts.
 //! Exit status as `starcages-cli`'s: 2 for bad input, 1 for other failures.
 
 mod bench;
 mod bench_drag;
+mod bench_frame;
 mod bench_gpu;
 mod bench_rest_edit;
 mod bench_scale;
@@ -40,6 +42,8 @@ struct Cli {
 enum Tool {
     /// GPU deformation and drawing against the CPU operator, per frame (prism demo).
     Gpu(bench_gpu::BenchGpuArgs),
+    /// The editor's whole 3D frame: plain, with a look, textured, textured with ghosts.
+    Frame(bench_frame::BenchFrameArgs),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +54,7 @@ fn main() -> ExitCode {
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|error| error.exit());
     exit_status(match &cli.tool {
         Some(Tool::Gpu(args)) => bench_gpu::run(args),
+        Some(Tool::Frame(args)) => bench_frame::run(args),
         None => bench::run(&cli.bench),
     })
 }

@@ -144,10 +144,11 @@ pub struct SceneRenderer {
     frame: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
     background: wgpu::RenderPipeline,
-    mesh_pipeline: wgpu::RenderPipeline,
-    mesh_xray_pipeline: wgpu::RenderPipeline,
-    textured_pipeline: wgpu::RenderPipeline,
-    textured_xray_pipeline: wgpu::RenderPipeline,
+    /// Solid and MatCap over the welded mesh, and Textured over the file's layout; each
+    /// opaque and in X-ray (translucent, no depth written).
+    solid_pipelines: [wgpu::RenderPipeline; 2],
+    matcap_pipelines: [wgpu::RenderPipeline; 2],
+    textured_pipelines: [wgpu::RenderPipeline; 2],
     ghost_pipeline: wgpu::RenderPipeline,
     ghost_layout: wgpu::BindGroupLayout,
     ghosts: Vec<GhostBuffers>,
@@ -341,29 +342,25 @@ impl SceneRenderer {
             Some(layout(8, vertex, &UV)),
         ];
         // X-ray: translucent, writing no depth, so the cages behind show through.
-        let [
-            mesh_pipeline,
-            mesh_xray_pipeline,
-            textured_pipeline,
-            textured_xray_pipeline,
-        ] = [
-            ("vs_main", &mesh_buffers[..], true),
-            ("vs_main", &mesh_buffers[..], false),
-            ("vs_textured", &textured_buffers[..], true),
-            ("vs_textured", &textured_buffers[..], false),
-        ]
-        .map(|(entry, buffers, depth_write)| {
-            pipeline_in(
-                &mesh_layout,
-                "mesh",
-                entry,
-                buffers,
-                triangles,
-                "fs_main",
-                depth_write,
-                less,
-            )
-        });
+        let mesh_pipelines = |vertex_entry: &str,
+                              buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                              fragment: &str| {
+            [true, false].map(|depth_write| {
+                pipeline_in(
+                    &mesh_layout,
+                    "mesh",
+                    vertex_entry,
+                    buffers,
+                    triangles,
+                    fragment,
+                    depth_write,
+                    less,
+                )
+            })
+        };
+        let solid_pipelines = mesh_pipelines("vs_main", &mesh_buffers, "fs_main");
+        let matcap_pipelines = mesh_pipelines("vs_main", &mesh_buffers, "fs_matcap");
+        let textured_pipelines = mesh_pipelines("vs_textured", &textured_buffers, "fs_textured");
         let ghost_pipeline = pipeline_in(
             &ghost_pipeline_layout,
             "ghost",
@@ -451,10 +448,9 @@ impl SceneRenderer {
             frame,
             frame_group,
             background,
-            mesh_pipeline,
-            mesh_xray_pipeline,
-            textured_pipeline,
-            textured_xray_pipeline,
+            solid_pipelines,
+            matcap_pipelines,
+            textured_pipelines,
             ghost_pipeline,
             ghost_layout: ghost_bind_layout,
             ghosts: Vec::new(),
@@ -774,11 +770,6 @@ impl SceneRenderer {
     pub fn set_camera(&self, gpu: &GpuContext, camera: &OrbitCamera, size: Vec2, layers: &Layers) {
         let view_proj: Mat4 = camera.view_projection(size);
         let (right, up) = camera.right_up();
-        let shading = match layers.shading {
-            Shading::Solid => 0.0,
-            Shading::MatCap(_) => 1.0,
-            Shading::Textured => 2.0,
-        };
         let uniforms = FrameUniforms {
             view_proj: view_proj.to_cols_array_2d(),
             eye: camera.eye().extend(1.0).to_array(),
@@ -797,12 +788,7 @@ impl SceneRenderer {
             ],
             camera_right: right.extend(0.0).to_array(),
             camera_up: up.extend(0.0).to_array(),
-            shading: [
-                shading,
-                if layers.vertex_colors { 1.0 } else { 0.0 },
-                0.0,
-                0.0,
-            ],
+            shading: [0.0, if layers.vertex_colors { 1.0 } else { 0.0 }, 0.0, 0.0],
         };
         gpu.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
@@ -820,13 +806,10 @@ impl SceneRenderer {
                 .flatten();
             if layers.mesh && mesh.index_count > 0 {
                 pass.set_bind_group(1, &self.matcap_group, &[]);
+                let xray = usize::from(layers.xray);
                 match textured {
                     Some(look) => {
-                        pass.set_pipeline(if layers.xray {
-                            &self.textured_xray_pipeline
-                        } else {
-                            &self.textured_pipeline
-                        });
+                        pass.set_pipeline(&self.textured_pipelines[xray]);
                         pass.set_vertex_buffer(0, look.positions.slice(..));
                         pass.set_vertex_buffer(1, look.normals.slice(..));
                         pass.set_vertex_buffer(2, look.colors.slice(..));
@@ -839,10 +822,10 @@ impl SceneRenderer {
                         }
                     }
                     None => {
-                        pass.set_pipeline(if layers.xray {
-                            &self.mesh_xray_pipeline
-                        } else {
-                            &self.mesh_pipeline
+                        // Textured without a look draws as Solid.
+                        pass.set_pipeline(match layers.shading {
+                            Shading::MatCap(_) => &self.matcap_pipelines[xray],
+                            Shading::Solid | Shading::Textured => &self.solid_pipelines[xray],
                         });
                         pass.set_bind_group(2, &self.default_material, &[]);
                         pass.set_vertex_buffer(0, mesh.positions.slice(..));
