@@ -11,7 +11,7 @@ use starcages_io::write_atomic;
 use starcages_viewport::influence;
 use starcages_viewport::offscreen::encode_png;
 use starcages_viewport::{
-    GpuContext, Layers, RenderOptions, View, framing_camera, render_to_image,
+    GpuContext, Layers, Matcap, RenderOptions, Shading, View, framing_camera, render_to_image,
 };
 
 use super::pose::PoseArgs;
@@ -24,6 +24,26 @@ enum ViewArg {
     Front,
     Side,
     Top,
+}
+
+/// How the mesh is shaded.
+#[derive(Debug, Clone, Copy, ValueEnum, PartialEq, Eq)]
+enum ShadingArg {
+    /// Studio light on light grey (or the influence map).
+    Solid,
+    /// The matcap `--matcap` names.
+    Matcap,
+    /// The mesh file's materials (glTF/GLB, OBJ + MTL, FBX), read with their images.
+    Textured,
+}
+
+/// A built-in matcap.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum MatcapArg {
+    Clay,
+    Jade,
+    Metal,
+    Toon,
 }
 
 /// Arguments of `render`.
@@ -59,6 +79,13 @@ pub struct RenderArgs {
     /// Hide cages and their vertices.
     #[arg(long)]
     no_cages: bool,
+    /// Shading: solid, matcap or textured (the mesh file's materials; an influence map is
+    /// painted over any of them).
+    #[arg(long, value_enum, default_value = "solid")]
+    shading: ShadingArg,
+    /// The matcap of `--shading matcap`.
+    #[arg(long, value_enum, default_value = "clay")]
+    matcap: MatcapArg,
     /// The PNG file to write.
     #[arg(long)]
     png: PathBuf,
@@ -76,6 +103,41 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
             .ok_or_else(|| format!("'{text}': each side must be a whole number from 16 to 8192"))
     };
     Ok((parse(w)?, parse(h)?))
+}
+
+/// The look of the scene's mesh file with its images decoded; what cannot be used is a note
+/// (the image is rendered without it), as in the editor.
+fn read_look(
+    scene: &starcages_core::scene::Scene,
+) -> Option<std::sync::Arc<starcages_core::mesh::look::LoadedLook>> {
+    let Some(path) = super::mesh_file(scene) else {
+        crate::note!("the scene's mesh is embedded (no mesh file): rendered as Solid");
+        return None;
+    };
+    let look = match starcages_io::read_mesh_look(path) {
+        Ok((mesh, _)) if mesh.triangles().len() != scene.mesh.triangles().len() => {
+            crate::note!(
+                "{}: the file changed since the scene was made ({} triangles, the scene's \
+                 mesh has {}); rendered without its materials",
+                path.display(),
+                mesh.triangles().len(),
+                scene.mesh.triangles().len()
+            );
+            return None;
+        }
+        Ok((_, look)) => starcages_io::load_look_images(look),
+        Err(e) => {
+            crate::note!("materials not read: {e}");
+            return None;
+        }
+    };
+    for problem in &look.problems {
+        crate::note!("{problem}");
+    }
+    if look.look.is_plain() {
+        crate::note!("{}: no materials; rendered as Solid", path.display());
+    }
+    Some(std::sync::Arc::new(look))
 }
 
 /// Runs the command.
@@ -151,6 +213,21 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             ViewArg::Top => View::Top,
         });
     }
+    let look = if args.shading == ShadingArg::Textured {
+        read_look(&scene)
+    } else {
+        None
+    };
+    let shading = match args.shading {
+        ShadingArg::Solid => Shading::Solid,
+        ShadingArg::Textured => Shading::Textured,
+        ShadingArg::Matcap => Shading::MatCap(match args.matcap {
+            MatcapArg::Clay => Matcap::Clay,
+            MatcapArg::Jade => Matcap::Jade,
+            MatcapArg::Metal => Matcap::Metal,
+            MatcapArg::Toon => Matcap::Toon,
+        }),
+    };
     let options = RenderOptions {
         width: args.size.0,
         height: args.size.1,
@@ -159,9 +236,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             wireframe: args.wireframe,
             cages: !args.no_cages,
             vertices: !args.no_cages,
+            shading,
+            vertex_colors: map.is_some(),
             ..Layers::default()
         },
         map,
+        look,
         ..RenderOptions::default()
     };
     let image = render_to_image(&gpu, &scene, &binding, &pose, &camera, &options)?;

@@ -50,3 +50,40 @@ fn renders_pngs_with_maps_and_refuses_bad_options() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("no leaf cage named 'nose'"));
 }
+
+/// `--shading textured` reads the mesh file's materials (the checker sphere's GLB): red checker
+/// pixels appear that Solid does not draw; a broken image is a note naming it and the image is
+/// still written; `--shading matcap --matcap metal` renders.
+#[test]
+fn renders_the_mesh_file_s_materials_and_names_a_broken_image() {
+    let d = dir("render-textured");
+    let samples = starcages_io::sample_files::write_textured_samples(&d).unwrap();
+    let scene = d.join("sphere.json");
+    ok(&cli(&["autocage", s(&samples.obj), "--out", s(&scene)]));
+    let render = |shading: &[&str], png: &str| {
+        let png = d.join(png);
+        let mut args = vec!["render", s(&scene), "--size", "160x120", "--no-cages"];
+        args.extend_from_slice(shading);
+        args.extend(["--png", s(&png)]);
+        let out = cli(&args);
+        ok(&out);
+        (image::open(&png).unwrap().to_rgba8(), stderr(&out))
+    };
+    let red = |image: &image::RgbaImage| {
+        image
+            .pixels()
+            .filter(|p| p.0[0] > 150 && p.0[1] < 90 && p.0[2] < 90)
+            .count()
+    };
+    let (solid, _) = render(&[], "solid.png");
+    let (textured, notes) = render(&["--shading", "textured"], "textured.png");
+    assert!(notes.is_empty() || !notes.contains("checker"), "{notes}");
+    assert_eq!(red(&solid), 0);
+    assert!(red(&textured) > 200, "{} red pixels", red(&textured));
+    let (metal, _) = render(&["--shading", "matcap", "--matcap", "metal"], "metal.png");
+    assert_ne!(metal, solid);
+    std::fs::write(&samples.png, b"not an image").unwrap();
+    let (broken, notes) = render(&["--shading", "textured"], "broken.png");
+    assert!(notes.contains("checker.png"), "{notes}");
+    assert_eq!(red(&broken), 0);
+}
