@@ -79,6 +79,9 @@ fn parse_fbx_with_look(
         // polygon) rather than a silently clamped corner. (ufbx refuses a position index past
         // the vertices itself, without a reason: see `diagnose_geometry`.)
         index_error_handling: ufbx::IndexErrorHandling::NoIndex,
+        // Embedded images are kept only for the look (they are inside the file, so within
+        // the same memory bound).
+        ignore_embedded: !with_look,
         ..bounded_options(limit)
     };
     let scene = ufbx::load_memory(bytes, options).map_err(|error| {

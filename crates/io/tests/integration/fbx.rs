@@ -693,3 +693,133 @@ proptest! {
         let _ = parse_fbx(at, &crate::fuzz_readers::damage(ascii(&doc), &cuts));
     }
 }
+
+/// A material: its diffuse colour, linear RGB.
+fn material(id: i64, name: &str, diffuse: [f64; 3]) -> Node {
+    node(
+        "Material",
+        vec![
+            Prop::Long(id),
+            Prop::Name("Material", name.into()),
+            text(""),
+        ],
+        vec![
+            node("Version", vec![Prop::Int(102)], vec![]),
+            node("ShadingModel", vec![text("phong")], vec![]),
+            node(
+                "Properties70",
+                vec![],
+                vec![p("DiffuseColor", "Color", &diffuse)],
+            ),
+        ],
+    )
+}
+
+/// An image file texture.
+fn file_texture(id: i64, name: &str, file: &str) -> Node {
+    node(
+        "Texture",
+        vec![Prop::Long(id), Prop::Name("Texture", name.into()), text("")],
+        vec![
+            node("Type", vec![text("TextureVideoClip")], vec![]),
+            node(
+                "FileName",
+                vec![text(&format!("/elsewhere/{file}"))],
+                vec![],
+            ),
+            node("RelativeFilename", vec![text(file)], vec![]),
+        ],
+    )
+}
+
+/// A connection of an object to a property of another (a texture to a material's colour).
+fn connect_property(child: i64, parent: i64, property: &str) -> Node {
+    node(
+        "C",
+        vec![
+            text("OP"),
+            Prop::Long(child),
+            Prop::Long(parent),
+            text(property),
+        ],
+        vec![],
+    )
+}
+
+/// FBX materials through ufbx, in both encodings: a cube whose first three faces wear a red
+/// material with an image beside the file (named relatively; the absolute name from the
+/// artist's machine does not exist here) and whose last three a plain green one. The look has
+/// both (colours encoded for display), each triangle its face's material, v counted from the
+/// image's bottom; the image decodes. Read without the look, the same mesh.
+#[test]
+fn materials_per_face_with_their_colours_and_image_files() {
+    let mut geometry = cube_geometry(10, "box");
+    geometry.children.push(node(
+        "LayerElementMaterial",
+        vec![Prop::Int(0)],
+        vec![
+            node("Version", vec![Prop::Int(101)], vec![]),
+            node("Name", vec![text("")], vec![]),
+            node("MappingInformationType", vec![text("ByPolygon")], vec![]),
+            node(
+                "ReferenceInformationType",
+                vec![text("IndexToDirect")],
+                vec![],
+            ),
+            node(
+                "Materials",
+                vec![Prop::Ints(vec![0, 0, 0, 1, 1, 1])],
+                vec![],
+            ),
+        ],
+    ));
+    let objects = vec![
+        geometry,
+        model(20, "box", [0.0; 3], [0.0; 3], [1.0; 3]),
+        material(30, "red", [0.8, 0.05, 0.05]),
+        material(31, "green", [0.05, 0.45, 0.08]),
+        file_texture(40, "skin", "skin.png"),
+    ];
+    let connections = vec![
+        connect(20, 0),
+        connect(10, 20),
+        connect(30, 20),
+        connect(31, 20),
+        connect_property(40, 30, "DiffuseColor"),
+    ];
+    let doc = document(2, 1.0, objects, connections);
+    for (what, bytes) in [("binary", binary(&doc)), ("ascii", ascii(&doc))] {
+        let path = scratch(&format!("materials-{what}.fbx"), &bytes);
+        let png = path.with_file_name("skin.png");
+        std::fs::write(&png, starcages_io::sample_files::checker_png()).unwrap();
+        let (mesh, look) = starcages_io::read_mesh_look(&path).unwrap();
+        assert_eq!(mesh, read_mesh(&path).unwrap(), "{what}");
+        assert!(look.notes.is_empty(), "{what}: {:?}", look.notes);
+        assert_eq!(
+            look.uv_origin,
+            starcages_core::mesh::look::UvOrigin::BottomLeft
+        );
+        let names: Vec<&str> = look.materials.iter().map(|m| m.name.as_str()).collect();
+        assert_eq!(names, ["red", "green", "default"], "{what}");
+        // Two triangles per quad face, in face order.
+        assert_eq!(
+            look.triangle_materials,
+            [0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1],
+            "{what}"
+        );
+        let red = &look.materials[0];
+        assert!(
+            (red.base_color[0] - 0.906).abs() < 0.01,
+            "{what}: {:?}",
+            red.base_color
+        );
+        assert_eq!(
+            red.texture,
+            Some(starcages_core::mesh::look::TextureSource::File(png.clone())),
+            "{what}"
+        );
+        assert!(look.materials[1].texture.is_none());
+        let image = starcages_io::load_texture(red.texture.as_ref().unwrap()).unwrap();
+        assert_eq!((image.width, image.height), (64, 64));
+    }
+}
