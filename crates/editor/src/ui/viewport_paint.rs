@@ -149,11 +149,26 @@ fn look_upload(state: &EditorState, cache: &mut LookUploadCache) -> LookUpload {
     (key, Some((Arc::clone(look), mesh)))
 }
 
-/// What the viewport's renderer draws besides the mesh, as the paint callback left it:
-/// whether it holds the mesh file's look, and how many ghosts it draws.
-pub fn drawn_extras(resources: &CallbackResources) -> Option<(bool, usize)> {
+/// What the viewport's renderer draws besides the mesh, as the paint callback left it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DrawnExtras {
+    /// It holds the mesh file's look.
+    pub look: bool,
+    /// Ghosts drawn.
+    pub ghosts: usize,
+    /// The generation of the ghosts' shapes (a new one each time they are computed).
+    pub ghost_generation: u64,
+}
+
+/// [`DrawnExtras`] of the viewport's renderer (tests read it through egui-wgpu's callback
+/// resources).
+pub fn drawn_extras(resources: &CallbackResources) -> Option<DrawnExtras> {
     let r = resources.get::<Resources>()?;
-    Some((r.renderer.has_look(), r.renderer.ghost_count()))
+    Some(DrawnExtras {
+        look: r.renderer.has_look(),
+        ghosts: r.renderer.ghost_count(),
+        ghost_generation: r.ghost_generation,
+    })
 }
 
 /// A mesh to upload: welded rest positions, triangles, and the binding whose operator the GPU

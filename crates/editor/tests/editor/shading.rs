@@ -52,7 +52,9 @@ fn a_textured_mesh_opens_with_its_materials_and_each_shading_is_a_click_away() {
     // kittest paints (and so runs the paint callback) when asked for an image.
     harness.render().unwrap();
     let extras = drawn_extras(&render_state.renderer.read().callback_resources);
-    assert_eq!(extras, Some((true, 0)), "the renderer holds the look");
+    let extras = extras.unwrap();
+    assert!(extras.look, "the renderer holds the look");
+    assert_eq!(extras.ghosts, 0);
     harness.get_by_label("Textured").click();
     harness.run_steps(2);
     assert_eq!(harness.state().state.view.layers.shading, Shading::Textured);
@@ -97,15 +99,19 @@ fn a_broken_texture_is_a_message_naming_it_and_the_mesh_still_opens() {
 }
 
 /// Ghosts: on the critter (keys at 1, 12 and 24) at frame 12, View ▸ Ghosts' default of two
-/// before and two after every three frames draws four; one before draws three; at frame 23
-/// only those inside the range are drawn; off draws none.
+/// before and two after every three frames draws four, computed once while nothing changes and
+/// again when a key is deleted; one before draws three; at frame 23 only those inside the range
+/// are drawn; off draws none.
 #[test]
 fn ghosts_follow_their_settings_and_the_frame() {
     let (mut harness, render_state) = harness_on(crate::common::document());
     // kittest paints (and so runs the paint callback) when asked for an image.
-    let drawn = |harness: &mut egui_kittest::Harness<'_, starcages_editor::EditorApp>| {
+    let extras = |harness: &mut egui_kittest::Harness<'_, starcages_editor::EditorApp>| {
         harness.render().unwrap();
-        drawn_extras(&render_state.renderer.read().callback_resources).map(|(_, ghosts)| ghosts)
+        drawn_extras(&render_state.renderer.read().callback_resources).unwrap()
+    };
+    let drawn = |harness: &mut egui_kittest::Harness<'_, starcages_editor::EditorApp>| {
+        Some(extras(harness).ghosts)
     };
     send(&mut harness, Command::SetFrame(12.0));
     assert_eq!(drawn(&mut harness), Some(0));
@@ -118,6 +124,19 @@ fn ghosts_follow_their_settings_and_the_frame() {
         vec![(9.0, true), (6.0, true), (15.0, false), (18.0, false)]
     );
     assert_eq!(drawn(&mut harness), Some(4));
+    // Computed once while nothing changes; again when a key changes.
+    let first = extras(&mut harness).ghost_generation;
+    harness.run_steps(2);
+    assert_eq!(extras(&mut harness).ghost_generation, first);
+    send(&mut harness, Command::DeleteKey(24.0));
+    harness.run_steps(1);
+    let after_edit = extras(&mut harness);
+    assert_ne!(
+        after_edit.ghost_generation, first,
+        "a key edit recomputes the ghosts"
+    );
+    assert_eq!(after_edit.ghosts, 4);
+    crate::common::undo(&mut harness);
     let fewer = GhostSettings {
         before: 1,
         ..ghosts
