@@ -37,3 +37,26 @@ else
     echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
     cargo test --workspace --locked -j"$jobs" "$@"
 fi
+
+# The Python package (crates/python): built as a wheel by maturin, installed into a virtual
+# environment (target/python-venv, which gets maturin, numpy and pytest from the package
+# registry when it lacks them) and tested with pytest against starcages-cli. Debian images
+# without Python 3.11+ or its venv module get them.
+python=$(command -v python3 || true)
+if [ -z "$python" ] || ! "$python" -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; then
+    echo "scripts/test.sh: installing Python 3 with venv for the Python package's tests" >&2
+    if [ "$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq python3 python3-venv >/dev/null
+    python=$(command -v python3)
+fi
+venv=target/python-venv
+[ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
+if ! "$venv/bin/python" -c 'import numpy, pytest' 2>/dev/null || [ ! -x "$venv/bin/maturin" ]; then
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check maturin numpy pytest
+fi
+rm -rf target/wheels
+(cd crates/python && "../../$venv/bin/maturin" build -q --locked -j "$jobs" -o ../../target/wheels)
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
+cargo build --locked -j"$jobs" -p starcages-cli
+STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests

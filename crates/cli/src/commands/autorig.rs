@@ -58,19 +58,8 @@ pub fn run(args: &AutorigArgs) -> anyhow::Result<()> {
     let (mesh, up) = super::read_new_scene_mesh(&args.mesh, args.up)?;
     let mirror = match args.mirror.as_deref() {
         None => Mirror::None,
-        Some("auto") => Mirror::Auto,
-        Some(axis) => {
-            let file_axis = match axis {
-                "x" => 0,
-                "y" => 1,
-                "z" => 2,
-                other => {
-                    return Err(
-                        InputError(format!("--mirror {other}: expected x, y, z or auto")).into(),
-                    );
-                }
-            };
-            Mirror::Axis(scene_axis(file_axis, up))
+        Some(name) => {
+            Mirror::named(name, up).map_err(|why| InputError(format!("--mirror {why}")))?
         }
     };
     let settings = AutorigSettings {

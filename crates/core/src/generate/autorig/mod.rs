@@ -60,6 +60,25 @@ pub enum Mirror {
     Axis(usize),
 }
 
+impl Mirror {
+    /// The mirror a user names: "auto", or "x", "y" or "z" in the axes of a mesh file whose
+    /// up axis is `up` (a Y-up file's y is the scene's z and its z the scene's y).
+    pub fn named(name: &str, up: crate::scene::UpAxis) -> Result<Self, String> {
+        let file_axis = match name {
+            "auto" => return Ok(Self::Auto),
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            other => return Err(format!("'{other}': expected x, y, z or auto")),
+        };
+        Ok(Self::Axis(match (up, file_axis) {
+            (crate::scene::UpAxis::Y, 1) => 2,
+            (crate::scene::UpAxis::Y, 2) => 1,
+            (_, a) => a,
+        }))
+    }
+}
+
 /// Settings of [`autorig`], in the words an artist uses.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AutorigSettings {
