@@ -105,6 +105,13 @@ class Scene:
     ) -> npt.NDArray[np.float64]:
         """Cage positions of the rest pose, a named pose or a frame, with edits such as
         "leg.L.2: rotate 1 0 0 60" propagated down the controls (the CLI's --apply)."""
+    def control_parents(self) -> dict[str, str | None]:
+        """Each control's parent: the control that moves its cage vertices."""
+    def posed_by_controls(self, transforms: dict[str, npt.ArrayLike]) -> npt.NDArray[np.float64]:
+        """Cage positions with each named control's cage moved by its 4×4 rest-to-posed
+        transform (parents first, propagated down to the leaf cage vertices)."""
+    def with_pose(self, cage_positions: npt.ArrayLike) -> Scene:
+        """A copy whose current pose is `cage_positions`."""
     def to_scene_axes(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Points of the file's axes in StarCages' Z-up scene coordinates (the operator's)."""
     def to_file_axes(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:

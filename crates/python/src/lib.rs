@@ -4,7 +4,7 @@
 //! caches — numpy arrays in and out.
 //!
 //! Frames: every array is in the mesh file's axes (a Y-up OBJ's points are Y-up), as every
-//! file StarCages writes is; [`scene::PyScene::to_scene_axes`] turns them into StarCages'
+//! file StarCages writes is; `Scene.to_scene_axes` turns them into StarCages'
 //! Z-up scene coordinates, which the operator works in. Meshes are the welded view (vertices
 //! at the same position are one), as StarCages binds and deforms them.
 //!

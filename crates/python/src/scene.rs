@@ -222,6 +222,90 @@ impl PyScene {
         self.file_points(py, &resolved.cages)
     }
 
+    /// control_parents() -> dict[str, str | None]
+    ///
+    /// Each control's parent: the control that moves its cage vertices (None for a control
+    /// no other moves), so that a tool can parent them body-out (Blender's empties).
+    fn control_parents(&self) -> BTreeMap<String, Option<String>> {
+        control_order(&self.scene)
+            .into_iter()
+            .map(|(i, parent)| {
+                let internals = &self.scene.cages.internals;
+                (
+                    internals[i].name.clone(),
+                    parent.map(|p| internals[p].name.clone()),
+                )
+            })
+            .collect()
+    }
+
+    /// posed_by_controls(transforms) -> array
+    ///
+    /// Cage positions (k, 3) with each named control's cage moved rigidly by its 4×4
+    /// transform (rest to posed, the file's axes; a control's transform includes its
+    /// parents', as a parented object's world matrix does), parents first, every move
+    /// propagated down the cage hierarchy to the leaf cage vertices. Controls left out stay
+    /// where their parents take them.
+    fn posed_by_controls<'py>(
+        &self,
+        py: Python<'py>,
+        transforms: BTreeMap<String, PyArrayLike2<'py, f64, AllowTypeChange>>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let scene = &self.scene;
+        let up = scene.export_up();
+        let mut matrices = BTreeMap::new();
+        for (name, matrix) in &transforms {
+            let view = matrix.as_array();
+            if view.shape() != [4, 4] || view.iter().any(|v| !v.is_finite()) {
+                return Err(error(format!(
+                    "control '{name}': a finite 4×4 matrix is expected, not shape {:?}",
+                    view.shape()
+                )));
+            }
+            if !scene.cages.internals.iter().any(|c| &c.name == name) {
+                return Err(error(format!("no control named '{name}'")));
+            }
+            let columns: Vec<f64> = (0..4)
+                .flat_map(|c| (0..4).map(move |r| (r, c)))
+                .map(|(r, c)| view[[r, c]])
+                .collect();
+            matrices.insert(name.clone(), glam::DMat4::from_cols_slice(&columns));
+        }
+        let mut hierarchy =
+            starcages_core::hierarchy::Hierarchy::bind_in_state(scene, &Default::default())
+                .map_err(error)?;
+        let mut cages = scene.cages.vertices.clone();
+        for (i, _) in control_order(scene) {
+            let control = &scene.cages.internals[i];
+            let Some(matrix) = matrices.get(&control.name) else {
+                continue;
+            };
+            let mut corners: Vec<u32> = control.faces.iter().flatten().copied().collect();
+            corners.sort_unstable();
+            corners.dedup();
+            let moves: Vec<(u32, DVec3)> = corners
+                .iter()
+                .filter_map(|&v| {
+                    let rest = *scene.cages.vertices.get(v as usize)?;
+                    let moved = matrix.transform_point3(up.from_scene(rest));
+                    Some((v, up.to_scene(moved)))
+                })
+                .collect();
+            hierarchy.apply(&mut cages, &moves).map_err(error)?;
+        }
+        self.file_points(py, &cages)
+    }
+
+    /// with_pose(cage_positions) -> Scene: a copy whose current pose is `cage_positions`
+    /// (the file's axes), as a scene file then carries it.
+    fn with_pose(&self, cage_positions: PyArrayLike2<'_, f64, AllowTypeChange>) -> PyResult<Self> {
+        let cages = self.cages_in(&cage_positions)?;
+        let mut scene = self.scene.clone();
+        scene.pose = cages;
+        scene.pose_state = Default::default();
+        Ok(Self { scene })
+    }
+
     /// to_scene_axes(points) -> array: points of the file's axes in StarCages' Z-up scene
     /// coordinates (the operator's).
     fn to_scene_axes<'py>(
@@ -305,4 +389,35 @@ impl PyScene {
             self.scene.animation.keys.len()
         )
     }
+}
+
+/// The controls (internal cages) parents first, each with its parent: the control that moves
+/// one of its cage vertices (the deepest such, when several do).
+fn control_order(scene: &Scene) -> Vec<(usize, Option<usize>)> {
+    let internals = &scene.cages.internals;
+    let corners: Vec<Vec<u32>> = internals
+        .iter()
+        .map(|c| c.faces.iter().flatten().copied().collect())
+        .collect();
+    let owners: Vec<Vec<usize>> = (0..internals.len())
+        .map(|b| {
+            (0..internals.len())
+                .filter(|&a| a != b && corners[b].iter().any(|v| internals[a].owns.contains(v)))
+                .collect()
+        })
+        .collect();
+    // Depth by relaxation (the hierarchy is acyclic; at most one pass per control).
+    let mut depth = vec![0usize; internals.len()];
+    for _ in 0..internals.len() {
+        for b in 0..internals.len() {
+            let d = owners[b].iter().map(|&a| depth[a] + 1).max().unwrap_or(0);
+            depth[b] = d.min(internals.len());
+        }
+    }
+    let mut order: Vec<usize> = (0..internals.len()).collect();
+    order.sort_by_key(|&i| (depth[i], i));
+    order
+        .into_iter()
+        .map(|b| (b, owners[b].iter().copied().max_by_key(|&a| depth[a])))
+        .collect()
 }

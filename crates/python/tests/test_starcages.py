@@ -188,3 +188,32 @@ def test_bad_input_is_a_starcages_error_naming_it(critter, tmp_path):
         sc.demo("dragon")
     with pytest.raises(sc.StarCagesError, match="edit"):
         scene.posed(["head: wiggle"])
+
+
+def test_controls_move_their_cages_rigidly_and_carry_their_children(tmp_path):
+    creature = sc.demo("creature")
+    scene = sc.autorig(creature.mesh_vertices, creature.mesh_triangles, detail=3, up=creature.up)
+    parents = scene.control_parents()
+    assert set(parents) == {c["name"] for c in scene.controls}
+    child = next(name for name, parent in parents.items() if parent is not None)
+    parent = parents[child]
+    assert np.allclose(scene.posed_by_controls({}), scene.cage_vertices)
+    assert np.allclose(scene.posed_by_controls({parent: np.eye(4)}), scene.cage_vertices)
+    # Turning the parent 30 degrees about its pivot moves the child's cage with it, rigidly.
+    pivot = np.array(next(c["pivot"] for c in scene.controls if c["name"] == parent))
+    c, s_ = np.cos(np.radians(30)), np.sin(np.radians(30))
+    turn = np.eye(4)
+    turn[:3, :3] = [[1, 0, 0], [0, c, -s_], [0, s_, c]]
+    turn[:3, 3] = pivot - turn[:3, :3] @ pivot
+    posed = scene.posed_by_controls({parent: turn})
+    corners = sorted({v for f in next(x for x in scene.controls if x["name"] == child)["faces"] for v in f})
+    rest = scene.cage_vertices[corners]
+    moved = (turn[:3, :3] @ rest.T).T + turn[:3, 3]
+    assert np.abs(posed[corners] - moved).max() < 1e-9
+    assert np.abs(posed - scene.cage_vertices).max() > 1e-3
+    # The pose travels in a scene file.
+    saved = tmp_path / "posed.json"
+    scene.with_pose(posed).save(saved)
+    assert np.allclose(sc.Scene.load(saved).pose, posed)
+    with pytest.raises(sc.StarCagesError, match="no control named"):
+        scene.posed_by_controls({"tail.9": np.eye(4)})
