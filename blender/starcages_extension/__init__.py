@@ -1,0 +1,388 @@
+"""StarCages for Blender: a *Cages rig on the active mesh, posed live.
+
+StarCages tab in the 3D view's sidebar:
+
+* Auto rig: leaf cages around the active mesh (one wire object, `<mesh>.cages`) and one empty
+  per control at its joint, parented from the body out, so Blender's own G/R/S, keyframes,
+  the Graph Editor, NLA, drivers and constraints pose and animate them.
+* Live deformation: whenever a control moves or the frame changes, the mesh follows through a
+  shape key named "StarCages" (the mesh's own data stays as it was: Remove rig gives it back).
+  The rig (a StarCages scene) is kept in a text block, so it survives saving the .blend.
+* Import and export of StarCages scene files.
+
+Arrays go to the `starcages` package in the mesh's local coordinates (Z up, as StarCages).
+"""
+
+import json
+import os
+import tempfile
+
+import bpy
+import numpy as np
+from bpy.app.handlers import persistent
+from mathutils import Matrix
+
+import starcages as sc
+
+SHAPE_KEY = "StarCages"
+TEXT_PREFIX = "StarCages "
+
+# Per rigged object name: (scene, binding, welded index of each Blender vertex, signature).
+_live: dict = {}
+_updating = False
+
+
+def _mesh_arrays(obj):
+    """The mesh's vertices (local, rest: the basis shape) and triangles."""
+    mesh = obj.data
+    n = len(mesh.vertices)
+    if mesh.shape_keys and mesh.shape_keys.reference_key:
+        co = np.empty(n * 3)
+        mesh.shape_keys.reference_key.data.foreach_get("co", co)
+    else:
+        co = np.empty(n * 3)
+        mesh.vertices.foreach_get("co", co)
+    mesh.calc_loop_triangles()
+    tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("vertices", tris)
+    return co.reshape(n, 3), tris.reshape(-1, 3)
+
+
+def _welded_of(vertices):
+    """Per vertex, its welded vertex as StarCages numbers them (first occurrence first)."""
+    first = {}
+    out = np.empty(len(vertices), dtype=np.int64)
+    for i, p in enumerate(vertices):
+        key = tuple(float(c) + 0.0 for c in p)
+        out[i] = first.setdefault(key, len(first))
+    return out
+
+
+def _scene_from_text(text):
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "rig.json")
+        with open(path, "w") as f:
+            f.write(text.as_string())
+        return sc.Scene.load(path)
+
+
+def _store_scene(obj, scene):
+    name = TEXT_PREFIX + obj.name
+    text = bpy.data.texts.get(name) or bpy.data.texts.new(name)
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "rig.json")
+        scene.save(path)
+        with open(path) as f:
+            text.from_string(f.read())
+    obj["starcages_text"] = name
+
+
+def _controls_of(obj):
+    return [o for o in bpy.data.objects if o.get("starcages_rig") == obj.name and o.type == "EMPTY"]
+
+
+def _cages_of(obj):
+    return next((o for o in bpy.data.objects if o.get("starcages_cages") == obj.name), None)
+
+
+def _live_rig(obj):
+    """The object's scene and binding, bound again after a file was opened."""
+    if obj.name in _live:
+        return _live[obj.name]
+    text = bpy.data.texts.get(obj.get("starcages_text", ""))
+    if text is None:
+        return None
+    scene = _scene_from_text(text)
+    vertices, _ = _mesh_arrays(obj)
+    entry = [scene, scene.bind(), _welded_of(vertices), None]
+    _live[obj.name] = entry
+    return entry
+
+
+def _control_transforms(obj):
+    """Each control's rest-to-posed transform in the mesh's local coordinates."""
+    to_local = obj.matrix_world.inverted()
+    transforms = {}
+    for empty in _controls_of(obj):
+        rest = Matrix(np.array(empty["starcages_rest"]).reshape(4, 4).tolist())
+        now = to_local @ empty.matrix_world
+        transforms[empty["starcages_control"]] = np.array(now @ rest.inverted())
+    return transforms
+
+
+def update_rig(obj, force=False):
+    """Deforms `obj` to its controls: the StarCages shape key and the cage object follow."""
+    rig = _live_rig(obj)
+    if rig is None:
+        return
+    scene, binding, welded_of, signature = rig
+    transforms = _control_transforms(obj)
+    now = tuple((k, tuple(np.round(v, 12).ravel())) for k, v in sorted(transforms.items()))
+    if now == signature and not force:
+        return
+    rig[3] = now
+    cages = scene.posed_by_controls(transforms)
+    deformed = binding.deform(cages)
+    key = obj.data.shape_keys.key_blocks.get(SHAPE_KEY) if obj.data.shape_keys else None
+    if key is None:
+        if obj.data.shape_keys is None:
+            obj.shape_key_add(name="Basis", from_mix=False)
+        key = obj.shape_key_add(name=SHAPE_KEY, from_mix=False)
+        key.value = 1.0
+    key.data.foreach_set("co", deformed[welded_of].ravel())
+    cage_obj = _cages_of(obj)
+    if cage_obj is not None and cage_obj.mode != "EDIT":
+        cage_obj.data.vertices.foreach_set("co", cages.ravel())
+        cage_obj.data.update()
+    obj.data.update()
+
+
+@persistent
+def _on_update(scene_, depsgraph=None):
+    global _updating
+    if _updating:
+        return
+    _updating = True
+    try:
+        for obj in list(bpy.data.objects):
+            if obj.type == "MESH" and obj.get("starcages_text"):
+                update_rig(obj)
+    finally:
+        _updating = False
+
+
+@persistent
+def _on_load(_):
+    # The rigs are bound again from their text blocks; the objects' matrices are evaluated
+    # first (at load they may not be yet).
+    _live.clear()
+    for view_layer in (v for s in bpy.data.scenes for v in s.view_layers):
+        view_layer.update()
+    _on_update(None)
+
+
+def rig_object(obj, scene):
+    """Makes `obj` a StarCages rig of `scene` (its mesh's welded vertices must be obj's)."""
+    _store_scene(obj, scene)
+    cages = scene.cage_vertices
+    faces = []
+    seen = set()
+    for cage in scene.leaf_cages:
+        for face in cage["faces"]:
+            key = tuple(sorted(face))
+            if key not in seen:
+                seen.add(key)
+                faces.append(face)
+    mesh = bpy.data.meshes.new(obj.name + ".cages")
+    mesh.from_pydata(cages.tolist(), [], faces)
+    cage_obj = bpy.data.objects.new(obj.name + ".cages", mesh)
+    cage_obj.display_type = "WIRE"
+    cage_obj.hide_render = True
+    cage_obj.matrix_world = obj.matrix_world
+    cage_obj["starcages_cages"] = obj.name
+    collection = obj.users_collection[0] if obj.users_collection else bpy.context.scene.collection
+    collection.objects.link(cage_obj)
+    parents = scene.control_parents()
+    empties = {}
+    size = float(np.linalg.norm(cages.max(axis=0) - cages.min(axis=0))) * 0.04
+    for control in scene.controls:
+        corners = sorted({v for face in control["faces"] for v in face})
+        pivot = control["pivot"] if control["pivot"] is not None else cages[corners].mean(axis=0)
+        empty = bpy.data.objects.new(f"{obj.name}.{control['name']}", None)
+        empty.empty_display_type = "SPHERE"
+        empty.empty_display_size = size
+        empty.matrix_world = obj.matrix_world @ Matrix.Translation(pivot)
+        empty["starcages_rig"] = obj.name
+        empty["starcages_control"] = control["name"]
+        collection.objects.link(empty)
+        empties[control["name"]] = empty
+    # Parented body out, keeping each where it is.
+    for name, parent in parents.items():
+        if parent is not None:
+            child = empties[name]
+            world = child.matrix_world.copy()
+            child.parent = empties[parent]
+            child.matrix_parent_inverse = empties[parent].matrix_world.inverted()
+            child.matrix_world = world
+    for empty in empties.values():
+        rest = obj.matrix_world.inverted() @ empty.matrix_world
+        empty["starcages_rest"] = [v for row in rest for v in row]
+    _live.pop(obj.name, None)
+    update_rig(obj, force=True)
+
+
+def remove_rig(obj):
+    """Removes the rig: the shape key, cage object, controls and text go; the mesh is as it was."""
+    keys = obj.data.shape_keys
+    if keys and keys.key_blocks.get(SHAPE_KEY):
+        obj.shape_key_remove(keys.key_blocks[SHAPE_KEY])
+        if len(obj.data.shape_keys.key_blocks) == 1:
+            obj.shape_key_remove(obj.data.shape_keys.key_blocks[0])
+    for o in _controls_of(obj) + [c for c in [_cages_of(obj)] if c]:
+        bpy.data.objects.remove(o)
+    text = bpy.data.texts.get(obj.get("starcages_text", ""))
+    if text:
+        bpy.data.texts.remove(text)
+    for prop in ("starcages_text",):
+        if prop in obj:
+            del obj[prop]
+    _live.pop(obj.name, None)
+
+
+class STARCAGES_OT_autorig(bpy.types.Operator):
+    """Auto rig the active mesh: leaf cages along its limbs and a control per segment"""
+
+    bl_idname = "starcages.autorig"
+    bl_label = "Auto rig"
+    bl_options = {"REGISTER", "UNDO"}
+
+    detail: bpy.props.IntProperty(name="Detail", default=3, min=1, max=5)
+    mirror: bpy.props.EnumProperty(
+        name="Mirror",
+        items=[("NONE", "None", ""), ("auto", "Auto", ""), ("x", "X", ""), ("y", "Y", ""), ("z", "Z", "")],
+        default="NONE",
+    )
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH" and not obj.get("starcages_text")
+
+    def execute(self, context):
+        obj = context.active_object
+        vertices, triangles = _mesh_arrays(obj)
+        try:
+            scene = sc.autorig(
+                vertices,
+                triangles,
+                detail=self.detail,
+                mirror=None if self.mirror == "NONE" else self.mirror,
+                up="z",
+            )
+        except sc.StarCagesError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        rig_object(obj, scene)
+        self.report({"INFO"}, f"{len(scene.leaf_cages)} cages, {len(scene.controls)} controls")
+        return {"FINISHED"}
+
+
+class STARCAGES_OT_remove(bpy.types.Operator):
+    """Remove the StarCages rig: the mesh is as it was before"""
+
+    bl_idname = "starcages.remove"
+    bl_label = "Remove rig"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and bool(obj.get("starcages_text"))
+
+    def execute(self, context):
+        remove_rig(context.active_object)
+        return {"FINISHED"}
+
+
+class STARCAGES_OT_export(bpy.types.Operator):
+    """Export the rig, in its current pose, as a StarCages scene file"""
+
+    bl_idname = "starcages.export_scene"
+    bl_label = "Export StarCages scene"
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and bool(obj.get("starcages_text"))
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def execute(self, context):
+        obj = context.active_object
+        scene, *_ = _live_rig(obj)
+        posed = scene.posed_by_controls(_control_transforms(obj))
+        scene.with_pose(posed).save(bpy.path.abspath(self.filepath))
+        return {"FINISHED"}
+
+
+class STARCAGES_OT_import(bpy.types.Operator):
+    """Import a StarCages scene file: its mesh, rigged"""
+
+    bl_idname = "starcages.import_scene"
+    bl_label = "Import StarCages scene"
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def execute(self, context):
+        try:
+            scene = sc.Scene.load(bpy.path.abspath(self.filepath))
+        except sc.StarCagesError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        # Blender is Z-up: a Y-up scene's arrays are turned to Z-up.
+        vertices = scene.to_scene_axes(scene.mesh_vertices) if scene.up == "y" else scene.mesh_vertices
+        name = os.path.splitext(os.path.basename(self.filepath))[0]
+        mesh = bpy.data.meshes.new(name)
+        mesh.from_pydata(vertices.tolist(), [], scene.mesh_triangles.tolist())
+        obj = bpy.data.objects.new(name, mesh)
+        context.collection.objects.link(obj)
+        if scene.up == "y":
+            self.report({"WARNING"}, "a Y-up scene: its rig is rebuilt Z-up by Auto rig")
+            return {"FINISHED"}
+        rig_object(obj, scene)
+        return {"FINISHED"}
+
+
+class STARCAGES_PT_panel(bpy.types.Panel):
+    bl_label = "StarCages"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "StarCages"
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        layout.operator(STARCAGES_OT_autorig.bl_idname)
+        layout.operator(STARCAGES_OT_remove.bl_idname)
+        layout.operator(STARCAGES_OT_import.bl_idname)
+        layout.operator(STARCAGES_OT_export.bl_idname)
+        if obj is not None and obj.get("starcages_text"):
+            rig = _live_rig(obj)
+            if rig:
+                scene = rig[0]
+                layout.label(text=f"{len(scene.leaf_cages)} cages, {len(scene.controls)} controls")
+
+
+CLASSES = (
+    STARCAGES_OT_autorig,
+    STARCAGES_OT_remove,
+    STARCAGES_OT_export,
+    STARCAGES_OT_import,
+    STARCAGES_PT_panel,
+)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.app.handlers.depsgraph_update_post.append(_on_update)
+    bpy.app.handlers.frame_change_post.append(_on_update)
+    bpy.app.handlers.load_post.append(_on_load)
+
+
+def unregister():
+    for handlers, fn in (
+        (bpy.app.handlers.depsgraph_update_post, _on_update),
+        (bpy.app.handlers.frame_change_post, _on_update),
+        (bpy.app.handlers.load_post, _on_load),
+    ):
+        if fn in handlers:
+            handlers.remove(fn)
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

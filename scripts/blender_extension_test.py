@@ -1,0 +1,166 @@
+"""Tries the Blender extension headless through the `bpy` package (a throw-away venv with the
+starcages wheel installed; never part of the project's dependencies):
+
+    /tmp/bpyvenv/bin/pip install --force-reinstall --no-deps target/wheels/starcages-*.whl
+    /tmp/bpyvenv/bin/python scripts/blender_extension_test.py target/starcages-cli OUT_FOLDER
+
+It rigs the creature demo's mesh with the extension's Auto rig, bends a leg control, and checks
+that the evaluated mesh equals `starcages-cli deform` of the exported scene (to 1e-6 of the
+diagonal); saves and reopens the .blend and checks the rig is still live; renders a frame
+(Workbench) to OUT_FOLDER/blender_bent_leg.png; removes the rig and checks the mesh is back.
+"""
+
+import importlib.util
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+import starcages as sc
+
+ROOT = Path(__file__).resolve().parents[1]
+CLI, OUT = sys.argv[-2], Path(sys.argv[-1])
+OUT.mkdir(parents=True, exist_ok=True)
+
+spec = importlib.util.spec_from_file_location(
+    "starcages_extension", ROOT / "blender" / "starcages_extension" / "__init__.py"
+)
+ext = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(ext)
+ext.register()
+
+
+def evaluated(obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    mesh = obj.evaluated_get(depsgraph).data
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def cli_deform(scene_file, out):
+    subprocess.run([CLI, "deform", str(scene_file), "--out", str(out)], check=True, capture_output=True)
+    return sc.read_mesh(out)[0]
+
+
+def paired(ours_rest, theirs_rest):
+    """Index of each of our vertices among the CLI's (its OBJ reads back in face order), by
+    rest position: a grid of cells 1e-4 of the diagonal wide, the neighbouring cells searched."""
+    cell = 1e-4 * float(np.linalg.norm(ours_rest.max(axis=0) - ours_rest.min(axis=0)))
+    grid = {}
+    for j, p in enumerate(theirs_rest):
+        grid.setdefault(tuple(np.floor(p / cell).astype(int)), []).append(j)
+    out = np.empty(len(ours_rest), dtype=np.int64)
+    for i, p in enumerate(ours_rest):
+        c = np.floor(p / cell).astype(int)
+        best, best_d = -1, np.inf
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    for j in grid.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
+                        d = np.linalg.norm(theirs_rest[j] - p)
+                        if d < best_d:
+                            best, best_d = j, d
+        assert best_d < 1e-5 * cell * 1e4, f"vertex {i} has no partner"
+        out[i] = best
+    assert len(set(out.tolist())) == len(out), "two vertices paired with one"
+    return out
+
+
+bpy.ops.wm.read_factory_settings(use_empty=True)
+demo = sc.demo("creature")
+vertices = demo.to_scene_axes(demo.mesh_vertices)
+mesh = bpy.data.meshes.new("creature")
+mesh.from_pydata(vertices.tolist(), [], demo.mesh_triangles.tolist())
+obj = bpy.data.objects.new("creature", mesh)
+bpy.context.scene.collection.objects.link(obj)
+bpy.context.view_layer.objects.active = obj
+obj.select_set(True)
+original = evaluated(obj)
+diagonal = float(np.linalg.norm(original.max(axis=0) - original.min(axis=0)))
+
+assert bpy.ops.starcages.autorig(detail=3) == {"FINISHED"}
+controls = {e["starcages_control"]: e for e in bpy.data.objects if e.get("starcages_rig") == obj.name}
+print("controls:", sorted(controls))
+assert controls, "no controls"
+assert np.abs(evaluated(obj) - original).max() < 1e-5 * diagonal, "not exact at rest"
+bpy.ops.starcages.export_scene(filepath=str(OUT / "rest.json"))
+
+# Swing a leg (a control with a parent) 45 degrees at its joint.
+leg = sorted(name for name, e in controls.items() if e.parent is not None and name.startswith("leg"))
+name = leg[0] if leg else next(n for n, e in controls.items() if e.parent is not None)
+controls[name].rotation_euler.y += math.radians(45)
+bpy.context.view_layer.update()
+bent = evaluated(obj)
+moved = np.abs(bent - original).max()
+print(f"bent {name}: the mesh moved up to {moved / diagonal:.3f} of the diagonal")
+assert moved > 1e-3 * diagonal, "the control did not deform the mesh (handler not called)"
+
+bpy.ops.starcages.export_scene(filepath=str(OUT / "bent.json"))
+rest_cli = cli_deform(OUT / "rest.json", OUT / "rest.obj")
+bent_cli = cli_deform(OUT / "bent.json", OUT / "bent.obj")
+exported = sc.Scene.load(OUT / "bent.json")
+order = paired(exported.mesh_vertices, rest_cli)
+welded_of = ext._welded_of(vertices)
+expected = bent_cli[order][welded_of]
+error = np.abs(bent - expected).max() / diagonal
+print(f"Blender's evaluated mesh against starcages-cli deform of the exported scene: {error:.2e} of the diagonal")
+assert error <= 1e-6
+
+# Save, reopen: still live.
+blend = OUT / "rigged.blend"
+bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+bpy.ops.wm.open_mainfile(filepath=str(blend))
+obj = bpy.data.objects["creature"]
+controls = {e["starcages_control"]: e for e in bpy.data.objects if e.get("starcages_rig") == obj.name}
+reopened = evaluated(obj)
+print("reopened: from bent", np.abs(reopened - bent).max() / diagonal, "from rest", np.abs(reopened - original).max() / diagonal,
+      "keys", [k.name for k in obj.data.shape_keys.key_blocks] if obj.data.shape_keys else None)
+assert np.abs(reopened - bent).max() < 1e-5 * diagonal, "the reopened file lost the pose"
+controls[name].rotation_euler.y -= math.radians(45)
+bpy.context.view_layer.update()
+assert np.abs(evaluated(obj) - original).max() < 1e-5 * diagonal, "not live after reopening"
+controls[name].rotation_euler.y += math.radians(45)
+bpy.context.view_layer.update()
+
+# Speed: one control drag step (a new angle, the depsgraph updated, the handler deforming the
+# mesh through the shape key), as a drag or playback of a keyed control does each frame.
+import time
+
+steps = 30
+start = time.perf_counter()
+for k in range(steps):
+    controls[name].rotation_euler.y = math.radians(45 + k)
+    bpy.context.view_layer.update()
+seconds = (time.perf_counter() - start) / steps
+print(f"control drag: {1 / seconds:.0f} updates per second ({1e3 * seconds:.1f} ms each, {len(vertices)} vertices)")
+controls[name].rotation_euler.y = math.radians(45)
+bpy.context.view_layer.update()
+
+# A look at it (Workbench).
+scene = bpy.context.scene
+camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+scene.collection.objects.link(camera)
+scene.camera = camera
+centre = (original.max(axis=0) + original.min(axis=0)) / 2
+camera.location = (centre[0] + 0.3 * diagonal, centre[1] - 1.6 * diagonal, centre[2] + 0.3 * diagonal)
+from mathutils import Vector
+
+camera.rotation_euler = (Vector(centre.tolist()) - camera.location).to_track_quat("-Z", "Y").to_euler()
+for o in bpy.data.objects:
+    if o.get("starcages_cages") or o.get("starcages_rig"):
+        o.hide_render = True
+scene.render.engine = "BLENDER_WORKBENCH"
+scene.render.resolution_x, scene.render.resolution_y = 640, 480
+scene.render.filepath = str(OUT / "blender_bent_leg.png")
+bpy.ops.render.render(write_still=True)
+
+# Removing the rig gives the mesh back.
+bpy.context.view_layer.objects.active = obj
+assert bpy.ops.starcages.remove() == {"FINISHED"}
+assert np.abs(evaluated(obj) - original).max() == 0.0
+assert not any(o.get("starcages_rig") == "creature" for o in bpy.data.objects)
+print("blender extension: all checks passed")
