@@ -60,3 +60,26 @@ rm -rf target/wheels
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
 cargo build --locked -j"$jobs" -p starcages-cli
 STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests
+
+# The Blender extension (blender/starcages_extension): its tests run headless through the bpy
+# package (Blender as a Python module, about 370 MB; it needs the Python version Blender
+# ships, 3.11 for Blender 5) in a throw-away virtual environment (target/bpy-venv), when it can
+# be installed; otherwise they are skipped with a note.
+bpy_venv=target/bpy-venv
+if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
+    rm -rf "$bpy_venv"
+    if ! { "$python" -m venv "$bpy_venv" &&
+        timeout 600 "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check bpy; }; then
+        echo "scripts/test.sh: the bpy package could not be installed for $("$python" --version): the Blender extension's tests are skipped" >&2
+    fi
+fi
+if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
+    "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
+    blender_out=$(mktemp -d)
+    if ! "$bpy_venv/bin/python" scripts/blender_extension_test.py "$PWD/target/debug/starcages-cli" \
+        "$blender_out" >"$blender_out/log" 2>&1; then
+        grep -v '^EGL' "$blender_out/log" >&2
+        exit 1
+    fi
+    grep -E '^(bent|Blender|reopened|control drag|import|cage|keyed|bake|blender extension)' "$blender_out/log"
+fi

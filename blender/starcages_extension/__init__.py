@@ -8,6 +8,11 @@ StarCages tab in the 3D view's sidebar:
 * Live deformation: whenever a control moves or the frame changes, the mesh follows through a
   shape key named "StarCages" (the mesh's own data stays as it was: Remove rig gives it back).
   The rig (a StarCages scene) is kept in a text block, so it survives saving the .blend.
+* Per leaf cage: its coordinates (MVC, HC, GC) and h, and the scene's default h (the rig
+  binds again a moment after a change).
+* Bake to a PC2 point cache played by a Mesh Cache modifier set to show frame N at frame N
+  (the rig removed, for files that must open without the extension), or Apply the current
+  shape.
 * Import and export of StarCages scene files.
 
 Arrays go to the `starcages` package in the mesh's local coordinates (Z up, as StarCages).
@@ -161,9 +166,79 @@ def _on_load(_):
     _on_update(None)
 
 
+def _fill_cage_settings(obj, scene):
+    """The panel's per-cage rows and the default h, from the scene (no rebind)."""
+    global _filling
+    _filling = True
+    try:
+        obj.starcages_cages.clear()
+        for cage in scene.leaf_cages:
+            item = obj.starcages_cages.add()
+            item.name = cage["name"]
+            item.kind = cage["kind"].upper()
+            item.own_h = cage["h"] is not None
+            item.h = cage["h"] if cage["h"] is not None else scene.default_h
+        obj.starcages_default_h = scene.default_h
+    finally:
+        _filling = False
+
+
+_filling = False
+_pending_rebind: set = set()
+
+
+def _rebind_pending():
+    """Applies the panel's coordinates and h to the rigs whose rows changed, binds again."""
+    for name in list(_pending_rebind):
+        _pending_rebind.discard(name)
+        obj = bpy.data.objects.get(name)
+        rig = obj and _live_rig(obj)
+        if not rig:
+            continue
+        scene = rig[0]
+        try:
+            scene = scene.with_default_h(obj.starcages_default_h)
+            for item in obj.starcages_cages:
+                scene = scene.with_cage(
+                    item.name,
+                    kind=item.kind.lower(),
+                    h=item.h if item.own_h else None,
+                    scene_h=not item.own_h,
+                )
+        except sc.StarCagesError as e:
+            print("StarCages:", e)
+            _fill_cage_settings(obj, rig[0])
+            continue
+        _store_scene(obj, scene)
+        rig[0], rig[1], rig[3] = scene, scene.bind(), None
+        update_rig(obj, force=True)
+    return None
+
+
+def _settings_changed(self, context):
+    """A row or the default h changed: bind again shortly (a slider drag binds once)."""
+    if _filling:
+        return
+    obj = self.id_data
+    _pending_rebind.add(obj.name)
+    if not bpy.app.timers.is_registered(_rebind_pending):
+        bpy.app.timers.register(_rebind_pending, first_interval=0.3)
+
+
+class StarCagesCage(bpy.types.PropertyGroup):
+    kind: bpy.props.EnumProperty(
+        name="Coordinates",
+        items=[("MVC", "MVC", "Mean value"), ("HC", "HC", "Harmonic"), ("GC", "GC", "Green")],
+        update=_settings_changed,
+    )
+    own_h: bpy.props.BoolProperty(name="Own h", update=_settings_changed)
+    h: bpy.props.FloatProperty(name="h", min=0.0, max=1.0, default=0.5, update=_settings_changed)
+
+
 def rig_object(obj, scene):
     """Makes `obj` a StarCages rig of `scene` (its mesh's welded vertices must be obj's)."""
     _store_scene(obj, scene)
+    _fill_cage_settings(obj, scene)
     cages = scene.cage_vertices
     faces = []
     seen = set()
@@ -284,6 +359,87 @@ class STARCAGES_OT_remove(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def write_pc2(path, samples, start_frame):
+    """A PC2 point cache of `samples` (frames × points × 3), starting at `start_frame`."""
+    samples = np.asarray(samples, dtype="<f4")
+    header = b"POINTCACHE2\0" + np.array([1, samples.shape[1]], dtype="<i4").tobytes()
+    header += np.array([start_frame, 1.0], dtype="<f4").tobytes()
+    header += np.array([samples.shape[0]], dtype="<i4").tobytes()
+    tmp = path + ".part"
+    with open(tmp, "wb") as f:
+        f.write(header)
+        f.write(samples.tobytes())
+    os.replace(tmp, path)
+
+
+class STARCAGES_OT_bake(bpy.types.Operator):
+    """Bake the rig's animation (the scene's frame range) into a PC2 point cache and play it
+    through a Mesh Cache modifier set to show frame N at frame N; optionally remove the rig,
+    so the file opens without the extension"""
+
+    bl_idname = "starcages.bake"
+    bl_label = "Bake to point cache"
+    bl_options = {"REGISTER", "UNDO"}
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    remove_rig: bpy.props.BoolProperty(name="Remove rig", default=True)
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and bool(obj.get("starcages_text"))
+
+    def invoke(self, context, event):
+        self.filepath = bpy.path.ensure_ext(bpy.path.abspath("//" + context.active_object.name), ".pc2")
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def execute(self, context):
+        obj = context.active_object
+        scene = context.scene
+        keep = scene.frame_current
+        rig = _live_rig(obj)
+        samples = []
+        for frame in range(scene.frame_start, scene.frame_end + 1):
+            scene.frame_set(frame)
+            update_rig(obj)
+            cages = rig[0].posed_by_controls(_control_transforms(obj))
+            samples.append(rig[1].deform(cages)[rig[2]])
+        scene.frame_set(keep)
+        path = bpy.path.abspath(self.filepath)
+        write_pc2(path, samples, float(scene.frame_start))
+        if self.remove_rig:
+            remove_rig(obj)
+        cache = obj.modifiers.new("StarCages bake", "MESH_CACHE")
+        cache.cache_format = "PC2"
+        cache.filepath = path
+        # The modifier ignores the file's start frame: frame N shows sample N - frame_start.
+        cache.frame_start = float(scene.frame_start)
+        self.report({"INFO"}, f"{len(samples)} frames baked to {path}")
+        return {"FINISHED"}
+
+
+class STARCAGES_OT_apply(bpy.types.Operator):
+    """Apply the rig: the mesh keeps its current deformed shape and the rig goes"""
+
+    bl_idname = "starcages.apply"
+    bl_label = "Apply rig"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and bool(obj.get("starcages_text"))
+
+    def execute(self, context):
+        obj = context.active_object
+        rig = _live_rig(obj)
+        deformed = rig[1].deform(rig[0].posed_by_controls(_control_transforms(obj)))[rig[2]]
+        remove_rig(obj)
+        obj.data.vertices.foreach_set("co", deformed.ravel())
+        obj.data.update()
+        return {"FINISHED"}
+
+
 class STARCAGES_OT_export(bpy.types.Operator):
     """Export the rig, in its current pose, as a StarCages scene file"""
 
@@ -357,9 +513,24 @@ class STARCAGES_PT_panel(bpy.types.Panel):
             if rig:
                 scene = rig[0]
                 layout.label(text=f"{len(scene.leaf_cages)} cages, {len(scene.controls)} controls")
+            layout.operator(STARCAGES_OT_bake.bl_idname)
+            layout.operator(STARCAGES_OT_apply.bl_idname)
+            layout.prop(obj, "starcages_default_h", text="Default h")
+            box = layout.box()
+            for item in obj.starcages_cages:
+                row = box.row(align=True)
+                row.label(text=item.name)
+                row.prop(item, "kind", text="")
+                row.prop(item, "own_h", text="")
+                sub = row.row(align=True)
+                sub.enabled = item.own_h
+                sub.prop(item, "h", text="h")
 
 
 CLASSES = (
+    StarCagesCage,
+    STARCAGES_OT_bake,
+    STARCAGES_OT_apply,
     STARCAGES_OT_autorig,
     STARCAGES_OT_remove,
     STARCAGES_OT_export,
@@ -371,6 +542,10 @@ CLASSES = (
 def register():
     for cls in CLASSES:
         bpy.utils.register_class(cls)
+    bpy.types.Object.starcages_cages = bpy.props.CollectionProperty(type=StarCagesCage)
+    bpy.types.Object.starcages_default_h = bpy.props.FloatProperty(
+        name="Default h", min=0.0, max=1.0, default=0.5, update=_settings_changed
+    )
     bpy.app.handlers.depsgraph_update_post.append(_on_update)
     bpy.app.handlers.frame_change_post.append(_on_update)
     bpy.app.handlers.load_post.append(_on_load)
@@ -384,5 +559,7 @@ def unregister():
     ):
         if fn in handlers:
             handlers.remove(fn)
+    del bpy.types.Object.starcages_cages
+    del bpy.types.Object.starcages_default_h
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)

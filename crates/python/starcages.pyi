@@ -110,6 +110,12 @@ class Scene:
     def posed_by_controls(self, transforms: dict[str, npt.ArrayLike]) -> npt.NDArray[np.float64]:
         """Cage positions with each named control's cage moved by its 4×4 rest-to-posed
         transform (parents first, propagated down to the leaf cage vertices)."""
+    @property
+    def default_h(self) -> float: ...
+    def with_default_h(self, h: float) -> Scene:
+        """A copy with another default h."""
+    def with_cage(self, name: str, kind: str | None = None, h: float | None = None, scene_h: bool = False) -> Scene:
+        """A copy in which a leaf cage uses other coordinates ("mvc", "hc", "gc") and/or its own h."""
     def with_pose(self, cage_positions: npt.ArrayLike) -> Scene:
         """A copy whose current pose is `cage_positions`."""
     def to_scene_axes(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:

@@ -296,6 +296,50 @@ impl PyScene {
         self.file_points(py, &cages)
     }
 
+    /// The scene's default h (each leaf cage without its own h blends with it).
+    #[getter]
+    fn default_h(&self) -> f64 {
+        self.scene.settings.default_h
+    }
+
+    /// with_default_h(h) -> Scene: a copy with another default h (checked as a scene file's).
+    fn with_default_h(&self, h: f64) -> PyResult<Self> {
+        let mut scene = self.scene.clone();
+        scene.settings.default_h = h;
+        Self::checked(scene, "default h")
+    }
+
+    /// with_cage(name, kind=None, h=None, scene_h=False) -> Scene
+    ///
+    /// A copy in which leaf cage `name` uses coordinates `kind` ("mvc", "hc", "gc") and/or
+    /// its own `h`, or the scene's default h again (`scene_h`); checked as a scene file's.
+    #[pyo3(signature = (name, kind = None, h = None, scene_h = false))]
+    fn with_cage(
+        &self,
+        name: &str,
+        kind: Option<&str>,
+        h: Option<f64>,
+        scene_h: bool,
+    ) -> PyResult<Self> {
+        let mut scene = self.scene.clone();
+        let index = scene
+            .cages
+            .leaf_index(name)
+            .ok_or_else(|| error(format!("no leaf cage named '{name}'")))?;
+        let cage = &mut scene.cages.leaves[index];
+        if let Some(kind) = kind {
+            cage.kind = kind
+                .parse()
+                .map_err(|e| error(format!("leaf cage '{name}': kind '{kind}': {e}")))?;
+        }
+        if scene_h {
+            cage.h = None;
+        } else if let Some(h) = h {
+            cage.h = Some(h);
+        }
+        Self::checked(scene, &format!("leaf cage '{name}'"))
+    }
+
     /// with_pose(cage_positions) -> Scene: a copy whose current pose is `cage_positions`
     /// (the file's axes), as a scene file then carries it.
     fn with_pose(&self, cage_positions: PyArrayLike2<'_, f64, AllowTypeChange>) -> PyResult<Self> {

@@ -217,3 +217,22 @@ def test_controls_move_their_cages_rigidly_and_carry_their_children(tmp_path):
     assert np.allclose(sc.Scene.load(saved).pose, posed)
     with pytest.raises(sc.StarCagesError, match="no control named"):
         scene.posed_by_controls({"tail.9": np.eye(4)})
+
+
+def test_coordinates_and_h_per_cage_change_the_deformation(critter):
+    scene = sc.Scene.load(critter)
+    pose = scene.poses["ears_back"]
+    before = scene.bind().deform(pose)
+    name = "ear_left"  # moves in ears_back
+    changed = scene.with_cage(name, kind="gc", h=0.3)
+    cage = next(c for c in changed.leaf_cages if c["name"] == name)
+    assert (cage["kind"], cage["h"]) == ("gc", 0.3)
+    assert np.abs(changed.bind().deform(pose) - before).max() > 1e-6
+    assert next(c for c in changed.with_cage(name, scene_h=True).leaf_cages if c["name"] == name)["h"] is None
+    assert scene.with_default_h(0.25).default_h == 0.25
+    with pytest.raises(sc.StarCagesError, match="no leaf cage named"):
+        scene.with_cage("nose", h=0.5)
+    with pytest.raises(sc.StarCagesError):
+        scene.with_cage(name, h=7.0)
+    with pytest.raises(sc.StarCagesError, match="kind 'xyz'"):
+        scene.with_cage(name, kind="xyz")
