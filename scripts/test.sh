@@ -58,7 +58,9 @@ fi
 rm -rf target/wheels
 (cd crates/python && "../../$venv/bin/maturin" build -q --locked -j "$jobs" -o ../../target/wheels)
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
-cargo build --locked -j"$jobs" -p starcages-cli
+# The CLI binary the tests above built (a `cargo build -p starcages-cli` here would resolve
+# the package's features alone and compile much of the workspace again: 1m43s cold).
+test -x target/debug/starcages-cli
 STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests
 
 # The Blender extension (blender/starcages_extension): its tests run headless through the bpy
