@@ -53,6 +53,26 @@ def _mesh_arrays(obj):
     return co.reshape(n, 3), tris.reshape(-1, 3)
 
 
+def _rig_matrix(obj):
+    """Rig space: the object's world matrix when it was rigged (the mesh as it stands in the
+    scene, Z up, whatever the object's own rotation): arrays go to StarCages in it."""
+    stored = obj.get("starcages_rig_matrix")
+    if stored is None:
+        return Matrix.Identity(4)
+    return Matrix(np.array(stored).reshape(4, 4).tolist())
+
+
+def _transformed(matrix, points):
+    m = np.array(matrix)
+    return points @ m[:3, :3].T + m[:3, 3]
+
+
+def _rig_vertices(obj):
+    """The mesh's rest vertices in rig space."""
+    vertices, _ = _mesh_arrays(obj)
+    return _transformed(_rig_matrix(obj), vertices)
+
+
 def _welded_of(vertices):
     """Per vertex, its welded vertex as StarCages numbers them (first occurrence first)."""
     first = {}
@@ -98,19 +118,19 @@ def _live_rig(obj):
     if text is None:
         return None
     scene = _scene_from_text(text)
-    vertices, _ = _mesh_arrays(obj)
-    entry = [scene, scene.bind(), _welded_of(vertices), None]
+    entry = [scene, scene.bind(), _welded_of(_rig_vertices(obj)), None]
     _live[obj.name] = entry
     return entry
 
 
 def _control_transforms(obj):
-    """Each control's rest-to-posed transform in the mesh's local coordinates."""
-    to_local = obj.matrix_world.inverted()
+    """Each control's rest-to-posed transform in rig space (following the object if it moved
+    since it was rigged)."""
+    to_rig = _rig_matrix(obj) @ obj.matrix_world.inverted()
     transforms = {}
     for empty in _controls_of(obj):
         rest = Matrix(np.array(empty["starcages_rest"]).reshape(4, 4).tolist())
-        now = to_local @ empty.matrix_world
+        now = to_rig @ empty.matrix_world
         transforms[empty["starcages_control"]] = np.array(now @ rest.inverted())
     return transforms
 
@@ -127,19 +147,25 @@ def update_rig(obj, force=False):
         return
     rig[3] = now
     cages = scene.posed_by_controls(transforms)
-    deformed = binding.deform(cages)
+    deformed = _deformed_local(obj, rig, cages)
     key = obj.data.shape_keys.key_blocks.get(SHAPE_KEY) if obj.data.shape_keys else None
     if key is None:
         if obj.data.shape_keys is None:
             obj.shape_key_add(name="Basis", from_mix=False)
         key = obj.shape_key_add(name=SHAPE_KEY, from_mix=False)
         key.value = 1.0
-    key.data.foreach_set("co", deformed[welded_of].ravel())
+    key.data.foreach_set("co", deformed.ravel())
     cage_obj = _cages_of(obj)
     if cage_obj is not None and cage_obj.mode != "EDIT":
         cage_obj.data.vertices.foreach_set("co", cages.ravel())
         cage_obj.data.update()
     obj.data.update()
+
+
+def _deformed_local(obj, rig, cages):
+    """The mesh (per Blender vertex, the object's local coordinates) for cage positions."""
+    scene, binding, welded_of, _ = rig
+    return _transformed(_rig_matrix(obj).inverted(), binding.deform(cages)[welded_of])
 
 
 @persistent
@@ -253,7 +279,7 @@ def rig_object(obj, scene):
     cage_obj = bpy.data.objects.new(obj.name + ".cages", mesh)
     cage_obj.display_type = "WIRE"
     cage_obj.hide_render = True
-    cage_obj.matrix_world = obj.matrix_world
+    cage_obj.matrix_world = obj.matrix_world @ _rig_matrix(obj).inverted()
     cage_obj["starcages_cages"] = obj.name
     collection = obj.users_collection[0] if obj.users_collection else bpy.context.scene.collection
     collection.objects.link(cage_obj)
@@ -266,7 +292,7 @@ def rig_object(obj, scene):
         empty = bpy.data.objects.new(f"{obj.name}.{control['name']}", None)
         empty.empty_display_type = "SPHERE"
         empty.empty_display_size = size
-        empty.matrix_world = obj.matrix_world @ Matrix.Translation(pivot)
+        empty.matrix_world = obj.matrix_world @ _rig_matrix(obj).inverted() @ Matrix.Translation(pivot)
         empty["starcages_rig"] = obj.name
         empty["starcages_control"] = control["name"]
         collection.objects.link(empty)
@@ -279,8 +305,9 @@ def rig_object(obj, scene):
             child.parent = empties[parent]
             child.matrix_parent_inverse = empties[parent].matrix_world.inverted()
             child.matrix_world = world
+    to_rig = _rig_matrix(obj) @ obj.matrix_world.inverted()
     for empty in empties.values():
-        rest = obj.matrix_world.inverted() @ empty.matrix_world
+        rest = to_rig @ empty.matrix_world
         empty["starcages_rest"] = [v for row in rest for v in row]
     _live.pop(obj.name, None)
     update_rig(obj, force=True)
@@ -298,7 +325,7 @@ def remove_rig(obj):
     text = bpy.data.texts.get(obj.get("starcages_text", ""))
     if text:
         bpy.data.texts.remove(text)
-    for prop in ("starcages_text",):
+    for prop in ("starcages_text", "starcages_rig_matrix"):
         if prop in obj:
             del obj[prop]
     _live.pop(obj.name, None)
@@ -325,7 +352,10 @@ class STARCAGES_OT_autorig(bpy.types.Operator):
 
     def execute(self, context):
         obj = context.active_object
-        vertices, triangles = _mesh_arrays(obj)
+        # Rig space: the mesh as it stands in the scene (an importer's rotation included).
+        obj["starcages_rig_matrix"] = [v for row in obj.matrix_world for v in row]
+        vertices = _rig_vertices(obj)
+        _, triangles = _mesh_arrays(obj)
         try:
             scene = sc.autorig(
                 vertices,
@@ -335,6 +365,7 @@ class STARCAGES_OT_autorig(bpy.types.Operator):
                 up="z",
             )
         except sc.StarCagesError as e:
+            del obj["starcages_rig_matrix"]
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
         rig_object(obj, scene)
@@ -403,7 +434,7 @@ class STARCAGES_OT_bake(bpy.types.Operator):
             scene.frame_set(frame)
             update_rig(obj)
             cages = rig[0].posed_by_controls(_control_transforms(obj))
-            samples.append(rig[1].deform(cages)[rig[2]])
+            samples.append(_deformed_local(obj, rig, cages))
         scene.frame_set(keep)
         path = bpy.path.abspath(self.filepath)
         write_pc2(path, samples, float(scene.frame_start))
@@ -433,7 +464,7 @@ class STARCAGES_OT_apply(bpy.types.Operator):
     def execute(self, context):
         obj = context.active_object
         rig = _live_rig(obj)
-        deformed = rig[1].deform(rig[0].posed_by_controls(_control_transforms(obj)))[rig[2]]
+        deformed = _deformed_local(obj, rig, rig[0].posed_by_controls(_control_transforms(obj)))
         remove_rig(obj)
         obj.data.vertices.foreach_set("co", deformed.ravel())
         obj.data.update()
