@@ -158,6 +158,43 @@ scene.render.resolution_x, scene.render.resolution_y = 640, 480
 scene.render.filepath = str(OUT / "blender_bent_leg.png")
 bpy.ops.render.render(write_still=True)
 
+# Edit Mode on the cage object: a cage vertex moved by hand moves the mesh, live, on top of
+# the controls' pose, and the export carries it (the CLI deforms it the same).
+import bmesh
+
+cage_obj = next(o for o in bpy.data.objects if o.get("starcages_cages") == obj.name)
+before = evaluated(obj)
+bpy.context.view_layer.objects.active = cage_obj
+bpy.ops.object.mode_set(mode="EDIT")
+edit = bmesh.from_edit_mesh(cage_obj.data)
+edit.verts.ensure_lookup_table()
+# The highest vertex of the leaf cages (a control's vertex would move those it owns).
+leaf_vertices = sorted({v for c in exported.leaf_cages for f in c["faces"] for v in f})
+corner = leaf_vertices[int(np.argmax(exported.cage_vertices[leaf_vertices, 2]))]
+edit.verts[corner].co.z += 0.05 * diagonal
+bmesh.update_edit_mesh(cage_obj.data)
+bpy.context.view_layer.update()
+# (While another object is in Edit Mode, read the shape key the viewport draws.)
+key = obj.data.shape_keys.key_blocks["StarCages"]
+live = np.empty(len(key.data) * 3)
+key.data.foreach_get("co", live)
+moved = np.abs(live.reshape(-1, 3) - before).max() / diagonal
+print(f"cage vertex {corner} moved in Edit Mode: the mesh moved {moved:.2e} of the diagonal, live")
+assert moved > 1e-4
+bpy.ops.object.mode_set(mode="OBJECT")
+bpy.context.view_layer.objects.active = obj
+bpy.ops.starcages.export_scene(filepath=str(OUT / "hand.json"))
+hand = cli_deform(OUT / "hand.json", OUT / "hand.obj")[order][welded_of]
+assert np.abs(evaluated(obj) - hand).max() <= 1e-6 * diagonal, "the hand move is not the CLI's"
+cage_obj.data.vertices[corner].co.z -= 0.05 * diagonal
+bpy.context.view_layer.objects.active = cage_obj
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.object.mode_set(mode="OBJECT")
+del obj["starcages_offsets"]
+bpy.context.view_layer.objects.active = obj
+bpy.context.view_layer.update()
+assert np.abs(evaluated(obj) - before).max() <= 1e-6 * diagonal
+
 # Import, then export: the same scene (a scene at rest: an imported scene's controls start at
 # rest).
 imported_file = OUT / "rest.json"

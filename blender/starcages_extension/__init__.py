@@ -5,7 +5,9 @@ StarCages tab in the 3D view's sidebar:
 * Auto rig: leaf cages around the active mesh (one wire object, `<mesh>.cages`) and one empty
   per control at its joint, parented from the body out, so Blender's own G/R/S, keyframes,
   the Graph Editor, NLA, drivers and constraints pose and animate them.
-* Live deformation: whenever a control moves or the frame changes, the mesh follows through a
+* Live deformation: whenever a control moves, a cage vertex is moved in Edit Mode on the cage
+  object (a hand move on top of the controls' pose, kept), or the frame changes, the mesh
+  follows through a
   shape key named "StarCages" (the mesh's own data stays as it was: Remove rig gives it back).
   The rig (a StarCages scene) is kept in a text block, so it survives saving the .blend.
 * Per leaf cage: its coordinates (MVC, HC, GC) and h, and the scene's default h (the rig
@@ -135,18 +137,42 @@ def _control_transforms(obj):
     return transforms
 
 
+def _cage_offsets(obj, cage_obj, posed):
+    """The hand moves of cage vertices on top of the controls' pose (rig space): read from the
+    cage object while it is in Edit Mode (and kept on the mesh object), else as kept."""
+    count = len(posed)
+    if cage_obj is not None and cage_obj.mode == "EDIT":
+        import bmesh
+
+        edit = bmesh.from_edit_mesh(cage_obj.data)
+        if len(edit.verts) == count:
+            edited = np.array([v.co[:] for v in edit.verts])
+            offsets = edited - posed
+            obj["starcages_offsets"] = offsets.ravel().tolist()
+            return offsets
+    stored = obj.get("starcages_offsets")
+    if stored is not None and len(stored) == 3 * count:
+        return np.array(stored).reshape(count, 3)
+    return np.zeros((count, 3))
+
+
 def update_rig(obj, force=False):
-    """Deforms `obj` to its controls: the StarCages shape key and the cage object follow."""
+    """Deforms `obj` to its controls and the hand moves of its cage vertices (Edit Mode on the
+    cage object): the StarCages shape key and the cage object follow."""
     rig = _live_rig(obj)
     if rig is None:
         return
     scene, binding, welded_of, signature = rig
+    cage_obj = _cages_of(obj)
     transforms = _control_transforms(obj)
-    now = tuple((k, tuple(np.round(v, 12).ravel())) for k, v in sorted(transforms.items()))
+    posed = scene.posed_by_controls(transforms)
+    cages = scene.posed_by_controls(transforms, _cage_offsets(obj, cage_obj, posed))
+    # Leaving Edit Mode on the cage object writes its mesh back: the shape key is written
+    # again then too.
+    now = (hash(np.round(cages, 12).tobytes()), cage_obj.mode if cage_obj else None)
     if now == signature and not force:
         return
     rig[3] = now
-    cages = scene.posed_by_controls(transforms)
     deformed = _deformed_local(obj, rig, cages)
     key = obj.data.shape_keys.key_blocks.get(SHAPE_KEY) if obj.data.shape_keys else None
     if key is None:
@@ -155,11 +181,17 @@ def update_rig(obj, force=False):
         key = obj.shape_key_add(name=SHAPE_KEY, from_mix=False)
         key.value = 1.0
     key.data.foreach_set("co", deformed.ravel())
-    cage_obj = _cages_of(obj)
     if cage_obj is not None and cage_obj.mode != "EDIT":
         cage_obj.data.vertices.foreach_set("co", cages.ravel())
         cage_obj.data.update()
     obj.data.update()
+
+
+def _posed_cages(obj, rig):
+    """The cage positions now: the controls' pose and the hand moves on top."""
+    transforms = _control_transforms(obj)
+    posed = rig[0].posed_by_controls(transforms)
+    return rig[0].posed_by_controls(transforms, _cage_offsets(obj, _cages_of(obj), posed))
 
 
 def _deformed_local(obj, rig, cages):
@@ -325,7 +357,7 @@ def remove_rig(obj):
     text = bpy.data.texts.get(obj.get("starcages_text", ""))
     if text:
         bpy.data.texts.remove(text)
-    for prop in ("starcages_text", "starcages_rig_matrix"):
+    for prop in ("starcages_text", "starcages_rig_matrix", "starcages_offsets"):
         if prop in obj:
             del obj[prop]
     _live.pop(obj.name, None)
@@ -433,8 +465,7 @@ class STARCAGES_OT_bake(bpy.types.Operator):
         for frame in range(scene.frame_start, scene.frame_end + 1):
             scene.frame_set(frame)
             update_rig(obj)
-            cages = rig[0].posed_by_controls(_control_transforms(obj))
-            samples.append(_deformed_local(obj, rig, cages))
+            samples.append(_deformed_local(obj, rig, _posed_cages(obj, rig)))
         scene.frame_set(keep)
         path = bpy.path.abspath(self.filepath)
         write_pc2(path, samples, float(scene.frame_start))
@@ -464,7 +495,7 @@ class STARCAGES_OT_apply(bpy.types.Operator):
     def execute(self, context):
         obj = context.active_object
         rig = _live_rig(obj)
-        deformed = _deformed_local(obj, rig, rig[0].posed_by_controls(_control_transforms(obj)))
+        deformed = _deformed_local(obj, rig, _posed_cages(obj, rig))
         remove_rig(obj)
         obj.data.vertices.foreach_set("co", deformed.ravel())
         obj.data.update()
@@ -489,9 +520,8 @@ class STARCAGES_OT_export(bpy.types.Operator):
 
     def execute(self, context):
         obj = context.active_object
-        scene, *_ = _live_rig(obj)
-        posed = scene.posed_by_controls(_control_transforms(obj))
-        scene.with_pose(posed).save(bpy.path.abspath(self.filepath))
+        rig = _live_rig(obj)
+        rig[0].with_pose(_posed_cages(obj, rig)).save(bpy.path.abspath(self.filepath))
         return {"FINISHED"}
 
 

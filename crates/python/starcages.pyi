@@ -107,9 +107,12 @@ class Scene:
         "leg.L.2: rotate 1 0 0 60" propagated down the controls (the CLI's --apply)."""
     def control_parents(self) -> dict[str, str | None]:
         """Each control's parent: the control that moves its cage vertices."""
-    def posed_by_controls(self, transforms: dict[str, npt.ArrayLike]) -> npt.NDArray[np.float64]:
+    def posed_by_controls(
+        self, transforms: dict[str, npt.ArrayLike], offsets: npt.ArrayLike | None = None
+    ) -> npt.NDArray[np.float64]:
         """Cage positions with each named control's cage moved by its 4×4 rest-to-posed
-        transform (parents first, propagated down to the leaf cage vertices)."""
+        transform (parents first, propagated down to the leaf cage vertices), then hand moves
+        `offsets` ((k, 3)) on top."""
     @property
     def default_h(self) -> float: ...
     def with_default_h(self, h: float) -> Scene:

@@ -239,17 +239,20 @@ impl PyScene {
             .collect()
     }
 
-    /// posed_by_controls(transforms) -> array
+    /// posed_by_controls(transforms, offsets=None) -> array
     ///
     /// Cage positions (k, 3) with each named control's cage moved rigidly by its 4×4
     /// transform (rest to posed, the file's axes; a control's transform includes its
     /// parents', as a parented object's world matrix does), parents first, every move
     /// propagated down the cage hierarchy to the leaf cage vertices. Controls left out stay
-    /// where their parents take them.
+    /// where their parents take them. `offsets` ((k, 3)), hand moves of cage vertices on top
+    /// of that pose, are applied last, a control's vertices carrying what they own.
+    #[pyo3(signature = (transforms, offsets = None))]
     fn posed_by_controls<'py>(
         &self,
         py: Python<'py>,
         transforms: BTreeMap<String, PyArrayLike2<'py, f64, AllowTypeChange>>,
+        offsets: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let scene = &self.scene;
         let up = scene.export_up();
@@ -290,6 +293,23 @@ impl PyScene {
                     let moved = matrix.transform_point3(up.from_scene(rest));
                     Some((v, up.to_scene(moved)))
                 })
+                .collect();
+            hierarchy.apply(&mut cages, &moves).map_err(error)?;
+        }
+        if let Some(offsets) = &offsets {
+            let offsets = points_in(offsets, "offsets")?;
+            if offsets.len() != cages.len() {
+                return Err(error(format!(
+                    "offsets: {} rows for the scene's {} cage vertices",
+                    offsets.len(),
+                    cages.len()
+                )));
+            }
+            let moves: Vec<(u32, DVec3)> = offsets
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| **o != DVec3::ZERO)
+                .map(|(v, &o)| (v as u32, cages[v] + up.to_scene(o)))
                 .collect();
             hierarchy.apply(&mut cages, &moves).map_err(error)?;
         }
@@ -341,12 +361,25 @@ impl PyScene {
     }
 
     /// with_pose(cage_positions) -> Scene: a copy whose current pose is `cage_positions`
-    /// (the file's axes), as a scene file then carries it.
+    /// (the file's axes), with the hierarchy state that gives it (a vertex moved apart from
+    /// the control that owns it keeps its offset), as a scene file then carries it.
     fn with_pose(&self, cage_positions: PyArrayLike2<'_, f64, AllowTypeChange>) -> PyResult<Self> {
         let cages = self.cages_in(&cage_positions)?;
         let mut scene = self.scene.clone();
+        let mut hierarchy =
+            starcages_core::hierarchy::Hierarchy::bind_in_state(&scene, &Default::default())
+                .map_err(error)?;
+        let mut pose = scene.cages.vertices.clone();
+        let moves: Vec<(u32, DVec3)> = cages
+            .iter()
+            .zip(&scene.cages.vertices)
+            .enumerate()
+            .filter(|(_, (now, rest))| now != rest)
+            .map(|(v, (now, _))| (v as u32, *now))
+            .collect();
+        hierarchy.apply(&mut pose, &moves).map_err(error)?;
         scene.pose = cages;
-        scene.pose_state = Default::default();
+        scene.pose_state = hierarchy.state();
         Ok(Self { scene })
     }
 

@@ -211,6 +211,13 @@ def test_controls_move_their_cages_rigidly_and_carry_their_children(tmp_path):
     moved = (turn[:3, :3] @ rest.T).T + turn[:3, 3]
     assert np.abs(posed[corners] - moved).max() < 1e-9
     assert np.abs(posed - scene.cage_vertices).max() > 1e-3
+    # A hand move of a control's vertex carries the leaf vertices it owns.
+    offsets = np.zeros_like(scene.cage_vertices)
+    offsets[corners[0]] = [0.0, 0.0, 0.1]
+    by_hand = scene.posed_by_controls({parent: turn}, offsets)
+    assert np.allclose(by_hand[corners[0]], posed[corners[0]] + [0.0, 0.0, 0.1])
+    changed = np.flatnonzero(np.abs(by_hand - posed).max(axis=1) > 1e-12)
+    assert len(changed) > 1, "the control's vertex carried nothing"
     # The pose travels in a scene file.
     saved = tmp_path / "posed.json"
     scene.with_pose(posed).save(saved)
