@@ -89,6 +89,21 @@ assert controls, "no controls"
 assert np.abs(evaluated(obj) - original).max() < 1e-5 * diagonal, "not exact at rest"
 bpy.ops.starcages.export_scene(filepath=str(OUT / "rest.json"))
 
+# Blender's undo of a control move restores the mesh with it (undo replaces the objects:
+# fetch them again).
+some = next(e for e in controls.values() if e.parent is not None)
+bpy.ops.ed.undo_push(message="rigged")
+some.rotation_euler.x += math.radians(40)
+bpy.context.view_layer.update()
+bpy.ops.ed.undo_push(message="turn a control")
+assert np.abs(evaluated(obj) - original).max() > 1e-3 * diagonal
+assert bpy.ops.ed.undo() == {"FINISHED"}
+bpy.context.view_layer.update()
+obj = bpy.data.objects["creature"]
+controls = {e["starcages_control"]: e for e in bpy.data.objects if e.get("starcages_rig") == obj.name}
+assert np.abs(evaluated(obj) - original).max() < 1e-5 * diagonal, "undo left the mesh turned"
+print("undo of a control move: the mesh is back at rest")
+
 # Swing a leg (a control with a parent) 45 degrees at its joint.
 leg = sorted(name for name, e in controls.items() if e.parent is not None and name.startswith("leg"))
 name = leg[0] if leg else next(n for n, e in controls.items() if e.parent is not None)

@@ -83,5 +83,5 @@ if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
         grep -v '^EGL' "$blender_out/log" >&2
         exit 1
     fi
-    grep -E '^(bent|Blender|reopened|control drag|import|cage|keyed|bake|blender extension)' "$blender_out/log"
+    grep -E '^(undo|bent|Blender|reopened|control drag|import|cage|keyed|bake|blender extension)' "$blender_out/log"
 fi
