@@ -339,6 +339,44 @@ mod tests {
         );
     }
 
+    /// An image declaring sides past the limit (a forged PNG header: 40,000 × 40,000 pixels,
+    /// 6.4 GB decoded) is refused before anything of that size is allocated.
+    #[test]
+    fn an_image_promising_gigabytes_is_refused() {
+        let mut png = crate::sample_files::checker_png();
+        // IHDR: 8-byte signature, 4-byte length, "IHDR", width, height (big-endian), then the
+        // rest and a CRC over type and data.
+        png[16..20].copy_from_slice(&40_000u32.to_be_bytes());
+        png[20..24].copy_from_slice(&40_000u32.to_be_bytes());
+        let crc = crc32(&png[12..29]);
+        png[29..33].copy_from_slice(&crc.to_be_bytes());
+        let forged = TextureSource::Embedded {
+            name: "image 0".to_owned(),
+            bytes: Arc::new(png),
+        };
+        let why = load_texture(&forged).unwrap_err();
+        assert!(
+            why.starts_with("image 0 (embedded): a broken or unsupported image"),
+            "{why}"
+        );
+    }
+
+    /// CRC-32 (IEEE), as PNG chunks carry it.
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = 0xFFFF_FFFFu32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        !crc
+    }
+
     #[test]
     fn a_broken_image_is_a_message_naming_it() {
         let broken = TextureSource::Embedded {
