@@ -6,26 +6,17 @@ over 24 frames of a keyed control), as the issue's figures ask.
     /tmp/bpyvenv/bin/python scripts/blender_bench.py MESH.obj
 """
 
-import importlib.util
 import math
 import sys
 import time
 from pathlib import Path
 
 import bpy
+from blender_common import import_mesh, load_extension
 
-ROOT = Path(__file__).resolve().parents[1]
-spec = importlib.util.spec_from_file_location(
-    "starcages_extension", ROOT / "blender" / "starcages_extension" / "__init__.py"
-)
-ext = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(ext)
-ext.register()
+ext = load_extension()
 
-bpy.ops.wm.read_factory_settings(use_empty=True)
-bpy.ops.wm.obj_import(filepath=sys.argv[-1], forward_axis="NEGATIVE_Z", up_axis="Y")
-obj = [o for o in bpy.context.scene.objects if o.type == "MESH"][0]
-bpy.context.view_layer.objects.active = obj
+obj = import_mesh(sys.argv[-1])
 start = time.perf_counter()
 bpy.ops.starcages.autorig(detail=3)
 rig_seconds = time.perf_counter() - start

@@ -10,27 +10,21 @@ diagonal); saves and reopens the .blend and checks the rig is still live; render
 (Workbench) to OUT_FOLDER/blender_bent_leg.png; removes the rig and checks the mesh is back.
 """
 
-import importlib.util
 import math
 import subprocess
 import sys
 from pathlib import Path
 
 import bpy
+from blender_common import load_extension
 import numpy as np
 
 import starcages as sc
 
-ROOT = Path(__file__).resolve().parents[1]
 CLI, OUT = sys.argv[-2], Path(sys.argv[-1])
 OUT.mkdir(parents=True, exist_ok=True)
 
-spec = importlib.util.spec_from_file_location(
-    "starcages_extension", ROOT / "blender" / "starcages_extension" / "__init__.py"
-)
-ext = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(ext)
-ext.register()
+ext = load_extension()
 
 
 def evaluated(obj):

@@ -5,29 +5,20 @@ frames 1 and 24, and renders frame 12 (Workbench) beside the rest pose, for look
     /tmp/bpyvenv/bin/python scripts/blender_try_mesh.py MESH.obj OUT_FOLDER
 """
 
-import importlib.util
 import math
 import sys
 import time
 from pathlib import Path
 
 import bpy
+from blender_common import import_mesh, load_extension
 from mathutils import Vector
 
-ROOT = Path(__file__).resolve().parents[1]
 source, out = sys.argv[-2], Path(sys.argv[-1])
 out.mkdir(parents=True, exist_ok=True)
-spec = importlib.util.spec_from_file_location(
-    "starcages_extension", ROOT / "blender" / "starcages_extension" / "__init__.py"
-)
-ext = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(ext)
-ext.register()
+ext = load_extension()
 
-bpy.ops.wm.read_factory_settings(use_empty=True)
-bpy.ops.wm.obj_import(filepath=source, forward_axis="NEGATIVE_Z", up_axis="Y")
-obj = [o for o in bpy.context.scene.objects if o.type == "MESH"][0]
-bpy.context.view_layer.objects.active = obj
+obj = import_mesh(source)
 start = time.perf_counter()
 assert bpy.ops.starcages.autorig(detail=3) == {"FINISHED"}
 print(f"auto rig and bind: {time.perf_counter() - start:.1f} s, {len(obj.data.vertices)} vertices")

@@ -7,28 +7,19 @@ renders frames 1, 7 and 13 (Workbench).
     /tmp/bpyvenv/bin/python scripts/blender_walk.py MESH.obj OUT_FOLDER
 """
 
-import importlib.util
 import math
 import sys
 from pathlib import Path
 
 import bpy
+from blender_common import import_mesh, load_extension
 from mathutils import Vector
 
-ROOT = Path(__file__).resolve().parents[1]
 source, out = sys.argv[-2], Path(sys.argv[-1])
 out.mkdir(parents=True, exist_ok=True)
-spec = importlib.util.spec_from_file_location(
-    "starcages_extension", ROOT / "blender" / "starcages_extension" / "__init__.py"
-)
-ext = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(ext)
-ext.register()
+ext = load_extension()
 
-bpy.ops.wm.read_factory_settings(use_empty=True)
-bpy.ops.wm.obj_import(filepath=source, forward_axis="NEGATIVE_Z", up_axis="Y")
-obj = [o for o in bpy.context.scene.objects if o.type == "MESH"][0]
-bpy.context.view_layer.objects.active = obj
+obj = import_mesh(source)
 assert bpy.ops.starcages.autorig(detail=3) == {"FINISHED"}
 controls = {e["starcages_control"]: e for e in bpy.data.objects if e.get("starcages_rig") == obj.name}
 print("controls:", sorted(controls))

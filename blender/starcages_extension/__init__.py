@@ -20,7 +20,6 @@ StarCages tab in the 3D view's sidebar:
 Arrays go to the `starcages` package in the mesh's local coordinates (Z up, as StarCages).
 """
 
-import json
 import os
 import tempfile
 
@@ -43,11 +42,10 @@ def _mesh_arrays(obj):
     """The mesh's vertices (local, rest: the basis shape) and triangles."""
     mesh = obj.data
     n = len(mesh.vertices)
+    co = np.empty(n * 3)
     if mesh.shape_keys and mesh.shape_keys.reference_key:
-        co = np.empty(n * 3)
         mesh.shape_keys.reference_key.data.foreach_get("co", co)
     else:
-        co = np.empty(n * 3)
         mesh.vertices.foreach_get("co", co)
     mesh.calc_loop_triangles()
     tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int64)
@@ -137,23 +135,25 @@ def _control_transforms(obj):
     return transforms
 
 
-def _cage_offsets(obj, cage_obj, posed):
+def _cage_offsets(obj, cage_obj, scene, transforms):
     """The hand moves of cage vertices on top of the controls' pose (rig space): read from the
-    cage object while it is in Edit Mode (and kept on the mesh object), else as kept."""
-    count = len(posed)
+    cage object while it is in Edit Mode (and kept on the mesh object), else as kept. Only in
+    Edit Mode is the controls' pose alone computed for it (a second pass through the
+    hierarchy)."""
+    count = len(scene.cage_vertices)
     if cage_obj is not None and cage_obj.mode == "EDIT":
         import bmesh
 
         edit = bmesh.from_edit_mesh(cage_obj.data)
         if len(edit.verts) == count:
             edited = np.array([v.co[:] for v in edit.verts])
-            offsets = edited - posed
+            offsets = edited - scene.posed_by_controls(transforms)
             obj["starcages_offsets"] = offsets.ravel().tolist()
             return offsets
     stored = obj.get("starcages_offsets")
     if stored is not None and len(stored) == 3 * count:
         return np.array(stored).reshape(count, 3)
-    return np.zeros((count, 3))
+    return None
 
 
 def update_rig(obj, force=False):
@@ -165,8 +165,7 @@ def update_rig(obj, force=False):
     scene, binding, welded_of, signature = rig
     cage_obj = _cages_of(obj)
     transforms = _control_transforms(obj)
-    posed = scene.posed_by_controls(transforms)
-    cages = scene.posed_by_controls(transforms, _cage_offsets(obj, cage_obj, posed))
+    cages = scene.posed_by_controls(transforms, _cage_offsets(obj, cage_obj, scene, transforms))
     # Leaving Edit Mode on the cage object writes its mesh back: the shape key is written
     # again then too.
     now = (hash(np.round(cages, 12).tobytes()), cage_obj.mode if cage_obj else None)
@@ -189,9 +188,8 @@ def update_rig(obj, force=False):
 
 def _posed_cages(obj, rig):
     """The cage positions now: the controls' pose and the hand moves on top."""
-    transforms = _control_transforms(obj)
-    posed = rig[0].posed_by_controls(transforms)
-    return rig[0].posed_by_controls(transforms, _cage_offsets(obj, _cages_of(obj), posed))
+    scene, transforms = rig[0], _control_transforms(obj)
+    return scene.posed_by_controls(transforms, _cage_offsets(obj, _cages_of(obj), scene, transforms))
 
 
 def _deformed_local(obj, rig, cages):
@@ -363,6 +361,15 @@ def remove_rig(obj):
     _live.pop(obj.name, None)
 
 
+class _OnRig:
+    """Operators on a rigged active object."""
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and bool(obj.get("starcages_text"))
+
+
 class STARCAGES_OT_autorig(bpy.types.Operator):
     """Auto rig the active mesh: leaf cages along its limbs and a control per segment"""
 
@@ -405,17 +412,12 @@ class STARCAGES_OT_autorig(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class STARCAGES_OT_remove(bpy.types.Operator):
+class STARCAGES_OT_remove(_OnRig, bpy.types.Operator):
     """Remove the StarCages rig: the mesh is as it was before"""
 
     bl_idname = "starcages.remove"
     bl_label = "Remove rig"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and bool(obj.get("starcages_text"))
 
     def execute(self, context):
         remove_rig(context.active_object)
@@ -435,7 +437,7 @@ def write_pc2(path, samples, start_frame):
     os.replace(tmp, path)
 
 
-class STARCAGES_OT_bake(bpy.types.Operator):
+class STARCAGES_OT_bake(_OnRig, bpy.types.Operator):
     """Bake the rig's animation (the scene's frame range) into a PC2 point cache and play it
     through a Mesh Cache modifier set to show frame N at frame N; optionally remove the rig,
     so the file opens without the extension"""
@@ -445,11 +447,6 @@ class STARCAGES_OT_bake(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
     filepath: bpy.props.StringProperty(subtype="FILE_PATH")
     remove_rig: bpy.props.BoolProperty(name="Remove rig", default=True)
-
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and bool(obj.get("starcages_text"))
 
     def invoke(self, context, event):
         self.filepath = bpy.path.ensure_ext(bpy.path.abspath("//" + context.active_object.name), ".pc2")
@@ -480,17 +477,12 @@ class STARCAGES_OT_bake(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class STARCAGES_OT_apply(bpy.types.Operator):
+class STARCAGES_OT_apply(_OnRig, bpy.types.Operator):
     """Apply the rig: the mesh keeps its current deformed shape and the rig goes"""
 
     bl_idname = "starcages.apply"
     bl_label = "Apply rig"
     bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and bool(obj.get("starcages_text"))
 
     def execute(self, context):
         obj = context.active_object
@@ -502,17 +494,12 @@ class STARCAGES_OT_apply(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class STARCAGES_OT_export(bpy.types.Operator):
+class STARCAGES_OT_export(_OnRig, bpy.types.Operator):
     """Export the rig, in its current pose, as a StarCages scene file"""
 
     bl_idname = "starcages.export_scene"
     bl_label = "Export StarCages scene"
     filepath: bpy.props.StringProperty(subtype="FILE_PATH")
-
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and bool(obj.get("starcages_text"))
 
     def invoke(self, context, event):
         context.window_manager.fileselect_add(self)

@@ -11,7 +11,6 @@
 //!   a 2048² image);
 //! * `textured_ghosts`: Textured shading and four ghosts.
 
-use std::time::Instant;
 
 use clap::Args;
 use glam::{DVec3, Vec2, Vec3};
@@ -71,17 +70,10 @@ struct Report {
     textured_ghosts_ms: f64,
 }
 
+/// The median of `frames` runs after one run that warms the pipelines and buffers up.
 fn median_ms(frames: usize, mut run: impl FnMut()) -> f64 {
     run();
-    let mut times: Vec<f64> = (0..frames.max(1))
-        .map(|_| {
-            let start = Instant::now();
-            run();
-            start.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
+    crate::bench_gpu::median_ms(frames, run)
 }
 
 /// A checker image `side` pixels wide, as an artist's base colour map stands in.

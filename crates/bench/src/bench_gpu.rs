@@ -55,7 +55,8 @@ struct Report {
     cpu_to_gpu_deform_ratio: f64,
 }
 
-fn median_ms(frames: usize, mut run: impl FnMut()) -> f64 {
+/// Median milliseconds of `frames` runs of `run`.
+pub(crate) fn median_ms(frames: usize, mut run: impl FnMut()) -> f64 {
     let mut times: Vec<f64> = (0..frames.max(1))
         .map(|_| {
             let start = Instant::now();
