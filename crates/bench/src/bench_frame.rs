@@ -11,7 +11,6 @@
 //!   a 2048² image);
 //! * `textured_ghosts`: Textured shading and four ghosts.
 
-
 use clap::Args;
 use glam::{DVec3, Vec2, Vec3};
 use serde::Serialize;
