@@ -18,7 +18,7 @@ trap 'rm -rf "$work"' EXIT
 "$cli" autorig "$meshes/horse.obj" --out "$work/horse.json" >/dev/null
 "$cli" render "$work/horse.json" --no-cages --view side --size 480x480 \
     --apply "leg.front.L.1: rotate 1 0 0 35" --apply "leg.front.L.3: rotate 1 0 0 -80" \
-    --apply "ear.L.1: rotate 1 0 0 -30" --png docs/images/posed_horse.png >/dev/null
+    --apply "neck.1: rotate 1 0 0 -30" --png docs/images/posed_horse.png >/dev/null
 "$cli" demo creature --out "$work" >/dev/null
 "$cli" deform "$work/creature.json" --out "$work/creature.obj" >/dev/null
 "$cli" autorig "$work/creature.obj" --out "$work/creature_auto.json" >/dev/null

@@ -11,6 +11,7 @@ mod hierarchy;
 mod hostile;
 mod lanes;
 mod layout;
+mod limb_names;
 mod live;
 mod mean_value;
 mod posable_rig;

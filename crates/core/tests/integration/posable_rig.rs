@@ -66,7 +66,7 @@ fn hexapod() -> Mesh {
 }
 
 /// The default auto rig of `mesh`, checked valid.
-fn rigged(mesh: &Mesh) -> Scene {
+pub(crate) fn rigged(mesh: &Mesh) -> Scene {
     let rig = autorig(mesh, &AutorigSettings::default(), &BindControl::default()).unwrap();
     let scene = Scene::new(
         MeshSource::Embedded,

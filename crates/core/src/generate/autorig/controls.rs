@@ -18,9 +18,140 @@ use crate::scene::{CageSet, InternalCage, LeafCage};
 /// Every body but the largest (a head as thick as the torso, a horse's head, a creature's hips)
 /// as a limb of one segment, so that it is named and gets a control like a limb: it grows from
 /// the limb it shares most vertices with where that is more than it shares with the main body
-/// (a head on a neck), and a limb rooted on it grows from it (legs on hips). Returns the roles
-/// and the limbs' parents, and which limbs are such bodies.
+/// (a head on a neck; never from a limb rooted on it), and a limb rooted on it grows from it
+/// (legs on hips). A neck found as two halves is joined into one chain from the torso, and a
+/// thick joint inside a limb (a beast's knee) becomes one of its segments. Returns the roles
+/// and the limbs' parents, and which limbs are still such bodies.
 pub(super) fn bodies_as_limbs(
+    cages: &CageSet,
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
+    let (roles, parent_limb) = join_limbs_between_bodies(cages, roles, parent_limb);
+    attach_bodies(cages, &roles, &parent_limb)
+}
+
+/// A limb between the main body and a body that does not touch it (a neck up to a thick
+/// head) is found as two limbs, each growing from its own end (limbs grow by distance from
+/// any body): the half from the head is joined to the half from the torso, its segments
+/// reversed, so that the neck is one chain from the torso carrying the head.
+fn join_limbs_between_bodies(
+    cages: &CageSet,
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+) -> (Vec<Role>, BTreeMap<usize, usize>) {
+    let mut body_vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    // Per limb and segment, its vertices.
+    let mut segments: BTreeMap<usize, BTreeMap<usize, BTreeSet<u32>>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        match *role {
+            Role::Body { body, .. } => body_vertices
+                .entry(body)
+                .or_default()
+                .extend(vertices_of(leaf)),
+            Role::Limb { limb, segment } => segments
+                .entry(limb)
+                .or_default()
+                .entry(segment)
+                .or_default()
+                .extend(vertices_of(leaf)),
+        }
+    }
+    let mut roles = roles.to_vec();
+    let mut parents = parent_limb.clone();
+    let Some(main) = body_vertices
+        .iter()
+        .max_by_key(|(b, v)| (v.len(), std::cmp::Reverse(**b)))
+        .map(|(b, _)| *b)
+    else {
+        return (roles, parents);
+    };
+    let shared = |a: &BTreeSet<u32>, b: &BTreeSet<u32>| a.intersection(b).count();
+    let main_vertices = &body_vertices[&main];
+    type Segments = BTreeMap<usize, BTreeMap<usize, BTreeSet<u32>>>;
+    fn first_of(segments: &Segments, limb: usize) -> Option<&BTreeSet<u32>> {
+        segments.get(&limb).and_then(|s| s.values().next())
+    }
+    for (&outer, outer_vertices) in &body_vertices {
+        if outer == main || shared(outer_vertices, main_vertices) > 0 {
+            continue;
+        }
+        // The half growing from the outer body: rooted on it, touching neither the torso nor
+        // anything it grows from.
+        let halves: Vec<usize> = segments
+            .keys()
+            .copied()
+            .filter(|&l| {
+                !parents.contains_key(&l)
+                    && first_of(&segments, l).is_some_and(|f| {
+                        shared(f, outer_vertices) > 0 && shared(f, main_vertices) == 0
+                    })
+            })
+            .collect();
+        for half in halves {
+            let Some((half_last, last_vertices)) = segments
+                .get(&half)
+                .and_then(|s| s.iter().next_back())
+                .map(|(k, v)| (*k, v.clone()))
+            else {
+                continue;
+            };
+            // The half from the torso that its far end meets.
+            let Some((n, from_torso)) = segments
+                .iter()
+                .filter(|(l, _)| **l != half)
+                // Not a limb reaching the outer body itself (a neck from the torso to the
+                // head: what grows from the head towards it is the head's, a muzzle).
+                .filter(|(_, segs)| !segs.values().any(|v| shared(v, outer_vertices) > 0))
+                .filter(|(l, _)| {
+                    first_of(&segments, **l).is_some_and(|f| shared(f, main_vertices) > 0)
+                })
+                .map(|(&l, segs)| {
+                    let all: BTreeSet<u32> = segs.values().flatten().copied().collect();
+                    (shared(&all, &last_vertices), l)
+                })
+                .max()
+            else {
+                continue;
+            };
+            if n == 0 {
+                continue;
+            }
+            let torso_last = segments[&from_torso]
+                .keys()
+                .next_back()
+                .copied()
+                .unwrap_or(0);
+            for role in roles.iter_mut() {
+                if let Role::Limb { limb, segment } = role
+                    && *limb == half
+                {
+                    *role = Role::Limb {
+                        limb: from_torso,
+                        segment: torso_last + 1 + (half_last - *segment),
+                    };
+                }
+            }
+            for parent in parents.values_mut() {
+                if *parent == half {
+                    *parent = from_torso;
+                }
+            }
+            let moved = segments.remove(&half).unwrap_or_default();
+            let target = segments.entry(from_torso).or_default();
+            for (segment, vertices) in moved {
+                target
+                    .entry(torso_last + 1 + (half_last - segment))
+                    .or_default()
+                    .extend(vertices);
+            }
+        }
+    }
+    (roles, parents)
+}
+
+/// See [`bodies_as_limbs`].
+fn attach_bodies(
     cages: &CageSet,
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
@@ -70,12 +201,35 @@ pub(super) fn bodies_as_limbs(
     }
     let mut parents = parent_limb.clone();
     let shared = |a: &BTreeSet<u32>, b: &BTreeSet<u32>| a.intersection(b).count();
-    // A body on a limb (a head on a neck) grows from that limb.
+    // The body each limb's first segment shares most vertices with (where it is rooted); a
+    // limb touching the main body is not rooted on a body further out that does not (a neck
+    // touching the torso and a head).
+    let touches_main: BTreeSet<usize> = body_vertices
+        .iter()
+        .filter(|(b, v)| **b == main || shared(v, &body_vertices[&main]) > 0)
+        .map(|(b, _)| *b)
+        .collect();
+    let rooted_on: BTreeMap<usize, usize> = first_segment
+        .iter()
+        .filter_map(|(&limb, (_, first))| {
+            let on_main = shared(first, &body_vertices[&main]) > 0;
+            body_vertices
+                .iter()
+                .filter(|(b, _)| !on_main || touches_main.contains(b))
+                .map(|(&b, v)| (shared(first, v), std::cmp::Reverse(b)))
+                .max()
+                .filter(|(n, _)| *n > 0)
+                .map(|(_, std::cmp::Reverse(b))| (limb, b))
+        })
+        .collect();
+    // A body on a limb (a head on a neck, a thick knee on a thigh) grows from that limb; not
+    // from a limb rooted on the body itself (the shin under that knee), which grows from it.
     let mut on_limb: BTreeSet<usize> = BTreeSet::new();
     for (&body, vertices) in body_vertices.iter().filter(|(b, _)| **b != main) {
         let with_main = shared(vertices, &body_vertices[&main]);
         let best = limb_vertices
             .iter()
+            .filter(|(l, _)| rooted_on.get(l) != Some(&body))
             .map(|(&l, v)| (shared(vertices, v), l))
             .max();
         if let Some((n, limb)) = best
@@ -85,24 +239,29 @@ pub(super) fn bodies_as_limbs(
             on_limb.insert(body);
         }
     }
-    // A root limb rooted on a body that grows from the main body grows from that body.
-    for (&limb, (_, first)) in &first_segment {
-        if parents.contains_key(&limb) {
-            continue;
-        }
-        let best = body_vertices
-            .iter()
-            .filter(|(b, _)| !on_limb.contains(b))
-            .map(|(&b, v)| (shared(first, v), std::cmp::Reverse(b)))
-            .max();
-        if let Some((n, std::cmp::Reverse(body))) = best
-            && body != main
-            && n > 0
-        {
+    // A root limb rooted on another body grows from that body (legs on hips, a shin under a
+    // thick knee, a muzzle on a head).
+    for (&limb, &body) in &rooted_on {
+        if !parents.contains_key(&limb) && body != main {
             parents.insert(limb, pseudo(body));
         }
     }
-    let roles = roles
+    // No limb may end up its own ancestor (a branch of a limb rooted on the body it carries).
+    let keys: Vec<usize> = parents.keys().copied().collect();
+    for start in keys {
+        let mut at = parents.get(&start).copied();
+        for _ in 0..parents.len() {
+            match at {
+                Some(p) if p == start => {
+                    parents.remove(&start);
+                    break;
+                }
+                Some(p) => at = parents.get(&p).copied(),
+                None => break,
+            }
+        }
+    }
+    let mut roles: Vec<Role> = roles
         .iter()
         .map(|&role| match role {
             Role::Body { body, .. } if body != main => Role::Limb {
@@ -112,12 +271,135 @@ pub(super) fn bodies_as_limbs(
             other => other,
         })
         .collect();
-    let bodies = body_vertices
+    let mut bodies: BTreeSet<usize> = body_vertices
         .keys()
         .filter(|&&b| b != main)
         .map(|&b| pseudo(b))
         .collect();
+    for body in on_limb {
+        merge_through_thick_joint(&mut roles, &mut parents, &mut bodies, pseudo(body));
+    }
+    // A thick thigh on the torso carrying one leg to the ground is the leg's first segment.
+    let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
+    let ground = lo.z + 0.2 * (hi.z - lo.z);
+    for body in bodies.clone() {
+        if parents.contains_key(&body) {
+            continue;
+        }
+        let children: Vec<usize> = parents
+            .iter()
+            .filter(|(_, p)| **p == body)
+            .map(|(c, _)| *c)
+            .collect();
+        let [leg] = children[..] else { continue };
+        let reaches_ground = cages.leaves.iter().zip(&roles).any(|(leaf, role)| {
+            matches!(role, Role::Limb { limb, .. } if *limb == leg)
+                && vertices_of(leaf)
+                    .iter()
+                    .any(|&v| cages.vertices.get(v as usize).is_some_and(|p| p.z < ground))
+        });
+        if reaches_ground && !bodies.contains(&leg) {
+            append_limb(&mut roles, &mut parents, body, leg, 2);
+            bodies.remove(&body);
+        }
+    }
     (roles, parents, bodies)
+}
+
+/// Appends limb `lower`'s segments (at least `min_segments` of them) after limb `upper`'s last,
+/// in order, and hangs what grew from `lower` from `upper`. Returns whether it did.
+fn append_limb(
+    roles: &mut [Role],
+    parents: &mut BTreeMap<usize, usize>,
+    upper: usize,
+    lower: usize,
+    min_segments: usize,
+) -> bool {
+    let segments_of = |roles: &[Role], limb: usize| -> BTreeSet<usize> {
+        roles
+            .iter()
+            .filter_map(|r| match *r {
+                Role::Limb { limb: l, segment } if l == limb => Some(segment),
+                _ => None,
+            })
+            .collect()
+    };
+    let lower_segments = segments_of(roles, lower);
+    let (Some(&upper_last), Some(&lower_first)) =
+        (segments_of(roles, upper).last(), lower_segments.first())
+    else {
+        return false;
+    };
+    if lower_segments.len() < min_segments {
+        return false;
+    }
+    for role in roles.iter_mut() {
+        if let Role::Limb { limb, segment } = role
+            && *limb == lower
+        {
+            *role = Role::Limb {
+                limb: upper,
+                segment: upper_last + 1 + (*segment - lower_first),
+            };
+        }
+    }
+    parents.remove(&lower);
+    for parent in parents.values_mut() {
+        if *parent == lower {
+            *parent = upper;
+        }
+    }
+    true
+}
+
+/// A thick joint inside one limb (a beast's knee or elbow, thick enough to be a body): where
+/// `body` grows from a limb that carries nothing else and carries exactly one limb of two or
+/// more segments (the shin, the forearm; not a short muzzle on a head), the three are one limb,
+/// the body a segment between the other two, so that the leg is named and turned as one chain
+/// (`leg.L.1` the thigh, `.2` the knee, `.3` the shin …).
+fn merge_through_thick_joint(
+    roles: &mut [Role],
+    parents: &mut BTreeMap<usize, usize>,
+    bodies: &mut BTreeSet<usize>,
+    body: usize,
+) {
+    let Some(&upper) = parents.get(&body) else {
+        return;
+    };
+    let children_of = |limb: usize| -> Vec<usize> {
+        parents
+            .iter()
+            .filter(|(_, p)| **p == limb)
+            .map(|(c, _)| *c)
+            .collect()
+    };
+    let (Ok([from_upper]), Ok([lower])) = (
+        <[usize; 1]>::try_from(children_of(upper)),
+        <[usize; 1]>::try_from(children_of(body)),
+    ) else {
+        return;
+    };
+    if from_upper != body || bodies.contains(&lower) {
+        return;
+    }
+    let joined = roles
+        .iter()
+        .any(|r| matches!(r, Role::Limb { limb, .. } if *limb == lower))
+        && {
+            // The body's one segment after the upper limb, then the lower limb after it.
+            let mut trial = roles.to_vec();
+            let mut trial_parents = parents.clone();
+            append_limb(&mut trial, &mut trial_parents, body, lower, 2)
+                && append_limb(&mut trial, &mut trial_parents, upper, body, 1)
+                && {
+                    roles.copy_from_slice(&trial);
+                    *parents = trial_parents;
+                    true
+                }
+        };
+    if joined {
+        bodies.remove(&body);
+    }
 }
 
 /// Name of the control over the whole rig.
@@ -336,7 +618,19 @@ pub(super) fn limb_names(
                 .filter(|s| s.tip.z > body_hi.z + 0.25 * body_extent.z && !is_leg(s))
                 .map(|s| s.root),
         );
-        let head = raised.or(second_body);
+        // Else side limbs out from the body's upper half (a cow's ears on a head the body
+        // holds); legs hang from its lower half.
+        let upper = || {
+            centroid(
+                shapes
+                    .iter()
+                    .filter(|(limb, _)| !bodies.contains(limb))
+                    .map(|(_, s)| s)
+                    .filter(|s| !is_leg(s) && s.root.z > body_centre.z && side_of(s) != 0.0)
+                    .map(|s| s.root),
+            )
+        };
+        let head = raised.or(second_body).or_else(upper);
         let sign = head
             .map(|h| (h[axis] - body_centre[axis]).signum())
             .filter(|s| *s != 0.0)
@@ -351,33 +645,54 @@ pub(super) fn limb_names(
         mesh_lo,
         mesh_hi,
     };
+    // Towards the head: the front half of a lying body, the upper half of a standing one.
+    let headwards_of = |s: &Shape| match frame.forward {
+        Some((axis, sign)) => (s.middle[axis] - body_centre[axis]) * sign > 0.0,
+        None => s.middle.z >= body_centre.z,
+    };
     let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
     for (&limb, s) in &shapes {
         // A thick region of its own (a head, hips) is on the centre line when its middle is
         // within half its width of the plane (a head turned a little stays a head), or when it
         // stands above a lying body's top (a horse's head turned to a side).
         let raised_body = frame.forward.is_some() && s.middle.z > frame.body_hi.z;
-        let side = if bodies.contains(&limb)
-            && ((s.middle[lateral] - centre).abs() <= 0.5 * s.width || raised_body)
-        {
+        // A thick region grown from a limb is a head on its neck (a horse's turned head).
+        let head_on_neck =
+            bodies.contains(&limb) && limbs[&limb].parent.is_some_and(|p| !bodies.contains(&p));
+        let carries_head = limbs
+            .iter()
+            .any(|(l, record)| record.parent == Some(limb) && bodies.contains(l))
+            && !bodies.contains(&limb);
+        let centred_body = bodies.contains(&limb)
+            && ((s.middle[lateral] - centre).abs() <= 0.5 * s.width || raised_body);
+        let side = if head_on_neck || carries_head || centred_body {
             0.0
         } else {
             side_of(s)
         };
         let side_letter = (side != 0.0).then_some(if side == frame.left_sign { 'L' } else { 'R' });
-        let parent_is_head = limbs[&limb]
-            .parent
-            .and_then(|p| shapes.get(&p))
-            .is_some_and(|p| side_of(p) == 0.0 && !is_leg(p) && p.tip.z > frame.body_hi.z);
+        let parent_is_head = limbs[&limb].parent.is_some_and(|p| {
+            let Some(ps) = shapes.get(&p) else {
+                return false;
+            };
+            if bodies.contains(&p) {
+                // A thick region towards the head on the centre line, or on a neck.
+                let centred = (ps.middle[lateral] - centre).abs() <= 0.5 * ps.width
+                    || (frame.forward.is_some() && ps.middle.z > frame.body_hi.z);
+                limbs[&p].parent.is_some_and(|q| !bodies.contains(&q))
+                    || (centred && headwards_of(ps))
+            } else {
+                side_of(ps) == 0.0
+                    && !is_leg(ps)
+                    && (ps.tip.z > frame.body_hi.z
+                        || matches!(centre_role(ps.root, ps.tip, &frame), "head" | "neck"))
+            }
+        });
         // Ears (horns) stand on top: a side limb rooted in the body's top fifth (or on a
         // head) that reaches above it.
         let body_height = frame.body_hi.z - frame.body_lo.z;
         let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
-        // Towards the head: the front half of a lying body, the upper half of a standing one.
-        let headwards = match frame.forward {
-            Some((axis, sign)) => (s.middle[axis] - body_centre[axis]) * sign > 0.0,
-            None => s.middle.z >= body_centre.z,
-        };
+        let headwards = headwards_of(s);
         // A centre limb grows from it (a thick neck base carrying the neck and head).
         let carries_centre_limb = limbs.iter().any(|(l, record)| {
             record.parent == Some(limb)
@@ -385,7 +700,13 @@ pub(super) fn limb_names(
                     .get(l)
                     .is_some_and(|c| (c.middle[lateral] - centre).abs() <= 0.25 * c.width)
         });
-        let role = if bodies.contains(&limb) {
+        // Ears and horns rise from where they grow (a muzzle, a leg do not).
+        let rises = s.tip.z - s.root.z > 0.3 * (s.tip - s.root).length();
+        let role = if head_on_neck {
+            "head"
+        } else if carries_head {
+            "neck"
+        } else if bodies.contains(&limb) {
             // A thick region of its own: a head on the centre line towards the head (a neck
             // where a centre limb grows from it), else hips; shoulders and hips at the sides.
             match (side == 0.0, headwards) {
@@ -397,18 +718,49 @@ pub(super) fn limb_names(
             }
         } else if is_leg(s) {
             "leg"
-        } else if (parent_is_head || on_top) && side != 0.0 {
+        } else if side != 0.0 && ((parent_is_head && s.tip.z > s.root.z) || (on_top && rises)) {
             "ear"
         } else if side == 0.0 {
             centre_role(s.root, s.tip, &frame)
         } else if frame.forward.is_none() {
             "arm"
-        } else if s.tip.z > frame.body_hi.z {
+        } else if (rises && s.tip.z > frame.body_hi.z)
+            || (headwards && s.root.z > body_centre.z && limbs[&limb].parent.is_none())
+        {
+            // On a lying body: rising above it, or out from the upper front (a cow's ears).
             "ear"
         } else {
             "limb"
         };
         base.insert(limb, (role.to_owned(), side_letter));
+    }
+    // A pair of like limbs from one place that both fall on one side of the plane (a bunny's
+    // ears both leaning one way) are told apart by which lies further to the left.
+    let mut groups: BTreeMap<(String, Option<usize>), Vec<usize>> = BTreeMap::new();
+    for (&limb, (role, letter)) in &base {
+        if letter.is_some() && role != "limb" {
+            groups
+                .entry((role.clone(), limbs[&limb].parent))
+                .or_default()
+                .push(limb);
+        }
+    }
+    for ((role, _), pair) in groups {
+        let [a, b] = pair[..] else { continue };
+        let other_side_taken = base
+            .iter()
+            .any(|(l, (r, letter))| *r == role && *letter != base[&a].1 && *l != a && *l != b);
+        if base[&a].1 != base[&b].1 || other_side_taken {
+            continue;
+        }
+        let leftness = |l: usize| shapes[&l].middle[lateral] * frame.left_sign;
+        let (left, right) = if leftness(a) >= leftness(b) {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        base.insert(left, (role.clone(), Some('L')));
+        base.insert(right, (role, Some('R')));
     }
     // Quadrupeds: legs on a side in order along the body, front first.
     let mut names: BTreeMap<usize, String> = BTreeMap::new();
@@ -513,19 +865,34 @@ fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
     }
 }
 
-/// Renames the leaf cages of each limb `<limb>_<segment>` (`leg.L_2`), keeping a split part's
-/// letter.
+/// Renames the leaf cages of each limb `<limb>_<n>` (`leg.L_2`), n counting its segments from
+/// the root as its controls do (a thick joint merged into a limb is one of them), pieces of
+/// one segment lettered `leg.L_2b` as before.
 pub(super) fn rename_limb_cages(
     cages: &mut CageSet,
     roles: &[Role],
     names: &BTreeMap<usize, String>,
 ) {
+    let mut segments: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for role in roles {
+        if let Role::Limb { limb, segment } = *role {
+            segments.entry(limb).or_default().insert(segment);
+        }
+    }
+    let mut taken: BTreeMap<String, usize> = BTreeMap::new();
     for (leaf, role) in cages.leaves.iter_mut().zip(roles) {
-        if let Role::Limb { limb, .. } = role
-            && let Some(name) = names.get(limb)
-            && let Some((_, rest)) = leaf.name.split_once('_')
+        if let Role::Limb { limb, segment } = *role
+            && let Some(name) = names.get(&limb)
         {
-            leaf.name = format!("{name}_{rest}");
+            let ordinal = segments[&limb].range(..segment).count() + 1;
+            let base = format!("{name}_{ordinal}");
+            let n = taken.entry(base.clone()).or_insert(0);
+            *n += 1;
+            leaf.name = if *n == 1 {
+                base
+            } else {
+                format!("{base}{}", char::from(b'a' + (*n as u8 - 1).min(25)))
+            };
         }
     }
 }

@@ -1,0 +1,127 @@
+//! Limbs named on shapes where the first auto rig named them wrong (the shared meshes): a beast
+//! whose knees are thick enough to be bodies of their own (its legs came out in three pieces,
+//! `arm.L`, `hip.L` and `leg.L`, the knee hanging from the shin), a horse whose thin neck
+//! carries a thick head (the neck was `ear.L`, the head hung from it as from an ear), a cow
+//! whose ears stand out from a head inside its body (`limb.1`, and its front legs named from
+//! the wrong end), and a head whose two ears both lean to one side (both `ear.R`).
+#![allow(clippy::unwrap_used)]
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+use starcages_core::mesh::Mesh;
+
+use crate::common::capsules;
+use crate::posable_rig::rigged;
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+/// The default auto rig of `mesh`, checked valid: each control's parent control and pivot.
+fn controls_of(mesh: &Mesh) -> BTreeMap<String, (Option<String>, DVec3)> {
+    let scene = rigged(mesh);
+    let internals = &scene.cages.internals;
+    internals
+        .iter()
+        .map(|control| {
+            // The parent control is the one whose owned vertices include this one's box.
+            let first = control.faces.first().and_then(|f| f.first()).copied();
+            let parent = internals
+                .iter()
+                .find(|p| first.is_some_and(|v| p.owns.contains(&v)))
+                .map(|p| p.name.clone());
+            (
+                control.name.clone(),
+                (parent, control.pivot.unwrap_or(DVec3::ZERO)),
+            )
+        })
+        .collect()
+}
+
+fn parent<'a>(controls: &'a BTreeMap<String, (Option<String>, DVec3)>, name: &str) -> &'a str {
+    controls
+        .get(name)
+        .unwrap_or_else(|| panic!("no control {name} in {:?}", controls.keys()))
+        .0
+        .as_deref()
+        .unwrap_or("")
+}
+
+#[test]
+fn a_leg_with_a_thick_knee_is_one_chain_from_the_hip() {
+    // A standing biped facing −Y whose knees are balls as thick as half its torso.
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
+        (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
+    ];
+    for x in [-0.6, 0.6] {
+        parts.push((v(x, 0.0, 0.1), v(x, 0.0, -2.6), 0.15));
+        parts.push((v(x, 0.0, -1.1), v(x, 0.0, -1.4), 0.3));
+    }
+    let controls = controls_of(&capsules(&parts, 0.045));
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with("hip") || n.contains(".001")),
+        "{names:?}"
+    );
+    for side in ["L", "R"] {
+        // The thigh, the knee and the shin: three controls at least, each carrying the next.
+        for n in 2..=3 {
+            assert_eq!(
+                parent(&controls, &format!("leg.{side}.{n}")),
+                format!("leg.{side}.{}", n - 1)
+            );
+        }
+        assert_eq!(parent(&controls, &format!("leg.{side}.1")), "root");
+    }
+    // Left on +X, and the knee's joint below the hip's.
+    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert!(controls["leg.L.2"].1.z < controls["leg.L.1"].1.z);
+}
+
+#[test]
+fn a_thin_neck_carries_a_thick_head_with_its_ears() {
+    // A quadruped facing −Y: a thin neck up to a head as thick as the legs are long; two ears
+    // on the head, both leaning to +X.
+    let mut parts = vec![
+        (v(0.0, -0.8, 0.0), v(0.0, 0.8, 0.0), 0.4),
+        (v(0.0, -0.9, 0.2), v(0.0, -1.5, 1.1), 0.1),
+        (v(0.0, -1.75, 1.25), v(0.0, -1.85, 1.2), 0.3),
+        (v(0.22, -1.75, 1.42), v(0.65, -1.75, 1.95), 0.07),
+        (v(0.02, -1.75, 1.5), v(0.4, -1.75, 2.1), 0.07),
+    ];
+    for (x, y) in [(-0.3, -0.6), (0.3, -0.6), (-0.3, 0.6), (0.3, 0.6)] {
+        parts.push((v(x, y, -0.1), v(x, y, -1.5), 0.12));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    assert_eq!(parent(&controls, "neck.1"), "root");
+    // The head hangs from the neck's last segment.
+    let neck_segments = controls.keys().filter(|n| n.starts_with("neck.")).count();
+    assert!(neck_segments >= 1, "{:?}", controls.keys());
+    assert_eq!(parent(&controls, "head.1"), format!("neck.{neck_segments}"));
+    assert_eq!(parent(&controls, "ear.L.1"), "head.1");
+    assert_eq!(parent(&controls, "ear.R.1"), "head.1");
+    // Facing −Y, left is +X: the ear further to +X is the left one.
+    assert!(controls["ear.L.1"].1.x > controls["ear.R.1"].1.x);
+    assert!(!controls.keys().any(|n| n.contains(".001")), "{controls:?}");
+}
+
+#[test]
+fn a_cow_facing_plus_y_gets_its_ears_and_front_legs_from_its_head_end() {
+    // One thick capsule for body and head, the ears out sideways from its upper front end.
+    let mut parts = vec![(v(0.0, -0.8, 0.0), v(0.0, 0.9, 0.15), 0.42)];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.25 * side, 1.0, 0.35), v(0.75 * side, 1.05, 0.3), 0.07));
+    }
+    for (x, y) in [(-0.3, -0.6), (0.3, -0.6), (-0.3, 0.6), (0.3, 0.6)] {
+        parts.push((v(x, y, -0.1), v(x, y, -1.4), 0.13));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    // Facing +Y, its left is −X.
+    assert!(controls["ear.L.1"].1.x < 0.0 && controls["ear.R.1"].1.x > 0.0);
+    assert!(controls["leg.front.L.1"].1.y > 0.0 && controls["leg.back.L.1"].1.y < 0.0);
+    assert!(controls["leg.front.L.1"].1.x < 0.0);
+}
