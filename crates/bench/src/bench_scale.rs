@@ -3,7 +3,7 @@
 //! the automatic 3×3×3 grid with default settings, and bound by *Cages and by the single MVC
 //! cage; per size it prints the bind time split by phase, the bind's peak heap (measured by the
 //! counting allocator of this binary), the mesh's and the stored binding's bytes and the time
-//! to follow one cage-vertex move. With `--blender PYTHON` (Blender 5 as the `bpy` package)
+//! to follow one cage-vertex move, and the default auto rig's open + rig + bind. With `--blender PYTHON` (Blender 5 as the `bpy` package)
 //! Blender's Mesh Deform binds the same mesh in the rig's union cage, side by side
 //! (`scripts/blender_mesh_deform_bind.py`).
 
@@ -15,7 +15,9 @@ use peakmem_alloc::PeakMemAllocTrait as _;
 use serde::Serialize;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::generate::{AutocageOptions, autocage};
+use starcages_core::generate::{
+    AutocageOptions, AutorigSettings, autocage, autorig, autorig_settings,
+};
 use starcages_core::scene::{Scene, SceneSettings};
 use starcages_core::star::{StarBinding, single_cage_scene};
 
@@ -52,6 +54,20 @@ struct Blender {
     bind_rss_mb: f64,
 }
 
+/// The default auto rig of the same mesh, as an artist meets it: the mesh file read, rigged
+/// (controls included) and bound.
+#[derive(Serialize)]
+struct AutoRig {
+    /// Reading the mesh as an OBJ file (written by this benchmark).
+    open_seconds: f64,
+    rig_seconds: f64,
+    leaf_cages: usize,
+    cage_vertices: usize,
+    bind: Bind,
+    /// Opening, rigging and binding together.
+    total_seconds: f64,
+}
+
 #[derive(Serialize)]
 struct Size {
     segments: u32,
@@ -63,8 +79,38 @@ struct Size {
     /// Peak over (mesh + stored operator): the bound is 2.
     stars_peak_over_kept: f64,
     stars_seconds_per_million_vertices: f64,
+    auto_rig: AutoRig,
     #[serde(skip_serializing_if = "Option::is_none")]
     blender: Option<Blender>,
+}
+
+/// Opens `mesh` from an OBJ file, auto-rigs it and binds the rig (see [`AutoRig`]).
+fn auto_rig(mesh: &starcages_core::mesh::Mesh, mesh_path: &Path) -> anyhow::Result<AutoRig> {
+    let dir = tempfile::tempdir()?;
+    let obj = dir.path().join("mesh.obj");
+    let triangles: Vec<Vec<u32>> = mesh.welded_triangles().iter().map(|t| t.to_vec()).collect();
+    write_plain_obj(&obj, mesh.welded_positions(), &triangles)?;
+    let start = Instant::now();
+    let (opened, up) = starcages_cli::commands::read_new_scene_mesh(&obj, None)?;
+    let open_seconds = start.elapsed().as_secs_f64();
+    let control = BindControl::default();
+    let start = Instant::now();
+    let rig = starcages_cli::progress::with_progress("auto rig", &control, || {
+        autorig(&opened, &AutorigSettings::default(), &control)
+    })
+    .map_err(|e| anyhow::anyhow!("auto rig of {}: {e}", mesh_path.display()))?;
+    let rig_seconds = start.elapsed().as_secs_f64();
+    let (leaf_cages, cage_vertices) = (rig.cages.leaves.len(), rig.cages.vertices.len());
+    let scene = Scene::from_mesh_file(obj, up, opened, rig.cages, autorig_settings());
+    let bind = bind(&scene, "auto rig bind")?;
+    Ok(AutoRig {
+        open_seconds,
+        rig_seconds,
+        leaf_cages,
+        cage_vertices,
+        total_seconds: open_seconds + rig_seconds + bind.seconds,
+        bind,
+    })
 }
 
 /// Binds `scene` from scratch and measures it.
@@ -212,6 +258,7 @@ pub fn run(
             mesh_path.display(),
             mesh.welded_positions().len()
         );
+        let auto_rig = auto_rig(&mesh, mesh_path)?;
         let cages = autocage(&mesh, &AutocageOptions::default());
         let mesh_mb = mesh.byte_size() as f64 / 1e6;
         let (vertices, triangles) = (mesh.welded_positions().len(), mesh.welded_triangles().len());
@@ -241,6 +288,7 @@ pub fn run(
             stars_seconds_per_million_vertices: stars.seconds / vertices as f64 * 1e6,
             stars,
             single_mvc,
+            auto_rig,
             blender,
         });
     }
@@ -248,13 +296,13 @@ pub fn run(
         return starcages_cli::output::line(serde_json::to_string_pretty(&sizes)?);
     }
     let mut table = String::from(
-        "| vertices | *Cages bind (cage / join / other) s | s per 1M vertices | peak MB | mesh + kept MB | peak / kept | single MVC bind s (peak MB) | Blender bind s (peak RSS MB) | move ms: *Cages / single MVC / Blender |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+        "| vertices | *Cages bind (cage / join / other) s | s per 1M vertices | peak MB | mesh + kept MB | peak / kept | single MVC bind s (peak MB) | auto rig: open + rig + bind = total s (leaf cages) | Blender bind s (peak RSS MB) | move ms: *Cages / single MVC / Blender |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for s in &sizes {
         let b = &s.stars;
         let blender = s.blender.as_ref();
         table.push_str(&format!(
-            "| {} | {:.2} ({:.2} / {:.2} / {:.2}) | {:.2} | {:.0} | {:.0} | {:.2} | {:.2} ({:.0}) | {} | {:.2} / {:.2} / {} |\n",
+            "| {} | {:.2} ({:.2} / {:.2} / {:.2}) | {:.2} | {:.0} | {:.0} | {:.2} | {:.2} ({:.0}) | {:.2} + {:.2} + {:.2} = {:.2} ({}) | {} | {:.2} / {:.2} / {} |\n",
             s.mesh_vertices,
             b.seconds,
             b.seconds_cage_coordinates,
@@ -266,6 +314,11 @@ pub fn run(
             s.stars_peak_over_kept,
             s.single_mvc.seconds,
             s.single_mvc.peak_mb,
+            s.auto_rig.open_seconds,
+            s.auto_rig.rig_seconds,
+            s.auto_rig.bind.seconds,
+            s.auto_rig.total_seconds,
+            s.auto_rig.leaf_cages,
             blender.map_or("–".into(), |x| format!("{:.2} ({:.0})", x.bind_seconds, x.peak_rss_mb)),
             b.move_s * 1e3,
             s.single_mvc.move_s * 1e3,

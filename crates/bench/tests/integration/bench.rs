@@ -35,7 +35,8 @@ fn bench_sweeps_h_and_reports_bind_ratios() {
 }
 
 /// `bench --scale` subdivides a mesh file and reports, per size, the bind's phases and its peak
-/// memory within twice what it keeps; bad sizes are refused.
+/// memory within twice what it keeps, and the auto rig's open + rig + bind; bad sizes are
+/// refused.
 #[test]
 fn bench_scale_reports_each_size_s_bind_and_memory() {
     let d = dir("bench-scale");
@@ -67,6 +68,18 @@ fn bench_scale_reports_each_size_s_bind_and_memory() {
         assert!(stars["seconds"].as_f64().unwrap() > 0.0);
         assert!(stars["peak_mb"].as_f64().unwrap() > 0.0, "{size}");
         assert!(size["single_mvc"]["seconds"].as_f64().unwrap() > 0.0);
+        // The default auto rig of the same mesh: opened, rigged and bound, the total their sum.
+        let auto = &size["auto_rig"];
+        assert!(auto["leaf_cages"].as_u64().unwrap() >= 1, "{size}");
+        let parts: f64 = ["open_seconds", "rig_seconds"]
+            .iter()
+            .map(|k| auto[k].as_f64().unwrap())
+            .sum::<f64>()
+            + auto["bind"]["seconds"].as_f64().unwrap();
+        assert!(
+            (auto["total_seconds"].as_f64().unwrap() - parts).abs() < 1e-9,
+            "{size}"
+        );
         assert!(size.get("blender").is_none());
     }
     let bad = bench(&["--scale", mesh.to_str().unwrap(), "--segments", "0"]);
