@@ -9,10 +9,11 @@
 use std::collections::BTreeMap;
 
 use glam::DVec3;
+use starcages_core::generate::{AutorigSettings, Mirror};
 use starcages_core::mesh::Mesh;
 
 use crate::common::capsules;
-use crate::posable_rig::rigged;
+use crate::posable_rig::rigged_with;
 
 fn v(x: f64, y: f64, z: f64) -> DVec3 {
     DVec3::new(x, y, z)
@@ -20,7 +21,15 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 
 /// The default auto rig of `mesh`, checked valid: each control's parent control and pivot.
 fn controls_of(mesh: &Mesh) -> BTreeMap<String, (Option<String>, DVec3)> {
-    let scene = rigged(mesh);
+    controls_with(mesh, &AutorigSettings::default())
+}
+
+/// [`controls_of`] with `settings`.
+fn controls_with(
+    mesh: &Mesh,
+    settings: &AutorigSettings,
+) -> BTreeMap<String, (Option<String>, DVec3)> {
+    let scene = rigged_with(mesh, settings);
     let internals = &scene.cages.internals;
     internals
         .iter()
@@ -48,9 +57,8 @@ fn parent<'a>(controls: &'a BTreeMap<String, (Option<String>, DVec3)>, name: &st
         .unwrap_or("")
 }
 
-#[test]
-fn a_leg_with_a_thick_knee_is_one_chain_from_the_hip() {
-    // A standing biped facing −Y whose knees are balls as thick as half its torso.
+/// A standing biped facing −Y whose knees are as thick as two thirds of its torso.
+fn thick_kneed_biped() -> Mesh {
     let mut parts = vec![
         (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
         (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
@@ -59,7 +67,12 @@ fn a_leg_with_a_thick_knee_is_one_chain_from_the_hip() {
         parts.push((v(x, 0.0, 0.1), v(x, 0.0, -2.6), 0.15));
         parts.push((v(x, 0.0, -1.1), v(x, 0.0, -1.4), 0.3));
     }
-    let controls = controls_of(&capsules(&parts, 0.045));
+    capsules(&parts, 0.045)
+}
+
+#[test]
+fn a_leg_with_a_thick_knee_is_one_chain_from_the_hip() {
+    let controls = controls_of(&thick_kneed_biped());
     let names: Vec<&String> = controls.keys().collect();
     assert!(
         !names
@@ -124,4 +137,35 @@ fn a_cow_facing_plus_y_gets_its_ears_and_front_legs_from_its_head_end() {
     assert!(controls["ear.L.1"].1.x < 0.0 && controls["ear.R.1"].1.x > 0.0);
     assert!(controls["leg.front.L.1"].1.y > 0.0 && controls["leg.back.L.1"].1.y < 0.0);
     assert!(controls["leg.front.L.1"].1.x < 0.0);
+}
+
+#[test]
+fn mirrored_twin_knees_are_two_legs_not_one_body() {
+    // Mirrored across x, each knee's twin is made from it: the two were one body (a `head`
+    // carrying both shins, hanging from one thigh named `neck`).
+    let settings = AutorigSettings {
+        mirror: Mirror::Axis(0),
+        ..AutorigSettings::default()
+    };
+    let controls = controls_with(&thick_kneed_biped(), &settings);
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with("head") || n.starts_with("neck")),
+        "{names:?}"
+    );
+    for n in 1..=3 {
+        let (l, r) = (format!("leg.L.{n}"), format!("leg.R.{n}"));
+        // Twins: the right leg's pivots are the left's mirrored.
+        let (pl, pr) = (controls[&l].1, controls[&r].1);
+        assert!(
+            (pl - DVec3::new(-pr.x, pr.y, pr.z)).length() < 1e-9,
+            "{l} {pl} {r} {pr}"
+        );
+        if n > 1 {
+            assert_eq!(parent(&controls, &l), format!("leg.L.{}", n - 1));
+            assert_eq!(parent(&controls, &r), format!("leg.R.{}", n - 1));
+        }
+    }
 }

@@ -67,7 +67,12 @@ fn hexapod() -> Mesh {
 
 /// The default auto rig of `mesh`, checked valid.
 pub(crate) fn rigged(mesh: &Mesh) -> Scene {
-    let rig = autorig(mesh, &AutorigSettings::default(), &BindControl::default()).unwrap();
+    rigged_with(mesh, &AutorigSettings::default())
+}
+
+/// The auto rig of `mesh` with `settings`, checked valid.
+pub(crate) fn rigged_with(mesh: &Mesh, settings: &AutorigSettings) -> Scene {
+    let rig = autorig(mesh, settings, &BindControl::default()).unwrap();
     let scene = Scene::new(
         MeshSource::Embedded,
         mesh.clone(),

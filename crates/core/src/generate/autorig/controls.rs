@@ -27,8 +27,69 @@ pub(super) fn bodies_as_limbs(
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
-    let (roles, parent_limb) = join_limbs_between_bodies(cages, roles, parent_limb);
+    let roles = separate_bodies(cages, roles);
+    let (roles, parent_limb) = join_limbs_between_bodies(cages, &roles, parent_limb);
     attach_bodies(cages, &roles, &parent_limb)
+}
+
+/// One body per connected group of its cages: a mirrored rig gives a thick region's twin (the
+/// right knee of a left one) the same body, and the two would be named, parented and turned
+/// as one (the mirrored beast's knees were one `head` carrying both shins).
+fn separate_bodies(cages: &CageSet, roles: &[Role]) -> Vec<Role> {
+    let mut roles = roles.to_vec();
+    let mut next_body = roles
+        .iter()
+        .filter_map(|r| match r {
+            Role::Body { body, .. } => Some(body + 1),
+            Role::Limb { .. } => None,
+        })
+        .max()
+        .unwrap_or(0);
+    let mut leaves_of: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for (leaf, role) in roles.iter().enumerate() {
+        if let Role::Body { body, .. } = *role {
+            leaves_of.entry(body).or_default().push(leaf);
+        }
+    }
+    for leaves in leaves_of.values() {
+        let vertices: Vec<BTreeSet<u32>> = leaves
+            .iter()
+            .map(|&l| cages.leaves.get(l).map(vertices_of).unwrap_or_default())
+            .collect();
+        // Groups by shared vertices, grown from each unvisited cage.
+        let mut group = vec![usize::MAX; leaves.len()];
+        let mut groups = 0;
+        for start in 0..leaves.len() {
+            if group[start] != usize::MAX {
+                continue;
+            }
+            group[start] = groups;
+            let mut stack = vec![start];
+            while let Some(a) = stack.pop() {
+                for b in 0..leaves.len() {
+                    if group[b] == usize::MAX && !vertices[a].is_disjoint(&vertices[b]) {
+                        group[b] = groups;
+                        stack.push(b);
+                    }
+                }
+            }
+            groups += 1;
+        }
+        for g in 1..groups {
+            for (k, &leaf) in leaves.iter().enumerate() {
+                if group[k] == g
+                    && let Role::Body { slab, .. } = roles[leaf]
+                {
+                    roles[leaf] = Role::Body {
+                        body: next_body,
+                        slab,
+                    };
+                }
+            }
+            next_body += 1;
+        }
+    }
+    roles
 }
 
 /// A limb between the main body and a body that does not touch it (a neck up to a thick
