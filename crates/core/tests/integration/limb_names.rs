@@ -169,3 +169,37 @@ fn mirrored_twin_knees_are_two_legs_not_one_body() {
         }
     }
 }
+
+#[test]
+fn a_human_gets_a_head_on_its_neck_arms_and_legs() {
+    // A standing human facing −Y: a thin neck up to a head thicker than it, arms hanging a
+    // little out from the shoulders, legs 0.6 apart at the hips.
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
+        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.8), 0.1),
+        (v(0.0, -0.03, 2.05), v(0.0, 0.0, 2.15), 0.24),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.4 * side, 0.0, 1.05), v(0.75 * side, 0.0, 0.3), 0.1));
+        parts.push((v(0.75 * side, 0.0, 0.3), v(0.85 * side, 0.0, -0.3), 0.08));
+        parts.push((v(0.3 * side, 0.0, -0.1), v(0.32 * side, 0.0, -1.9), 0.13));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let names: Vec<&String> = controls.keys().collect();
+    for limb in ["leg.L.2", "leg.R.2", "arm.L.2", "arm.R.2", "head.1"] {
+        assert!(controls.contains_key(limb), "no {limb} in {names:?}");
+    }
+    // The head hangs from the neck where the neck is a limb, else from the root.
+    let head_parent = parent(&controls, "head.1");
+    assert!(
+        head_parent == "root" || head_parent.starts_with("neck."),
+        "{names:?}"
+    );
+    assert!(controls["arm.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.contains(".001") || n.starts_with("limb")),
+        "{names:?}"
+    );
+}

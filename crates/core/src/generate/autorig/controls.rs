@@ -28,8 +28,18 @@ pub(super) fn bodies_as_limbs(
     parent_limb: &BTreeMap<usize, usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
     let roles = separate_bodies(cages, roles);
-    let (roles, parent_limb) = join_limbs_between_bodies(cages, &roles, parent_limb);
+    let parent_limb = present_parents(&roles, parent_limb);
+    let (roles, parent_limb) = join_limbs_between_bodies(cages, &roles, &parent_limb);
     attach_bodies(cages, &roles, &parent_limb)
+}
+
+/// Each limb's parent as the nearest ancestor that still has cages (merges may have taken a
+/// parent's), for the limbs that have cages.
+fn present_parents(roles: &[Role], parent_limb: &BTreeMap<usize, usize>) -> BTreeMap<usize, usize> {
+    limbs_of(roles, parent_limb)
+        .into_iter()
+        .filter_map(|(limb, record)| record.parent.map(|p| (limb, p)))
+        .collect()
 }
 
 /// One body per connected group of its cages: a mirrored rig gives a thick region's twin (the
@@ -343,6 +353,14 @@ fn attach_bodies(
     // A thick thigh on the torso carrying one leg to the ground is the leg's first segment.
     let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
     let ground = lo.z + 0.2 * (hi.z - lo.z);
+    let reaches_ground = |roles: &[Role], limb: usize| {
+        cages.leaves.iter().zip(roles).any(|(leaf, role)| {
+            matches!(role, Role::Limb { limb: l, .. } if *l == limb)
+                && vertices_of(leaf)
+                    .iter()
+                    .any(|&v| cages.vertices.get(v as usize).is_some_and(|p| p.z < ground))
+        })
+    };
     for body in bodies.clone() {
         if parents.contains_key(&body) {
             continue;
@@ -353,13 +371,7 @@ fn attach_bodies(
             .map(|(c, _)| *c)
             .collect();
         let [leg] = children[..] else { continue };
-        let reaches_ground = cages.leaves.iter().zip(&roles).any(|(leaf, role)| {
-            matches!(role, Role::Limb { limb, .. } if *limb == leg)
-                && vertices_of(leaf)
-                    .iter()
-                    .any(|&v| cages.vertices.get(v as usize).is_some_and(|p| p.z < ground))
-        });
-        if reaches_ground && !bodies.contains(&leg) {
+        if reaches_ground(&roles, leg) && !bodies.contains(&leg) {
             append_limb(&mut roles, &mut parents, body, leg, 2);
             bodies.remove(&body);
         }
