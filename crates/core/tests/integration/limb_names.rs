@@ -203,3 +203,34 @@ fn a_human_gets_a_head_on_its_neck_arms_and_legs() {
         "{names:?}"
     );
 }
+
+#[test]
+fn legs_touching_at_the_crotch_each_start_at_the_hip() {
+    // The human above with its legs 0.4 apart at the hips (radius 0.13: they touch): the hip
+    // band they share was cut into a piece per side, named like arms (`arm.R.1` carrying both
+    // legs, a loose `arm.L.001.1`).
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
+        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.55), 0.1),
+        (v(0.0, -0.03, 1.8), v(0.0, 0.0, 1.9), 0.24),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.4 * side, 0.0, 1.05), v(0.75 * side, 0.0, 0.3), 0.1));
+        parts.push((v(0.75 * side, 0.0, 0.3), v(0.85 * side, 0.0, -0.3), 0.08));
+        parts.push((v(0.2 * side, 0.0, -0.1), v(0.24 * side, 0.0, -1.9), 0.13));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(!names.iter().any(|n| n.contains(".001")), "{names:?}");
+    for side in ["L", "R"] {
+        assert_eq!(parent(&controls, &format!("leg.{side}.1")), "root");
+        assert_eq!(parent(&controls, &format!("arm.{side}.1")), "root");
+        assert_eq!(
+            parent(&controls, &format!("leg.{side}.2")),
+            format!("leg.{side}.1")
+        );
+    }
+    // Each leg's hip joint is on its own side, above its knee.
+    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert!(controls["leg.L.1"].1.z > controls["leg.L.2"].1.z);
+}

@@ -376,7 +376,63 @@ fn attach_bodies(
             bodies.remove(&body);
         }
     }
+    legs_from_hip_pieces(cages, &mut roles, &mut parents, &bodies, &reaches_ground);
     (roles, parents, bodies)
+}
+
+/// Legs touching at the crotch grow from a hip band outside the body that the rig cuts into
+/// one piece per side (one limb of one segment each, the legs hanging from one of them): each
+/// piece touching exactly one leg becomes that leg's first segment, so a standing human's legs
+/// are `leg.L.1 …` from the hip instead of `arm.R.1` carrying both legs and a loose `arm.L.001`.
+fn legs_from_hip_pieces(
+    cages: &CageSet,
+    roles: &mut [Role],
+    parents: &mut BTreeMap<usize, usize>,
+    bodies: &BTreeSet<usize>,
+    reaches_ground: &dyn Fn(&[Role], usize) -> bool,
+) {
+    let mut vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    let mut segments: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles.iter()) {
+        if let Role::Limb { limb, segment } = *role {
+            vertices.entry(limb).or_default().extend(vertices_of(leaf));
+            segments.entry(limb).or_default().insert(segment);
+        }
+    }
+    let mut legs: BTreeSet<usize> = vertices
+        .keys()
+        .copied()
+        .filter(|&l| !bodies.contains(&l) && reaches_ground(roles, l))
+        .collect();
+    // Hip pieces: root limbs of one segment above the ground whose children are all legs.
+    let pieces: Vec<usize> = vertices
+        .keys()
+        .copied()
+        .filter(|&p| {
+            !bodies.contains(&p)
+                && !parents.contains_key(&p)
+                && !legs.contains(&p)
+                && segments.get(&p).is_some_and(|s| s.len() == 1)
+                && parents
+                    .iter()
+                    .filter(|(_, q)| **q == p)
+                    .all(|(c, _)| legs.contains(c))
+        })
+        .collect();
+    let piece_set: BTreeSet<usize> = pieces.iter().copied().collect();
+    for piece in pieces {
+        let touching: Vec<usize> = legs
+            .iter()
+            .copied()
+            .filter(|l| parents.get(l).is_none_or(|q| piece_set.contains(q)))
+            .filter(|l| !vertices[l].is_disjoint(&vertices[&piece]))
+            .collect();
+        if let [leg] = touching[..]
+            && append_limb(roles, parents, piece, leg, 1)
+        {
+            legs.remove(&leg);
+        }
+    }
 }
 
 /// Appends limb `lower`'s segments (at least `min_segments` of them) after limb `upper`'s last,
