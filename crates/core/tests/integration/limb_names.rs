@@ -170,21 +170,35 @@ fn mirrored_twin_knees_are_two_legs_not_one_body() {
     }
 }
 
-#[test]
-fn a_human_gets_a_head_on_its_neck_arms_and_legs() {
-    // A standing human facing −Y: a thin neck up to a head thicker than it, arms hanging a
-    // little out from the shoulders, legs 0.6 apart at the hips.
+/// A standing human facing −Y: a thin neck from the torso up to `neck_top`, a head thicker than
+/// it above, arms hanging a little out from the shoulders, legs of radius 0.13 `hip_x` either
+/// side of the centre at the hips (0.2: they touch) and `foot_x` at the feet.
+fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
     let mut parts = vec![
         (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
-        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.8), 0.1),
-        (v(0.0, -0.03, 2.05), v(0.0, 0.0, 2.15), 0.24),
+        (v(0.0, 0.0, 1.3), v(0.0, 0.0, neck_top), 0.1),
+        (
+            v(0.0, -0.03, neck_top + 0.25),
+            v(0.0, 0.0, neck_top + 0.35),
+            0.24,
+        ),
     ];
     for side in [-1.0, 1.0] {
         parts.push((v(0.4 * side, 0.0, 1.05), v(0.75 * side, 0.0, 0.3), 0.1));
         parts.push((v(0.75 * side, 0.0, 0.3), v(0.85 * side, 0.0, -0.3), 0.08));
-        parts.push((v(0.3 * side, 0.0, -0.1), v(0.32 * side, 0.0, -1.9), 0.13));
+        parts.push((
+            v(hip_x * side, 0.0, -0.1),
+            v(foot_x * side, 0.0, -1.9),
+            0.13,
+        ));
     }
-    let controls = controls_of(&capsules(&parts, 0.035));
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn a_human_gets_a_head_on_its_neck_arms_and_legs() {
+    // Legs 0.6 apart at the hips, a neck 0.5 long.
+    let controls = controls_of(&human(0.3, 0.32, 1.8));
     let names: Vec<&String> = controls.keys().collect();
     for limb in ["leg.L.2", "leg.R.2", "arm.L.2", "arm.R.2", "head.1"] {
         assert!(controls.contains_key(limb), "no {limb} in {names:?}");
@@ -209,17 +223,7 @@ fn legs_touching_at_the_crotch_each_start_at_the_hip() {
     // The human above with its legs 0.4 apart at the hips (radius 0.13: they touch): the hip
     // band they share was cut into a piece per side, named like arms (`arm.R.1` carrying both
     // legs, a loose `arm.L.001.1`).
-    let mut parts = vec![
-        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
-        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.55), 0.1),
-        (v(0.0, -0.03, 1.8), v(0.0, 0.0, 1.9), 0.24),
-    ];
-    for side in [-1.0, 1.0] {
-        parts.push((v(0.4 * side, 0.0, 1.05), v(0.75 * side, 0.0, 0.3), 0.1));
-        parts.push((v(0.75 * side, 0.0, 0.3), v(0.85 * side, 0.0, -0.3), 0.08));
-        parts.push((v(0.2 * side, 0.0, -0.1), v(0.24 * side, 0.0, -1.9), 0.13));
-    }
-    let controls = controls_of(&capsules(&parts, 0.035));
+    let controls = controls_of(&human(0.2, 0.24, 1.55));
     let names: Vec<&String> = controls.keys().collect();
     assert!(!names.iter().any(|n| n.contains(".001")), "{names:?}");
     for side in ["L", "R"] {
