@@ -56,8 +56,9 @@ pub struct BenchArgs {
     #[arg(long)]
     table2: bool,
     /// Instead of the tables above, the bind's scaling on this mesh: subdivided at each of
-    /// `--segments`, in the automatic 3×3×3 grid; bind time by phase, peak memory, single MVC
-    /// and (with `--blender`) Blender's Mesh Deform per size (docs/performance.md).
+    /// `--segments`, in the automatic 3×3×3 grid; bind time by phase, peak memory, single MVC,
+    /// the default auto rig's open + rig + bind, and (with `--blender`) Blender's Mesh Deform
+    /// per size (docs/performance.md).
     #[arg(long, value_name = "MESH")]
     scale: Option<PathBuf>,
     /// Edge cuts of each `--scale` size: n gives n² × the triangles (the armadillo's 25k
