@@ -24,6 +24,8 @@
 mod branches;
 mod controls;
 mod decimate;
+mod limb_tree;
+mod naming;
 mod parts;
 mod pieces;
 mod polycube;
@@ -453,10 +455,10 @@ fn rig_on_grid(
     control.advance();
     let mut cages = cages;
     let (roles, parent_limb, bodies) =
-        controls::bodies_as_limbs(&cages, &parts_of_leaves(&parts, &cages), &parts.parent_limb);
+        limb_tree::bodies_as_limbs(&cages, &parts_of_leaves(&parts, &cages), &parts.parent_limb);
     let plane = mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a])));
-    let names = controls::limb_names(&cages, &roles, &parent_limb, &bodies, plane);
-    controls::rename_limb_cages(&mut cages, &roles, &names);
+    let names = naming::limb_names(&cages, &roles, &parent_limb, &bodies, plane);
+    naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
         controls::add_controls(&mut cages, &roles, &parent_limb, &names);
     }

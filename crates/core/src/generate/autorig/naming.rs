@@ -1,0 +1,452 @@
+//! Limb names by role and side, Blender's way (`leg.L`, `leg.front.R`, `neck`, `head`,
+//! `ear.L`, `limb.N`), from the shape of each limb in the rig's Z-up frame; the leaf cages
+//! renamed after their limbs.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::DVec3;
+
+use super::controls::{centroid, limbs_of, vertices_of};
+use super::parts::Role;
+use crate::scene::CageSet;
+
+/// The rig's axes for naming, in its Z-up frame: the sign along the lateral (left–right) axis
+/// that is the figure's left, the axis a lying body runs along with the head's sign, and
+/// where the main body and the whole rig lie.
+struct Frame {
+    left_sign: f64,
+    /// The horizontal axis a lying body (a quadruped's) runs along, with the head's sign.
+    forward: Option<(usize, f64)>,
+    body_lo: DVec3,
+    body_hi: DVec3,
+    mesh_lo: DVec3,
+    mesh_hi: DVec3,
+}
+
+/// Names every limb by role and side, Blender's way: `leg.L`, `arm.R`, `leg.front.L` …
+/// `leg.back.R` on a quadruped, `tail`, `head`, `ear.L`; any other limb `limb.N`. Sides from
+/// the rig's lateral axis (`mirror` where given), `.L` on +X as in Blender (a figure facing
+/// −Y has its left on +X).
+pub(super) fn limb_names(
+    cages: &CageSet,
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+    bodies: &BTreeSet<usize>,
+    mirror: Option<(usize, f64)>,
+) -> BTreeMap<usize, String> {
+    let limbs = limbs_of(roles, parent_limb);
+    let point = |v: &u32| cages.vertices[*v as usize];
+    let (mesh_lo, mesh_hi) = crate::cage::bounds_of(&cages.vertices);
+    // The main body: the body with most vertices (body 0 is the first found, not the largest).
+    let mut body_sizes: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        if let Role::Body { body, .. } = role {
+            body_sizes
+                .entry(*body)
+                .or_default()
+                .extend(vertices_of(leaf));
+        }
+    }
+    let main_key = body_sizes
+        .iter()
+        .max_by_key(|(b, s)| (s.len(), std::cmp::Reverse(**b)))
+        .map(|(b, _)| *b);
+    let main_body: Vec<DVec3> = main_key
+        .and_then(|b| body_sizes.get(&b))
+        .map(|s| s.iter().map(point).collect())
+        .unwrap_or_else(|| cages.vertices.clone());
+    // A second thick region beside a lying body is its head (a horse's, a cow's): the largest
+    // body other than the main one, whether still a body or already one of `bodies`.
+    let second_body = body_sizes
+        .iter()
+        .filter(|(b, _)| Some(**b) != main_key)
+        .map(|(_, s)| s.clone())
+        .chain(bodies.iter().map(|limb| {
+            cages
+                .leaves
+                .iter()
+                .zip(roles)
+                .filter(|(_, r)| matches!(r, Role::Limb { limb: l, .. } if l == limb))
+                .flat_map(|(leaf, _)| vertices_of(leaf))
+                .collect::<BTreeSet<u32>>()
+        }))
+        .max_by_key(BTreeSet::len)
+        .and_then(|s| centroid(s.iter().map(point)));
+    let (body_lo, body_hi) = crate::cage::bounds_of(&main_body);
+    let body_extent = body_hi - body_lo;
+    let lying = body_extent.x.max(body_extent.y) > body_extent.z;
+    let mesh_extent = mesh_hi - mesh_lo;
+    let lateral = match mirror {
+        Some((axis, _)) if axis < 2 => axis,
+        _ if lying && body_extent.x >= body_extent.y => 1,
+        _ if lying => 0,
+        _ if mesh_extent.y > mesh_extent.x => 1,
+        _ => 0,
+    };
+    let body_centre = 0.5 * (body_lo + body_hi);
+    let centre = match mirror {
+        Some((axis, plane)) if axis == lateral => plane,
+        _ => body_centre[lateral],
+    };
+    // Per limb: where it starts (the ring it shares with what it grows from), where it ends.
+    struct Shape {
+        root: DVec3,
+        /// The centroid of the limb's vertices and their extent along the lateral axis.
+        middle: DVec3,
+        width: f64,
+        tip: DVec3,
+    }
+    let shapes: BTreeMap<usize, Shape> = limbs
+        .iter()
+        .filter_map(|(&limb, record)| {
+            let all: BTreeSet<u32> = record
+                .segments
+                .iter()
+                .flatten()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            let first: BTreeSet<u32> = record
+                .segments
+                .first()?
+                .iter()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            let others: BTreeSet<u32> = cages
+                .leaves
+                .iter()
+                .enumerate()
+                .filter(|(l, _)| !record.segments.iter().flatten().any(|m| m == l))
+                .flat_map(|(_, leaf)| vertices_of(leaf))
+                .collect();
+            let ring: Vec<DVec3> = first.intersection(&others).map(point).collect();
+            let ring = if ring.is_empty() {
+                first.iter().map(point).collect()
+            } else {
+                ring
+            };
+            let root = centroid(ring.iter().copied())?;
+            let middle = centroid(all.iter().map(point))?;
+            let (lo, hi) = all
+                .iter()
+                .map(point)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p[lateral]), hi.max(p[lateral]))
+                });
+            // The tip: the limb's vertex farthest from its root.
+            let tip = all
+                .iter()
+                .map(point)
+                .max_by(|a, b| (*a - root).length().total_cmp(&(*b - root).length()))?;
+            Some((
+                limb,
+                Shape {
+                    root,
+                    middle,
+                    width: hi - lo,
+                    tip,
+                },
+            ))
+        })
+        .collect();
+    let height = mesh_extent.z.max(1e-12);
+    // On the centre line where the limb straddles it (a tail, a neck: its middle within a
+    // quarter of its own width of the plane); legs close together are each on one side.
+    let side_of = |s: &Shape| {
+        let offset = s.middle[lateral] - centre;
+        if offset.abs() <= 0.25 * s.width {
+            0.0
+        } else {
+            offset.signum()
+        }
+    };
+    let is_leg = |s: &Shape| s.tip.z - mesh_lo.z < 0.2 * height && s.tip.z < s.root.z;
+    // Which way a lying body faces: towards the limbs that reach well above it (a neck,
+    // ears, horns; a quarter of its height), else towards a second thick region (its head), else −Y as in Blender.
+    let forward = lying.then(|| {
+        let axis = 1 - lateral;
+        let raised = centroid(
+            shapes
+                .iter()
+                .filter(|(limb, _)| !bodies.contains(limb))
+                .map(|(_, s)| s)
+                .filter(|s| s.tip.z > body_hi.z + 0.25 * body_extent.z && !is_leg(s))
+                .map(|s| s.root),
+        );
+        // Else side limbs out from the body's upper half (a cow's ears on a head the body
+        // holds); legs hang from its lower half.
+        let upper = || {
+            centroid(
+                shapes
+                    .iter()
+                    .filter(|(limb, _)| !bodies.contains(limb))
+                    .map(|(_, s)| s)
+                    .filter(|s| !is_leg(s) && s.root.z > body_centre.z && side_of(s) != 0.0)
+                    .map(|s| s.root),
+            )
+        };
+        let head = raised.or(second_body).or_else(upper);
+        let sign = head
+            .map(|h| (h[axis] - body_centre[axis]).signum())
+            .filter(|s| *s != 0.0)
+            .unwrap_or(-1.0);
+        (axis, sign)
+    });
+    let frame = Frame {
+        left_sign: left_sign(lateral, forward),
+        forward,
+        body_lo,
+        body_hi,
+        mesh_lo,
+        mesh_hi,
+    };
+    // Towards the head: the front half of a lying body, the upper half of a standing one.
+    let headwards_of = |s: &Shape| match frame.forward {
+        Some((axis, sign)) => (s.middle[axis] - body_centre[axis]) * sign > 0.0,
+        None => s.middle.z >= body_centre.z,
+    };
+    let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
+    for (&limb, s) in &shapes {
+        // A thick region of its own (a head, hips) is on the centre line when its middle is
+        // within half its width of the plane (a head turned a little stays a head), or when it
+        // stands above a lying body's top (a horse's head turned to a side).
+        let raised_body = frame.forward.is_some() && s.middle.z > frame.body_hi.z;
+        // A thick region grown from a limb is a head on its neck (a horse's turned head).
+        let head_on_neck =
+            bodies.contains(&limb) && limbs[&limb].parent.is_some_and(|p| !bodies.contains(&p));
+        let carries_head = limbs
+            .iter()
+            .any(|(l, record)| record.parent == Some(limb) && bodies.contains(l))
+            && !bodies.contains(&limb);
+        let centred_body = bodies.contains(&limb)
+            && ((s.middle[lateral] - centre).abs() <= 0.5 * s.width || raised_body);
+        let side = if head_on_neck || carries_head || centred_body {
+            0.0
+        } else {
+            side_of(s)
+        };
+        let side_letter = (side != 0.0).then_some(if side == frame.left_sign { 'L' } else { 'R' });
+        let parent_is_head = limbs[&limb].parent.is_some_and(|p| {
+            let Some(ps) = shapes.get(&p) else {
+                return false;
+            };
+            if bodies.contains(&p) {
+                // A thick region towards the head on the centre line, or on a neck.
+                let centred = (ps.middle[lateral] - centre).abs() <= 0.5 * ps.width
+                    || (frame.forward.is_some() && ps.middle.z > frame.body_hi.z);
+                limbs[&p].parent.is_some_and(|q| !bodies.contains(&q))
+                    || (centred && headwards_of(ps))
+            } else {
+                side_of(ps) == 0.0
+                    && !is_leg(ps)
+                    && (ps.tip.z > frame.body_hi.z
+                        || matches!(centre_role(ps.root, ps.tip, &frame), "head" | "neck"))
+            }
+        });
+        // Ears (horns) stand on top: a side limb rooted in the body's top fifth (or on a
+        // head) that reaches above it.
+        let body_height = frame.body_hi.z - frame.body_lo.z;
+        let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
+        let headwards = headwards_of(s);
+        // A centre limb grows from it (a thick neck base carrying the neck and head).
+        let carries_centre_limb = limbs.iter().any(|(l, record)| {
+            record.parent == Some(limb)
+                && shapes
+                    .get(l)
+                    .is_some_and(|c| (c.middle[lateral] - centre).abs() <= 0.25 * c.width)
+        });
+        // Ears and horns rise from where they grow (a muzzle, a leg do not).
+        let rises = s.tip.z - s.root.z > 0.3 * (s.tip - s.root).length();
+        let role = if head_on_neck {
+            "head"
+        } else if carries_head {
+            "neck"
+        } else if bodies.contains(&limb) {
+            // A thick region of its own: a head on the centre line towards the head (a neck
+            // where a centre limb grows from it), else hips; shoulders and hips at the sides.
+            match (side == 0.0, headwards) {
+                (true, true) if carries_centre_limb => "neck",
+                (true, true) => "head",
+                (true, false) => "hips",
+                (false, true) => "shoulder",
+                (false, false) => "hip",
+            }
+        } else if is_leg(s) {
+            "leg"
+        } else if side != 0.0 && ((parent_is_head && s.tip.z > s.root.z) || (on_top && rises)) {
+            "ear"
+        } else if side == 0.0 {
+            centre_role(s.root, s.tip, &frame)
+        } else if frame.forward.is_none() {
+            "arm"
+        } else if (rises && s.tip.z > frame.body_hi.z)
+            || (headwards && s.root.z > body_centre.z && limbs[&limb].parent.is_none())
+        {
+            // On a lying body: rising above it, or out from the upper front (a cow's ears).
+            "ear"
+        } else {
+            "limb"
+        };
+        base.insert(limb, (role.to_owned(), side_letter));
+    }
+    // A pair of like limbs from one place that both fall on one side of the plane (a bunny's
+    // ears both leaning one way) are told apart by which lies further to the left.
+    let mut groups: BTreeMap<(String, Option<usize>), Vec<usize>> = BTreeMap::new();
+    for (&limb, (role, letter)) in &base {
+        if letter.is_some() && role != "limb" {
+            groups
+                .entry((role.clone(), limbs[&limb].parent))
+                .or_default()
+                .push(limb);
+        }
+    }
+    for ((role, _), pair) in groups {
+        let [a, b] = pair[..] else { continue };
+        let other_side_taken = base
+            .iter()
+            .any(|(l, (r, letter))| *r == role && *letter != base[&a].1 && *l != a && *l != b);
+        if base[&a].1 != base[&b].1 || other_side_taken {
+            continue;
+        }
+        let leftness = |l: usize| shapes[&l].middle[lateral] * frame.left_sign;
+        let (left, right) = if leftness(a) >= leftness(b) {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        base.insert(left, (role.clone(), Some('L')));
+        base.insert(right, (role, Some('R')));
+    }
+    // Quadrupeds: legs on a side in order along the body, front first.
+    let mut names: BTreeMap<usize, String> = BTreeMap::new();
+    for letter in [Some('L'), Some('R')] {
+        let mut legs: Vec<usize> = base
+            .iter()
+            .filter(|(_, (r, s))| r == "leg" && *s == letter)
+            .map(|(&l, _)| l)
+            .collect();
+        if legs.len() < 2 {
+            continue;
+        }
+        let (axis, sign) = frame.forward.unwrap_or((1, -1.0));
+        legs.sort_by(|a, b| {
+            let along = |l: &usize| -sign * shapes[l].root[axis];
+            along(a).total_cmp(&along(b))
+        });
+        let places: &[&str] = match legs.len() {
+            2 => &["front", "back"],
+            3 => &["front", "mid", "back"],
+            _ => &[],
+        };
+        for (k, limb) in legs.iter().enumerate() {
+            let place = places
+                .get(k)
+                .map(|p| (*p).to_owned())
+                .unwrap_or_else(|| format!("{}", k + 1));
+            if let Some(letter) = letter {
+                names.insert(*limb, format!("leg.{place}.{letter}"));
+            }
+        }
+    }
+    let mut taken: BTreeMap<String, usize> = BTreeMap::new();
+    let mut others = 0;
+    for (&limb, (role, letter)) in &base {
+        if names.contains_key(&limb) {
+            continue;
+        }
+        let name = if role == "limb" {
+            others += 1;
+            format!("limb.{others}")
+        } else {
+            match letter {
+                Some(l) => format!("{role}.{l}"),
+                None => role.clone(),
+            }
+        };
+        names.insert(limb, name);
+    }
+    // Names taken twice get Blender's numbered copies: `arm.L`, `arm.L.001`.
+    let mut result = BTreeMap::new();
+    for (limb, name) in names {
+        let n = taken.entry(name.clone()).or_insert(0);
+        *n += 1;
+        let unique = if *n == 1 {
+            name
+        } else {
+            format!("{name}.{:03}", *n - 1)
+        };
+        result.insert(limb, unique);
+    }
+    result
+}
+
+/// Which sign along the lateral axis is the figure's left: +X for an upright figure (facing
+/// −Y, as Blender's), and left = up × forward for a lying one.
+fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
+    match forward {
+        Some((axis, sign)) => {
+            let mut f = DVec3::ZERO;
+            f[axis] = sign;
+            DVec3::Z.cross(f)[lateral].signum()
+        }
+        None => 1.0,
+    }
+}
+
+/// The role of a limb on the centre line: above a standing body a head (a neck with its head),
+/// from its lower half a tail; at a lying body's front end a head (a neck where it rises above
+/// the body), at its back end a tail; else an unnamed limb.
+fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
+    let height = (frame.mesh_hi.z - frame.mesh_lo.z).max(1e-12);
+    match frame.forward {
+        None if tip.z > frame.body_hi.z - 0.05 * height => "head",
+        // Hanging from a standing body's lower half and not reaching the ground: a tail.
+        None if root.z < 0.5 * (frame.body_lo.z + frame.body_hi.z) => "tail",
+        None => "limb",
+        Some((axis, sign)) => {
+            let body_mid = 0.5 * (frame.body_lo[axis] + frame.body_hi[axis]);
+            if (root[axis] - body_mid) * sign > 0.0 {
+                if tip.z > frame.body_hi.z {
+                    "neck"
+                } else {
+                    "head"
+                }
+            } else if tip.z < frame.body_hi.z + 0.25 * height {
+                "tail"
+            } else {
+                "limb"
+            }
+        }
+    }
+}
+
+/// Renames the leaf cages of each limb `<limb>_<n>` (`leg.L_2`), n counting its segments from
+/// the root as its controls do (a thick joint merged into a limb is one of them), pieces of
+/// one segment lettered `leg.L_2b` as before.
+pub(super) fn rename_limb_cages(
+    cages: &mut CageSet,
+    roles: &[Role],
+    names: &BTreeMap<usize, String>,
+) {
+    let mut segments: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    for role in roles {
+        if let Role::Limb { limb, segment } = *role {
+            segments.entry(limb).or_default().insert(segment);
+        }
+    }
+    let mut taken: BTreeMap<String, usize> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter_mut().zip(roles) {
+        if let Role::Limb { limb, segment } = *role
+            && let Some(name) = names.get(&limb)
+        {
+            let ordinal = segments[&limb].range(..segment).count() + 1;
+            let base = format!("{name}_{ordinal}");
+            let n = taken.entry(base.clone()).or_insert(0);
+            *n += 1;
+            leaf.name = if *n == 1 {
+                base
+            } else {
+                format!("{base}{}", char::from(b'a' + (*n as u8 - 1).min(25)))
+            };
+        }
+    }
+}
