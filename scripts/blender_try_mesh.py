@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import bpy
-from blender_common import import_mesh, load_extension
+from blender_common import import_mesh, load_extension, render_frames
 from mathutils import Vector
 
 source, out = sys.argv[-2], Path(sys.argv[-1])
@@ -41,13 +41,5 @@ centre = sum(corners, Vector()) / 8
 size = max((a - b).length for a in corners for b in corners)
 camera.location = centre + Vector((0.25 * size, -1.5 * size, 0.2 * size))
 camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
-for o in bpy.data.objects:
-    if o.get("starcages_cages") or o.get("starcages_rig"):
-        o.hide_render = True
-scene.render.engine = "BLENDER_WORKBENCH"
-scene.render.resolution_x, scene.render.resolution_y = 640, 480
-for frame in (1, 12, 24):
-    scene.frame_set(frame)
-    scene.render.filepath = str(out / f"{Path(source).stem}_{leg}_frame{frame}.png")
-    bpy.ops.render.render(write_still=True)
+render_frames(scene, out, f"{Path(source).stem}_{leg}", (1, 12, 24), (640, 480))
 print("bent", leg, "rendered to", out)

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 import bpy
-from blender_common import import_mesh, load_extension
+from blender_common import import_mesh, load_extension, render_frames
 from mathutils import Vector
 
 source, out = sys.argv[-2], Path(sys.argv[-1])
@@ -70,13 +70,5 @@ view[swing] = -2.4 * extent
 view[1 - swing] = 0.4 * extent
 camera.location = centre + view
 camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
-for o in bpy.data.objects:
-    if o.get("starcages_cages") or o.get("starcages_rig"):
-        o.hide_render = True
-scene.render.engine = "BLENDER_WORKBENCH"
-scene.render.resolution_x, scene.render.resolution_y = 480, 480
-for frame in (1, 7, 13):
-    scene.frame_set(frame)
-    scene.render.filepath = str(out / f"{stem}_walk_frame{frame}.png")
-    bpy.ops.render.render(write_still=True)
+render_frames(scene, out, f"{stem}_walk", (1, 7, 13), (480, 480))
 print("walk baked and rendered to", out)
