@@ -63,6 +63,26 @@ pub(super) fn limbs_of(
         .collect()
 }
 
+/// Each body's cage vertices (the union of its slabs' cages).
+pub(super) fn body_vertices(cages: &CageSet, roles: &[Role]) -> BTreeMap<usize, BTreeSet<u32>> {
+    let mut vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
+    for (leaf, role) in cages.leaves.iter().zip(roles) {
+        if let Role::Body { body, .. } = role {
+            vertices.entry(*body).or_default().extend(vertices_of(leaf));
+        }
+    }
+    vertices
+}
+
+/// The main body: the one with most cage vertices (body 0 is the first found, not the
+/// largest), the lowest number on a tie.
+pub(super) fn main_body(body_vertices: &BTreeMap<usize, BTreeSet<u32>>) -> Option<usize> {
+    body_vertices
+        .iter()
+        .max_by_key(|(b, v)| (v.len(), std::cmp::Reverse(**b)))
+        .map(|(b, _)| *b)
+}
+
 /// The cage vertices a leaf cage's faces use.
 pub(super) fn vertices_of(leaf: &LeafCage) -> BTreeSet<u32> {
     leaf.faces.iter().flatten().copied().collect()

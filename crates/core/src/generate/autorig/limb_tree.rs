@@ -5,7 +5,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use super::controls::{limbs_of, vertices_of};
+use super::controls::{body_vertices, limbs_of, main_body, vertices_of};
 use super::parts::Role;
 use crate::scene::CageSet;
 
@@ -124,11 +124,7 @@ fn join_limbs_between_bodies(
     }
     let mut roles = roles.to_vec();
     let mut parents = parent_limb.clone();
-    let Some(main) = body_vertices
-        .iter()
-        .max_by_key(|(b, v)| (v.len(), std::cmp::Reverse(**b)))
-        .map(|(b, _)| *b)
-    else {
+    let Some(main) = main_body(&body_vertices) else {
         return (roles, parents);
     };
     let shared = |a: &BTreeSet<u32>, b: &BTreeSet<u32>| a.intersection(b).count();
@@ -221,20 +217,8 @@ fn attach_bodies(
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
-    let mut body_vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
-    for (leaf, role) in cages.leaves.iter().zip(roles) {
-        if let Role::Body { body, .. } = role {
-            body_vertices
-                .entry(*body)
-                .or_default()
-                .extend(vertices_of(leaf));
-        }
-    }
-    let Some(main) = body_vertices
-        .iter()
-        .max_by_key(|(b, v)| (v.len(), std::cmp::Reverse(**b)))
-        .map(|(b, _)| *b)
-    else {
+    let body_vertices = body_vertices(cages, roles);
+    let Some(main) = main_body(&body_vertices) else {
         return (roles.to_vec(), parent_limb.clone(), BTreeSet::new());
     };
     let next_limb = roles

@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 
-use super::controls::{centroid, limbs_of, vertices_of};
+use super::controls::{body_vertices, centroid, limbs_of, main_body, vertices_of};
 use super::parts::Role;
 use crate::scene::CageSet;
 
@@ -37,20 +37,8 @@ pub(super) fn limb_names(
     let limbs = limbs_of(roles, parent_limb);
     let point = |v: &u32| cages.vertices[*v as usize];
     let (mesh_lo, mesh_hi) = crate::cage::bounds_of(&cages.vertices);
-    // The main body: the body with most vertices (body 0 is the first found, not the largest).
-    let mut body_sizes: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
-    for (leaf, role) in cages.leaves.iter().zip(roles) {
-        if let Role::Body { body, .. } = role {
-            body_sizes
-                .entry(*body)
-                .or_default()
-                .extend(vertices_of(leaf));
-        }
-    }
-    let main_key = body_sizes
-        .iter()
-        .max_by_key(|(b, s)| (s.len(), std::cmp::Reverse(**b)))
-        .map(|(b, _)| *b);
+    let body_sizes = body_vertices(cages, roles);
+    let main_key = main_body(&body_sizes);
     let main_body: Vec<DVec3> = main_key
         .and_then(|b| body_sizes.get(&b))
         .map(|s| s.iter().map(point).collect())
