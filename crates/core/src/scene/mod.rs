@@ -27,7 +27,6 @@ pub(crate) use containment::ON_CAGE;
 pub use containment::{Containment, leaf_containment};
 pub use pose_state::{AnchorRecord, FollowRecord, HierarchyState, ReboundVertex};
 pub use pretty_json::to_pretty as to_pretty_json;
-pub(crate) use settings::product_of;
 pub use settings::{JoinPolicy, OutsidePolicy, SceneSettings, Smoothing};
 pub use up_axis::UpAxis;
 pub(crate) use validate::check_hierarchy;

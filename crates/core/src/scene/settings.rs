@@ -81,32 +81,132 @@ impl<'a> LaneKernel for SineInPlace<'a> {
 
     #[inline(always)]
     fn run<L: Lane>(self) -> &'a mut [f64] {
-        let (zero, one, half) = (L::splat(0.0), L::splat(1.0), L::splat(0.5));
-        let (pi, minus_one) = (L::splat(std::f64::consts::PI), L::splat(-1.0));
         let mut chunks = self.0.chunks_exact_mut(LANES);
         for c in &mut chunks {
-            let x = L::from_array([c[0], c[1], c[2], c[3]]);
-            let t = x.max(zero).min(one);
-            let u = pi * (t - half);
-            let u2 = u * u;
-            let series = SINE_COEFFICIENTS
-                .iter()
-                .fold(zero, |acc, &k| acc * u2 + L::splat(k));
-            let sine = (u * (series * u2 + one)).max(minus_one).min(one);
-            let y = half * sine + half;
-            let y = L::select(x.le(zero), zero, y);
-            let y = L::select(x.ge(one), one, y);
-            // NaN stays NaN, as in `eval` (no comparison holds for it).
-            let y = L::select(!x.le(x), x, y);
+            let y = sine_unit_lanes(L::from_array([c[0], c[1], c[2], c[3]]));
             c.copy_from_slice(&y.to_array());
         }
         chunks.into_remainder()
     }
 }
 
+/// f_1 (sine) of each lane, clamped as [`Smoothing::eval`] clamps, with the same operations in
+/// the same order as `eval` (so the same values, bit for bit).
+#[inline(always)]
+fn sine_unit_lanes<L: Lane>(x: L) -> L {
+    let (zero, one, half) = (L::splat(0.0), L::splat(1.0), L::splat(0.5));
+    let (pi, minus_one) = (L::splat(std::f64::consts::PI), L::splat(-1.0));
+    let t = x.max(zero).min(one);
+    let u = pi * (t - half);
+    let u2 = u * u;
+    // A loop, not a `fold` closure: closures are compiled without the kernel's target
+    // features, and their lane operations become calls.
+    let mut series = zero;
+    for &k in &SINE_COEFFICIENTS {
+        series = series * u2 + L::splat(k);
+    }
+    let sine = (u * (series * u2 + one)).max(minus_one).min(one);
+    let y = half * sine + half;
+    let y = L::select(x.le(zero), zero, y);
+    let y = L::select(x.ge(one), one, y);
+    // NaN stays NaN, as in `eval` (no comparison holds for it).
+    L::select(!x.le(x), x, y)
+}
+
+/// Π_k f_1(x_k · s_k) (sine) over `x` and `scale` (all 1 where `scale` is `None`), in the
+/// four running products of [`product_of`]: a lane per product, the last `len % LANES`
+/// factors left for the caller. Returns the four lane products and where the rest starts.
+/// Neither the arguments nor the factors are written out: eq. 6's and eq. 8's products were
+/// half of an auto rig's bind as separate passes over a buffer.
+struct SineProduct<'a> {
+    x: &'a [f64],
+    scale: Option<&'a [f64]>,
+}
+
+impl LaneKernel for SineProduct<'_> {
+    type Output = ([f64; LANES], usize);
+
+    #[inline(always)]
+    fn run<L: Lane>(self) -> ([f64; LANES], usize) {
+        // Loops, not closures: the kernel must be one function for `#[target_feature]`.
+        let whole = self.x.len() - self.x.len() % LANES;
+        let mut product = L::splat(1.0);
+        match self.scale {
+            Some(scale) => {
+                for (x, s) in self.x[..whole]
+                    .chunks_exact(LANES)
+                    .zip(scale.chunks_exact(LANES))
+                {
+                    let x = L::from_array([x[0], x[1], x[2], x[3]]);
+                    let s = L::from_array([s[0], s[1], s[2], s[3]]);
+                    product = product * sine_unit_lanes(x * s);
+                }
+            }
+            None => {
+                for x in self.x[..whole].chunks_exact(LANES) {
+                    product = product * sine_unit_lanes(L::from_array([x[0], x[1], x[2], x[3]]));
+                }
+            }
+        }
+        (product.to_array(), whole)
+    }
+}
+
+impl Smoothing {
+    /// Π_k f_1(x_k): the same value, bit for bit, as [`Smoothing::eval_unit_in_place`] then
+    /// [`product_of`], in one pass with nothing written out (Ω's products, eqs. 6 and 8).
+    pub(crate) fn product_of_unit(self, xs: &[f64]) -> f64 {
+        self.product_of_unit_scaled(xs, None)
+    }
+
+    /// Π_k f_1(x_k), leaving out first the x_k ≥ 1 (whose factor is exactly 1): the value of
+    /// [`Smoothing::product_of_unit`] to rounding (the factors left are multiplied in another
+    /// grouping), `xs` reordered and shortened. Most of Ω's factors in a blend zone are 1.
+    pub(crate) fn product_of_unit_below_one(self, xs: &mut Vec<f64>) -> f64 {
+        let mut kept = 0;
+        for k in 0..xs.len() {
+            let x = xs[k];
+            xs[kept] = x;
+            // Branch-free; NaN is kept (its product stays NaN).
+            kept += usize::from(x < 1.0 || x.is_nan());
+        }
+        xs.truncate(kept);
+        self.product_of_unit(xs)
+    }
+
+    /// Π_k f_1(x_k · s_k) (`scale` as long as `xs`): the same value, bit for bit, as the
+    /// products x_k · s_k through [`Smoothing::product_of_unit`] (eq. 6's factors of an
+    /// interior vertex, d(t, p) / d(t, u) with 1 / d(t, u) stored).
+    pub(crate) fn product_of_unit_scaled(self, xs: &[f64], scale: Option<&[f64]>) -> f64 {
+        let argument = |k: usize| scale.map_or(xs[k], |s| xs[k] * s[k]);
+        match self {
+            Self::Sine => {
+                let (lanes, rest_from) = lanes::run_kernel(SineProduct { x: xs, scale });
+                let rest: f64 = (rest_from..xs.len())
+                    .map(|k| self.eval(argument(k), 1.0))
+                    .product();
+                (lanes[0] * lanes[1]) * (lanes[2] * lanes[3]) * rest
+            }
+            Self::Cubic | Self::Quintic => {
+                let mut lanes = [1.0; LANES];
+                let whole = xs.len() - xs.len() % LANES;
+                for k in 0..whole {
+                    lanes[k % LANES] *= self.eval(argument(k), 1.0);
+                }
+                let rest: f64 = (whole..xs.len())
+                    .map(|k| self.eval(argument(k), 1.0))
+                    .product();
+                (lanes[0] * lanes[1]) * (lanes[2] * lanes[3]) * rest
+            }
+        }
+    }
+}
+
 /// The product of `xs` in four independent running products (the one chain of
-/// multiplications, each waiting on the last, was the bound).
-pub(crate) fn product_of(xs: &[f64]) -> f64 {
+/// multiplications, each waiting on the last, was the bound): the order
+/// [`Smoothing::product_of_unit`] multiplies in, which the tests check it against.
+#[cfg(test)]
+fn product_of(xs: &[f64]) -> f64 {
     let mut lanes = [1.0; 4];
     let mut chunks = xs.chunks_exact(4);
     for c in &mut chunks {
@@ -269,6 +369,57 @@ mod tests {
         }
         assert_eq!(product_of(&[2.0, 3.0, 0.5, 4.0, 5.0, 0.1]), 6.0);
         assert_eq!(product_of(&[]), 1.0);
+    }
+
+    /// The fused product is the batch then [`product_of`], bit for bit, at every length (the
+    /// lanes' remainder included), with and without scales, for each smoothing function.
+    #[test]
+    fn the_fused_product_is_the_batch_then_the_product_bit_for_bit() {
+        // Arguments in (0, 1.2): a zero or NaN factor would hide every other one.
+        let xs: Vec<f64> = (0..45)
+            .map(|k| 0.02 + (k as f64 * 0.618_034).fract() * 1.2)
+            .collect();
+        let scale: Vec<f64> = (0..xs.len()).map(|k| 0.7 + 0.01 * k as f64).collect();
+        for smoothing in [Smoothing::Sine, Smoothing::Cubic, Smoothing::Quintic] {
+            for len in 0..xs.len() {
+                let xs = &xs[..len];
+                let mut batch = xs.to_vec();
+                smoothing.eval_unit_in_place(&mut batch);
+                let expected = product_of(&batch);
+                assert!(len < 8 || (expected > 0.0 && expected < 0.5), "{expected}");
+                let fused = smoothing.product_of_unit(xs);
+                assert_eq!(fused.to_bits(), expected.to_bits(), "{smoothing:?}, {len}");
+                let mut batch: Vec<f64> = xs.iter().zip(&scale).map(|(x, s)| x * s).collect();
+                smoothing.eval_unit_in_place(&mut batch);
+                let expected = product_of(&batch);
+                let fused = smoothing.product_of_unit_scaled(xs, Some(&scale[..len]));
+                assert_eq!(
+                    fused.to_bits(),
+                    expected.to_bits(),
+                    "{smoothing:?} scaled, {len}"
+                );
+            }
+        }
+    }
+
+    /// Leaving out the arguments at or past 1 changes the product by rounding only, and keeps
+    /// a NaN (a filter on `x < 1` alone would drop it).
+    #[test]
+    fn leaving_out_the_factors_of_one_keeps_the_product() {
+        let xs: Vec<f64> = (0..90)
+            .map(|k| 0.3 + (k as f64 * 0.618_034).fract() * 1.4)
+            .collect();
+        assert!(xs.iter().filter(|&&x| x >= 1.0).count() > 10);
+        for smoothing in [Smoothing::Sine, Smoothing::Cubic, Smoothing::Quintic] {
+            let all = smoothing.product_of_unit(&xs);
+            let mut kept = xs.clone();
+            let below = smoothing.product_of_unit_below_one(&mut kept);
+            assert!(kept.len() < xs.len() && kept.iter().all(|&x| x < 1.0));
+            assert!((below - all).abs() <= 1e-14 * all.abs(), "{smoothing:?}");
+            let mut with_nan = xs.clone();
+            with_nan.push(f64::NAN);
+            assert!(smoothing.product_of_unit_below_one(&mut with_nan).is_nan());
+        }
     }
 
     /// The sine's SIMD lanes give `eval`'s values bit for bit under every backend this CPU

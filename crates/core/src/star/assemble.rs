@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 use super::tables::{JoinData, Placement, Row, Table, merge};
 use super::topology::Topology;
-use crate::scene::{LocalCage, Smoothing, product_of};
+use crate::scene::{LocalCage, Smoothing};
 
 /// Where the entries of one coordinate table's row go in a cage's accumulator.
 struct Slots {
@@ -94,13 +94,22 @@ pub(super) struct CagePlan<'a> {
 /// members take their own f(d(t, p) / d(t, u)).
 struct OmegaGroup<'a> {
     data: &'a JoinData<'a>,
-    /// Every face of the join cage, as local vertex lists.
-    faces: Vec<Vec<usize>>,
+    /// Every face of the join cage, as local vertex lists end to end: face t is
+    /// `face_vertices[face_start[t]..face_start[t + 1]]` (one allocation, read once per point).
+    face_start: Vec<u32>,
+    face_vertices: Vec<u32>,
     /// Per non-interior member: its Ω slot and the faces incident to it.
     members: Vec<(usize, Vec<usize>)>,
-    /// Per interior member: its Ω slot and, per face not incident to it, the face and
-    /// 1 / d(t, u) (its own normalisers: the factors cannot be shared, the sums d(t, p) are).
-    interior: Vec<(usize, Vec<(usize, f64)>)>,
+    /// Per interior member: its Ω slot and 1 / d(t, u) for every face t in order (no face
+    /// holds an interior vertex, so all are far; its own normalisers: the factors cannot be
+    /// shared, the sums d(t, p) are).
+    interior: Vec<(usize, &'a [f64])>,
+    /// Per face t, the least d(t, p) at which every interior member's factor is exactly 1
+    /// (f(x) = 1 for x ≥ 1, eq. 6): faces at or past it are left out of their products. Most
+    /// are (an auto rig's blend zone: 57 % of the faces, 69 % of the factors).
+    all_one_from: Vec<f64>,
+    /// Per vertex of the join cage (shared numbering), its faces, increasing.
+    faces_at: BTreeMap<u32, Vec<usize>>,
 }
 
 /// Factors f(d) below this are set apart instead of divided out (no precision lost to
@@ -115,21 +124,36 @@ impl OmegaGroup<'_> {
             factor,
             small,
             omega,
+            active,
             ..
         } = scratch;
         distance.clear();
         // d_{jc}(t, p) = 1 − Σ_{u ∈ V(t)} w(u, p)   (eq. 7)
-        distance.extend(
-            self.faces
-                .iter()
-                .map(|face| 1.0 - face.iter().map(|&k| w[k]).sum::<f64>()),
-        );
-        for (slot, far) in &self.interior {
-            // Ω(u, p) = Π_{t ∌ u} f(d(t, p) / d(t, u))   (eq. 6)
-            factor.clear();
-            factor.extend(far.iter().map(|&(t, inverse)| distance[t] * inverse));
-            smoothing.eval_unit_in_place(factor);
-            omega[*slot] = product_of(factor);
+        distance.extend(self.face_start.windows(2).map(|ends| {
+            let face = &self.face_vertices[ends[0] as usize..ends[1] as usize];
+            1.0 - face.iter().map(|&k| w[k as usize]).sum::<f64>()
+        }));
+        if !self.interior.is_empty() {
+            active.clear();
+            active.extend(
+                distance
+                    .iter()
+                    .zip(&self.all_one_from)
+                    .enumerate()
+                    .filter(|(_, (d, from))| d < from)
+                    .map(|(t, _)| t as u32),
+            );
+            for (slot, inverse) in &self.interior {
+                // Ω(u, p) = Π_{t ∌ u} f(d(t, p) / d(t, u))   (eq. 6), over the faces whose
+                // factor is not 1.
+                factor.clear();
+                factor.extend(
+                    active
+                        .iter()
+                        .map(|&t| distance[t as usize] * inverse[t as usize]),
+                );
+                omega[*slot] = smoothing.product_of_unit_below_one(factor);
+            }
         }
         if self.members.is_empty() {
             return;
@@ -204,9 +228,11 @@ impl<'a> CagePlan<'a> {
             interior_neighbours.sort_unstable_by_key(|&(u, _)| u);
             let data = &joins[&v];
             let group = transform_table(data).map(|table| {
+                // Join cages over the same leaf cages share their `local` (topology.rs).
                 let same = |(t, d): &(Arc<Table>, &JoinData)| {
                     Arc::ptr_eq(t, &table)
-                        && d.join.local.global == data.join.local.global
+                        && (Arc::ptr_eq(&d.join.local, &data.join.local)
+                            || d.join.local.global == data.join.local.global)
                         && d.dofs == data.dofs
                 };
                 let shared = groups
@@ -305,44 +331,57 @@ fn omega_groups<'a>(
                 .interp
                 .as_ref()
                 .is_some_and(|t| Arc::ptr_eq(t, table))
-                && group.data.join.polygons == *polygons
-                && group.data.join.local.global == data.join.local.global
+                && (Arc::ptr_eq(&group.data.join.polygons, polygons)
+                    || group.data.join.polygons == *polygons)
+                && (Arc::ptr_eq(&group.data.join.local, &data.join.local)
+                    || group.data.join.local.global == data.join.local.global)
         };
         let index = match shared.iter_mut().position(|g| same(&g)) {
             Some(index) => index,
             None => {
                 let local = &data.join.local;
-                let faces = polygons
-                    .iter()
-                    .map(|f| {
+                let mut faces_at: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+                for (t, f) in polygons.iter().enumerate() {
+                    for &g in f {
+                        faces_at.entry(g).or_default().push(t);
+                    }
+                }
+                let mut face_start = vec![0];
+                let mut face_vertices = Vec::new();
+                for f in polygons.iter() {
+                    face_vertices.extend(
                         f.iter()
                             .filter_map(|g| local.global.binary_search(g).ok())
-                            .collect()
-                    })
-                    .collect();
+                            .map(|k| k as u32),
+                    );
+                    face_start.push(face_vertices.len() as u32);
+                }
                 shared.push(OmegaGroup {
                     data,
-                    faces,
+                    face_start,
+                    face_vertices,
                     members: Vec::new(),
                     interior: Vec::new(),
+                    all_one_from: vec![f64::NEG_INFINITY; polygons.len()],
+                    faces_at,
                 });
                 shared.len() - 1
             }
         };
         let group = &mut shared[index];
         if data.join.interior {
-            // far_faces and their normalisers list the faces without v in polygon order.
-            let far: Vec<usize> = (0..polygons.len())
-                .filter(|&t| !polygons[t].contains(&v))
-                .collect();
-            let inverse = data.normaliser.iter().map(|&d| 1.0 / d);
-            group
-                .interior
-                .push((slot, far.into_iter().zip(inverse).collect()));
+            // far_faces and their normalisers list the faces without v in polygon order: all
+            // of them, v being on none.
+            if data.inverse_normaliser.len() != polygons.len() {
+                alone.push((slot, data));
+                continue;
+            }
+            for (from, &one_from) in group.all_one_from.iter_mut().zip(&data.one_from) {
+                *from = from.max(one_from);
+            }
+            group.interior.push((slot, &data.inverse_normaliser));
         } else {
-            let incident = (0..polygons.len())
-                .filter(|&t| polygons[t].contains(&v))
-                .collect();
+            let incident = group.faces_at.get(&v).cloned().unwrap_or_default();
             group.members.push((slot, incident));
         }
     }
@@ -361,6 +400,8 @@ pub(super) enum Sharing {
 /// Per-thread scratch of [`assemble_rows`].
 #[derive(Default)]
 struct Scratch {
+    /// Faces of an Ω group whose interior factors are not all 1 at the point.
+    active: Vec<u32>,
     acc: Vec<f64>,
     omega: Vec<f64>,
     distance: Vec<f64>,
@@ -544,9 +585,7 @@ fn joins_weigh(inputs: &Inputs, plan: &CagePlan, scratch: &mut Scratch, i: usize
         } else {
             live_arguments_by_scan(neighbours, omega, factor);
         }
-        smoothing.eval_unit_in_place(factor);
-        let interior_influence: f64 = factor.iter().product();
-        own * interior_influence
+        own * smoothing.product_of_unit_below_one(factor)
     }));
     weight.iter().sum::<f64>() > 1e-14
 }

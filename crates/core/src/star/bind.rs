@@ -385,8 +385,11 @@ fn join_needs(
             let inside = known.unwrap_or_else(|| {
                 let cage = &join.local.cage;
                 let x = set.vertices[v as usize];
-                let inside =
-                    cage.winding_number(x) > 0.5 || cage.is_within(x, 1e-9 * cage.diagonal());
+                // A vertex of jc(u)'s faces is on it, so within (no winding number needed:
+                // those were a tenth of an auto rig's bind).
+                let inside = join.local.global.binary_search(&v).is_ok()
+                    || cage.winding_number(x) > 0.5
+                    || cage.is_within(x, 1e-9 * cage.diagonal());
                 memo.within
                     .entry(join.cages.clone())
                     .or_default()
@@ -574,6 +577,11 @@ fn join_data<'t>(
             }
             _ => (vec![1.0; far_faces.len()], Vec::new()),
         };
+        let (inverse_normaliser, one_from) = if join.interior {
+            JoinData::interior_factors(&normaliser)
+        } else {
+            (Vec::new(), Vec::new())
+        };
         joins.insert(
             v,
             JoinData {
@@ -584,6 +592,8 @@ fn join_data<'t>(
                 transform,
                 vertex_row,
                 dofs,
+                inverse_normaliser,
+                one_from,
             },
         );
     }
@@ -925,16 +935,16 @@ fn solve_congruent(
             row_index += 1;
             rows.extend(member.placement.rank.iter().map(|&r| row[by_rank[r]]));
         }
-        tables.push(Table {
-            points: member.points.clone(),
-            weights: CageWeights::Vertex {
+        tables.push(Table::new(
+            member.points.clone(),
+            CageWeights::Vertex {
                 kind: CoordinateKind::Harmonic,
                 weights: crate::coords::VertexWeights {
                     vertex_count: n,
                     weights: rows,
                 },
             },
-        });
+        ));
     }
     Ok(tables)
 }

@@ -8,7 +8,7 @@ use glam::DVec3;
 use super::StarError;
 use super::topology::JoinCage;
 use crate::coords::{BindControl, BindSettings, CageWeights, CoordinateKind, bind};
-use crate::scene::{LocalCage, Smoothing, product_of};
+use crate::scene::{LocalCage, Smoothing};
 
 /// Where a point is bound.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,11 +24,29 @@ pub(crate) type Row = Vec<(u32, f64)>;
 
 /// Coordinates of a sorted set of points in one cage.
 pub(super) struct Table {
+    /// The points, increasing (what the tests bind again alone).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub points: Vec<usize>,
     pub weights: CageWeights,
+    /// Per point index, its row (`u32::MAX`: none): a point's rows are read in every table
+    /// of its cage's join cages, where a binary search each was a twentieth of a bind.
+    row_of: Vec<u32>,
 }
 
 impl Table {
+    /// The table of `points` (sorted) with their coordinates `weights`, row by row.
+    pub(super) fn new(points: Vec<usize>, weights: CageWeights) -> Self {
+        let mut row_of = vec![u32::MAX; points.last().map_or(0, |&i| i + 1)];
+        for (k, &i) in points.iter().enumerate() {
+            row_of[i] = k as u32;
+        }
+        Self {
+            points,
+            weights,
+            row_of,
+        }
+    }
+
     pub(super) fn compute(
         kind: CoordinateKind,
         cage: &LocalCage,
@@ -45,12 +63,15 @@ impl Table {
                 source,
             }
         })?;
-        Ok(Self { points, weights })
+        Ok(Self::new(points, weights))
     }
 
     /// (vertex weights, Green ψ) of point `i`, if the table has it.
     pub(super) fn get(&self, i: usize) -> Option<(&[f64], Option<&[f64]>)> {
-        let k = self.points.binary_search(&i).ok()?;
+        let k = *self.row_of.get(i)? as usize;
+        if k == u32::MAX as usize {
+            return None;
+        }
         Some(match &self.weights {
             CageWeights::Vertex { weights, .. } => (weights.row(k), None),
             CageWeights::Green(g) => (g.phi_row(k), Some(g.psi_row(k))),
@@ -112,6 +133,38 @@ pub(super) struct JoinData<'a> {
     /// For interior v: row of T_{jc(v)}(v) (eq. 10).
     pub vertex_row: Row,
     pub dofs: Vec<u32>,
+    /// For interior v: 1 / d(t, v) per far face, and per far face the least d(t, p) at which
+    /// f(d(t, p) / d(t, v)) is exactly 1 (both empty for a boundary vertex of its join cage).
+    pub inverse_normaliser: Vec<f64>,
+    pub one_from: Vec<f64>,
+}
+
+impl JoinData<'_> {
+    /// [`JoinData::inverse_normaliser`] and [`JoinData::one_from`] of `normaliser`.
+    pub(super) fn interior_factors(normaliser: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let inverse: Vec<f64> = normaliser.iter().map(|&d| 1.0 / d).collect();
+        let one_from = inverse.iter().map(|&x| least_argument_to_one(x)).collect();
+        (inverse, one_from)
+    }
+}
+
+/// The least d with fl(d · inverse) ≥ 1, so that f(d · inverse) = 1 exactly (the product is
+/// rounded, so d ≥ 1 / inverse is not enough near it); +∞ where no d qualifies for certain (a
+/// normaliser that is not positive and finite).
+fn least_argument_to_one(inverse: f64) -> f64 {
+    if !(inverse > 0.0 && inverse.is_finite()) {
+        return f64::INFINITY;
+    }
+    let mut d = 1.0 / inverse;
+    // Rounding is monotone in d: step up to the first d that reaches 1, then down while the
+    // one below still does.
+    while d * inverse < 1.0 {
+        d = d.next_up();
+    }
+    while d.next_down() * inverse >= 1.0 {
+        d = d.next_down();
+    }
+    d
 }
 
 impl JoinData<'_> {
@@ -131,7 +184,32 @@ impl JoinData<'_> {
                 .map(|(face, &dv)| (1.0 - face.iter().map(|&k| w[k]).sum::<f64>()) / dv),
         );
         // Ω(v, p) = Π_{t ∈ F(jc(v), v)} f(d(t, p) / d(t, v))   (eq. 6)
-        smoothing.eval_unit_in_place(xs);
-        product_of(xs)
+        smoothing.product_of_unit(xs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The least argument at which a factor is exactly 1: there the rounded product
+        /// reaches 1 and one step below it does not (d ≥ 1 / inverse alone fails: checked).
+        #[test]
+        fn the_least_argument_to_one_is_exact(normaliser in 1e-6f64..1.0) {
+            let inverse = 1.0 / normaliser;
+            let d = least_argument_to_one(inverse);
+            prop_assert!(d * inverse >= 1.0);
+            prop_assert!(d.next_down() * inverse < 1.0);
+            prop_assert_eq!(Smoothing::Sine.eval(d * inverse, 1.0), 1.0);
+        }
+    }
+
+    #[test]
+    fn no_least_argument_without_a_positive_finite_normaliser() {
+        for inverse in [0.0, -2.0, f64::INFINITY, f64::NAN] {
+            assert_eq!(least_argument_to_one(inverse), f64::INFINITY);
+        }
     }
 }
