@@ -14,6 +14,8 @@ mod green;
 mod harmonic;
 pub(crate) mod lanes;
 mod mvc;
+mod mvc_pool;
+pub(crate) use mvc_pool::bind_mean_value_pooled;
 
 use std::fmt;
 use std::str::FromStr;

@@ -22,11 +22,11 @@ use super::lanes::{ALL_LANES, LANES, Lane, LaneKernel, Vec3Lanes, math};
 use crate::cage::Cage;
 
 /// Relative distance (to the cage diagonal) under which a point is on a vertex.
-const ON_VERTEX: f64 = 1e-12;
+pub(crate) const ON_VERTEX: f64 = 1e-12;
 /// Threshold on sin θ and on the sine of the spherical angles (both scale-free) under which the
 /// point is on the line of an edge or in the plane of a triangle: on it (barycentric
 /// coordinates) or outside it (no contribution), Ju et al. Fig. 4.
-const COPLANAR: f64 = 1e-12;
+pub(crate) const COPLANAR: f64 = 1e-12;
 
 /// Per cage triangle, what does not depend on the point: its area vector (x_1 − x_0) × (x_2 − x_0)
 /// and, per corner i, the sign that turns the stored normal of the opposite edge (computed for

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use super::StarError;
 use super::assemble::{CagePlan, Inputs, Sharing, assemble_rows};
 use super::green_dofs::GreenDofs;
+use super::pooled_joins::pooled_mean_value_tables;
 use super::shape_class::{Placement as ShapePlacement, ShapeKey, shape_class};
 pub use super::tables::Placement;
 use super::tables::{JoinData, Row, Table, add_row};
@@ -472,15 +473,50 @@ fn join_cage_tables(cx: &BindContext, needs: &JoinNeeds) -> Result<JoinCageTable
         &cx.coord_settings,
         cx.control,
     );
-    let tables = copies
+    // MVC join cages (interpolating, so one table each) from their leaf cages' pools of
+    // triangles; the others each alone.
+    let pooled = |members: &[u32], in_class: bool| {
+        !in_class && topology.joins[&members[0]].kind == CoordinateKind::MeanValue
+    };
+    let (by_pool, alone): (Vec<_>, Vec<_>) = copies
+        .iter()
+        .partition(|((_, in_class), members)| pooled(members, *in_class));
+    let pool_joins: Vec<(&JoinCage, Vec<usize>)> = by_pool
+        .iter()
+        .map(|(_, members)| {
+            (
+                &topology.joins[&members[0]],
+                union_of(members, &needs.omega),
+            )
+        })
+        .filter(|(_, points)| !points.is_empty())
+        .collect();
+    let pool_tables = pooled_mean_value_tables(
+        &pool_joins,
+        &needs.points,
+        cx.placement,
+        &cx.coord_settings,
+        cx.control,
+    );
+    let tables = alone
         .par_iter()
         .map(|((_, in_class), members)| {
             join_tables_of(members, *in_class)
                 .map(|t| members.iter().map(|&v| (v, t.clone())).collect::<Vec<_>>())
         })
         .collect::<Result<Vec<Vec<(u32, JoinTables)>>, StarError>>();
-    let (shared, tables) = (shared?, tables?);
+    let (shared, tables, pool_tables) = (shared?, tables?, pool_tables?);
     let mut tables: BTreeMap<u32, JoinTables> = tables.into_iter().flatten().collect();
+    let mut pool_tables = pool_tables.into_iter();
+    for (_, members) in &by_pool {
+        if union_of(members, &needs.omega).is_empty() {
+            // No point needs it: no table, as `join_tables` leaves it.
+            tables.extend(members.iter().map(|&v| (v, (None, None))));
+            continue;
+        }
+        let table = pool_tables.next().map(Arc::new);
+        tables.extend(members.iter().map(|&v| (v, (table.clone(), None))));
+    }
     // Members of a class whose shared solve failed bind alone.
     for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
         let (interp, _) = join_tables_of(&[v], false)?;

@@ -15,6 +15,7 @@ mod drag;
 mod green_dofs;
 mod operator;
 mod partial;
+mod pooled_joins;
 mod shape_class;
 mod splice_rows;
 mod splice_transpose;

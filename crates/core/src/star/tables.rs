@@ -22,9 +22,9 @@ pub enum Placement {
 /// A sparse row over the operator's columns: cage vertices, then Green DOFs.
 pub(crate) type Row = Vec<(u32, f64)>;
 
-/// Coordinates of a sorted set of points in one cage.
+/// Coordinates of a set of points in one cage.
 pub(super) struct Table {
-    /// The points, increasing (what the tests bind again alone).
+    /// The points, in the order of their rows (what the tests bind again alone).
     #[cfg_attr(not(test), allow(dead_code))]
     pub points: Vec<usize>,
     pub weights: CageWeights,
@@ -34,9 +34,10 @@ pub(super) struct Table {
 }
 
 impl Table {
-    /// The table of `points` (sorted) with their coordinates `weights`, row by row.
+    /// The table of `points` (distinct, in any order) with their coordinates `weights`, row by
+    /// row.
     pub(super) fn new(points: Vec<usize>, weights: CageWeights) -> Self {
-        let mut row_of = vec![u32::MAX; points.last().map_or(0, |&i| i + 1)];
+        let mut row_of = vec![u32::MAX; points.iter().max().map_or(0, |&i| i + 1)];
         for (k, &i) in points.iter().enumerate() {
             row_of[i] = k as u32;
         }
