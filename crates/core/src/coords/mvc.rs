@@ -26,7 +26,7 @@ pub(crate) const ON_VERTEX: f64 = 1e-12;
 /// Threshold on sin θ and on the sine of the spherical angles (both scale-free) under which the
 /// point is on the line of an edge or in the plane of a triangle: on it (barycentric
 /// coordinates) or outside it (no contribution), Ju et al. Fig. 4.
-pub(crate) const COPLANAR: f64 = 1e-12;
+const COPLANAR: f64 = 1e-12;
 
 /// Per cage triangle, what does not depend on the point: its area vector (x_1 − x_0) × (x_2 − x_0)
 /// and, per corner i, the sign that turns the stored normal of the opposite edge (computed for
@@ -252,7 +252,6 @@ pub(crate) fn mvc_points4<L: Lane>(
     let positions = cage.positions();
     let n = positions.len();
     let on_vertex = L::splat(ON_VERTEX * cage.diagonal());
-    let coplanar = L::splat(COPLANAR);
     let one = L::splat(1.0);
     let mut special = 0u32;
     scratch.offset.clear();
@@ -269,19 +268,11 @@ pub(crate) fn mvc_points4<L: Lane>(
     // A loop, not a closure: the kernel must be one function for `#[target_feature]`.
     for &[a, b] in cage.edges() {
         let (a, b) = (a as usize, b as usize);
-        // (x_a − p) × (x_b − x_a): the edge vector is exact, so the normal keeps its digits
-        // however far p is (see mvc_point).
-        let va = &offset[a];
-        let e = positions[b] - positions[a];
-        let normal = Vec3Lanes {
-            x: va.y.mul_sub(L::splat(e.z), va.z * L::splat(e.y)),
-            y: va.z.mul_sub(L::splat(e.x), va.x * L::splat(e.z)),
-            z: va.x.mul_sub(L::splat(e.y), va.y * L::splat(e.x)),
-        };
-        let length = normal.dot(&normal).sqrt();
-        let theta = math::atan2(length, va.dot(&offset[b]));
-        // θ / |n| with n unnormalised: m = ½ Σ θ_j n_j / |n_j| and w_i = n_i·m / triple.
-        scratch.edge.push(([theta / length, length], normal));
+        scratch.edge.push(edge_terms(
+            &offset[a],
+            &offset[b],
+            positions[b] - positions[a],
+        ));
     }
     let edge = &scratch.edge;
     let inv_dist = &scratch.inv_dist;
@@ -292,39 +283,19 @@ pub(crate) fn mvc_points4<L: Lane>(
     let triangles = cage.triangles().iter().zip(cage.triangle_edges());
     for (t, (tri, edges)) in triangles.enumerate() {
         let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-        let sign = tables.sign[t];
-        // Corner i's opposite edge (i+1, i+2) is edges[(i + 1) % 3].
-        let ([th0, len0], n0) = edge[edges[1] as usize];
-        let ([th1, len1], n1) = edge[edges[2] as usize];
-        let ([th2, len2], n2) = edge[edges[0] as usize];
-        // The triangle's own edge directions: n_i = sign_i × the stored normal.
-        let (g0, g1, g2) = (
-            L::splat(0.5 * sign[0]) * th0,
-            L::splat(0.5 * sign[1]) * th1,
-            L::splat(0.5 * sign[2]) * th2,
+        let ([w0, w1, w2], irregular) = triangle_terms(
+            idx,
+            [
+                edge[edges[1] as usize],
+                edge[edges[2] as usize],
+                edge[edges[0] as usize],
+            ],
+            tables.sign[t],
+            tables.area[t],
+            offset,
+            inv_dist,
         );
-        // m = ½ Σ θ_j n̂_j as a vector (see mvc_point).
-        let m = Vec3Lanes {
-            x: g0.mul_add(n0.x, g1.mul_add(n1.x, g2 * n2.x)),
-            y: g0.mul_add(n0.y, g1.mul_add(n1.y, g2 * n2.y)),
-            z: g0.mul_add(n0.z, g1.mul_add(n1.z, g2 * n2.z)),
-        };
-        let triple = offset[idx[0]].dot_splat(tables.area[t]);
-        let inv_triple = one / triple;
-        // w_i = n̂_i·m / (n̂_i·p_i) = n_i·m / triple, n_i = (x_{i+1} − p) × (x_{i+2} − p).
-        let w0 = n0.dot(&m) * L::splat(sign[0]) * inv_triple;
-        let w1 = n1.dot(&m) * L::splat(sign[1]) * inv_triple;
-        let w2 = n2.dot(&m) * L::splat(sign[2]) * inv_triple;
-        // The scale-free tests of mvc_point: sin θ_i and the smallest sin A_i.
-        let (d0, d1, d2) = (inv_dist[idx[0]], inv_dist[idx[1]], inv_dist[idx[2]]);
-        let s0 = len0 * d1 * d2;
-        let s1 = len1 * d2 * d0;
-        let s2 = len2 * d0 * d1;
-        let s_min = s0.min(s1).min(s2);
-        let det = triple * d0 * d1 * d2;
-        // Regular where both tests hold; NaN fails them, so it flags the lane too.
-        let regular = s_min.ge(coplanar) & (det.abs() * s_min / (s0 * s1 * s2)).gt(coplanar);
-        special |= !L::bitmask(regular) & ALL_LANES;
+        special |= irregular;
         weights[idx[0]] += w0;
         weights[idx[1]] += w1;
         weights[idx[2]] += w2;
@@ -343,6 +314,73 @@ pub(crate) fn mvc_points4<L: Lane>(
             mvc_point(cage, p[l], row, &mut scratch.scalar);
         }
     }
+}
+
+/// The per-point terms of edge (a, b), a < b (`va`, `vb`: x_a − p and x_b − p per lane, `e`:
+/// x_b − x_a): θ / |n| and |n| for n = (x_a − p) × (x_b − x_a), and n.
+#[inline(always)]
+pub(crate) fn edge_terms<L: Lane>(
+    va: &Vec3Lanes<L>,
+    vb: &Vec3Lanes<L>,
+    e: DVec3,
+) -> ([L; 2], Vec3Lanes<L>) {
+    // (x_a − p) × (x_b − x_a): the edge vector is exact, so the normal keeps its digits
+    // however far p is (see mvc_point).
+    let normal = Vec3Lanes {
+        x: va.y.mul_sub(L::splat(e.z), va.z * L::splat(e.y)),
+        y: va.z.mul_sub(L::splat(e.x), va.x * L::splat(e.z)),
+        z: va.x.mul_sub(L::splat(e.y), va.y * L::splat(e.x)),
+    };
+    let length = normal.dot(&normal).sqrt();
+    let theta = math::atan2(length, va.dot(vb));
+    // θ / |n| with n unnormalised: m = ½ Σ θ_j n_j / |n_j| and w_i = n_i·m / triple.
+    ([theta / length, length], normal)
+}
+
+/// One triangle's unnormalised weights of its corners `idx` per lane, from the terms of the
+/// edges opposite each corner (`opposite[i]`: edge (i+1, i+2)), its corner signs and area
+/// vector; and the lanes that meet a special case there (on an edge's line or in its plane:
+/// recomputed by [`mvc_point`]).
+#[inline(always)]
+pub(crate) fn triangle_terms<L: Lane>(
+    idx: [usize; 3],
+    opposite: [([L; 2], Vec3Lanes<L>); 3],
+    sign: [f64; 3],
+    area: DVec3,
+    offset: &[Vec3Lanes<L>],
+    inv_dist: &[L],
+) -> ([L; 3], u32) {
+    let one = L::splat(1.0);
+    let coplanar = L::splat(COPLANAR);
+    let [([th0, len0], n0), ([th1, len1], n1), ([th2, len2], n2)] = opposite;
+    // The triangle's own edge directions: n_i = sign_i × the stored normal.
+    let (g0, g1, g2) = (
+        L::splat(0.5 * sign[0]) * th0,
+        L::splat(0.5 * sign[1]) * th1,
+        L::splat(0.5 * sign[2]) * th2,
+    );
+    // m = ½ Σ θ_j n̂_j as a vector (see mvc_point).
+    let m = Vec3Lanes {
+        x: g0.mul_add(n0.x, g1.mul_add(n1.x, g2 * n2.x)),
+        y: g0.mul_add(n0.y, g1.mul_add(n1.y, g2 * n2.y)),
+        z: g0.mul_add(n0.z, g1.mul_add(n1.z, g2 * n2.z)),
+    };
+    let triple = offset[idx[0]].dot_splat(area);
+    let inv_triple = one / triple;
+    // w_i = n̂_i·m / (n̂_i·p_i) = n_i·m / triple, n_i = (x_{i+1} − p) × (x_{i+2} − p).
+    let w0 = n0.dot(&m) * L::splat(sign[0]) * inv_triple;
+    let w1 = n1.dot(&m) * L::splat(sign[1]) * inv_triple;
+    let w2 = n2.dot(&m) * L::splat(sign[2]) * inv_triple;
+    // The scale-free tests of mvc_point: sin θ_i and the smallest sin A_i.
+    let (d0, d1, d2) = (inv_dist[idx[0]], inv_dist[idx[1]], inv_dist[idx[2]]);
+    let s0 = len0 * d1 * d2;
+    let s1 = len1 * d2 * d0;
+    let s2 = len2 * d0 * d1;
+    let s_min = s0.min(s1).min(s2);
+    let det = triple * d0 * d1 * d2;
+    // Regular where both tests hold; NaN fails them, so it flags the lane too.
+    let regular = s_min.ge(coplanar) & (det.abs() * s_min / (s0 * s1 * s2)).gt(coplanar);
+    ([w0, w1, w2], !L::bitmask(regular) & ALL_LANES)
 }
 
 #[cfg(test)]

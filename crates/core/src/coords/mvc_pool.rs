@@ -14,8 +14,8 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::lanes::{ALL_LANES, LANES, Lane, LaneKernel, Vec3Lanes, math};
-use super::mvc::{COPLANAR, ON_VERTEX, mvc_point};
+use super::lanes::{LANES, Lane, LaneKernel, Vec3Lanes};
+use super::mvc::{ON_VERTEX, edge_terms, mvc_point, triangle_terms};
 use crate::cage::Cage;
 
 /// Triangles of several cages over one numbering of their vertices, each triangle once.
@@ -149,7 +149,6 @@ impl LaneKernel for MvcPoolRows<'_, '_> {
     #[inline(always)]
     fn run<L: Lane>(self) {
         let pool = self.pool;
-        let coplanar = L::splat(COPLANAR);
         let one = L::splat(1.0);
         let mut offset: Vec<Vec3Lanes<L>> = Vec::with_capacity(pool.positions.len());
         let mut dist: Vec<L> = Vec::with_capacity(pool.positions.len());
@@ -177,50 +176,27 @@ impl LaneKernel for MvcPoolRows<'_, '_> {
             edge.clear();
             for &[a, b] in &pool.edges {
                 let (a, b) = (a as usize, b as usize);
-                let va = &offset[a];
                 let e = pool.positions[b] - pool.positions[a];
-                let normal = Vec3Lanes {
-                    x: va.y.mul_sub(L::splat(e.z), va.z * L::splat(e.y)),
-                    y: va.z.mul_sub(L::splat(e.x), va.x * L::splat(e.z)),
-                    z: va.x.mul_sub(L::splat(e.y), va.y * L::splat(e.x)),
-                };
-                let length = normal.dot(&normal).sqrt();
-                let theta = math::atan2(length, va.dot(&offset[b]));
-                edge.push(([theta / length, length], normal));
+                edge.push(edge_terms(&offset[a], &offset[b], e));
             }
             terms.w.clear();
             terms.special.clear();
             for (t, (tri, edges)) in pool.triangles.iter().zip(&pool.triangle_edges).enumerate() {
                 let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-                let sign = pool.sign[t];
-                let ([th0, len0], n0) = edge[edges[1] as usize];
-                let ([th1, len1], n1) = edge[edges[2] as usize];
-                let ([th2, len2], n2) = edge[edges[0] as usize];
-                let (g0, g1, g2) = (
-                    L::splat(0.5 * sign[0]) * th0,
-                    L::splat(0.5 * sign[1]) * th1,
-                    L::splat(0.5 * sign[2]) * th2,
+                let (w, irregular) = triangle_terms(
+                    idx,
+                    [
+                        edge[edges[1] as usize],
+                        edge[edges[2] as usize],
+                        edge[edges[0] as usize],
+                    ],
+                    pool.sign[t],
+                    pool.area[t],
+                    &offset,
+                    &inv_dist,
                 );
-                let m = Vec3Lanes {
-                    x: g0.mul_add(n0.x, g1.mul_add(n1.x, g2 * n2.x)),
-                    y: g0.mul_add(n0.y, g1.mul_add(n1.y, g2 * n2.y)),
-                    z: g0.mul_add(n0.z, g1.mul_add(n1.z, g2 * n2.z)),
-                };
-                let triple = offset[idx[0]].dot_splat(pool.area[t]);
-                let inv_triple = one / triple;
-                let w0 = n0.dot(&m) * L::splat(sign[0]) * inv_triple;
-                let w1 = n1.dot(&m) * L::splat(sign[1]) * inv_triple;
-                let w2 = n2.dot(&m) * L::splat(sign[2]) * inv_triple;
-                let (d0, d1, d2) = (inv_dist[idx[0]], inv_dist[idx[1]], inv_dist[idx[2]]);
-                let s0 = len0 * d1 * d2;
-                let s1 = len1 * d2 * d0;
-                let s2 = len2 * d0 * d1;
-                let s_min = s0.min(s1).min(s2);
-                let det = triple * d0 * d1 * d2;
-                let regular =
-                    s_min.ge(coplanar) & (det.abs() * s_min / (s0 * s1 * s2)).gt(coplanar);
-                terms.w.push([w0, w1, w2]);
-                terms.special.push(!L::bitmask(regular) & ALL_LANES);
+                terms.w.push(w);
+                terms.special.push(irregular);
             }
             // Each cage's sums, in its own triangle order (as `mvc_points4` adds them).
             for (cage, rows) in self.cages.iter().zip(self.rows.iter_mut()) {
