@@ -40,16 +40,18 @@ pub(crate) struct MvcCageTables {
 
 impl MvcCageTables {
     pub(crate) fn new(cage: &Cage) -> Self {
-        let x = cage.positions();
-        let area = cage
-            .triangles()
+        Self::of_triangles(cage.positions(), cage.triangles())
+    }
+
+    /// The tables of `triangles` over `x` (a cage's, or a pool's shared by several cages).
+    pub(crate) fn of_triangles(x: &[DVec3], triangles: &[[u32; 3]]) -> Self {
+        let area = triangles
             .iter()
             .map(|t| {
                 (x[t[1] as usize] - x[t[0] as usize]).cross(x[t[2] as usize] - x[t[0] as usize])
             })
             .collect();
-        let sign = cage
-            .triangles()
+        let sign = triangles
             .iter()
             .map(|t| {
                 std::array::from_fn(|i| {
@@ -62,6 +64,11 @@ impl MvcCageTables {
             })
             .collect();
         Self { area, sign }
+    }
+
+    /// Triangle t's area vector (x_1 − x_0) × (x_2 − x_0) and corner signs.
+    pub(crate) fn of(&self, t: usize) -> (DVec3, [f64; 3]) {
+        (self.area[t], self.sign[t])
     }
 }
 

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::lanes::{LANES, Lane, LaneKernel, Vec3Lanes};
-use super::mvc::{ON_VERTEX, edge_terms, mvc_point, triangle_terms};
+use super::mvc::{MvcCageTables, ON_VERTEX, edge_terms, mvc_point, triangle_terms};
 use crate::cage::Cage;
 
 /// Triangles of several cages over one numbering of their vertices, each triangle once.
@@ -26,9 +26,8 @@ pub(crate) struct TrianglePool {
     triangle_edges: Vec<[u32; 3]>,
     /// Per edge (a, b), a < b.
     edges: Vec<[u32; 2]>,
-    /// Per triangle, (x_1 − x_0) × (x_2 − x_0) and the signs of `mvc.rs`'s tables.
-    area: Vec<DVec3>,
-    sign: Vec<[f64; 3]>,
+    /// Per triangle, its area vector and corner signs (`mvc.rs`'s tables).
+    tables: MvcCageTables,
 }
 
 /// One cage of a pool: its local vertices and triangles as pool indices.
@@ -91,32 +90,13 @@ impl TrianglePool {
                 })
             })
             .collect();
-        let area = triangles
-            .iter()
-            .map(|t| {
-                let x = |k: usize| positions[t[k] as usize];
-                (x(1) - x(0)).cross(x(2) - x(0))
-            })
-            .collect();
-        let sign = triangles
-            .iter()
-            .map(|t| {
-                std::array::from_fn(|i| {
-                    if t[(i + 1) % 3] < t[(i + 2) % 3] {
-                        1.0
-                    } else {
-                        -1.0
-                    }
-                })
-            })
-            .collect();
+        let tables = MvcCageTables::of_triangles(&positions, &triangles);
         let pool = Self {
             positions,
             triangles,
             triangle_edges,
             edges,
-            area,
-            sign,
+            tables,
         };
         (pool, pooled)
     }
@@ -183,6 +163,7 @@ impl LaneKernel for MvcPoolRows<'_, '_> {
             terms.special.clear();
             for (t, (tri, edges)) in pool.triangles.iter().zip(&pool.triangle_edges).enumerate() {
                 let idx = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+                let (area, sign) = pool.tables.of(t);
                 let (w, irregular) = triangle_terms(
                     idx,
                     [
@@ -190,8 +171,8 @@ impl LaneKernel for MvcPoolRows<'_, '_> {
                         edge[edges[2] as usize],
                         edge[edges[0] as usize],
                     ],
-                    pool.sign[t],
-                    pool.area[t],
+                    sign,
+                    area,
                     &offset,
                     &inv_dist,
                 );

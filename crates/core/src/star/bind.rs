@@ -481,15 +481,15 @@ fn join_cage_tables(cx: &BindContext, needs: &JoinNeeds) -> Result<JoinCageTable
     let (by_pool, alone): (Vec<_>, Vec<_>) = copies
         .iter()
         .partition(|((_, in_class), members)| pooled(members, *in_class));
-    let pool_joins: Vec<(&JoinCage, Vec<usize>)> = by_pool
+    // Those no point needs get no table, as `join_tables` leaves them.
+    let (needed, unneeded): (Vec<_>, Vec<_>) = by_pool
         .iter()
-        .map(|(_, members)| {
-            (
-                &topology.joins[&members[0]],
-                union_of(members, &needs.omega),
-            )
-        })
-        .filter(|(_, points)| !points.is_empty())
+        .map(|(_, members)| (members, union_of(members, &needs.omega)))
+        .partition(|(_, points)| !points.is_empty());
+    let pool_members: Vec<&Vec<u32>> = needed.iter().map(|(members, _)| *members).collect();
+    let pool_joins: Vec<(&JoinCage, Vec<usize>)> = needed
+        .into_iter()
+        .map(|(members, points)| (&topology.joins[&members[0]], points))
         .collect();
     let pool_tables = pooled_mean_value_tables(
         &pool_joins,
@@ -507,15 +507,16 @@ fn join_cage_tables(cx: &BindContext, needs: &JoinNeeds) -> Result<JoinCageTable
         .collect::<Result<Vec<Vec<(u32, JoinTables)>>, StarError>>();
     let (shared, tables, pool_tables) = (shared?, tables?, pool_tables?);
     let mut tables: BTreeMap<u32, JoinTables> = tables.into_iter().flatten().collect();
-    let mut pool_tables = pool_tables.into_iter();
-    for (_, members) in &by_pool {
-        if union_of(members, &needs.omega).is_empty() {
-            // No point needs it: no table, as `join_tables` leaves it.
-            tables.extend(members.iter().map(|&v| (v, (None, None))));
-            continue;
-        }
-        let table = pool_tables.next().map(Arc::new);
-        tables.extend(members.iter().map(|&v| (v, (table.clone(), None))));
+    for (members, table) in pool_members.into_iter().zip(pool_tables) {
+        let table = Arc::new(table);
+        tables.extend(
+            members
+                .iter()
+                .map(|&v| (v, (Some(Arc::clone(&table)), None))),
+        );
+    }
+    for (members, _) in unneeded {
+        tables.extend(members.iter().map(|&v| (v, (None, None))));
     }
     // Members of a class whose shared solve failed bind alone.
     for &v in in_a_class.iter().filter(|v| !shared.contains_key(v)) {
