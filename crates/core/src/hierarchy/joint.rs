@@ -59,23 +59,16 @@ impl JointFrame {
     /// control's motion `relative` relative to its parent (both maps of rest space; identity
     /// when the control has not turned relative to its parent): the half of the relative turn
     /// (swing and twist about the limb's axis taken apart, each halved), the stretch 1/cos of
-    /// half the swing across the swing's axis in the ring's plane, the square root of a uniform
-    /// scale, and half the pivot's move.
+    /// half the swing across the swing's axis in the ring's plane, a widening across the axis
+    /// of 1/√(2/3 + cos(ψ/2)/3) for a twist ψ, the square root of a uniform scale, and half the
+    /// pivot's move.
     pub fn mitre(&self, relative: &DAffine3) -> DAffine3 {
         let linear = relative.matrix3;
         let (rotation, scale) = rotation_and_scale(linear);
         let pivot_moved = relative.transform_point3(self.pivot);
         let centre = 0.5 * (self.pivot + pivot_moved);
         let d = self.axis;
-        // Swing-twist: the twist is the rotation's part about d.
-        let along = DVec3::new(rotation.x, rotation.y, rotation.z).dot(d);
-        let twist = DQuat::from_xyzw(d.x * along, d.y * along, d.z * along, rotation.w);
-        let twist = if twist.length_squared() > 1e-24 {
-            twist.normalize()
-        } else {
-            DQuat::IDENTITY
-        };
-        let swing = (rotation * twist.inverse()).normalize();
+        let (swing, twist) = swing_twist(rotation, d);
         let half = |q: DQuat| DQuat::IDENTITY.slerp(q, 0.5);
         let (swing_half, twist_half) = (half(swing), half(twist));
         let swing_angle = 2.0 * swing.w.abs().min(1.0).acos();
@@ -88,11 +81,49 @@ impl JointFrame {
         } else {
             DMat3::IDENTITY
         };
-        let half_linear =
-            scale.sqrt() * DMat3::from_quat(swing_half) * stretch * DMat3::from_quat(twist_half);
+        // A twist of ψ/2 on each side of the ring: cage coordinates blend the ring with its
+        // neighbours along a chord, whose mean cross-section is 2/3 + cos(ψ/2)/3 of the arc's;
+        // the ring widens across the axis by what gives it back.
+        let twist_angle = 2.0 * twist.w.abs().min(1.0).acos();
+        let widen = 1.0 / (2.0 / 3.0 + (0.5 * twist_angle).cos() / 3.0).sqrt();
+        let widen = DMat3::IDENTITY + (widen - 1.0) * (DMat3::IDENTITY - outer(d, d));
+        let half_linear = scale.sqrt()
+            * DMat3::from_quat(swing_half)
+            * stretch
+            * DMat3::from_quat(twist_half)
+            * widen;
         // x ↦ centre + H (x − pivot).
         DAffine3::from_mat3_translation(half_linear, centre - half_linear * self.pivot)
     }
+}
+
+impl JointFrame {
+    /// The signed angle (radians, in (−π, π]) by which the control's motion `relative` to its
+    /// parent turns about the limb's axis: the twist of its swing-twist decomposition.
+    pub fn twist_angle(&self, relative: &DAffine3) -> f64 {
+        let (rotation, _) = rotation_and_scale(relative.matrix3);
+        let (_, twist) = swing_twist(rotation, self.axis);
+        let along = DVec3::new(twist.x, twist.y, twist.z).dot(self.axis);
+        let (along, w) = if twist.w < 0.0 {
+            (-along, -twist.w)
+        } else {
+            (along, twist.w)
+        };
+        2.0 * along.atan2(w)
+    }
+}
+
+/// A rotation as a swing (about an axis across unit `d`) after a twist (about `d`):
+/// `rotation = swing * twist`.
+fn swing_twist(rotation: DQuat, d: DVec3) -> (DQuat, DQuat) {
+    let along = DVec3::new(rotation.x, rotation.y, rotation.z).dot(d);
+    let twist = DQuat::from_xyzw(d.x * along, d.y * along, d.z * along, rotation.w);
+    let twist = if twist.length_squared() > 1e-24 {
+        twist.normalize()
+    } else {
+        DQuat::IDENTITY
+    };
+    ((rotation * twist.inverse()).normalize(), twist)
 }
 
 /// The rotation of a linear map and its uniform scale (the cube root of its determinant's
@@ -176,8 +207,19 @@ mod tests {
         // No turn: no change. A pure twist: half of it, no stretch.
         let still = frame.mitre(&DAffine3::IDENTITY);
         assert!((still.transform_point3(p) - p).length() < 1e-12);
+        // A pure twist: half of it, no stretch along the axis, the ring widened across it by
+        // what a chord of half the twist takes from the mean cross-section.
         let twist = frame.mitre(&DAffine3::from_rotation_z(1.0));
-        let t = twist.transform_point3(p);
-        assert!((t - DQuat::from_rotation_z(0.5) * p).length() < 1e-9);
+        let widen = 1.0 / (2.0 / 3.0 + 0.5f64.cos() / 3.0).sqrt();
+        let q = p + DVec3::new(0.0, 0.0, -0.7);
+        let expected = DQuat::from_rotation_z(0.5) * (widen * p) + DVec3::new(0.0, 0.0, -0.7);
+        assert!((twist.transform_point3(q) - expected).length() < 1e-9);
+        // Signed about the limb's axis (here −z).
+        assert!((frame.twist_angle(&DAffine3::from_rotation_z(1.0)) + 1.0).abs() < 1e-12);
+        assert!((frame.twist_angle(&DAffine3::from_rotation_z(-2.5)) - 2.5).abs() < 1e-12);
+        // A swing about an axis across the limb has no twist.
+        assert!(frame.twist_angle(&turn).abs() < 1e-12);
+        let both = DAffine3::from_rotation_x(0.7) * DAffine3::from_rotation_z(0.4);
+        assert!((frame.twist_angle(&both) + 0.4).abs() < 1e-12);
     }
 }

@@ -433,14 +433,15 @@ fn a_knee_and_an_elbow_bend_at_their_joints_keeping_volume_and_other_limbs() {
         90.0,
         &["arm.L"],
     );
-    // Measured (docs/autorig.md): knee -3.1 %, elbow +2.5 %, hip -2.5 %, forearm
-    // twist -5.1 % of the limb's volume; the issue's goal is 2 %, not met yet.
-    // Two triangles in the knee's inner crease turn over at 90°.
+    // Measured (docs/autorig.md): knee -3.0 %, elbow +2.4 %, hip -2.5 %, forearm twist
+    // -1.9 % of the limb's volume (-5.1 % before the twist was spread along the arm and the
+    // ring widened); the issue's goal is 2 %, not met yet at the bends. Two triangles in the
+    // knee's inner crease turn over at 90°.
     for (what, (change, flips), bound, most_flips) in [
         ("knee", knee, 0.04, 2),
         ("elbow", elbow, 0.04, 0),
         ("hip", hip, 0.04, 0),
-        ("twist", twist, 0.07, 0),
+        ("twist", twist, 0.02, 0),
     ] {
         assert!(
             change.abs() < bound,
@@ -553,4 +554,127 @@ fn a_bad_pivot_or_joint_ring_is_named_by_validation() {
         );
     }
     assert!(problems(&good).is_empty());
+}
+
+/// The pivot of `control`.
+fn pivot_of(scene: &Scene, control: &str) -> DVec3 {
+    let cage = scene.cages.internals.iter().find(|c| c.name == control);
+    cage.and_then(|c| c.pivot).unwrap()
+}
+
+/// The smallest ratio, posed to rest, of a slice's mean distance from its centre across
+/// `axis` (through the slices' own centres, so a turn about the axis does not count), over
+/// ten slices of `vertices` from `start` along `axis` to the farthest of them.
+fn thinnest_cross_section(
+    rest: &[DVec3],
+    posed: &[DVec3],
+    vertices: &[usize],
+    start: DVec3,
+    axis: DVec3,
+) -> f64 {
+    let along = |i: usize| (rest[i] - start).dot(axis);
+    let length = vertices.iter().map(|&i| along(i)).fold(0.0, f64::max);
+    let mut thinnest = f64::INFINITY;
+    for k in 0..10 {
+        let slice: Vec<usize> = vertices
+            .iter()
+            .copied()
+            .filter(|&i| (along(i) / length * 10.0).floor() == k as f64)
+            .collect();
+        if slice.len() < 8 {
+            continue;
+        }
+        let size = |p: &[DVec3], axis: DVec3| {
+            let centre = slice.iter().map(|&i| p[i]).sum::<DVec3>() / slice.len() as f64;
+            let across = |d: DVec3| (d - d.dot(axis) * axis).length();
+            slice.iter().map(|&i| across(p[i] - centre)).sum::<f64>() / slice.len() as f64
+        };
+        thinnest = thinnest.min(size(posed, axis) / size(rest, axis));
+    }
+    thinnest
+}
+
+#[test]
+fn a_forearm_twist_spreads_along_the_arm_and_keeps_every_cross_section() {
+    let scene = rigged(&biped());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    let (shoulder, elbow) = (pivot_of(&scene, "arm.L.1"), pivot_of(&scene, "arm.L.2"));
+    let forearm = scene
+        .cages
+        .internals
+        .iter()
+        .find(|c| c.name == "arm.L.2")
+        .unwrap();
+    let centroid = forearm
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .sum::<DVec3>()
+        / forearm.faces.iter().flatten().count() as f64;
+    let axis = (centroid - elbow).normalize();
+    let edit = format!("arm.L.2: rotate {} {} {} 90", axis.x, axis.y, axis.z);
+    let posed = pose(&scene, &binding, &[edit.as_str()]);
+    // The upper arm's leaf vertices turn about it by a share of the forearm's twist growing
+    // from the shoulder (0) to the elbow (half of it, as the elbow's ring): the twist is not
+    // left to the cage coordinates between the ring and the rigid upper arm.
+    let upper = scene
+        .cages
+        .internals
+        .iter()
+        .find(|c| c.name == "arm.L.1")
+        .unwrap();
+    let in_internal: BTreeSet<u32> = scene
+        .cages
+        .internals
+        .iter()
+        .flat_map(|c| {
+            c.faces
+                .iter()
+                .flatten()
+                .copied()
+                .chain(c.joint.iter().copied())
+        })
+        .collect();
+    let upper_axis = (elbow - shoulder).normalize();
+    let mut turns: Vec<(f64, f64)> = Vec::new();
+    for &v in upper.owns.iter().filter(|v| !in_internal.contains(v)) {
+        let (rest, now) = (scene.cages.vertices[v as usize], posed.cages[v as usize]);
+        let across = |p: DVec3| {
+            let d = p - shoulder;
+            d - d.dot(upper_axis) * upper_axis
+        };
+        let (a, b) = (across(rest), across(now));
+        let angle = a.cross(b).dot(upper_axis).atan2(a.dot(b)).to_degrees();
+        let t = ((rest - shoulder).dot(upper_axis) / (elbow - shoulder).length()).clamp(0.0, 1.0);
+        turns.push((t, angle));
+    }
+    turns.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!(!turns.is_empty(), "arm.L.1 owns no leaf vertex");
+    for &(t, angle) in &turns {
+        assert!(
+            (angle - 45.0 * t).abs() < 3.0,
+            "a leaf vertex of the upper arm at {t:.2} of its length turned {angle:.1}°, not \
+             {:.1}° (the twist spread evenly from the shoulder to the elbow's 45°)",
+            45.0 * t
+        );
+    }
+    assert!(
+        turns.iter().any(|&(_, angle)| angle > 15.0),
+        "no leaf vertex of the upper arm took a share of the twist: {turns:?}"
+    );
+    // Every cross-section of the forearm keeps at least 0.9 of its size (the issue's goal;
+    // bone heat's linear blend skinning keeps 0.54-0.71 here).
+    let arm = vertices_of_limb(&scene, "arm.L");
+    let rest = scene.mesh.positions();
+    let forearm_vertices: Vec<usize> = arm
+        .into_iter()
+        .filter(|&i| (rest[i] - elbow).dot(axis) > 0.0)
+        .collect();
+    let thinnest = thinnest_cross_section(rest, &posed.mesh, &forearm_vertices, elbow, axis);
+    eprintln!("forearm twist 90°: thinnest cross-section {thinnest:.3}");
+    assert!(
+        thinnest >= 0.9,
+        "a cross-section of the twisted forearm kept {thinnest:.3}"
+    );
 }
