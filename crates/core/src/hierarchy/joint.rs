@@ -1,6 +1,7 @@
 //! Joints of controls: a control (an internal cage with a pivot) turns what it owns rigidly,
-//! and the ring of leaf vertices at its joint, which its parent control owns, turns half as
-//! far about the pivot and stretches so that the two sides meet as a mitre. A ring that
+//! and the ring of leaf vertices at its joint, which its parent control owns, slides along the
+//! parent's side onto its plane turned half as far, so that the two sides meet as a mitre
+//! (a twist: half of it, widened; `twist` spreads the rest along the segments). A ring that
 //! followed either side alone would leave one segment's cage to take the whole bend between a
 //! fixed face and a turned one, which halves its cross-section at 90° (docs/math.md,
 //! "Joints"). The mitre is not a cage coordinate (not linear in the control's vertices), so a
@@ -114,11 +115,12 @@ fn plane_normal(points: &[DVec3]) -> Option<DVec3> {
 impl JointFrame {
     /// The map that takes a ring point in rest coordinates to its mitred place, for the
     /// control's motion `relative` relative to its parent (both maps of rest space; identity
-    /// when the control has not turned relative to its parent): the half of the relative turn
-    /// (swing and twist about the limb's axis taken apart, each halved), the stretch 1/cos of
-    /// half the swing across the swing's axis in the ring's plane, a widening across the axis
-    /// of 1/√(2/3 + cos(ψ/2)/3) for a twist ψ, the square root of a uniform scale, and half the
-    /// pivot's move.
+    /// when the control has not turned relative to its parent). The relative turn is taken
+    /// apart into a swing and a twist ψ about the limb's axis; the ring slides along the
+    /// parent's side from its plane onto that plane turned by half the swing (for a limb
+    /// straight at rest: half the swing and a stretch of 1/cos of it across the swing's axis),
+    /// turns by half the twist and widens across the axis by 1/√(2/3 + cos(ψ/2)/3); then the
+    /// square root of a uniform scale and half the pivot's move.
     pub fn mitre(&self, relative: &DAffine3) -> DAffine3 {
         let linear = relative.matrix3;
         let (rotation, scale) = rotation_and_scale(linear);
