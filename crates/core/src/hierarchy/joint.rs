@@ -1,7 +1,6 @@
 //! Joints of controls: a control (an internal cage with a pivot) turns what it owns rigidly,
-//! and the ring of leaf vertices at its joint, which its parent control owns, slides along the
-//! parent's side onto its plane turned half as far, so that the two sides meet as a mitre
-//! (a twist: half of it, widened; `twist` spreads the rest along the segments). A ring that
+//! and the ring of leaf vertices at its joint, which its parent control owns, turns half as
+//! far about the pivot and stretches so that the two sides meet as a mitre. A ring that
 //! followed either side alone would leave one segment's cage to take the whole bend between a
 //! fixed face and a turned one, which halves its cross-section at 90° (docs/math.md,
 //! "Joints"). The mitre is not a cage coordinate (not linear in the control's vertices), so a
@@ -45,82 +44,24 @@ fn outer(a: DVec3, b: DVec3) -> DMat3 {
 /// off towards infinity as the bend nears 180°.
 const MAX_MITRE_STRETCH: f64 = 3.0;
 
-/// A joint at rest: the control's pivot, the limb's directions on either side of it and the
-/// plane of its ring, all in rest coordinates.
+/// A joint at rest: the control's pivot and the limb's direction there (towards the control's
+/// side), both in rest coordinates.
 #[derive(Debug, Clone, Copy)]
 pub struct JointFrame {
     /// The pivot.
     pub pivot: DVec3,
-    /// Unit direction along the limb from the joint towards the control's side.
+    /// Unit direction along the limb through the joint.
     pub axis: DVec3,
-    /// Unit direction along the parent's side, towards the joint (the parent's pivot to this
-    /// one; `axis` where the parent has none). A limb bent at rest has it apart from `axis`.
-    pub parent_axis: DVec3,
-    /// Unit normal of the ring's best-fit plane, on `parent_axis`'s side.
-    pub ring_normal: DVec3,
-}
-
-impl JointFrame {
-    /// The frame of a joint at `pivot` whose control lies along `axis`, whose parent's side
-    /// comes in along `parent_axis` (`axis` if None), with ring vertices `ring` (rest). The
-    /// ring's plane is the least-squares one; for fewer than three points, or points on a
-    /// line, it is the plane across `parent_axis`.
-    pub fn new(pivot: DVec3, axis: DVec3, parent_axis: Option<DVec3>, ring: &[DVec3]) -> Self {
-        let parent_axis = parent_axis.and_then(DVec3::try_normalize).unwrap_or(axis);
-        let ring_normal = plane_normal(ring)
-            .map(|n| if n.dot(parent_axis) < 0.0 { -n } else { n })
-            .filter(|n| n.dot(parent_axis) > 0.2)
-            .unwrap_or(parent_axis);
-        Self {
-            pivot,
-            axis,
-            parent_axis,
-            ring_normal,
-        }
-    }
-}
-
-/// The unit normal of the least-squares plane through `points`: the covariance's eigenvector
-/// of least eigenvalue, by inverse iteration. None for fewer than three points or points on a
-/// line (two eigenvalues near zero).
-fn plane_normal(points: &[DVec3]) -> Option<DVec3> {
-    if points.len() < 3 {
-        return None;
-    }
-    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
-    let covariance = points
-        .iter()
-        .map(|&p| outer(p - centre, p - centre))
-        .fold(DMat3::ZERO, |a, b| a + b);
-    let trace = covariance.x_axis.x + covariance.y_axis.y + covariance.z_axis.z;
-    if !(trace > 0.0 && trace.is_finite()) {
-        return None;
-    }
-    // Shifted so that it stays invertible for a planar ring (least eigenvalue 0).
-    let shifted = covariance + DMat3::from_diagonal(DVec3::splat(1e-9 * trace));
-    let inverse = shifted.inverse();
-    let mut n = DVec3::new(0.577, 0.578, 0.579);
-    for _ in 0..64 {
-        n = (inverse * n).try_normalize()?;
-    }
-    // Points on a line: the middle eigenvalue is as small as the least.
-    let mut wide = DVec3::new(0.579, -0.577, 0.578);
-    for _ in 0..64 {
-        wide = (covariance * wide).try_normalize()?;
-    }
-    let (least, most) = (n.dot(covariance * n), wide.dot(covariance * wide));
-    (trace - most - least > 1e-6 * trace).then_some(n)
 }
 
 impl JointFrame {
     /// The map that takes a ring point in rest coordinates to its mitred place, for the
     /// control's motion `relative` relative to its parent (both maps of rest space; identity
-    /// when the control has not turned relative to its parent). The relative turn is taken
-    /// apart into a swing and a twist ψ about the limb's axis; the ring slides along the
-    /// parent's side from its plane onto that plane turned by half the swing (for a limb
-    /// straight at rest: half the swing and a stretch of 1/cos of it across the swing's axis),
-    /// turns by half the twist and widens across the axis by 1/√(2/3 + cos(ψ/2)/3); then the
-    /// square root of a uniform scale and half the pivot's move.
+    /// when the control has not turned relative to its parent): the half of the relative turn
+    /// (swing and twist about the limb's axis taken apart, each halved), the stretch 1/cos of
+    /// half the swing across the swing's axis in the ring's plane, a widening across the axis
+    /// of 1/√(2/3 + cos(ψ/2)/3) for a twist ψ, the square root of a uniform scale, and half the
+    /// pivot's move.
     pub fn mitre(&self, relative: &DAffine3) -> DAffine3 {
         let linear = relative.matrix3;
         let (rotation, scale) = rotation_and_scale(linear);
@@ -130,25 +71,27 @@ impl JointFrame {
         let (swing, twist) = swing_twist(rotation, d);
         let half = |q: DQuat| DQuat::IDENTITY.slerp(q, 0.5);
         let (swing_half, twist_half) = (half(swing), half(twist));
-        // The ring slides along the parent's side (so that it stays on that side's surface)
-        // from its plane onto that plane turned by half the swing, the bisector of a straight
-        // limb: x ↦ x − u (x·n₁/(u·n₁) − x·n₀/(u·n₀)). For a straight limb this is the turn by
-        // half the swing with the stretch 1/cos of it across the swing's axis.
-        let (u, n0) = (self.parent_axis, self.ring_normal);
-        let n1 = swing_half * n0;
-        let (along0, along1) = (u.dot(n0), u.dot(n1).max(u.dot(n0) / MAX_MITRE_STRETCH));
-        // A ring point's offset from its plane (along u) turns by half the swing instead.
-        let offset = outer(u, n0 / along0);
-        let onto_plane = DMat3::IDENTITY - offset;
-        let stretch = (DMat3::IDENTITY - outer(u, n1 / along1)) * onto_plane
-            + DMat3::from_quat(swing_half) * offset;
+        let swing_angle = 2.0 * swing.w.abs().min(1.0).acos();
+        let swing_axis = DVec3::new(swing.x, swing.y, swing.z);
+        let stretch = if swing_axis.length_squared() > 1e-24 {
+            let across = swing_axis.normalize().cross(d).normalize_or_zero();
+            let k = (1.0 / (0.5 * swing_angle).cos()).min(MAX_MITRE_STRETCH);
+            // Identity plus (k − 1) along `across`.
+            DMat3::IDENTITY + (k - 1.0) * outer(across, across)
+        } else {
+            DMat3::IDENTITY
+        };
         // A twist of ψ/2 on each side of the ring: cage coordinates blend the ring with its
         // neighbours along a chord, whose mean cross-section is 2/3 + cos(ψ/2)/3 of the arc's;
         // the ring widens across the axis by what gives it back.
         let twist_angle = 2.0 * twist.w.abs().min(1.0).acos();
         let widen = 1.0 / (2.0 / 3.0 + (0.5 * twist_angle).cos() / 3.0).sqrt();
         let widen = DMat3::IDENTITY + (widen - 1.0) * (DMat3::IDENTITY - outer(d, d));
-        let half_linear = scale.sqrt() * stretch * DMat3::from_quat(twist_half) * widen;
+        let half_linear = scale.sqrt()
+            * DMat3::from_quat(swing_half)
+            * stretch
+            * DMat3::from_quat(twist_half)
+            * widen;
         // x ↦ centre + H (x − pivot).
         DAffine3::from_mat3_translation(half_linear, centre - half_linear * self.pivot)
     }
@@ -242,7 +185,10 @@ mod tests {
     #[test]
     fn a_mitre_halves_the_turn_and_meets_both_tubes() {
         // A tube along -z below the pivot (the child's side), bent 90° about x.
-        let frame = JointFrame::new(DVec3::ZERO, DVec3::NEG_Z, None, &[]);
+        let frame = JointFrame {
+            pivot: DVec3::ZERO,
+            axis: DVec3::NEG_Z,
+        };
         let turn = DAffine3::from_rotation_x(90f64.to_radians());
         let mitre = frame.mitre(&turn);
         // A ring point on the bend's side stretches by 1/cos 45° along the bisector plane.
@@ -275,57 +221,5 @@ mod tests {
         assert!(frame.twist_angle(&turn).abs() < 1e-12);
         let both = DAffine3::from_rotation_x(0.7) * DAffine3::from_rotation_z(0.4);
         assert!((frame.twist_angle(&both) + 0.4).abs() < 1e-12);
-    }
-
-    #[test]
-    fn a_ring_of_a_limb_bent_at_rest_slides_along_the_parents_side_onto_half_the_swing() {
-        // The parent comes down −z to the pivot; the child leaves bent towards −y; the ring
-        // lies across the parent (z = 0).
-        let ring: Vec<DVec3> = (0..12)
-            .map(|k| k as f64 * std::f64::consts::TAU / 12.0)
-            .map(|a| DVec3::new(a.cos(), a.sin(), 0.0))
-            .collect();
-        let child = DVec3::new(0.0, -0.5, -1.0).normalize();
-        let frame = JointFrame::new(DVec3::ZERO, child, Some(DVec3::NEG_Z), &ring);
-        assert!((frame.ring_normal - DVec3::NEG_Z).length() < 1e-9);
-        let turn = DAffine3::from_rotation_x(60f64.to_radians());
-        let mitre = frame.mitre(&turn);
-        // The swing's half turns the ring's plane; the twist about the bent child's axis that
-        // an x turn carries is halved and widens the ring a little, so compare with the
-        // frame's own decomposition: every point stays on its parent line (moves along z only)
-        // up to that twist, and the ring stays one plane.
-        let moved: Vec<DVec3> = ring.iter().map(|&p| mitre.transform_point3(p)).collect();
-        let normal = plane_normal(&moved).unwrap();
-        let flat = moved
-            .iter()
-            .map(|p| p.dot(normal).abs())
-            .fold(0.0, f64::max);
-        assert!(flat < 1e-9, "the mitred ring left its plane by {flat}");
-        assert!(
-            normal.dot(DVec3::Z).abs() < 0.99,
-            "the ring's plane did not turn"
-        );
-        // A swing of a limb straight at rest: points slide along the parent's side exactly.
-        let straight = JointFrame::new(DVec3::ZERO, DVec3::NEG_Z, Some(DVec3::NEG_Z), &ring);
-        let mitre = straight.mitre(&turn);
-        for &p in &ring {
-            let q = mitre.transform_point3(p);
-            assert!((q - p).cross(DVec3::Z).length() < 1e-9, "{p} -> {q}");
-        }
-    }
-
-    #[test]
-    fn a_plane_normal_is_found_for_a_tilted_ring_and_refused_for_a_line() {
-        let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
-        let (a, b) = (n.any_orthonormal_pair().0, n.any_orthonormal_pair().1);
-        let ring: Vec<DVec3> = (0..9)
-            .map(|k| k as f64 * 0.7)
-            .map(|t| DVec3::new(4.0, -1.0, 2.0) + 2.0 * t.cos() * a + t.sin() * b)
-            .collect();
-        let found = plane_normal(&ring).unwrap();
-        assert!(found.cross(n).length() < 1e-9, "{found}");
-        let line: Vec<DVec3> = (0..5).map(|k| k as f64 * n).collect();
-        assert!(plane_normal(&line).is_none());
-        assert!(plane_normal(&ring[..2]).is_none());
     }
 }

@@ -605,28 +605,12 @@ fn bind_joints(scene: &Scene, levels: &[Level], parent: &[Option<(usize, usize)>
         let (Some(ring), Some(axis)) = (ring, (centroid - pivot).try_normalize()) else {
             continue;
         };
-        // The parent's side comes in from the parent's pivot where the parent is a segment
-        // (a control with a control above it); the root's pivot is on the ground.
-        let parent_is_segment = levels[parent_level]
-            .global
-            .iter()
-            .any(|&v| parent.get(v as usize).copied().flatten().is_some());
-        let parent_axis = set
-            .internals
-            .get(parent_level)
-            .and_then(|c| c.pivot)
-            .filter(|_| parent_is_segment)
-            .map(|p| pivot - p);
-        let ring_rest: Vec<DVec3> = ring
-            .iter()
-            .map(|&(v, _)| set.vertices[v as usize])
-            .collect();
         joints.push(Joint {
             control: l,
             parent: parent_level,
             control_rest,
             parent_rest: levels[parent_level].shape(&set.vertices),
-            frame: JointFrame::new(pivot, axis, parent_axis, &ring_rest),
+            frame: JointFrame { pivot, axis },
             ring,
         });
     }

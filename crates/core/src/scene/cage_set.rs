@@ -43,9 +43,8 @@ pub struct InternalCage {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pivot: Option<DVec3>,
     /// The joint's ring: leaf vertices owned by the cage that owns this one (its parent
-    /// control), whose plane turns half as far as this cage does relative to its parent, the
-    /// ring sliding along the parent's side so that the two sides meet as a mitre
-    /// (docs/math.md, "Joints").
+    /// control), which turn half as far as this cage does relative to its parent, about the
+    /// pivot, and stretch so that the two sides meet as a mitre (docs/math.md, "Joints").
     /// Empty: no ring bends with this cage.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joint: Vec<u32>,
