@@ -18,7 +18,7 @@ mod twist;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 use thiserror::Error;
 
 use crate::cage::{Cage, CageError};
@@ -465,10 +465,7 @@ impl Hierarchy {
                 continue;
             }
             let parent_shape = parent.shape(pose);
-            let (Some(control_motion), Some(parent_motion)) = (
-                affine_fit(&joint.control_rest, &control.shape(pose)),
-                affine_fit(&joint.parent_rest, &parent_shape),
-            ) else {
+            let Some((control_motion, parent_motion)) = self.joint_motions(joint, pose) else {
                 continue;
             };
             let parent_inverse = parent_motion.inverse();
@@ -487,6 +484,16 @@ impl Hierarchy {
                 }
             }
         }
+    }
+
+    /// A joint's control and parent motions in `pose` (least-squares affine fits of their
+    /// vertices from rest); None where either shape is flat.
+    fn joint_motions(&self, joint: &Joint, pose: &[DVec3]) -> Option<(DAffine3, DAffine3)> {
+        let fit = |rest: &[DVec3], level: usize| affine_fit(rest, &self.levels[level].shape(pose));
+        Some((
+            fit(&joint.control_rest, joint.control)?,
+            fit(&joint.parent_rest, joint.parent)?,
+        ))
     }
 
     /// Whether a move of `vertices` reaches a joint (its control or its parent moves), where

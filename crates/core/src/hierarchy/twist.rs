@@ -130,30 +130,30 @@ impl Hierarchy {
                     || s.near.is_some_and(|j| moved(self.joints[j].parent))
             })
             .collect();
-        let motion = |rest: &[DVec3], level: usize, pose: &[DVec3]| {
-            affine_fit(rest, &self.levels[level].shape(pose))
-        };
-        let twist_of = |j: usize, pose: &[DVec3]| -> Option<f64> {
-            let joint = &self.joints[j];
-            let control = motion(&joint.control_rest, joint.control, pose)?;
-            let parent = motion(&joint.parent_rest, joint.parent, pose)?;
-            Some(joint.frame.twist_angle(&(parent.inverse() * control)))
+        // Each joint's twist, fitted once though two segments read it (nothing here moves a
+        // control's vertices, so it stays valid through the pass).
+        let mut twists: Vec<Option<f64>> = vec![None; self.joints.len()];
+        let mut twist_of = |j: Option<usize>, pose: &[DVec3]| -> f64 {
+            let Some(j) = j else { return 0.0 };
+            *twists[j].get_or_insert_with(|| {
+                let joint = &self.joints[j];
+                self.joint_motions(joint, pose)
+                    .map_or(0.0, |(control, parent)| {
+                        joint.frame.twist_angle(&(parent.inverse() * control))
+                    })
+            })
         };
         for segment in touched {
             let level = &self.levels[segment.level];
-            let Some(control) = motion(&segment.rest, segment.level, pose) else {
+            let Some(control) = affine_fit(&segment.rest, &level.shape(pose)) else {
                 continue;
             };
-            let near_twist = match segment.near {
-                Some(j) => twist_of(j, pose).unwrap_or(0.0),
-                None => 0.0,
-            };
-            let far_twist = match segment.far {
-                Some(j) => twist_of(j, pose).unwrap_or(0.0),
-                None => 0.0,
-            };
+            let near_twist = twist_of(segment.near, pose);
+            let far_twist = twist_of(segment.far, pose);
             let shape = level.shape(pose);
-            let inverse = control.inverse();
+            // p ↦ control ∘ (turn about the axis through the origin) ∘ control⁻¹, in halves.
+            let from_axis = control * DAffine3::from_translation(segment.origin);
+            let to_axis = DAffine3::from_translation(-segment.origin) * control.inverse();
             for &(v, slot, t) in &segment.vertices {
                 let v = v as usize;
                 if by_hand[v] || self.hand_moved[v] {
@@ -165,14 +165,8 @@ impl Hierarchy {
                     base
                 } else {
                     // Into the control's rest frame, about the axis, and back.
-                    let turn = DAffine3::from_rotation_translation(
-                        DQuat::from_axis_angle(segment.axis, angle),
-                        DVec3::ZERO,
-                    );
-                    let about = DAffine3::from_translation(segment.origin)
-                        * turn
-                        * DAffine3::from_translation(-segment.origin);
-                    (control * about * inverse).transform_point3(base)
+                    let turn = DQuat::from_axis_angle(segment.axis, angle);
+                    from_axis.transform_point3(turn * to_axis.transform_point3(base))
                 };
                 if p.is_finite() && p != pose[v] {
                     pose[v] = p;

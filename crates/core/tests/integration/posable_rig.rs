@@ -14,7 +14,7 @@ use starcages_core::check::validate_scene;
 use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
 use starcages_core::hierarchy::{CageEdit, Hierarchy, posed_pivot};
 use starcages_core::mesh::Mesh;
-use starcages_core::scene::{LocalCage, MeshSource, Scene, leaf_containment};
+use starcages_core::scene::{InternalCage, LocalCage, MeshSource, Scene, leaf_containment};
 use starcages_core::star::StarBinding;
 
 use crate::common::capsules;
@@ -264,16 +264,7 @@ fn limbs_are_named_by_role_and_side() {
         assert!(names.contains(limb), "hexapod: no {limb} in {names:?}");
     }
     // Left is +X (Blender's convention for a figure facing −Y).
-    let pivot_x = |scene: &Scene, control: &str| {
-        scene
-            .cages
-            .internals
-            .iter()
-            .find(|c| c.name == control)
-            .and_then(|c| c.pivot)
-            .unwrap()
-            .x
-    };
+    let pivot_x = |scene: &Scene, name: &str| pivot_of(scene, name).x;
     assert!(pivot_x(&biped, "leg.L.1") > 0.0 && pivot_x(&biped, "leg.R.1") < 0.0);
     assert!(pivot_x(&quadruped, "leg.front.L.1") > 0.0);
 }
@@ -323,24 +314,11 @@ fn every_segment_has_a_control_at_its_joint_and_the_rig_one_root() {
 #[test]
 fn turning_the_first_segment_carries_the_second_forward_kinematics() {
     let scene = rigged(&biped());
-    let control = BindControl::default();
-    let binding = StarBinding::bind_scene(&scene, &control).unwrap();
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
     let posed = pose(&scene, &binding, &["leg.L.1: rotate 1 0 0 45"]);
-    let hip = scene
-        .cages
-        .internals
-        .iter()
-        .find(|c| c.name == "leg.L.1")
-        .unwrap()
-        .pivot
-        .unwrap();
+    let hip = control(&scene, "leg.L.1").pivot.unwrap();
     let turn = DQuat::from_axis_angle(DVec3::X, 45f64.to_radians());
-    let knee = scene
-        .cages
-        .internals
-        .iter()
-        .find(|c| c.name == "leg.L.2")
-        .unwrap();
+    let knee = control(&scene, "leg.L.2");
     let scale = diagonal(&scene.cages.vertices);
     for &v in knee.faces.iter().flatten() {
         let rest = scene.cages.vertices[v as usize];
@@ -528,13 +506,7 @@ fn a_bad_pivot_or_joint_ring_is_named_by_validation() {
     assert!(errors[0].to_string().contains("pivot"), "{}", errors[0]);
     // A ring vertex its parent does not own (one of the root's), one that does not exist, and
     // one listed twice.
-    let root_owned = good
-        .cages
-        .internals
-        .iter()
-        .find(|c| c.name == "root")
-        .unwrap()
-        .owns[0];
+    let root_owned = control(&good, "root").owns[0];
     let missing = good.cages.vertices.len() as u32;
     for (bad, reason) in [
         (root_owned, "not owned by the cage that owns the control"),
@@ -556,10 +528,15 @@ fn a_bad_pivot_or_joint_ring_is_named_by_validation() {
     assert!(problems(&good).is_empty());
 }
 
+/// The control (internal cage) named `name`.
+fn control<'a>(scene: &'a Scene, name: &str) -> &'a InternalCage {
+    let found = scene.cages.internals.iter().find(|c| c.name == name);
+    found.unwrap_or_else(|| panic!("no control {name}"))
+}
+
 /// The pivot of `control`.
-fn pivot_of(scene: &Scene, control: &str) -> DVec3 {
-    let cage = scene.cages.internals.iter().find(|c| c.name == control);
-    cage.and_then(|c| c.pivot).unwrap()
+fn pivot_of(scene: &Scene, name: &str) -> DVec3 {
+    control(scene, name).pivot.unwrap()
 }
 
 /// The smallest ratio, posed to rest, of a slice's mean distance from its centre across
@@ -599,12 +576,7 @@ fn a_forearm_twist_spreads_along_the_arm_and_keeps_every_cross_section() {
     let scene = rigged(&biped());
     let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
     let (shoulder, elbow) = (pivot_of(&scene, "arm.L.1"), pivot_of(&scene, "arm.L.2"));
-    let forearm = scene
-        .cages
-        .internals
-        .iter()
-        .find(|c| c.name == "arm.L.2")
-        .unwrap();
+    let forearm = control(&scene, "arm.L.2");
     let centroid = forearm
         .faces
         .iter()
@@ -618,12 +590,7 @@ fn a_forearm_twist_spreads_along_the_arm_and_keeps_every_cross_section() {
     // The upper arm's leaf vertices turn about it by a share of the forearm's twist growing
     // from the shoulder (0) to the elbow (half of it, as the elbow's ring): the twist is not
     // left to the cage coordinates between the ring and the rigid upper arm.
-    let upper = scene
-        .cages
-        .internals
-        .iter()
-        .find(|c| c.name == "arm.L.1")
-        .unwrap();
+    let upper = control(&scene, "arm.L.1");
     let in_internal: BTreeSet<u32> = scene
         .cages
         .internals
