@@ -210,7 +210,13 @@ pub(super) fn add_controls(
                     .copied()
                     .filter(|v| owner.get(v) == Some(&p))
                     .collect(),
-                None => Vec::new(),
+                // A limb growing from a body: its root ring is the body's, which the root
+                // control owns.
+                None => before
+                    .iter()
+                    .copied()
+                    .filter(|v| !owner.contains_key(v))
+                    .collect(),
             };
             let pivot = centroid(before.iter().map(|&v| cages.vertices[v as usize]))
                 .or_else(|| centroid(all.iter().map(|&v| cages.vertices[v as usize])))
@@ -286,10 +292,14 @@ pub(super) fn add_controls(
     rest.extend(boxes_under.into_values().flatten());
     rest.sort_unstable();
     rest.dedup();
+    // Owners by index into `made`; the root control (made below, owning `rest`) is `made.len()`,
+    // so a limb growing from the body bends at its root ring as at any other joint.
+    let root = made.len();
     let owner_of: BTreeMap<u32, usize> = made
         .iter()
         .enumerate()
         .flat_map(|(i, c)| c.owns.iter().map(move |&v| (v, i)))
+        .chain(rest.iter().map(|&v| (v, root)))
         .collect();
     // A vertex bends with one joint: where two branches share their root ring (legs from one
     // hip band meet at the crotch), the first claims it.
