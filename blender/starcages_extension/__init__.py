@@ -135,19 +135,16 @@ def _control_transforms(obj):
     return transforms
 
 
-def _cage_offsets(obj, cage_obj, scene, transforms):
+def _cage_offsets(obj, cage_obj, count, controls_pose):
     """The hand moves of cage vertices on top of the controls' pose (rig space): read from the
-    cage object while it is in Edit Mode (and kept on the mesh object), else as kept. Only in
-    Edit Mode is the controls' pose alone computed for it (a second pass through the
-    hierarchy)."""
-    count = len(scene.cage_vertices)
+    cage object while it is in Edit Mode (and kept on the mesh object), else as kept."""
     if cage_obj is not None and cage_obj.mode == "EDIT":
         import bmesh
 
         edit = bmesh.from_edit_mesh(cage_obj.data)
         if len(edit.verts) == count:
             edited = np.array([v.co[:] for v in edit.verts])
-            offsets = edited - scene.posed_by_controls(transforms)
+            offsets = edited - controls_pose
             obj["starcages_offsets"] = offsets.ravel().tolist()
             return offsets
     stored = obj.get("starcages_offsets")
@@ -156,20 +153,32 @@ def _cage_offsets(obj, cage_obj, scene, transforms):
     return None
 
 
+def _posed(obj, rig, cage_obj):
+    """The cage positions now (rig space): the controls' pose with every bent joint keeping
+    its volume (as the StarCages editor and CLI pose), the hand moves of cage vertices on top
+    (propagated down the cage hierarchy)."""
+    scene, binding = rig[0], rig[1]
+    transforms = _control_transforms(obj)
+    by_controls = scene.posed_by_controls(transforms)
+    controls_pose = binding.keep_joint_volumes(by_controls)
+    offsets = _cage_offsets(obj, cage_obj, len(by_controls), controls_pose)
+    if offsets is None or not offsets.any():
+        return controls_pose
+    return controls_pose + (scene.posed_by_controls(transforms, offsets) - by_controls)
+
+
 def update_rig(obj, force=False):
     """Deforms `obj` to its controls and the hand moves of its cage vertices (Edit Mode on the
     cage object): the StarCages shape key and the cage object follow."""
     rig = _live_rig(obj)
     if rig is None:
         return
-    scene, binding, welded_of, signature = rig
     cage_obj = _cages_of(obj)
-    transforms = _control_transforms(obj)
-    cages = scene.posed_by_controls(transforms, _cage_offsets(obj, cage_obj, scene, transforms))
+    cages = _posed(obj, rig, cage_obj)
     # Leaving Edit Mode on the cage object writes its mesh back: the shape key is written
     # again then too.
     now = (hash(np.round(cages, 12).tobytes()), cage_obj.mode if cage_obj else None)
-    if now == signature and not force:
+    if now == rig[3] and not force:
         return
     rig[3] = now
     deformed = _deformed_local(obj, rig, cages)
@@ -188,8 +197,7 @@ def update_rig(obj, force=False):
 
 def _posed_cages(obj, rig):
     """The cage positions now: the controls' pose and the hand moves on top."""
-    scene, transforms = rig[0], _control_transforms(obj)
-    return scene.posed_by_controls(transforms, _cage_offsets(obj, _cages_of(obj), scene, transforms))
+    return _posed(obj, rig, _cages_of(obj))
 
 
 def _deformed_local(obj, rig, cages):

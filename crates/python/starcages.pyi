@@ -138,6 +138,12 @@ class Binding:
     def nonzeros(self) -> int: ...
     def deform(self, cage_positions: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """The welded mesh for every cage vertex at `cage_positions` ((k, 3))."""
+    def keep_joint_volumes(
+        self, cage_positions: npt.ArrayLike, keep: list[int] | None = None
+    ) -> npt.NDArray[np.float64]:
+        """Cage positions with every bent joint's ring scaled so that the mesh around it
+        keeps its rest volume (as the CLI's --apply and the editor pose); `keep` lists cage
+        vertices (moved by hand) to leave alone."""
     def deform_frame(self, frame: float) -> npt.NDArray[np.float64]:
         """The welded mesh at an animation frame (keys interpolated, keyed h applied)."""
     def dofs(self, cage_positions: npt.ArrayLike) -> npt.NDArray[np.float32]:

@@ -24,6 +24,7 @@ pub mod coords;
 pub mod generate;
 pub mod geometry;
 pub mod hierarchy;
+pub mod joint_volume;
 pub mod live;
 pub mod mesh;
 mod messages;

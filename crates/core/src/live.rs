@@ -10,6 +10,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{DVec3, Vec3};
 
 use crate::hierarchy::{Hierarchy, HierarchyError};
+use crate::joint_volume::JointVolumes;
 use crate::scene::{CageSet, Scene, SceneSettings};
 use crate::star::{DriverMap, StarBinding};
 
@@ -99,6 +100,8 @@ pub struct LiveRig {
     /// The drivers of the drag in progress when it can have no map (a Green cage on the way,
     /// too many coefficients): its updates go the sparse way without trying again.
     drag_without_map: Option<Vec<u32>>,
+    /// The joints' regions in this binding's mesh, built on the first move that bends one.
+    joint_volumes: OnceLock<JointVolumes>,
 }
 
 impl LiveRig {
@@ -122,6 +125,7 @@ impl LiveRig {
             rest_view: OnceLock::new(),
             drag: None,
             drag_without_map: None,
+            joint_volumes: OnceLock::new(),
         }
     }
 
@@ -182,10 +186,16 @@ impl LiveRig {
         moves: &[(u32, DVec3)],
         in_drag: bool,
     ) -> Result<Vec<u32>, HierarchyError> {
-        let changed = self.hierarchy.apply(&mut scene.pose, moves)?;
+        let mut changed = self.hierarchy.apply(&mut scene.pose, moves)?;
         scene.pose_state = self.hierarchy.state();
         if changed.is_empty() {
             return Ok(changed);
+        }
+        let settled = self.keep_joint_volumes(scene, &changed);
+        if !settled.is_empty() {
+            changed.extend(settled);
+            changed.sort_unstable();
+            changed.dedup();
         }
         if in_drag {
             let mut drivers: Vec<u32> = moves.iter().map(|(v, _)| *v).collect();
@@ -196,6 +206,28 @@ impl LiveRig {
             self.redeform_rows(scene, &changed);
         }
         Ok(changed)
+    }
+
+    /// Settles the joints whose rings the hierarchy just moved (`changed`, sorted) to their
+    /// rest volume ([`JointVolumes`]); returns the ring vertices it moved.
+    fn keep_joint_volumes(&self, scene: &mut Scene, changed: &[u32]) -> Vec<u32> {
+        if scene.cages.internals.iter().all(|c| c.joint.is_empty()) {
+            return Vec::new();
+        }
+        let volumes = self.joint_volumes.get_or_init(|| {
+            JointVolumes::new(
+                &self.bound_for.0,
+                scene.mesh.welded_triangles(),
+                &self.binding.operator,
+            )
+        });
+        let hierarchy = &self.hierarchy;
+        volumes.settle(
+            &self.binding.operator,
+            &mut scene.pose,
+            Some(changed),
+            &|v| hierarchy.is_hand_moved(v),
+        )
     }
 
     /// Recomputes the DOFs of `scene`'s current pose; the mesh follows when read (playback

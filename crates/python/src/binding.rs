@@ -3,6 +3,7 @@
 //! caches.
 
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 use numpy::ndarray::Array1;
 use numpy::{AllowTypeChange, IntoPyArray as _, PyArray2, PyArrayLike2};
@@ -10,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use starcages_core::BindControl;
 use starcages_core::bake::FrameDeformer;
+use starcages_core::joint_volume::JointVolumes;
 use starcages_core::posing::PoseRequest;
 use starcages_core::scene::Scene;
 use starcages_core::star::StarBinding;
@@ -24,6 +26,9 @@ use crate::scene::PyScene;
 pub struct PyBinding {
     scene: PyScene,
     deformer: FrameDeformer,
+    /// The joints' regions in the bound mesh, built on the first `keep_joint_volumes` (a
+    /// control drag calls it at every update) and dropped when a frame binds again.
+    joint_volumes: OnceLock<JointVolumes>,
 }
 
 impl PyBinding {
@@ -33,6 +38,7 @@ impl PyBinding {
                 scene: scene.clone(),
             },
             deformer: FrameDeformer::new(scene, binding),
+            joint_volumes: OnceLock::new(),
         }
     }
 }
@@ -56,6 +62,42 @@ impl PyBinding {
         points_out(py, deformed.iter().map(|p| up.from_scene(p.as_dvec3())))
     }
 
+    /// keep_joint_volumes(cage_positions, keep=None) -> array
+    ///
+    /// `cage_positions` ((k, 3), the file's axes) with every bent joint's ring scaled so that
+    /// the mesh around the joint keeps its rest volume, as `starcages-cli deform --apply` and
+    /// the editor pose (a pose of the controls, before hand moves of cage vertices). The
+    /// cage vertices listed in `keep` (e.g. moved by hand) and the rings holding one are left
+    /// alone.
+    #[pyo3(signature = (cage_positions, keep = None))]
+    fn keep_joint_volumes<'py>(
+        &self,
+        py: Python<'py>,
+        cage_positions: PyArrayLike2<'py, f64, AllowTypeChange>,
+        keep: Option<Vec<u32>>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let mut posed = self.scene.cages_in(&cage_positions)?;
+        let mut keep = keep.unwrap_or_default();
+        keep.sort_unstable();
+        let scene = self.deformer.scene();
+        let binding = self.deformer.binding();
+        let joint_volumes = &self.joint_volumes;
+        py.detach(|| {
+            let volumes = joint_volumes.get_or_init(|| {
+                JointVolumes::new(
+                    &scene.cages,
+                    scene.mesh.welded_triangles(),
+                    &binding.operator,
+                )
+            });
+            volumes.settle(&binding.operator, &mut posed, None, &|v| {
+                keep.binary_search(&v).is_ok()
+            });
+        });
+        let up = self.scene.scene.export_up();
+        points_out(py, posed.iter().map(|&p| up.from_scene(p)))
+    }
+
     /// deform_frame(frame) -> array
     ///
     /// The welded mesh at animation `frame` (keys interpolated, keyed h applied: the cages
@@ -69,6 +111,8 @@ impl PyBinding {
             .resolve(&self.scene.scene)
             .map_err(error)?;
         let control = BindControl::default();
+        // Keyed h binds cages again: the joints' regions are built anew when next asked for.
+        self.joint_volumes = OnceLock::new();
         let deformer = &mut self.deformer;
         let welded = py
             .detach(|| deformer.deform(&pose.cages, &pose.h, &control))
@@ -170,6 +214,8 @@ impl PyBinding {
             PointCacheWriter::create(&path, format, layout.len(&scene), frames.len(), times)
                 .map_err(error)?;
         let control = BindControl::default();
+        // Keyed h binds cages again: the joints' regions are built anew when next asked for.
+        self.joint_volumes = OnceLock::new();
         let deformer = &mut self.deformer;
         py.detach(|| -> Result<(), String> {
             for &frame in &frames {

@@ -243,3 +243,38 @@ def test_coordinates_and_h_per_cage_change_the_deformation(critter):
         scene.with_cage(name, h=7.0)
     with pytest.raises(sc.StarCagesError, match="kind 'xyz'"):
         scene.with_cage(name, kind="xyz")
+
+
+def mesh_volume(points: np.ndarray, triangles: np.ndarray) -> float:
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+
+def test_bent_joints_keep_their_volume_as_the_cli_poses(tmp_path):
+    creature = sc.demo("creature")
+    scene = sc.autorig(creature.mesh_vertices, creature.mesh_triangles, detail=3, up=creature.up)
+    path = tmp_path / "rig.json"
+    scene.save(path)
+    scene = sc.Scene.load(path)
+    binding = scene.bind()
+    rest = scene.cage_vertices
+    assert np.array_equal(binding.keep_joint_volumes(rest), rest)
+    # A control with a joint ring under another control: a knee.
+    knee = next(c["name"] for c in scene.controls if c["joint"] and c["name"].endswith(".2"))
+    edit = f"{knee}: rotate 0 1 0 80"
+    mitred = scene.posed([edit])
+    kept = binding.keep_joint_volumes(mitred)
+    assert np.abs(kept - mitred).max() > 1e-6 * diagonal(rest), "no ring moved"
+    ours = binding.deform(kept)
+    theirs = cli_deform(path, tmp_path / "posed.obj", "--apply", edit)
+    order = in_our_order(binding.deform(rest), cli_deform(path, tmp_path / "rest.obj"))
+    assert np.abs(ours - theirs[order]).max() < 1e-5 * diagonal(ours)
+    triangles = scene.mesh_triangles.astype(np.int64)
+    v0 = mesh_volume(binding.deform(rest), triangles)
+    change_kept = abs(mesh_volume(ours, triangles) - v0)
+    change_mitred = abs(mesh_volume(binding.deform(mitred), triangles) - v0)
+    assert change_kept < change_mitred
+    # A ring vertex kept (moved by hand) holds its ring where the mitre put it.
+    ring = next(c["joint"] for c in scene.controls if c["name"] == knee)
+    held = binding.keep_joint_volumes(mitred, keep=[ring[0]])
+    assert np.array_equal(held[ring], mitred[ring])

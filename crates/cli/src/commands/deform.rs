@@ -40,13 +40,17 @@ pub fn run(args: &DeformArgs) -> anyhow::Result<()> {
     super::check_output("--out", &args.out, &inputs, &["obj", "glb"])?;
     let super::pose::PosedScene {
         scene,
-        cages: posed,
+        cages: mut posed,
         label,
         topology,
+        edited,
     } = args.pose.load_posed(&args.scene)?;
     let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--out", &args.out, &mesh, &["obj", "glb"])?;
     let binding = bind(&scene, topology.as_deref(), &args.scene, args.cache, &label)?;
+    if let Some(hand_moved) = &edited {
+        super::pose::keep_joint_volumes(&scene, &binding, &mut posed, hand_moved);
+    }
     let start = Instant::now();
     let welded = binding.deform(&scene.cages.vertices, &posed);
     let seconds_frame = start.elapsed().as_secs_f64();

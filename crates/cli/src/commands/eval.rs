@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 use starcages_core::BindControl;
-use starcages_core::star::evaluate_points;
+use starcages_core::star::{StarBinding, evaluate_points};
 use starcages_io::read_points;
 
 use super::pose::PoseArgs;
@@ -39,8 +39,16 @@ pub fn run(args: &EvalArgs) -> anyhow::Result<()> {
         .into_iter()
         .map(|p| up.to_scene(p))
         .collect();
-    let posed = args.pose.positions(&scene, &args.scene)?;
+    let (mut posed, edited) = args.pose.positions(&scene, &args.scene)?;
     let scene = args.pose.method_scene(scene);
+    // Edits that bend a joint keep its volume as `deform` does, which takes the mesh's binding.
+    if let Some(hand_moved) = &edited
+        && scene.cages.internals.iter().any(|c| !c.joint.is_empty())
+    {
+        let binding = StarBinding::bind_scene(&scene, &BindControl::default())
+            .map_err(|e| InputError(format!("{}: {e}", args.scene.display())))?;
+        super::pose::keep_joint_volumes(&scene, &binding, &mut posed, hand_moved);
+    }
     let out = evaluate_points(&scene, &points, &posed, &BindControl::default())
         .map_err(|e| InputError(format!("{}: {e}", args.points.display())))?;
     let json = serde_json::to_string(&Output {

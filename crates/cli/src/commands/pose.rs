@@ -7,9 +7,10 @@ use clap::Args;
 use glam::DVec3;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::CageEdit;
+use starcages_core::joint_volume::JointVolumes;
 use starcages_core::posing::{Pose, PoseError, PoseRequest, PoseSource, far_message};
 use starcages_core::scene::Scene;
-use starcages_core::star::{Topology, single_cage_scene};
+use starcages_core::star::{StarBinding, Topology, single_cage_scene};
 use starcages_io::read_pose_obj;
 
 use crate::InputError;
@@ -24,6 +25,29 @@ pub struct PosedScene {
     pub label: String,
     /// The scene's topology as validation built it, for the bind.
     pub topology: Option<Arc<Topology>>,
+    /// With `--apply` edits, the vertices moved by hand (which the joints' volume pass leaves
+    /// alone); None for a pose taken as stored.
+    pub edited: Option<Vec<u32>>,
+}
+
+/// An edited pose's bent joints settled to their rest volume through `binding` (the scene's
+/// mesh binding, core's [`JointVolumes`]), the vertices in `hand_moved` (sorted) left alone. A
+/// stored pose, a frame or a pose file is taken as it is: the editor settled its poses when
+/// they were made.
+pub fn keep_joint_volumes(
+    scene: &Scene,
+    binding: &StarBinding,
+    posed: &mut [DVec3],
+    hand_moved: &[u32],
+) {
+    let volumes = JointVolumes::new(
+        &scene.cages,
+        scene.mesh.welded_triangles(),
+        &binding.operator,
+    );
+    volumes.settle(&binding.operator, posed, None, &|v| {
+        hand_moved.binary_search(&v).is_ok()
+    });
 }
 
 /// Pose and method options.
@@ -45,7 +69,8 @@ pub struct PoseArgs {
     single_cage: Option<CoordinateKind>,
     /// A hand edit on top of the pose, repeatable and applied in order, propagating down the
     /// cage hierarchy: "CAGE: translate X Y Z", "CAGE: rotate AX AY AZ DEG" (about the cage's
-    /// centroid) or "CAGE: scale S" (about the centroid).
+    /// centroid, or a control's pivot) or "CAGE: scale S" (about the same point); every joint
+    /// the edits bend keeps its volume.
     #[arg(long = "apply", value_name = "EDIT", value_parser = |s: &str| s.parse::<CageEdit>())]
     edits: Vec<CageEdit>,
 }
@@ -69,6 +94,7 @@ impl PoseArgs {
             .into());
         }
         let pose = self.resolve_with(&scene, checked.hierarchy.as_ref(), path)?;
+        let edited = (!self.edits.is_empty()).then(|| pose.state.hand_moved.clone());
         // h keyed at a frame shapes the operator: the scene is bound with it.
         scene.apply_keyed_h(&pose.h);
         // The topology validation built is the bind's, unless the bind takes the single-cage
@@ -79,6 +105,7 @@ impl PoseArgs {
             cages: pose.cages,
             label,
             topology,
+            edited,
         })
     }
 
@@ -90,13 +117,16 @@ impl PoseArgs {
         }
     }
 
-    /// Posed cage vertices: the chosen pose with the `--apply` edits on top.
+    /// Posed cage vertices: the chosen pose with the `--apply` edits on top, and with edits,
+    /// the vertices moved by hand (as [`PosedScene::edited`]).
     pub fn positions(
         &self,
         scene: &Scene,
         scene_path: &std::path::Path,
-    ) -> anyhow::Result<Vec<DVec3>> {
-        Ok(self.resolve_with(scene, None, scene_path)?.cages)
+    ) -> anyhow::Result<(Vec<DVec3>, Option<Vec<u32>>)> {
+        let pose = self.resolve_with(scene, None, scene_path)?;
+        let edited = (!self.edits.is_empty()).then_some(pose.state.hand_moved);
+        Ok((pose.cages, edited))
     }
 
     /// The pose these options ask for, through core's posing engine. A pose file carries

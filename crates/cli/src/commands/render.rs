@@ -148,9 +148,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     super::check_output("--png", &args.png, &inputs, &["png"])?;
     let super::pose::PosedScene {
         scene,
-        cages: pose,
+        cages: mut pose,
         label,
         topology,
+        edited,
     } = args.pose.load_posed(&args.scene)?;
     let mesh: Vec<&std::path::Path> = super::mesh_file(&scene).into_iter().collect();
     super::check_output("--png", &args.png, &mesh, &["png"])?;
@@ -168,6 +169,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         .map_err(|e| InputError(format!("{label}: {e}")))?,
         None => bind(&scene)?,
     };
+    if let Some(hand_moved) = &edited {
+        super::pose::keep_joint_volumes(&scene, &binding, &mut pose, hand_moved);
+    }
     let map = if let Some(which) = &args.influence {
         let cage = match which.as_str() {
             "all" => None,

@@ -9,6 +9,7 @@ mod green;
 mod harmonic;
 mod hierarchy;
 mod hostile;
+mod joint_volume;
 mod lanes;
 mod layout;
 mod limb_names;
