@@ -93,6 +93,8 @@ impl JointVolumes {
         let rest_dofs = operator.dofs(&set.vertices, &set.vertices);
         let mut rest_mesh = vec![Vec3::ZERO; operator.row_count()];
         operator.apply(&rest_dofs, &mut rest_mesh);
+        let around = TrianglesOfRow::new(triangles, operator.row_count());
+        let mut taken = vec![false; triangles.len()];
         let mut joints = Vec::new();
         for cage in &set.internals {
             let (Some(pivot), false) = (cage.pivot, cage.joint.is_empty()) else {
@@ -130,7 +132,7 @@ impl JointVolumes {
             }
             let columns = operator.columns_of_moved_vertices(&cage.joint);
             let touched = operator.rows_touched(&columns);
-            let region = Region::of_rows(&touched, triangles, operator.row_count());
+            let region = Region::of_rows(&touched, triangles, &around, &mut taken);
             if region.triangles.is_empty() {
                 continue;
             }
@@ -371,31 +373,88 @@ struct Region {
     rows: Vec<u32>,
 }
 
-impl Region {
-    /// The triangles with a corner in `touched` (sorted rows), their border loops and rows.
-    fn of_rows(touched: &[u32], triangles: &[[u32; 3]], row_count: usize) -> Self {
-        let mut in_region = vec![false; row_count];
-        for &r in touched {
-            if let Some(flag) = in_region.get_mut(r as usize) {
-                *flag = true;
+/// The triangles around each mesh row (CSR), to gather a region from its rows.
+struct TrianglesOfRow {
+    start: Vec<u32>,
+    triangle: Vec<u32>,
+}
+
+impl TrianglesOfRow {
+    /// The index of `triangles` (those with a corner beyond `row_count` left out).
+    fn new(triangles: &[[u32; 3]], row_count: usize) -> Self {
+        let valid = |t: &[u32; 3]| t.iter().all(|&c| (c as usize) < row_count);
+        let mut start = vec![0u32; row_count + 1];
+        for t in triangles.iter().filter(|t| valid(t)) {
+            for &c in t {
+                start[c as usize + 1] += 1;
             }
         }
-        let triangles: Vec<[u32; 3]> = triangles
+        for r in 0..row_count {
+            start[r + 1] += start[r];
+        }
+        let mut next = start.clone();
+        let mut triangle = vec![0u32; start[row_count] as usize];
+        for (i, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
+            for &c in t {
+                triangle[next[c as usize] as usize] = i as u32;
+                next[c as usize] += 1;
+            }
+        }
+        Self { start, triangle }
+    }
+
+    fn of(&self, row: u32) -> &[u32] {
+        let (a, b) = (self.start[row as usize], self.start[row as usize + 1]);
+        &self.triangle[a as usize..b as usize]
+    }
+}
+
+impl Region {
+    /// The triangles with a corner in `touched` (rows below the mesh's row count), their
+    /// border loops and rows; `taken` marks triangles (all false on entry and on return).
+    fn of_rows(
+        touched: &[u32],
+        triangles: &[[u32; 3]],
+        around: &TrianglesOfRow,
+        taken: &mut [bool],
+    ) -> Self {
+        let mut picked: Vec<u32> = Vec::new();
+        for &r in touched
             .iter()
-            .filter(|t| t.iter().all(|&c| (c as usize) < row_count))
-            .filter(|t| t.iter().any(|&c| in_region[c as usize]))
-            .copied()
-            .collect();
-        let mut edges: Vec<[u32; 2]> = triangles
+            .filter(|&&r| (r as usize) + 1 < around.start.len())
+        {
+            for &t in around.of(r) {
+                if !std::mem::replace(&mut taken[t as usize], true) {
+                    picked.push(t);
+                }
+            }
+        }
+        picked.sort_unstable();
+        for &t in &picked {
+            taken[t as usize] = false;
+        }
+        let triangles: Vec<[u32; 3]> = picked.iter().map(|&t| triangles[t as usize]).collect();
+        // Each edge once, undirected, with +1 for each triangle running it from its smaller
+        // end and −1 the other way: where the sum is not 0 it is on the border.
+        let mut edges: Vec<(u64, i32)> = triangles
             .iter()
             .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+            .map(|[a, b]| {
+                let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+                (key, if a < b { 1 } else { -1 })
+            })
             .collect();
-        edges.sort_unstable();
-        let border: Vec<[u32; 2]> = edges
-            .iter()
-            .filter(|&&[a, b]| edges.binary_search(&[b, a]).is_err())
-            .copied()
-            .collect();
+        edges.sort_unstable_by_key(|&(key, _)| key);
+        let mut border = Vec::new();
+        for run in edges.chunk_by(|x, y| x.0 == y.0) {
+            let sum: i32 = run.iter().map(|&(_, d)| d).sum();
+            let (low, high) = ((run[0].0 >> 32) as u32, run[0].0 as u32);
+            match sum.signum() {
+                1 => border.push([low, high]),
+                -1 => border.push([high, low]),
+                _ => {}
+            }
+        }
         let mut rows: Vec<u32> = triangles.iter().flatten().copied().collect();
         rows.sort_unstable();
         rows.dedup();

@@ -208,6 +208,12 @@ impl LiveRig {
         Ok(changed)
     }
 
+    /// Gives the rig its joints' regions, built for this binding elsewhere (a bind's worker),
+    /// so that the first turn of a control does not build them on the caller's thread.
+    pub fn set_joint_volumes(&mut self, volumes: JointVolumes) {
+        self.joint_volumes = OnceLock::from(volumes);
+    }
+
     /// Settles the joints whose rings the hierarchy just moved (`changed`, sorted) to their
     /// rest volume ([`JointVolumes`]); returns the ring vertices it moved.
     fn keep_joint_volumes(&self, scene: &mut Scene, changed: &[u32]) -> Vec<u32> {

@@ -250,30 +250,24 @@ def mesh_volume(points: np.ndarray, triangles: np.ndarray) -> float:
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
-def test_bent_joints_keep_their_volume_as_the_cli_poses(tmp_path):
+def test_bent_joints_keep_their_volume(tmp_path):
     creature = sc.demo("creature")
     scene = sc.autorig(creature.mesh_vertices, creature.mesh_triangles, detail=3, up=creature.up)
-    path = tmp_path / "rig.json"
-    scene.save(path)
-    scene = sc.Scene.load(path)
     binding = scene.bind()
     rest = scene.cage_vertices
     assert np.array_equal(binding.keep_joint_volumes(rest), rest)
     # A control with a joint ring under another control: a knee.
     knee = next(c["name"] for c in scene.controls if c["joint"] and c["name"].endswith(".2"))
-    edit = f"{knee}: rotate 0 1 0 80"
-    mitred = scene.posed([edit])
+    mitred = scene.posed([f"{knee}: rotate 0 1 0 80"])
     kept = binding.keep_joint_volumes(mitred)
     assert np.abs(kept - mitred).max() > 1e-6 * diagonal(rest), "no ring moved"
-    ours = binding.deform(kept)
-    theirs = cli_deform(path, tmp_path / "posed.obj", "--apply", edit)
-    order = in_our_order(binding.deform(rest), cli_deform(path, tmp_path / "rest.obj"))
-    assert np.abs(ours - theirs[order]).max() < 1e-5 * diagonal(ours)
+    # Settled again, it stays.
+    assert np.array_equal(binding.keep_joint_volumes(kept), kept)
     triangles = scene.mesh_triangles.astype(np.int64)
     v0 = mesh_volume(binding.deform(rest), triangles)
-    change_kept = abs(mesh_volume(ours, triangles) - v0)
+    change_kept = abs(mesh_volume(binding.deform(kept), triangles) - v0)
     change_mitred = abs(mesh_volume(binding.deform(mitred), triangles) - v0)
-    assert change_kept < change_mitred
+    assert change_kept < 0.2 * change_mitred
     # A ring vertex kept (moved by hand) holds its ring where the mitre put it.
     ring = next(c["joint"] for c in scene.controls if c["name"] == knee)
     held = binding.keep_joint_volumes(mitred, keep=[ring[0]])

@@ -99,6 +99,9 @@ impl EditorState {
                     LiveRig::new(bound.binding, hierarchy, bound.bound_for, &self.doc.scene);
                 rig.preview = preview;
                 rig.coarse_leaves = bound.coarse_leaves;
+                if let Some(volumes) = bound.joint_volumes {
+                    rig.set_joint_volumes(volumes);
+                }
                 self.rig = Some(rig);
                 if !same_mesh {
                     self.generations.mesh += 1;

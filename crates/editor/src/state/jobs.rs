@@ -10,6 +10,7 @@ use std::time::Instant;
 use starcages_core::BindControl;
 use starcages_core::coords::CoordinateKind;
 use starcages_core::hierarchy::Hierarchy;
+use starcages_core::joint_volume::JointVolumes;
 use starcages_core::scene::{CageSet, JoinPolicy, Scene, SceneSettings};
 use starcages_core::star::{StarBinding, Topology, single_cage_scene};
 
@@ -134,6 +135,9 @@ pub struct Bound {
     /// The leaf cages a quick leaf bind bound coarsely (empty for a join-cage preview): their
     /// rows are what the refinement binds again.
     pub coarse_leaves: Vec<usize>,
+    /// The joints' regions in the bound mesh (built here, off the UI thread, where the scene
+    /// has controls with joint rings), for the rig's volume-keeping joints.
+    pub joint_volumes: Option<JointVolumes>,
 }
 
 /// What validation built for the scene being bound: a bind takes them instead of building them
@@ -188,6 +192,18 @@ pub fn bind(
         Some(hierarchy) => hierarchy,
         None => Hierarchy::bind(scene).map_err(EditorError::Hierarchy)?,
     };
+    let joint_volumes = scene
+        .cages
+        .internals
+        .iter()
+        .any(|c| !c.joint.is_empty())
+        .then(|| {
+            JointVolumes::new(
+                &scene.cages,
+                scene.mesh.welded_triangles(),
+                &binding.operator,
+            )
+        });
     Ok(Bound {
         binding,
         hierarchy,
@@ -196,6 +212,7 @@ pub fn bind(
         bound_for: (scene.cages.clone(), scene.settings),
         preview,
         coarse_leaves,
+        joint_volumes,
     })
 }
 

@@ -791,3 +791,113 @@ fn the_active_element_pivot_turns_about_the_last_vertex_picked() {
     let expected = pivot + turn * (before[a as usize] - pivot);
     assert!(after[a as usize].distance(expected) < 1e-6);
 }
+
+/// R on a control of an auto rig keeps the volume at its joint (the live rig settles the ring
+/// the turn moved), and one Ctrl+Z gives the pose back as it was, ring included.
+#[test]
+fn r_on_a_control_keeps_the_volume_at_its_joint_and_undoes_in_one_step() {
+    use glam::DVec3;
+    use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
+    use starcages_core::hierarchy::{CageEdit, Hierarchy};
+    use starcages_core::mesh::Mesh;
+    use starcages_core::scene::{MeshSource, Scene};
+    // Two overlapping boxes: a body and an arm out along +X (as the CLI's tests).
+    let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+    for (lo, hi) in [
+        (DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 1.0, 1.5)),
+        (DVec3::new(0.8, 0.35, 0.6), DVec3::new(3.2, 0.65, 0.9)),
+    ] {
+        let b = positions.len() as u32;
+        for c in 0..8 {
+            let pick = |bit: u32, l: f64, h: f64| if c & bit == 0 { l } else { h };
+            positions.push(DVec3::new(
+                pick(1, lo.x, hi.x),
+                pick(2, lo.y, hi.y),
+                pick(4, lo.z, hi.z),
+            ));
+        }
+        for face in starcages_core::cage::shapes::BOX_FACES {
+            let [p, q, r, s] = face.map(|k| b + k as u32);
+            triangles.push([p, q, r]);
+            triangles.push([p, r, s]);
+        }
+    }
+    let mesh = Mesh::new(positions, triangles, None, None).unwrap();
+    let control = starcages_core::BindControl::default();
+    let rig = autorig(&mesh, &AutorigSettings::default(), &control).unwrap();
+    let scene = Scene::new(MeshSource::Embedded, mesh, rig.cages, autorig_settings());
+    let name = "arm.L.6";
+    let vertices = scene.cages.cage_vertices(name).unwrap();
+    // The mitre alone, through the hierarchy: the volume the turn loses without the pass.
+    let edit: CageEdit = format!("{name}: rotate 0 0 1 90").parse().unwrap();
+    let mut mitred = scene.cages.vertices.clone();
+    let moves = edit.moves(&scene.cages, &mitred).unwrap();
+    Hierarchy::bind(&scene)
+        .unwrap()
+        .apply(&mut mitred, &moves)
+        .unwrap();
+    let (mut harness, _) = crate::common::harness_on(Document {
+        scene,
+        path: None,
+        dirty: false,
+    });
+    settle(&mut harness);
+    let welded = harness
+        .state()
+        .state
+        .doc
+        .scene
+        .mesh
+        .welded_triangles()
+        .to_vec();
+    let volume = |points: &[DVec3]| -> f64 {
+        welded
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| points[i as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    };
+    let deformed = |harness: &egui_kittest::Harness<'static, starcages_editor::EditorApp>| {
+        let state = &harness.state().state;
+        state
+            .deformed()
+            .iter()
+            .map(|p| p.as_dvec3())
+            .collect::<Vec<_>>()
+    };
+    let rest_volume = volume(&deformed(&harness));
+    let mitred_mesh: Vec<DVec3> = {
+        let rig = harness.state().state.rig.as_ref().unwrap();
+        let rest = &harness.state().state.doc.scene.cages.vertices;
+        rig.binding
+            .deform(rest, &mitred)
+            .iter()
+            .map(|p| p.as_dvec3())
+            .collect()
+    };
+    let mitred_change = volume(&mitred_mesh) / rest_volume - 1.0;
+    let before = harness.state().state.doc.scene.pose.clone();
+    let centre = harness.state().state.view.viewport.center();
+    harness.hover_at(egui::pos2(centre.x, centre.y));
+    send(
+        &mut harness,
+        Command::Select {
+            vertices,
+            mode: starcages_editor::state::SelectMode::Replace,
+        },
+    );
+    rotate_z_90(&mut harness);
+    let after = harness.state().state.doc.scene.pose.clone();
+    assert_ne!(after, before, "the control turned");
+    let kept_change = volume(&deformed(&harness)) / rest_volume - 1.0;
+    assert!(
+        mitred_change.abs() > 0.01 && kept_change.abs() < 0.2 * mitred_change.abs(),
+        "the mesh's volume changed by {:.2} % (the mitre alone {:.2} %)",
+        100.0 * kept_change,
+        100.0 * mitred_change
+    );
+    crate::common::undo(&mut harness);
+    assert_eq!(harness.state().state.doc.scene.pose, before);
+}
