@@ -238,3 +238,27 @@ fn legs_touching_at_the_crotch_each_start_at_the_hip() {
     assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
     assert!(controls["leg.L.1"].1.z > controls["leg.L.2"].1.z);
 }
+
+/// A standing biped with a long tail out behind it (a dinosaur): the mesh is longer from front
+/// to back than from side to side, but it is symmetric across X, so its sides are across X and
+/// its legs are `leg.L` and `leg.R` (with the longer axis taken as the lateral one, both legs
+/// were on the centre line and had no side).
+#[test]
+fn a_long_tailed_biped_gets_its_sides_from_its_symmetry() {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.9), v(0.0, 0.0, 1.8), 0.4),
+        (v(0.0, 0.3, 1.0), v(0.0, 2.4, 0.6), 0.12),
+        (v(0.0, -0.3, 1.9), v(0.0, -0.9, 2.0), 0.2),
+    ];
+    for x in [-0.25, 0.25] {
+        parts.push((v(x, 0.0, 0.8), v(x, 0.0, 0.0), 0.13));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let names: Vec<&str> = controls.keys().map(String::as_str).collect();
+    for leg in ["leg.L.1", "leg.R.1"] {
+        assert!(names.contains(&leg), "{names:?}");
+    }
+    // Blender's left is +X for a figure facing −Y.
+    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert!(names.iter().any(|n| n.starts_with("tail")), "{names:?}");
+}

@@ -457,7 +457,12 @@ fn rig_on_grid(
     let (roles, parent_limb, bodies) =
         limb_tree::bodies_as_limbs(&cages, &parts_of_leaves(&parts, &cages), &parts.parent_limb);
     let plane = mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a])));
-    let names = naming::limb_names(&cages, &roles, &parent_limb, &bodies, plane);
+    // Without a mirror, the figure's sides are across the horizontal axis it is symmetric
+    // across, where there is one.
+    let lateral = plane
+        .map(|(a, _)| a)
+        .or_else(|| horizontal_symmetry_axis(mesh));
+    let names = naming::limb_names(&cages, &roles, &parent_limb, &bodies, plane, lateral);
     naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
         controls::add_controls(&mut cages, &roles, &parent_limb, &names);
@@ -680,6 +685,29 @@ fn widen(grid: &Grid, occupied: &mut [bool], mesh: &Mesh, distance: f64) {
 /// images land within 2 % of the diagonal of a vertex for at least 90 % of them (sampled on a
 /// coarse grid of occupied cells).
 fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
+    let scores = symmetry_scores(mesh);
+    (0..3)
+        .filter(|&a| scores[a] >= 0.9)
+        .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
+}
+
+/// The horizontal axis (X or Y) the mesh is clearly symmetric across: at least 90 % of its
+/// vertices mirrored onto it, and 5 points more than across the other. A figure's left and
+/// right are across it (a head deeper than it is wide included); None where both or neither
+/// are (a cube, a lopsided shape).
+fn horizontal_symmetry_axis(mesh: &Mesh) -> Option<usize> {
+    let scores = symmetry_scores(mesh);
+    let (x, y) = (scores[0], scores[1]);
+    match () {
+        _ if x >= 0.9 && x >= y + 0.05 => Some(0),
+        _ if y >= 0.9 && y >= x + 0.05 => Some(1),
+        _ => None,
+    }
+}
+
+/// Per axis, the share of the mesh's vertices whose mirror image across the centre plane lands
+/// within a cell (of 48 along the longest side) of a vertex.
+fn symmetry_scores(mesh: &Mesh) -> [f64; 3] {
     let (lo, hi) = mesh.bounds();
     let n = 48.0;
     let cell = (hi - lo).max_element() / n;
@@ -710,10 +738,7 @@ fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
             .count();
         hits as f64 / mesh.welded_positions().len().max(1) as f64
     };
-    let scores: Vec<f64> = (0..3).map(score).collect();
-    (0..3)
-        .filter(|&a| scores[a] >= 0.9)
-        .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
+    [score(0), score(1), score(2)]
 }
 
 /// The scene settings an auto-rigged scene starts with: the defaults, with mean value join

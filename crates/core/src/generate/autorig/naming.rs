@@ -25,14 +25,16 @@ struct Frame {
 
 /// Names every limb by role and side, Blender's way: `leg.L`, `arm.R`, `leg.front.L` …
 /// `leg.back.R` on a quadruped, `tail`, `head`, `ear.L`; any other limb `limb.N`. Sides from
-/// the rig's lateral axis (`mirror` where given), `.L` on +X as in Blender (a figure facing
-/// −Y has its left on +X).
+/// the rig's lateral axis (`mirror` where given, else the horizontal axis the mesh is clearly
+/// symmetric across, `symmetric`, where two limbs mirror each other across it), `.L` on +X as
+/// in Blender (a figure facing −Y has its left on +X).
 pub(super) fn limb_names(
     cages: &CageSet,
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
     bodies: &BTreeSet<usize>,
     mirror: Option<(usize, f64)>,
+    symmetric: Option<usize>,
 ) -> BTreeMap<usize, String> {
     let limbs = limbs_of(roles, parent_limb);
     let point = |v: &u32| cages.vertices[*v as usize];
@@ -64,14 +66,28 @@ pub(super) fn limb_names(
     let body_extent = body_hi - body_lo;
     let lying = body_extent.x.max(body_extent.y) > body_extent.z;
     let mesh_extent = mesh_hi - mesh_lo;
-    let lateral = match mirror {
-        Some((axis, _)) if axis < 2 => axis,
+    // Each limb's middle, for the pairs that say which axis is left to right.
+    let middles: Vec<DVec3> = limbs
+        .values()
+        .filter_map(|record| {
+            let all: BTreeSet<u32> = record
+                .segments
+                .iter()
+                .flatten()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect();
+            centroid(all.iter().map(point))
+        })
+        .collect();
+    let body_centre = 0.5 * (body_lo + body_hi);
+    let lateral = match (mirror, symmetric) {
+        (Some((axis, _)), _) if axis < 2 => axis,
+        (None, Some(axis)) if axis < 2 && has_mirrored_pair(&middles, axis, body_centre) => axis,
         _ if lying && body_extent.x >= body_extent.y => 1,
         _ if lying => 0,
         _ if mesh_extent.y > mesh_extent.x => 1,
         _ => 0,
     };
-    let body_centre = 0.5 * (body_lo + body_hi);
     let centre = match mirror {
         Some((axis, plane)) if axis == lateral => plane,
         _ => body_centre[lateral],
@@ -365,6 +381,22 @@ pub(super) fn limb_names(
         result.insert(limb, unique);
     }
     result
+}
+
+/// Whether two limbs' middles are mirror images across the plane through `centre` across
+/// `axis` (on opposite sides at about the same distance, level with each other): a pair of
+/// legs, arms or ears, which a mesh symmetric across that axis has when the axis runs from
+/// its left to its right (a body with one arm out is symmetric across the other axis).
+fn has_mirrored_pair(middles: &[DVec3], axis: usize, centre: DVec3) -> bool {
+    middles.iter().enumerate().any(|(i, a)| {
+        middles[i + 1..].iter().any(|b| {
+            let (da, db) = (a[axis] - centre[axis], b[axis] - centre[axis]);
+            let apart = (da - db).abs();
+            let mut off = *a - *b;
+            off[axis] = 0.0;
+            da * db < 0.0 && (da + db).abs() <= 0.25 * apart && off.length() <= 0.25 * apart
+        })
+    })
 }
 
 /// Which sign along the lateral axis is the figure's left: +X for an upright figure (facing
