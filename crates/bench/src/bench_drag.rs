@@ -4,7 +4,8 @@
 //! hierarchy's propagation, the sparse path (`LiveRig::redeform_rows`: the moved columns'
 //! DOFs, then the rows they touch, or the whole product when those hold most weights) and the
 //! driver map (`LiveRig::redeform_drag`, its map built by the drag's first update), and checks
-//! that both give the same mesh.
+//! that both give the same mesh; and the editor's whole update (`LiveRig::move_vertices`: the
+//! hierarchy, the bent joints' volume and the mesh).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -34,6 +35,9 @@ struct Drag {
     hierarchy_ms: f64,
     /// Per update: the sparse path (`apply_after_move`) with the DOFs.
     sparse_ms: f64,
+    /// Per update: the editor's whole update (`LiveRig::move_vertices` in a drag): the
+    /// hierarchy, the bent joints' volume (`joint_volume`) and the mesh.
+    update_ms: f64,
     /// Per update: the driver map with the DOFs; none where the drag has no map (a Green
     /// cage on the way).
     map_ms: Option<f64>,
@@ -95,11 +99,20 @@ fn bench_drag(
     // without compute): read once, it is kept up to date move by move.
     sparse.deformed();
     through_map.deformed();
+    let mut whole = LiveRig::new(
+        Arc::clone(binding),
+        Hierarchy::bind(scene)?,
+        (scene.cages.clone(), scene.settings),
+        scene,
+    );
+    whole.deformed();
+    let mut whole_scene = scene.clone();
     let (mut sparse_scene, mut map_scene) = (scene.clone(), scene.clone());
     // The drag's first update, as the editor makes it: the map rig builds its map there.
     let first = turned(&drivers, &start, 0.01);
     sparse.move_vertices(&mut sparse_scene, &first, false)?;
     let changed = through_map.move_vertices(&mut map_scene, &first, true)?;
+    whole.move_vertices(&mut whole_scene, &first, true)?;
     // The map's construction alone, timed apart (the rig built its own above).
     let build = Instant::now();
     let sensitivity = through_map.hierarchy.driver_sensitivity(&drivers);
@@ -115,6 +128,7 @@ fn bench_drag(
     let map_build_ms = built.as_ref().map(|_| milliseconds(build));
     let has_map = through_map.drag_map().is_some();
     let (mut hierarchy_ms, mut sparse_ms, mut map_ms) = (f64::MAX, f64::MAX, f64::MAX);
+    let mut update_ms = f64::MAX;
     let mut map_error: f64 = 0.0;
     for step in 1..=UPDATES {
         let moves = turned(&drivers, &start, 0.01 * (step + 1) as f64);
@@ -124,6 +138,9 @@ fn bench_drag(
         let t = Instant::now();
         sparse.redeform_rows(&sparse_scene, &changed);
         sparse_ms = sparse_ms.min(milliseconds(t));
+        let t = Instant::now();
+        whole.move_vertices(&mut whole_scene, &moves, true)?;
+        update_ms = update_ms.min(milliseconds(t));
         if has_map {
             let changed = through_map.hierarchy.apply(&mut map_scene.pose, &moves)?;
             let t = Instant::now();
@@ -148,6 +165,7 @@ fn bench_drag(
         rows: through_map.drag_map().map_or(0, DriverMap::row_count),
         hierarchy_ms,
         sparse_ms,
+        update_ms,
         map_ms: has_map.then_some(map_ms),
         map_build_ms,
         map_error: has_map.then_some(map_error),
@@ -194,13 +212,14 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
         report.scene, report.mesh_vertices, report.nonzeros, report.bind_s
     ))?;
     starcages_cli::output::line(format!(
-        "{:<20} {:>7} {:>9} {:>9} {:>12} {:>10} {:>8} {:>12} {:>10}",
+        "{:<20} {:>7} {:>9} {:>9} {:>12} {:>10} {:>10} {:>8} {:>12} {:>10}",
         "cage",
         "drivers",
         "followers",
         "rows",
         "hierarchy ms",
         "sparse ms",
+        "update ms",
         "map ms",
         "map build ms",
         "map error"
@@ -208,13 +227,14 @@ pub fn run(path: &Path, json: bool) -> anyhow::Result<()> {
     let or_dash = |v: Option<f64>, digits: usize| v.map_or("-".into(), |v| format!("{v:.digits$}"));
     for d in &report.drags {
         starcages_cli::output::line(format!(
-            "{:<20} {:>7} {:>9} {:>9} {:>12.2} {:>10.2} {:>8} {:>12} {:>10}",
+            "{:<20} {:>7} {:>9} {:>9} {:>12.2} {:>10.2} {:>10.2} {:>8} {:>12} {:>10}",
             d.cage,
             d.drivers,
             d.followers,
             d.rows,
             d.hierarchy_ms,
             d.sparse_ms,
+            d.update_ms,
             or_dash(d.map_ms, 2),
             or_dash(d.map_build_ms, 1),
             d.map_error.map_or("-".into(), |e| format!("{e:.1e}")),

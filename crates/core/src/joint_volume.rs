@@ -23,6 +23,8 @@
 //! in `s`; the secant method takes three to five evaluations of the region's rows. A joint at
 //! rest relative to its parent is left as the mitre put it, so the rest pose stays exact.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use glam::{DAffine3, DVec3, Vec3};
 
 use crate::hierarchy::affine_fit;
@@ -80,12 +82,17 @@ struct JointRegion {
     rows: Vec<u32>,
     /// The region's volume at rest.
     rest_volume: f64,
+    /// Its place among the scene's joints (for its hint).
+    index: usize,
 }
 
 /// The joints of a bound scene with the regions their rings move, built once per binding.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub struct JointVolumes {
     joints: Vec<JointRegion>,
+    /// Per joint, the scale its last settle found (f64 bits): where the next one starts, so a
+    /// drag's step costs two or three evaluations of the region rather than four or five.
+    hints: Vec<AtomicU64>,
     /// Rest cage positions the binding was made for.
     rest: Vec<DVec3>,
 }
@@ -175,9 +182,11 @@ impl JointVolumes {
                 loops: region.loops,
                 rows: region.rows,
                 rest_volume,
+                index: joints.len(),
             });
         }
         Self {
+            hints: joints.iter().map(|_| AtomicU64::new(0)).collect(),
             joints,
             rest: set.vertices.clone(),
         }
@@ -227,7 +236,7 @@ impl JointVolumes {
         mesh.resize(operator.row_count(), Vec3::ZERO);
         // Gauss–Seidel: neighbouring joints share a segment's rows (a hip's region and its
         // knee's both hold the thigh), so a sweep is repeated until no ring moves.
-        for _ in 0..MAX_SWEEPS {
+        for sweep in 0..MAX_SWEEPS {
             let mut any = false;
             for (joint, bend) in &bent {
                 let base: Vec<DVec3> = joint.ring.iter().map(|&v| pose[v as usize]).collect();
@@ -239,10 +248,24 @@ impl JointVolumes {
                     operator.apply_rows(&joint.rows, x, &mut mesh);
                     region_volume(&mesh, &joint.triangles, &joint.loops) - joint.rest_volume
                 };
-                let s = solve(|s| volume_at(s, pose), joint.rest_volume);
-                // Leave the ring at the solution (or as it was).
-                volume_at(s, pose);
-                if s != 0.0 {
+                // The first sweep starts from where this joint's last settle ended (a drag's
+                // previous step); later sweeps correct what the neighbours changed.
+                let hint = &self.hints[joint.index];
+                let start = if sweep == 0 {
+                    f64::from_bits(hint.load(Ordering::Relaxed))
+                } else {
+                    0.0
+                };
+                let solved = solve(|s| volume_at(s, pose), joint.rest_volume, start);
+                if sweep == 0 {
+                    hint.store(solved.scale.to_bits(), Ordering::Relaxed);
+                }
+                // Leave the ring at the solution (it is where the last evaluation left it, or
+                // as it was when nothing needed doing).
+                if solved.scale != solved.last {
+                    volume_at(solved.scale, pose);
+                }
+                if solved.scale != 0.0 {
                     any = true;
                     settled.extend_from_slice(&joint.ring);
                 }
@@ -257,18 +280,34 @@ impl JointVolumes {
     }
 }
 
+/// What [`solve`] found: the scale, and the last one it evaluated (where the ring was left).
+struct Solved {
+    scale: f64,
+    last: f64,
+}
+
 /// The scale `s` at which `excess(s)` (the region's volume less its rest volume) vanishes, by
-/// the secant method from 0 within [`S_MIN`, `S_MAX`]; 0 when the region is settled already,
-/// the best evaluated otherwise.
-fn solve(mut excess: impl FnMut(f64) -> f64, rest_volume: f64) -> f64 {
+/// the secant method from 0 and `start` (a previous solution, when it widens or narrows as
+/// this one must; else ±0.05) within [`S_MIN`, `S_MAX`]; 0 when the region is settled
+/// already, the best evaluated otherwise.
+fn solve(mut excess: impl FnMut(f64) -> f64, rest_volume: f64, start: f64) -> Solved {
     let e0 = excess(0.0);
     let size = rest_volume.abs();
     if !e0.is_finite() || e0.abs() <= SETTLED * size {
-        return 0.0;
+        return Solved {
+            scale: 0.0,
+            last: 0.0,
+        };
     }
     // Lost volume (a change against the region's orientation): widen; gained: narrow.
+    let widen = e0 * rest_volume < 0.0;
     let (mut s0, mut e_prev) = (0.0, e0);
-    let mut s1 = if e0 * rest_volume < 0.0 { 0.05 } else { -0.05 };
+    let mut s1 = match (widen, start) {
+        (true, s) if s > 0.0 && s <= S_MAX => s,
+        (false, s) if (S_MIN..0.0).contains(&s) => s,
+        (true, _) => 0.05,
+        (false, _) => -0.05,
+    };
     let mut e1 = excess(s1);
     let mut best = (0.0, e0.abs());
     for _ in 2..MAX_EVALUATIONS {
@@ -292,7 +331,10 @@ fn solve(mut excess: impl FnMut(f64) -> f64, rest_volume: f64) -> f64 {
     if e1.is_finite() && e1.abs() < best.1 {
         best = (s1, e1.abs());
     }
-    best.0
+    Solved {
+        scale: best.0,
+        last: s1,
+    }
 }
 
 /// A joint's bend in a pose: the mitre plane's normal and the outer side of the bend.
