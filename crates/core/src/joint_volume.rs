@@ -204,9 +204,11 @@ impl JointVolumes {
 
     /// Settles every bent joint of `pose` (cage positions for the binding's scene): its ring
     /// scaled so that its region has its rest volume. With `moved` (sorted: the vertices the
-    /// posing engine just moved), only the joints whose ring it moved, so that a hand move of
-    /// a leaf vertex near a joint is not undone; a ring holding a vertex for which `keep` is
-    /// true (moved by hand) is left alone. Returns the ring vertices it moved, sorted.
+    /// posing engine just moved; a live rig's path), only the joints whose ring it moved, so
+    /// that a hand move of a leaf vertex near a joint is not undone, each solve starting from
+    /// where the joint's last one ended; without, every bent joint from scratch, so the result
+    /// depends on the pose alone. A ring holding a vertex for which `keep` is true (moved by
+    /// hand) is left alone. Returns the ring vertices it moved, sorted.
     pub fn settle(
         &self,
         operator: &StarOperator,
@@ -248,10 +250,12 @@ impl JointVolumes {
                     operator.apply_rows(&joint.rows, x, &mut mesh);
                     region_volume(&mesh, &joint.triangles, &joint.loops) - joint.rest_volume
                 };
-                // The first sweep starts from where this joint's last settle ended (a drag's
-                // previous step); later sweeps correct what the neighbours changed.
+                // In a live rig's first sweep, from where this joint's last settle ended (a
+                // drag's previous step); a whole settle starts from 0, so that a pose settles
+                // to the same cages whatever was settled before (a bake against its frames
+                // shown one by one).
                 let hint = &self.hints[joint.index];
-                let start = if sweep == 0 {
+                let start = if sweep == 0 && moved.is_some() {
                     f64::from_bits(hint.load(Ordering::Relaxed))
                 } else {
                     0.0
