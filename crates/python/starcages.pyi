@@ -104,7 +104,8 @@ class Scene:
         frame: float | None = None,
     ) -> npt.NDArray[np.float64]:
         """Cage positions of the rest pose, a named pose or a frame, with edits such as
-        "leg.L.2: rotate 1 0 0 60" propagated down the controls (the CLI's --apply)."""
+        "leg.L.2: rotate 1 0 0 60" propagated down the controls (the CLI's --apply); the
+        joints as the mitre leaves them (Binding.keep_joint_volumes settles them)."""
     def control_parents(self) -> dict[str, str | None]:
         """Each control's parent: the control that moves its cage vertices."""
     def posed_by_controls(

@@ -198,7 +198,9 @@ impl PyScene {
     ///
     /// Cage positions (k, 3) of a pose: the rest pose, a named `pose` or the animation at
     /// `frame`, with `edits` on top, propagated down the controls as the CLI's `--apply`
-    /// does (e.g. "leg.L.2: rotate 1 0 0 60", "head: translate 0 0 0.1").
+    /// does (e.g. "leg.L.2: rotate 1 0 0 60", "head: translate 0 0 0.1"), the joints as the
+    /// mitre leaves them: `Binding.keep_joint_volumes` gives them their volume back as the
+    /// CLI does once bound.
     #[pyo3(signature = (edits = Vec::new(), pose = None, frame = None))]
     fn posed<'py>(
         &self,
