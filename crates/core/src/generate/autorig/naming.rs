@@ -66,18 +66,23 @@ pub(super) fn limb_names(
     let body_extent = body_hi - body_lo;
     let lying = body_extent.x.max(body_extent.y) > body_extent.z;
     let mesh_extent = mesh_hi - mesh_lo;
-    // Each limb's middle, for the pairs that say which axis is left to right.
-    let middles: Vec<DVec3> = limbs
-        .values()
-        .filter_map(|record| {
-            let all: BTreeSet<u32> = record
+    // Each limb's leaf vertices, and their middle for the pairs that say which axis is left to
+    // right.
+    let limb_vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
+        .iter()
+        .map(|(&limb, record)| {
+            let all = record
                 .segments
                 .iter()
                 .flatten()
                 .flat_map(|&l| vertices_of(&cages.leaves[l]))
                 .collect();
-            centroid(all.iter().map(point))
+            (limb, all)
         })
+        .collect();
+    let middles: Vec<DVec3> = limb_vertices
+        .values()
+        .filter_map(|all| centroid(all.iter().map(point)))
         .collect();
     let body_centre = 0.5 * (body_lo + body_hi);
     let lateral = match (mirror, symmetric) {
@@ -103,12 +108,7 @@ pub(super) fn limb_names(
     let shapes: BTreeMap<usize, Shape> = limbs
         .iter()
         .filter_map(|(&limb, record)| {
-            let all: BTreeSet<u32> = record
-                .segments
-                .iter()
-                .flatten()
-                .flat_map(|&l| vertices_of(&cages.leaves[l]))
-                .collect();
+            let all = limb_vertices.get(&limb)?;
             let first: BTreeSet<u32> = record
                 .segments
                 .first()?
