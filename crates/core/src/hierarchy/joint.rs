@@ -98,6 +98,14 @@ impl JointFrame {
 }
 
 impl JointFrame {
+    /// The rotation of the control's motion `relative` to its parent as a swing (about an
+    /// axis across the limb) after a twist (about the limb's axis): `rotation = swing * twist`,
+    /// both about the pivot in rest coordinates.
+    pub fn swing_and_twist(&self, relative: &DAffine3) -> (DQuat, DQuat) {
+        let (rotation, _) = rotation_and_scale(relative.matrix3);
+        swing_twist(rotation, self.axis)
+    }
+
     /// The signed angle (radians, in (−π, π]) by which the control's motion `relative` to its
     /// parent turns about the limb's axis: the twist of its swing-twist decomposition.
     pub fn twist_angle(&self, relative: &DAffine3) -> f64 {

@@ -13,7 +13,7 @@ mod import;
 mod joint;
 mod remove;
 mod restore;
-mod twist;
+mod spread;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -160,8 +160,8 @@ struct Joint {
 pub struct Hierarchy {
     levels: Vec<Level>,
     joints: Vec<Joint>,
-    /// Controls between two joints, whose twist spreads along them.
-    segments: Vec<twist::Segment>,
+    /// Controls beside a joint, along which its twist and its swing spread.
+    segments: Vec<spread::Segment>,
     /// Internal cages, every driver before the cages it drives.
     order: Vec<usize>,
     /// Per shared vertex: (level, slot in its `owns`).
@@ -239,7 +239,7 @@ impl Hierarchy {
         }
         let order = drivers_first(&levels);
         let joints = bind_joints(scene, &levels, &parent);
-        let segments = twist::bind_segments(scene, &levels, &joints);
+        let segments = spread::bind_segments(scene, &levels, &joints);
         let mut hierarchy = Self {
             levels,
             joints,
@@ -388,7 +388,7 @@ impl Hierarchy {
             self.hand_moved[self.levels[l].owns[k] as usize] = false;
             self.levels[l].follow[k] = follow;
         }
-        self.twist_segments(&mut new, &mut changed, &by_hand);
+        self.spread_segments(&mut new, &mut changed, &by_hand);
         self.bend_joints(&mut new, &mut changed, &by_hand);
         for ((flag, hand), parent) in self.hand_moved.iter_mut().zip(&by_hand).zip(&self.parent) {
             if *hand && parent.is_some() {

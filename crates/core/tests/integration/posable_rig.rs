@@ -443,7 +443,10 @@ fn a_knee_and_an_elbow_bend_at_their_joints_keeping_volume_and_other_limbs() {
         &["arm.L"],
     );
     // The issue's goal: each within 2 % of the limb's volume. Two triangles in the knee's
-    // inner crease turn over at 90°.
+    // inner crease turn over at 90°: this rig's shin has no cage vertex between its knee and
+    // ankle rings, 0.36 apart where the knee's ring is 0.2 wide, so the bend has nothing to
+    // spread through (the capsule biped of docs/math.md, whose segments have such vertices,
+    // folds nothing at these poses).
     for (what, (change, flips), most_flips) in [
         ("knee", knee, 2),
         ("elbow", elbow, 0),
@@ -509,7 +512,7 @@ fn a_quadruped_turns_its_head_and_bends_a_front_knee_leaving_the_rest_still() {
         90.0,
         &["leg.front.L"],
     );
-    assert!(knee_flips <= 2, "{knee_flips} triangles inside out");
+    assert!(knee_flips == 0, "{knee_flips} triangles inside out");
     assert!(
         knee.abs() < 0.02,
         "the leg's volume changed by {:.2} %",
@@ -679,4 +682,101 @@ fn a_forearm_twist_spreads_along_the_arm_and_keeps_every_cross_section() {
         thinnest >= 0.9,
         "a cross-section of the twisted forearm kept {thinnest:.3}"
     );
+}
+
+/// The mean distance of `name`'s joint ring from its pivot, at rest.
+fn ring_radius(scene: &Scene, name: &str) -> f64 {
+    let (ring, pivot) = (&control(scene, name).joint, pivot_of(scene, name));
+    let total: f64 = ring
+        .iter()
+        .map(|&v| (scene.cages.vertices[v as usize] - pivot).length())
+        .sum();
+    total / ring.len() as f64
+}
+
+/// The unit direction from `name`'s pivot to the centroid of its cage's vertices: the limb's
+/// direction at its joint, towards the control.
+fn limb_axis(scene: &Scene, name: &str) -> DVec3 {
+    let corners: BTreeSet<u32> = control(scene, name)
+        .faces
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let centroid = corners
+        .iter()
+        .map(|&v| scene.cages.vertices[v as usize])
+        .sum::<DVec3>()
+        / corners.len() as f64;
+    (centroid - pivot_of(scene, name)).normalize()
+}
+
+#[test]
+fn a_bend_grows_through_its_ring_over_twice_the_ring_radius_on_both_sides() {
+    let scene = rigged(&biped());
+    let elbow = pivot_of(&scene, "arm.R.2");
+    let axis = limb_axis(&scene, "arm.R.2");
+    // A pure swing: about an axis across the limb at the joint.
+    let across = (DVec3::Y - DVec3::Y.dot(axis) * axis).normalize();
+    let edit = format!("arm.R.2: rotate {} {} {} 90", across.x, across.y, across.z);
+    let mut hierarchy = Hierarchy::bind(&scene).unwrap();
+    let mut cages = scene.cages.vertices.clone();
+    let moves = edit
+        .parse::<CageEdit>()
+        .unwrap()
+        .moves(&scene.cages, &cages)
+        .unwrap();
+    hierarchy.apply(&mut cages, &moves).unwrap();
+    // The reach: twice the ring's radius, at most the segment's length (the forearm's, to
+    // the wrist).
+    let radius = ring_radius(&scene, "arm.R.2");
+    let upper_length = (elbow - pivot_of(&scene, "arm.R.1")).length();
+    let fore_length = (pivot_of(&scene, "arm.R.3") - elbow).length();
+    let reaches = [
+        (2.0 * radius).min(upper_length),
+        (2.0 * radius).min(fore_length),
+    ];
+    let turned = |p: DVec3, degrees: f64| {
+        elbow + DQuat::from_axis_angle(across, degrees.to_radians()) * (p - elbow)
+    };
+    let in_rings: BTreeSet<u32> = scene
+        .cages
+        .internals
+        .iter()
+        .flat_map(|c| c.joint.iter().chain(c.faces.iter().flatten()).copied())
+        .collect();
+    // (distance from the elbow along the limb, the share of the bend taken, error, reach).
+    let mut upper = Vec::new();
+    let mut fore = Vec::new();
+    for (name, side, reach) in [("arm.R.1", -1.0, reaches[0]), ("arm.R.2", 1.0, reaches[1])] {
+        for &v in control(&scene, name).owns.iter() {
+            if in_rings.contains(&v) {
+                continue;
+            }
+            let (rest, now) = (scene.cages.vertices[v as usize], cages[v as usize]);
+            let distance = (side * (rest - elbow).dot(axis)).max(0.0);
+            // Half the bend at the ring, falling evenly to none (upper arm) or to the whole
+            // of it (forearm) at the reach.
+            let share = 0.5 * (1.0 - distance / reach).max(0.0);
+            let expected = if side < 0.0 { share } else { 1.0 - share };
+            let error = (now - turned(rest, 90.0 * expected)).length();
+            let taken = if side < 0.0 { &mut upper } else { &mut fore };
+            taken.push((distance, expected, error, reach));
+        }
+    }
+    for (what, taken) in [("upper arm", &upper), ("forearm", &fore)] {
+        for &(distance, expected, error, reach) in taken.iter() {
+            assert!(
+                error < 1e-9,
+                "a leaf vertex of the {what} {distance:.3} from the elbow is {error:.2e} from \
+                 its place turned by {:.1}° (reach {reach:.3})",
+                90.0 * expected
+            );
+        }
+        let within = taken.iter().filter(|t| t.0 < 0.75 * t.3).count();
+        assert!(
+            within > 0,
+            "no leaf vertex of the {what} lies within the elbow's reach: {taken:?}"
+        );
+    }
 }
