@@ -426,13 +426,15 @@ fn rig_body_with_arm(d: &std::path::Path) -> (std::path::PathBuf, std::path::Pat
     (mesh, scene)
 }
 
-/// An OBJ of two overlapping closed boxes: a body and a long arm out along +x.
+/// An OBJ of two overlapping closed boxes: a body and a long arm out along +x, towards the
+/// front (a body symmetric front to back would have its one arm on its plane of symmetry, the
+/// figure's middle, and the arm no side).
 fn write_body_with_arm(d: &std::path::Path) -> std::path::PathBuf {
     let path = d.join("body_arm.obj");
     let mut text = String::new();
     for (k, (lo, hi)) in [
         ([0.0, 0.0, 0.0], [1.0, 1.0, 1.5]),
-        ([0.8, 0.35, 0.6], [3.2, 0.65, 0.9]),
+        ([0.8, 0.1, 0.6], [3.2, 0.4, 0.9]),
     ]
     .iter()
     .enumerate()

@@ -262,3 +262,30 @@ fn a_long_tailed_biped_gets_its_sides_from_its_symmetry() {
     assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
     assert!(names.iter().any(|n| n.starts_with("tail")), "{names:?}");
 }
+
+#[test]
+fn a_bust_s_nose_and_chin_lie_on_its_plane_and_are_not_tails() {
+    // A head with a nose and a chin on its plane of symmetry (x = 0) and a neck below: no pair
+    // of limbs says which axis runs from left to right, and it is deeper (y) than wide (x).
+    let parts = [
+        (v(0.0, 0.0, 0.0), v(0.0, 0.0, 0.4), 0.5),
+        (v(0.0, -0.45, 0.15), v(0.0, -0.8, 0.1), 0.09),
+        (v(0.0, -0.4, -0.3), v(0.0, -0.7, -0.35), 0.1),
+        (v(0.0, 0.1, -0.4), v(0.0, 0.1, -1.0), 0.25),
+    ];
+    let controls = controls_of(&capsules(&parts, 0.03));
+    let names: Vec<&str> = controls.keys().map(String::as_str).collect();
+    // The nose and the chin: on the centre line (no side), and too short for a tail.
+    let front: Vec<&str> = controls
+        .iter()
+        .filter(|(name, (_, pivot))| name.as_str() != "root" && pivot.y < -0.3)
+        .map(|(name, _)| name.as_str())
+        .collect();
+    assert!(!front.is_empty(), "no limb at the front: {names:?}");
+    for name in front {
+        assert!(
+            !name.contains(".L") && !name.contains(".R") && !name.starts_with("tail"),
+            "{name} in {names:?}"
+        );
+    }
+}

@@ -88,6 +88,11 @@ pub(super) fn limb_names(
     let lateral = match (mirror, symmetric) {
         (Some((axis, _)), _) if axis < 2 => axis,
         (None, Some(axis)) if axis < 2 && has_mirrored_pair(&middles, axis, body_centre) => axis,
+        // No pair either way (a bust whose nose, chin and neck lie on its plane): the symmetry
+        // still says which axis runs from left to right.
+        (None, Some(axis)) if axis < 2 && !has_mirrored_pair(&middles, 1 - axis, body_centre) => {
+            axis
+        }
         _ if lying && body_extent.x >= body_extent.y => 1,
         _ if lying => 0,
         _ if mesh_extent.y > mesh_extent.x => 1,
@@ -386,7 +391,7 @@ pub(super) fn limb_names(
 /// Whether two limbs' middles are mirror images across the plane through `centre` across
 /// `axis` (on opposite sides at about the same distance, level with each other): a pair of
 /// legs, arms or ears, which a mesh symmetric across that axis has when the axis runs from
-/// its left to its right (a body with one arm out is symmetric across the other axis).
+/// its left to its right.
 fn has_mirrored_pair(middles: &[DVec3], axis: usize, centre: DVec3) -> bool {
     middles.iter().enumerate().any(|(i, a)| {
         middles[i + 1..].iter().any(|b| {
@@ -413,14 +418,20 @@ fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
 }
 
 /// The role of a limb on the centre line: above a standing body a head (a neck with its head),
-/// from its lower half a tail; at a lying body's front end a head (a neck where it rises above
+/// from its lower half a tail (when a fifth of the height long); at a lying body's front end a head (a neck where it rises above
 /// the body), at its back end a tail; else an unnamed limb.
 fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
     let height = (frame.mesh_hi.z - frame.mesh_lo.z).max(1e-12);
     match frame.forward {
         None if tip.z > frame.body_hi.z - 0.05 * height => "head",
-        // Hanging from a standing body's lower half and not reaching the ground: a tail.
-        None if root.z < 0.5 * (frame.body_lo.z + frame.body_hi.z) => "tail",
+        // Hanging from a standing body's lower half, not reaching the ground and a fifth of
+        // the figure's height long: a tail (the armadillo's: a quarter); a nose or a chin on a
+        // bust is shorter (ManHead's: a tenth).
+        None if root.z < 0.5 * (frame.body_lo.z + frame.body_hi.z)
+            && (tip - root).length() >= 0.2 * height =>
+        {
+            "tail"
+        }
         None => "limb",
         Some((axis, sign)) => {
             let body_mid = 0.5 * (frame.body_lo[axis] + frame.body_hi[axis]);
