@@ -780,3 +780,62 @@ fn a_bend_grows_through_its_ring_over_twice_the_ring_radius_on_both_sides() {
         );
     }
 }
+
+/// The change of the moving part's volume under `edit` (every vertex moved by more than 1e-4
+/// of the diagonal, closed across its border), as `scripts/blender_armature_compare.py`
+/// measures it: a hip's ring is the body's, so what a turn moves is not the leg's cages alone.
+fn moving_part_change(
+    scene: &Scene,
+    binding: &StarBinding,
+    posing: fn(&Scene, &StarBinding, &[&str]) -> Posed,
+    edit: &str,
+) -> f64 {
+    let posed = posing(scene, binding, &[edit]);
+    let (rest, triangles) = (scene.mesh.positions(), scene.mesh.triangles());
+    let diag = diagonal(rest);
+    let moving: Vec<usize> = (0..rest.len())
+        .filter(|&i| (posed.mesh[i] - rest[i]).length() > 1e-4 * diag)
+        .collect();
+    part_volume(&posed.mesh, triangles, &moving) / part_volume(rest, triangles, &moving) - 1.0
+}
+
+#[test]
+fn a_six_legged_creature_bends_a_knee_either_way_keeping_volume_and_other_legs() {
+    let scene = rigged(&hexapod());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    // The middle left leg runs out along +x, then down: `.2` turns at that bend (opening it
+    // when turned by −90° about y; closing it by 90° folds the leg onto itself), `.3` along
+    // the straight lower leg, `.1` at the hip (a ring of the body's).
+    for (edit, bend) in [
+        ("leg.mid.L.2: rotate 0 1 0 -90", 90.0),
+        ("leg.mid.L.3: rotate 0 1 0 90", 90.0),
+        ("leg.mid.L.3: rotate 0 1 0 -90", 90.0),
+        ("leg.mid.L.3: rotate 1 0 0 90", 90.0),
+        ("leg.mid.L.1: rotate 0 0 1 45", 45.0),
+        ("leg.mid.L.1: rotate 0 0 1 -45", 45.0),
+        ("leg.mid.L.1: rotate 0 1 0 45", 45.0),
+    ] {
+        // Other legs stay within 0.1 % of the diagonal (checked by check_bend).
+        let (_, flips) = check_bend(&scene, &binding, edit, bend, &["leg.mid.L"]);
+        assert_eq!(flips, 0, "{edit}: {flips} triangles inside out");
+        let change = moving_part_change(&scene, &binding, pose, edit);
+        assert!(
+            change.abs() < 0.02,
+            "{edit}: the moving part's volume changed by {:.2} %",
+            100.0 * change
+        );
+    }
+    // The negative control: the mitre alone (no volume pass) swells the lower leg turned
+    // across its bend by 4 %.
+    let mitred = moving_part_change(
+        &scene,
+        &binding,
+        pose_mitred,
+        "leg.mid.L.3: rotate 1 0 0 90",
+    );
+    assert!(
+        mitred > 0.02,
+        "the mitre alone changed it by {:.2} %",
+        100.0 * mitred
+    );
+}
