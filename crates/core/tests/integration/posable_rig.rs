@@ -492,7 +492,7 @@ fn a_knee_and_an_elbow_bend_at_their_joints_keeping_volume_and_other_limbs() {
 }
 
 #[test]
-fn a_quadruped_turns_its_head_and_bends_a_front_knee_leaving_the_rest_still() {
+fn a_quadruped_turns_its_head_bends_a_front_knee_and_swings_its_tail_leaving_the_rest_still() {
     let scene = rigged(&quadruped());
     let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
     // The head hangs from the neck: its joint ring, half turned, bends the neck's last
@@ -513,6 +513,20 @@ fn a_quadruped_turns_its_head_and_bends_a_front_knee_leaving_the_rest_still() {
         &["leg.front.L"],
     );
     assert!(knee_flips == 0, "{knee_flips} triangles inside out");
+    // The tail swept to a side and lifted at its root: no fold, the moving part's volume
+    // kept, nothing else moves.
+    for edit in ["tail.1: rotate 0 0 1 45", "tail.1: rotate 1 0 0 -30"] {
+        let bend = if edit.ends_with("45") { 45.0 } else { 30.0 };
+        let (_, flips) = check_bend(&scene, &binding, edit, bend, &["tail"]);
+        assert_eq!(flips, 0, "{edit}: {flips} triangles inside out");
+        let change = moving_part_change(&scene, &binding, pose, edit);
+        eprintln!("{edit}: moving part {:+.2} %", 100.0 * change);
+        assert!(
+            change.abs() < 0.02,
+            "{edit}: the moving part's volume changed by {:.2} %",
+            100.0 * change
+        );
+    }
     assert!(
         knee.abs() < 0.02,
         "the leg's volume changed by {:.2} %",
