@@ -434,7 +434,7 @@ fn write_body_with_arm(d: &std::path::Path) -> std::path::PathBuf {
     let mut text = String::new();
     for (k, (lo, hi)) in [
         ([0.0, 0.0, 0.0], [1.0, 1.0, 1.5]),
-        ([0.8, 0.1, 0.6], [3.2, 0.4, 0.9]),
+        ([0.8, 0.3, 0.6], [3.2, 0.6, 0.9]),
     ]
     .iter()
     .enumerate()

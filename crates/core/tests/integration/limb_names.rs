@@ -289,3 +289,21 @@ fn a_bust_s_nose_and_chin_lie_on_its_plane_and_are_not_tails() {
         );
     }
 }
+
+#[test]
+fn legs_a_cell_apart_all_along_are_two_legs() {
+    // The human above with straight legs 0.14 apart all along (a cell of the default detail
+    // is 0.13): on a grid with a cell face near the plane between them, the cells beside it
+    // hold both legs' inner surfaces and join them (one leg was found, the other left in a
+    // body slab); the rig is made again with that plane through the middle of a column.
+    let controls = controls_of(&human(0.2, 0.2, 1.55));
+    let names: Vec<&String> = controls.keys().collect();
+    for side in ["L", "R"] {
+        for segment in [1, 2] {
+            let leg = format!("leg.{side}.{segment}");
+            assert!(controls.contains_key(&leg), "no {leg} in {names:?}");
+        }
+    }
+    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert_eq!(parent(&controls, "leg.L.2"), "leg.L.1");
+}

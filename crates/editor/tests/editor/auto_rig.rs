@@ -801,7 +801,7 @@ fn r_on_a_control_keeps_the_volume_at_its_joint_and_undoes_in_one_step() {
     use starcages_core::hierarchy::{CageEdit, Hierarchy};
     use starcages_core::mesh::Mesh;
     use starcages_core::scene::{MeshSource, Scene};
-    // Two overlapping boxes: a body and an arm out along +X (as the CLI's tests).
+    // Two overlapping boxes: a body and an arm out along +X.
     let (mut positions, mut triangles) = (Vec::new(), Vec::new());
     for (lo, hi) in [
         (DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 1.0, 1.5)),
@@ -826,8 +826,16 @@ fn r_on_a_control_keeps_the_volume_at_its_joint_and_undoes_in_one_step() {
     let control = starcages_core::BindControl::default();
     let rig = autorig(&mesh, &AutorigSettings::default(), &control).unwrap();
     let scene = Scene::new(MeshSource::Embedded, mesh, rig.cages, autorig_settings());
-    let name = "arm.L.6";
-    let vertices = scene.cages.cage_vertices(name).unwrap();
+    // The arm's sixth control (the arm lies on the body's plane of symmetry, front to back, so
+    // it has no side: `limb.1.6`).
+    let name = scene
+        .cages
+        .internals
+        .iter()
+        .map(|c| c.name.clone())
+        .find(|n| n.ends_with(".6"))
+        .unwrap();
+    let vertices = scene.cages.cage_vertices(&name).unwrap();
     // The mitre alone, through the hierarchy: the volume the turn loses without the pass.
     let edit: CageEdit = format!("{name}: rotate 0 0 1 90").parse().unwrap();
     let mut mitred = scene.cages.vertices.clone();

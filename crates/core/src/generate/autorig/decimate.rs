@@ -577,7 +577,7 @@ mod tests {
                 ));
             }
         }
-        let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None);
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None, &[]);
         let triangles = decimate(&grid, &vertices, &faces, &[], &BTreeSet::new(), None);
         let used: BTreeSet<u32> = triangles.iter().flat_map(|(c, _, _)| *c).collect();
         assert!(used.len() < 16, "{used:?}");

@@ -265,11 +265,25 @@ pub fn autorig(
     let mut best: Option<Autorig> = None;
     for refinement in 0..=MAX_REFINEMENTS {
         let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
-        let mut rig = match rig_on_grid(&surface, settings, cells, refinement, control) {
+        let mut rig = match rig_on_grid(&surface, settings, cells, refinement, false, control) {
             Ok(rig) => rig,
             Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
             Err(_) => continue,
         };
+        // Legs closer than two cells share the cells between them, which join them into one
+        // solid as thick as the body: one leg, or none, is found. A figure symmetric across a
+        // horizontal plane is rigged again on a grid with that plane through the middle of a
+        // column of cells, which stays empty between legs more than a cell apart; the grid
+        // that finds more legs with a side is kept.
+        let legs = sided_legs(&rig);
+        if legs < 2 && settings.mirror == Mirror::None && symmetric_across_a_horizontal_plane(mesh)
+        {
+            match rig_on_grid(&surface, settings, cells, refinement, true, control) {
+                Ok(centred) if sided_legs(&centred) > legs => rig = centred,
+                Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
+                _ => {}
+            }
+        }
         let scene = Scene::new(
             MeshSource::Embedded,
             mesh.clone(),
@@ -304,6 +318,7 @@ fn rig_on_grid(
     settings: &AutorigSettings,
     cells: u32,
     refinement: u32,
+    centre_symmetry: bool,
     control: &BindControl,
 ) -> Result<Autorig, AutorigError> {
     let mesh = surface.mesh;
@@ -324,11 +339,23 @@ fn rig_on_grid(
         Mirror::Axis(a) => Some(a),
         Mirror::Auto => most_symmetric_axis(mesh),
     };
+    // On a retry for legs close together ([`autorig`]), each horizontal plane of symmetry of
+    // the mesh through the middle of a column of cells.
+    let centred: Vec<(usize, f64)> = if centre_symmetry {
+        let scores = symmetry_scores(mesh);
+        (0..2)
+            .filter(|&a| mirror_axis.is_none() && scores[a] >= SYMMETRIC_SHARE)
+            .map(|a| (a, 0.5 * (lo[a] + hi[a])))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let grid = Grid::around(
         lo,
         hi,
         cells,
         mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a]))),
+        &centred,
     );
     let mut occupied = voxels::solid_cells(&grid, mesh);
     if settings.margin > 0.0 {
@@ -691,6 +718,30 @@ fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
         .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
 }
 
+/// How many limbs of `rig` are legs with a side (`leg.L`, `leg.front.R` …), by its leaf
+/// cages' names.
+fn sided_legs(rig: &Autorig) -> usize {
+    let limbs: BTreeSet<&str> = rig
+        .cages
+        .leaves
+        .iter()
+        .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
+        .filter(|limb| limb.starts_with("leg.") && (limb.ends_with(".L") || limb.ends_with(".R")))
+        .collect();
+    limbs.len()
+}
+
+/// Whether the mesh is symmetric across the centre plane of X or Y ([`SYMMETRIC_SHARE`]).
+fn symmetric_across_a_horizontal_plane(mesh: &Mesh) -> bool {
+    symmetry_scores(mesh)[..2]
+        .iter()
+        .any(|&score| score >= SYMMETRIC_SHARE)
+}
+
+/// The share of a mesh's vertices whose mirror image lands on its surface
+/// ([`symmetry_scores`]) for it to count as symmetric across that plane.
+const SYMMETRIC_SHARE: f64 = 0.9;
+
 /// The horizontal axis (X or Y) the mesh is clearly symmetric across: at least 90 % of its
 /// vertices mirrored onto it, and 5 points more than across the other. A figure's left and
 /// right are across it (a head deeper than it is wide included); None where both or neither
@@ -699,8 +750,8 @@ fn horizontal_symmetry_axis(mesh: &Mesh) -> Option<usize> {
     let scores = symmetry_scores(mesh);
     let (x, y) = (scores[0], scores[1]);
     match () {
-        _ if x >= 0.9 && x >= y + 0.05 => Some(0),
-        _ if y >= 0.9 && y >= x + 0.05 => Some(1),
+        _ if x >= SYMMETRIC_SHARE && x >= y + 0.05 => Some(0),
+        _ if y >= SYMMETRIC_SHARE && y >= x + 0.05 => Some(1),
         _ => None,
     }
 }

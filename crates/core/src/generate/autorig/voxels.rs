@@ -33,11 +33,16 @@ impl Grid {
     /// two empty cells beyond the bounds on every side. With `mirror` (an axis and a coordinate
     /// along it), the grid is placed so that that plane is a grid plane and the cells on either
     /// side of it mirror each other, covering the bounds and their mirror image.
+    /// Each of the `centred` planes (an axis and a coordinate along it, other than the mirror's
+    /// axis) passes through the middle of a column of cells: a symmetric figure's legs a little
+    /// more than a cell apart then leave that column empty, where a cell face on or near the
+    /// plane puts both legs' inner surfaces in the cells beside it and joins them.
     pub fn around(
         lo: DVec3,
         hi: DVec3,
         cells_along_longest: u32,
         mirror: Option<(usize, f64)>,
+        centred: &[(usize, f64)],
     ) -> Self {
         let extent = (hi - lo).max(DVec3::splat(1e-12));
         let cell = extent.max_element() / f64::from(cells_along_longest.max(1));
@@ -52,6 +57,16 @@ impl Grid {
             let half = (below.max(above) / cell).ceil() as i32;
             origin[a] = plane - f64::from(half) * cell;
             dims[a] = 2 * half;
+        }
+        for &(a, plane) in centred {
+            if mirror.is_some_and(|(m, _)| m == a) || a > 2 {
+                continue;
+            }
+            // The plane half a cell past a cell face, the grid still reaching two cells
+            // beyond the bounds.
+            let below = ((plane - origin[a]) / cell - 0.5).ceil();
+            origin[a] = plane - (below + 0.5) * cell;
+            dims[a] = ((hi[a] - origin[a]) / cell).ceil() as i32 + 2;
         }
         Self { origin, cell, dims }
     }
