@@ -307,3 +307,20 @@ fn legs_a_cell_apart_all_along_are_two_legs() {
     assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
     assert_eq!(parent(&controls, "leg.L.2"), "leg.L.1");
 }
+
+#[test]
+fn a_head_on_a_short_neck_is_its_own_body_with_a_control() {
+    // The human above with a neck 0.25 long (0.2 thick) under a head 0.48 wide: the balls
+    // inscribed at the head's and the torso's thickest cells join through the neck, so the
+    // head was a slab of the body with no control. The body is split at the neck's layer.
+    let controls = controls_of(&human(0.3, 0.32, 1.55));
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(controls.contains_key("head.1"), "no head.1 in {names:?}");
+    let head = controls["head.1"].1;
+    assert!(
+        head.z > 1.2 && head.x.abs() < 0.1,
+        "the head's pivot {head}"
+    );
+    let parent = parent(&controls, "head.1");
+    assert!(parent == "root" || parent.starts_with("neck."), "{names:?}");
+}

@@ -76,7 +76,8 @@ pub(super) fn cut_into_parts(
     cutting: &Cutting,
 ) -> Parts {
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
-    let body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
+    let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
+    split_at_necks(grid, &mut body);
     // Bodies: face-connected pieces of body cells; limbs: of the rest.
     let (body_of, bodies) = components(grid, |i| body[i]);
     let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
@@ -265,6 +266,63 @@ fn body_cells(
     }
     left.iter().map(|&r| r > 0.0).collect()
 }
+
+/// A body that narrows to a neck between two thick ends (a head on a short neck, which the
+/// balls of the head's and the torso's thickest cells join): the narrowest layer across its
+/// longest axis, where it holds at most [`NECK_SHARE`] of the body cells of the thickest layer
+/// on its thinner side, leaves the body, so that each end is a body of its own and the neck a
+/// limb between them (a head gets a control). Ends of fewer than [`NECK_END_LAYERS`] layers
+/// (a rounded tip) are not split off.
+fn split_at_necks(grid: &Grid, body: &mut [bool]) {
+    let (body_of, bodies) = components(grid, |i| body[i]);
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); bodies];
+    for (i, b) in body_of.iter().enumerate() {
+        if let Some(b) = *b {
+            members[b].push(i);
+        }
+    }
+    for cells in members {
+        let (lo, hi) = cell_bounds(grid, &cells);
+        let axis = longest_axis(hi - lo + IVec3::ONE);
+        let layers = (hi[axis] - lo[axis] + 1) as usize;
+        let layer = |i: usize| (grid.cell_of(i)[axis] - lo[axis]) as usize;
+        let mut count = vec![0usize; layers];
+        for &i in &cells {
+            count[layer(i)] += 1;
+        }
+        let mut below = vec![0usize; layers];
+        let mut above = vec![0usize; layers];
+        for k in 1..layers {
+            below[k] = below[k - 1].max(count[k - 1]);
+        }
+        for k in (0..layers.saturating_sub(1)).rev() {
+            above[k] = above[k + 1].max(count[k + 1]);
+        }
+        let neck = (NECK_END_LAYERS..layers.saturating_sub(NECK_END_LAYERS))
+            .filter(|&k| {
+                let thinner_end = below[k].min(above[k]) as f64;
+                count[k] > 0 && (count[k] as f64) <= NECK_SHARE * thinner_end
+            })
+            .min_by(|&a, &b| {
+                let ratio = |k: usize| count[k] as f64 / below[k].min(above[k]).max(1) as f64;
+                ratio(a).total_cmp(&ratio(b)).then(a.cmp(&b))
+            });
+        if let Some(k) = neck {
+            for &i in &cells {
+                if layer(i) == k {
+                    body[i] = false;
+                }
+            }
+        }
+    }
+}
+
+/// The most body cells a neck's layer holds, as a share of the thickest layer of its thinner
+/// end.
+const NECK_SHARE: f64 = 0.35;
+
+/// The fewest layers each end of a body split at a neck has.
+const NECK_END_LAYERS: usize = 3;
 
 /// Geodesic distance (26-neighbour steps) inside limb `l` from its cells touching the body.
 fn geodesic_from_body(
