@@ -173,7 +173,7 @@ fn mirrored_twin_knees_are_two_legs_not_one_body() {
 /// A standing human facing −Y: a thin neck from the torso up to `neck_top`, a head thicker than
 /// it above, arms hanging a little out from the shoulders, legs of radius 0.13 `hip_x` either
 /// side of the centre at the hips (0.2: they touch) and `foot_x` at the feet.
-fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
+pub(crate) fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
     let mut parts = vec![
         (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
         (v(0.0, 0.0, 1.3), v(0.0, 0.0, neck_top), 0.1),

@@ -853,3 +853,23 @@ fn a_six_legged_creature_bends_a_knee_either_way_keeping_volume_and_other_legs()
         100.0 * mitred
     );
 }
+
+#[test]
+fn a_human_turns_its_head_on_a_short_neck_leaving_its_arms_still() {
+    // The neck 30° of the poses, on a human whose head sits on a neck 0.25 long (a
+    // body of its own, split from the torso at the neck): the head turns and nods with no fold
+    // and the moving part's volume kept, and the arms and legs stay where they are (bone heat
+    // moved both arms by 2.5–3 % of the diagonal on the humanoids).
+    let scene = rigged(&crate::limb_names::human(0.3, 0.32, 1.55));
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    for edit in ["head.1: rotate 0 0 1 30", "head.1: rotate 1 0 0 30"] {
+        let (_, flips) = check_bend(&scene, &binding, edit, 30.0, &["head", "neck"]);
+        assert_eq!(flips, 0, "{edit}: {flips} triangles inside out");
+        let change = moving_part_change(&scene, &binding, pose, edit);
+        assert!(
+            change.abs() < 0.02,
+            "{edit}: the moving part's volume changed by {:.2} %",
+            100.0 * change
+        );
+    }
+}
