@@ -272,11 +272,14 @@ pub fn autorig(
         };
         // Legs closer than two cells share the cells between them, which join them into one
         // solid as thick as the body: one leg, or none, is found. A figure symmetric across a
-        // horizontal plane is rigged again on a grid with that plane through the middle of a
-        // column of cells, which stays empty between legs more than a cell apart; the grid
-        // that finds more legs with a side is kept.
+        // horizontal plane standing on separate feet is rigged again on a grid with that plane
+        // through the middle of a column of cells, which stays empty between legs more than a
+        // cell apart; the grid that finds more legs with a side is kept.
         let legs = sided_legs(&rig);
-        if legs < 2 && settings.mirror == Mirror::None && symmetric_across_a_horizontal_plane(mesh)
+        if legs < 2
+            && settings.mirror == Mirror::None
+            && stands_on_separate_feet(&surface)
+            && symmetric_across_a_horizontal_plane(mesh)
         {
             match rig_on_grid(&surface, settings, cells, refinement, true, control) {
                 Ok(centred) if sided_legs(&centred) > legs => rig = centred,
@@ -730,6 +733,43 @@ fn sided_legs(rig: &Autorig) -> usize {
         .collect();
     limbs.len()
 }
+
+/// Whether the figure stands on separate feet: the welded mesh vertices in its lowest
+/// [`FEET_SHARE`] of height fall in two pieces or more joined by its surface (legs the grid may
+/// have joined; a ball, a bust or a body on one base is one piece).
+fn stands_on_separate_feet(surface: &SurfaceMesh) -> bool {
+    let points = surface.mesh.welded_positions();
+    let (lo, hi) = surface.mesh.bounds();
+    let floor = lo.z + FEET_SHARE * (hi.z - lo.z);
+    let low: Vec<bool> = points.iter().map(|p| p.z <= floor).collect();
+    let mut seen = vec![false; points.len()];
+    let mut pieces = 0;
+    for start in 0..points.len() {
+        if !low[start] || seen[start] {
+            continue;
+        }
+        pieces += 1;
+        if pieces >= 2 {
+            return true;
+        }
+        seen[start] = true;
+        let mut stack = vec![start];
+        while let Some(v) = stack.pop() {
+            for &n in surface.neighbours.get(v).into_iter().flatten() {
+                let n = n as usize;
+                if low.get(n) == Some(&true) && !seen[n] {
+                    seen[n] = true;
+                    stack.push(n);
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The share of the figure's height, from the bottom, in which [`stands_on_separate_feet`]
+/// looks for feet.
+const FEET_SHARE: f64 = 0.05;
 
 /// Whether the mesh is symmetric across the centre plane of X or Y ([`SYMMETRIC_SHARE`]).
 fn symmetric_across_a_horizontal_plane(mesh: &Mesh) -> bool {
