@@ -31,13 +31,17 @@ jobs="${CARGO_BUILD_JOBS:-$(nproc)}"
 # on a case no one has seen; set PROPTEST_RNG_SEED to explore others, or run scripts/fuzz.sh.
 export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261123}"
 
+if cargo nextest --version >/dev/null 2>&1; then
+    cargo nextest run --workspace --locked --build-jobs "$jobs" "$@"
+else
+    echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
+    cargo test --workspace --locked -j"$jobs" "$@"
+fi
+
 # The Python package (crates/python): built as a wheel by maturin, installed into a virtual
 # environment (target/python-venv, which gets maturin, numpy and pytest from the package
-# registry when it lacks them) and tested with pytest against starcages-cli; the Blender
-# extension is checked in Blender 5's bpy (target/bpy-venv, about 370 MB, skipped when it
-# cannot be installed). Debian images without Python 3.11+ or its venv module get them. Both
-# environments are made while Cargo builds (downloads, not the build's cores): on a fresh
-# clone that is a minute of the ten the README allows.
+# registry when it lacks them) and tested with pytest against starcages-cli. Debian images
+# without Python 3.11+ or its venv module get them.
 python=$(command -v python3 || true)
 if [ -z "$python" ] || ! "$python" -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; then
     echo "scripts/test.sh: installing Python 3 with venv for the Python package's tests" >&2
@@ -46,40 +50,10 @@ if [ -z "$python" ] || ! "$python" -c 'import sys, venv, ensurepip; sys.exit(sys
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq python3 python3-venv >/dev/null
     python=$(command -v python3)
 fi
-mkdir -p target
 venv=target/python-venv
-(
-    [ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
-    if ! "$venv/bin/python" -c 'import numpy, pytest' 2>/dev/null || [ ! -x "$venv/bin/maturin" ]; then
-        "$venv/bin/python" -m pip install -q --disable-pip-version-check maturin numpy pytest
-    fi
-) >target/python-venv.log 2>&1 &
-python_setup=$!
-bpy_venv=target/bpy-venv
-(
-    if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
-        rm -rf "$bpy_venv"
-        if ! { "$python" -m venv "$bpy_venv" &&
-            timeout 600 "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check bpy; }; then
-            echo "scripts/test.sh: the bpy package could not be installed for $("$python" --version): the Blender extension's tests are skipped"
-        fi
-    fi
-) >target/bpy-venv.log 2>&1 &
-bpy_setup=$!
-# A build or test that fails ends the script: the downloads end with it.
-trap 'kill "$python_setup" "$bpy_setup" 2>/dev/null || true' EXIT
-
-if cargo nextest --version >/dev/null 2>&1; then
-    cargo nextest run --workspace --locked --build-jobs "$jobs" "$@"
-else
-    echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
-    cargo test --workspace --locked -j"$jobs" "$@"
-fi
-
-if ! wait "$python_setup"; then
-    cat target/python-venv.log >&2
-    echo "scripts/test.sh: the Python package's virtual environment could not be made" >&2
-    exit 1
+[ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
+if ! "$venv/bin/python" -c 'import numpy, pytest' 2>/dev/null || [ ! -x "$venv/bin/maturin" ]; then
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check maturin numpy pytest
 fi
 rm -rf target/wheels
 (cd crates/python && "../../$venv/bin/maturin" build -q --locked -j "$jobs" -o ../../target/wheels)
@@ -93,8 +67,14 @@ STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q 
 # package (Blender as a Python module, about 370 MB; it needs the Python version Blender
 # ships, 3.11 for Blender 5) in a throw-away virtual environment (target/bpy-venv), when it can
 # be installed; otherwise they are skipped with a note.
-wait "$bpy_setup" || true
-cat target/bpy-venv.log >&2
+bpy_venv=target/bpy-venv
+if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
+    rm -rf "$bpy_venv"
+    if ! { "$python" -m venv "$bpy_venv" &&
+        timeout 600 "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check bpy; }; then
+        echo "scripts/test.sh: the bpy package could not be installed for $("$python" --version): the Blender extension's tests are skipped" >&2
+    fi
+fi
 if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
     "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
     blender_out=$(mktemp -d)
