@@ -1,5 +1,6 @@
 """Tries the Blender extension headless through the `bpy` package (a throw-away venv with the
-starcages wheel installed; never part of the project's dependencies):
+starcages wheel installed, or the module scripts/test.sh builds on PYTHONPATH; never part of the
+project's dependencies):
 
     /tmp/bpyvenv/bin/pip install --force-reinstall --no-deps target/wheels/starcages-*.whl
     /tmp/bpyvenv/bin/python scripts/blender_extension_test.py target/starcages-cli OUT_FOLDER

@@ -31,17 +31,30 @@ jobs="${CARGO_BUILD_JOBS:-$(nproc)}"
 # on a case no one has seen; set PROPTEST_RNG_SEED to explore others, or run scripts/fuzz.sh.
 export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261123}"
 
+# The Python module (crates/python) is built as an extension module: cargo unifies dependency
+# features over the packages of one invocation, so every build below names the same packages
+# and features, and the module's build reuses the tests' starcages-core and starcages-io.
+python_module=(--features starcages-python/extension-module)
 if cargo nextest --version >/dev/null 2>&1; then
-    cargo nextest run --workspace --locked --build-jobs "$jobs" "$@"
+    cargo nextest run --workspace --locked --build-jobs "$jobs" "${python_module[@]}" "$@"
 else
     echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
-    cargo test --workspace --locked -j"$jobs" "$@"
+    cargo test --workspace --locked -j"$jobs" "${python_module[@]}" "$@"
 fi
 
-# The Python package (crates/python): built as a wheel by maturin, installed into a virtual
-# environment (target/python-venv, which gets maturin, numpy and pytest from the package
-# registry when it lacks them) and tested with pytest against starcages-cli. Debian images
-# without Python 3.11+ or its venv module get them.
+# The Python package (crates/python): its extension module, built by cargo in the same
+# dependency graph as the tests above (only PyO3, numpy and the crate itself compile here; a
+# `maturin build` resolves the crate alone and compiles starcages-core and -io again, 2 of 10
+# minutes of a cold run), is put on PYTHONPATH as `starcages` and tested with pytest against
+# starcages-cli in a virtual environment (target/python-venv, which gets numpy and pytest from
+# the package registry when it lacks them). CI builds the wheel itself with maturin and runs the
+# same tests on it (.ci/run). Debian images without Python 3.11+ or its venv module get them.
+cargo build --workspace --lib --tests --locked -j"$jobs" "${python_module[@]}"
+module_dir=target/python-module
+rm -rf "$module_dir" && mkdir -p "$module_dir"
+cp target/debug/libstarcages.so "$module_dir/starcages.abi3.so"
+cp crates/python/starcages.pyi "$module_dir/"
+export PYTHONPATH="$PWD/$module_dir${PYTHONPATH:+:$PYTHONPATH}"
 python=$(command -v python3 || true)
 if [ -z "$python" ] || ! "$python" -c 'import sys, venv, ensurepip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; then
     echo "scripts/test.sh: installing Python 3 with venv for the Python package's tests" >&2
@@ -52,15 +65,14 @@ if [ -z "$python" ] || ! "$python" -c 'import sys, venv, ensurepip; sys.exit(sys
 fi
 venv=target/python-venv
 [ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
-if ! "$venv/bin/python" -c 'import numpy, pytest' 2>/dev/null || [ ! -x "$venv/bin/maturin" ]; then
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check maturin numpy pytest
+if ! "$venv/bin/python" -c 'import numpy, pytest' 2>/dev/null; then
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check numpy pytest
 fi
-rm -rf target/wheels
-(cd crates/python && "../../$venv/bin/maturin" build -q --locked -j "$jobs" -o ../../target/wheels)
-"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
 # The CLI binary the tests above built (a `cargo build -p starcages-cli` here would resolve
 # the package's features alone and compile much of the workspace again: 1m43s cold).
 test -x target/debug/starcages-cli
+# PYTHONPATH comes before site-packages: a wheel installed there earlier is not what is tested.
+"$venv/bin/python" -c "import starcages, sys; sys.exit(not starcages.__file__.startswith('$PWD/$module_dir/'))"
 STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests
 
 # The Blender extension (blender/starcages_extension): its tests run headless through the bpy
@@ -76,7 +88,6 @@ if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
     fi
 fi
 if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
-    "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/starcages-*.whl
     blender_out=$(mktemp -d)
     if ! "$bpy_venv/bin/python" scripts/blender_extension_test.py "$PWD/target/debug/starcages-cli" \
         "$blender_out" >"$blender_out/log" 2>&1; then
