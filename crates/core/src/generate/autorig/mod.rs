@@ -8,7 +8,8 @@
 //! 2. parts (`parts`): in each connected piece, the body is the union of the balls inscribed
 //!    at its thickest cells, cut into slabs across its longest axis; the rest are limbs: each
 //!    region split into branches where it forks (`branches`: legs and a tail from one hip band,
-//!    ears from a head top), each branch cut into a chain of segments by geodesic distance;
+//!    ears from a head top), each branch cut into a chain of segments by geodesic distance
+//!    (by grid layer along a straight one, so its joints are flat);
 //!    a region reaching out less than half its thickness is a bump of the body;
 //!    a part holding two separate pieces of the surface is split between them, or merged with
 //!    the parts that join them where they share cells (`pieces`);

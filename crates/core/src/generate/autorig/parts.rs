@@ -1,7 +1,8 @@
 //! The solid's cells split into parts that follow the shape: in each connected piece of the
 //! solid, a body (the union of the balls inscribed at its thickest cells) cut into slabs across
 //! its longest axis, and limbs (what is left: arms, legs, tails, ears, fingers), each cut into
-//! a chain of segments by geodesic distance from the body.
+//! a chain of segments by geodesic distance from the body (by grid layer where the limb runs
+//! along a grid axis, so the joints between its segments are flat).
 
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};
@@ -126,7 +127,15 @@ pub(super) fn cut_into_parts(
             let count = slab_count(longest, cutting.segment_length * thickness);
             // The first segment is two segments long: a turn of the whole limb shears it most.
             let units = (count + 1) as f64;
-            for &(i, d) in &branch.cells {
+            // Along a straight limb the joints are grid layers, where the layer's distance is
+            // within STRAIGHT_SLACK cells of the body's distance.
+            let straight = straightened(grid, &branch.cells);
+            for (&(i, d), &(_, along)) in branch.cells.iter().zip(&straight) {
+                let d = if (along - d).abs() <= STRAIGHT_SLACK {
+                    along
+                } else {
+                    d
+                };
                 let unit = ((d / longest.max(1e-9)) * units) as usize;
                 let segment = unit.max(1) - 1;
                 group[i] = Some(Role::Limb {
@@ -184,6 +193,55 @@ fn stub_body(
         .max_by_key(|&(role, n)| (n, Reverse(role)))
         .map(|(role, _)| role)
 }
+
+/// A branch's distances along a grid axis where it runs along one: the geodesic distances'
+/// best affine fit over the cells' coordinates has a gradient within [`STRAIGHT_COS`] of a
+/// grid axis, so the branch's cross-sections are grid layers and each joint between its
+/// segments one flat face rather than a front stepped over several layers.
+fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Vec<(usize, f64)> {
+    let n = cells.len() as f64;
+    if cells.len() < 8 {
+        return cells.to_vec();
+    }
+    let p = |i: usize| grid.cell_of(i).as_dvec3();
+    let mean_p = cells.iter().map(|&(i, _)| p(i)).sum::<glam::DVec3>() / n;
+    let mean_d = cells.iter().map(|&(_, d)| d).sum::<f64>() / n;
+    let mut cov = glam::DMat3::ZERO;
+    let mut cross = glam::DVec3::ZERO;
+    for &(i, d) in cells {
+        let x = p(i) - mean_p;
+        cov += glam::DMat3::from_cols(x * x.x, x * x.y, x * x.z);
+        cross += x * (d - mean_d);
+    }
+    if cov.determinant().abs() < 1e-9 {
+        return cells.to_vec();
+    }
+    let g = cov.inverse() * cross;
+    let axis = (0..3)
+        .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
+        .unwrap_or(2);
+    if g.length() < 1e-9 || g[axis].abs() < STRAIGHT_COS * g.length() {
+        return cells.to_vec();
+    }
+    let sign = g[axis].signum();
+    let along = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
+    let start = cells
+        .iter()
+        .map(|&(i, _)| along(i))
+        .fold(f64::INFINITY, f64::min);
+    let first = cells.iter().map(|&(_, d)| d).fold(f64::INFINITY, f64::min);
+    cells
+        .iter()
+        .map(|&(i, _)| (i, first + along(i) - start))
+        .collect()
+}
+
+/// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
+const STRAIGHT_SLACK: f64 = 2.0;
+
+/// How close to a grid axis a branch's direction must be to be cut in grid layers (the cosine
+/// of about 25°: a leg whose distance from the body also grows sideways at the hip).
+const STRAIGHT_COS: f64 = 0.9;
 
 /// Longest reach of a limb region that is a bump of the body, in thicknesses of the region.
 const STUB_LENGTH: f64 = 1.0;
