@@ -130,11 +130,10 @@ pub(super) fn cut_into_parts(
             // Along a straight limb the joints are grid layers, where the layer's distance is
             // within STRAIGHT_SLACK cells of the body's distance.
             let straight = straightened(grid, &branch.cells);
-            for (&(i, d), &(_, along)) in branch.cells.iter().zip(&straight) {
-                let d = if (along - d).abs() <= STRAIGHT_SLACK {
-                    along
-                } else {
-                    d
+            for (k, &(i, d)) in branch.cells.iter().enumerate() {
+                let d = match straight.as_ref().and_then(|s| s.get(k)) {
+                    Some(&along) if (along - d).abs() <= STRAIGHT_SLACK => along,
+                    _ => d,
                 };
                 let unit = ((d / longest.max(1e-9)) * units) as usize;
                 let segment = unit.max(1) - 1;
@@ -194,14 +193,15 @@ fn stub_body(
         .map(|(role, _)| role)
 }
 
-/// A branch's distances along a grid axis where it runs along one: the geodesic distances'
-/// best affine fit over the cells' coordinates has a gradient within [`STRAIGHT_COS`] of a
-/// grid axis, so the branch's cross-sections are grid layers and each joint between its
-/// segments one flat face rather than a front stepped over several layers.
-fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Vec<(usize, f64)> {
+/// A branch's distances along a grid axis, cell by cell, where it runs along one (None where
+/// it does not): the geodesic distances' best affine fit over the cells' coordinates has a
+/// gradient within [`STRAIGHT_COS`] of a grid axis, so the branch's cross-sections are grid
+/// layers and each joint between its segments one flat face rather than a front stepped over
+/// several layers. The smallest equals the smallest geodesic distance.
+fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
     let n = cells.len() as f64;
     if cells.len() < 8 {
-        return cells.to_vec();
+        return None;
     }
     let p = |i: usize| grid.cell_of(i).as_dvec3();
     let mean_p = cells.iter().map(|&(i, _)| p(i)).sum::<glam::DVec3>() / n;
@@ -214,14 +214,14 @@ fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Vec<(usize, f64)> {
         cross += x * (d - mean_d);
     }
     if cov.determinant().abs() < 1e-9 {
-        return cells.to_vec();
+        return None;
     }
     let g = cov.inverse() * cross;
     let axis = (0..3)
         .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
         .unwrap_or(2);
     if g.length() < 1e-9 || g[axis].abs() < STRAIGHT_COS * g.length() {
-        return cells.to_vec();
+        return None;
     }
     let sign = g[axis].signum();
     let along = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
@@ -230,10 +230,12 @@ fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Vec<(usize, f64)> {
         .map(|&(i, _)| along(i))
         .fold(f64::INFINITY, f64::min);
     let first = cells.iter().map(|&(_, d)| d).fold(f64::INFINITY, f64::min);
-    cells
-        .iter()
-        .map(|&(i, _)| (i, first + along(i) - start))
-        .collect()
+    Some(
+        cells
+            .iter()
+            .map(|&(i, _)| first + along(i) - start)
+            .collect(),
+    )
 }
 
 /// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
