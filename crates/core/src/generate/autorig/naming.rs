@@ -213,6 +213,9 @@ pub(super) fn limb_names(
         Some((axis, sign)) => (s.middle[axis] - body_centre[axis]) * sign > 0.0,
         None => s.middle.z >= body_centre.z,
     };
+    // A bust: a standing figure with no limb off its centre line (no arm, leg or ear pair);
+    // the one limb it rests on is its neck, not a leg.
+    let bust = frame.forward.is_none() && shapes.values().all(|s| side_of(s) == 0.0);
     let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
     for (&limb, s) in &shapes {
         // A thick region of its own (a head, hips) is on the centre line when its middle is
@@ -279,6 +282,8 @@ pub(super) fn limb_names(
                 (false, true) => "shoulder",
                 (false, false) => "hip",
             }
+        } else if is_leg(s) && bust && !bodies.contains(&limb) {
+            "neck"
         } else if is_leg(s) {
             "leg"
         } else if side != 0.0 && ((parent_is_head && s.tip.z > s.root.z) || (on_top && rises)) {
