@@ -282,10 +282,9 @@ pub(super) fn limb_names(
                 (false, true) => "shoulder",
                 (false, false) => "hip",
             }
-        } else if is_leg(s) && bust && !bodies.contains(&limb) {
-            "neck"
         } else if is_leg(s) {
-            "leg"
+            // On a bust the one limb reaching its bottom is its neck.
+            if bust { "neck" } else { "leg" }
         } else if side != 0.0 && ((parent_is_head && s.tip.z > s.root.z) || (on_top && rises)) {
             "ear"
         } else if side == 0.0 {
