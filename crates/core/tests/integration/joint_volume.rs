@@ -239,3 +239,51 @@ fn a_whole_settle_depends_on_the_pose_alone() {
     let _ = settle(mitred("leg.L.2: rotate 1 0 0 40"));
     assert_eq!(settle(mitred("leg.L.2: rotate 1 0 0 90")), first);
 }
+
+/// A joint whose volume cannot be met (a knee folded 170°, the shin pressed into the thigh)
+/// widens its ring to the bound once, not once per sweep: each sweep solves the ring's whole
+/// scale from the mitre. (Scaling the already widened ring again in every sweep drew the
+/// beast's crown into a spike when its head was tilted back.)
+#[test]
+fn a_ring_that_cannot_keep_its_volume_widens_no_further_than_its_bound() {
+    let rig = rig();
+    let edit = "leg.L.2: rotate 1 0 0 170";
+    let mitred = pose_mitred(&rig.scene, &rig.binding, &[edit]).cages;
+    let kept = pose(&rig.scene, &rig.binding, &[edit]).cages;
+    let ring = &rig
+        .scene
+        .cages
+        .internals
+        .iter()
+        .find(|c| c.name == "leg.L.2")
+        .unwrap()
+        .joint;
+    let centre = ring.iter().map(|&v| mitred[v as usize]).sum::<DVec3>() / ring.len() as f64;
+    let radius = ring
+        .iter()
+        .map(|&v| (mitred[v as usize] - centre).length())
+        .fold(0.0, f64::max);
+    let widest = ring
+        .iter()
+        .map(|&v| (kept[v as usize] - mitred[v as usize]).length())
+        .fold(0.0, f64::max);
+    // The region still lacks volume, so the ring stands at its bound (0.8 of its radius on
+    // the outer side), and no further.
+    let leg = |cages: &[DVec3]| left_leg_volume(&rig, &mesh_of(&rig, cages));
+    let rest = leg(&rig.scene.cages.vertices);
+    let lost = (rest - leg(&kept)) / rest;
+    eprintln!(
+        "knee 170°: the leg lost {:.2} %, the ring widened by {:.3} of its radius",
+        100.0 * lost,
+        widest / radius
+    );
+    assert!(lost > 0.005, "the knee's volume is met: {lost}");
+    assert!(
+        widest > 0.5 * radius,
+        "the ring widened {widest} of {radius}"
+    );
+    assert!(
+        widest <= 0.8 * radius * (1.0 + 1e-9),
+        "{widest} of {radius}"
+    );
+}
