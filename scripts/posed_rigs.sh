@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's pictures of posed auto rigs: a humanoid walking (the armadillo), a quadruped
-# lifting a front leg (the horse), a humanoid with thick knees stepping (the beast) and a
-# creature (the creature demo's mesh), each made by `autorig` with its controls and posed by
+# lifting a front leg (the horse), a humanoid with thick knees stepping and turning its head
+# (the beast) and a creature (the creature demo's mesh), each made by `autorig` with its controls and posed by
 # `render --apply` on them. Needs ../shared/meshes.
 #   bash scripts/posed_rigs.sh [path/to/starcages-cli]
 set -euo pipefail
@@ -25,6 +25,7 @@ trap 'rm -rf "$work"' EXIT
     --apply "leg.L.1: rotate 1 0 0 -35" --apply "leg.L.3: rotate 1 0 0 55" \
     --apply "leg.R.1: rotate 1 0 0 20" --apply "arm.L.1: rotate 1 0 0 25" \
     --apply "arm.R.1: rotate 1 0 0 -25" --apply "arm.R.3: rotate 1 0 0 -40" \
+    --apply "head.1: rotate 0 0 1 -25" --apply "head.1: rotate 1 0 0 15" \
     --png docs/images/posed_beast.png >/dev/null
 "$cli" demo creature --out "$work" >/dev/null
 "$cli" deform "$work/creature.json" --out "$work/creature.obj" >/dev/null

@@ -149,12 +149,14 @@ fn mirrored_twin_knees_are_two_legs_not_one_body() {
     };
     let controls = controls_with(&thick_kneed_biped(), &settings);
     let names: Vec<&String> = controls.keys().collect();
-    assert!(
-        !names
-            .iter()
-            .any(|n| n.starts_with("head") || n.starts_with("neck")),
-        "{names:?}"
-    );
+    assert!(!names.iter().any(|n| n.starts_with("neck")), "{names:?}");
+    // A head is the one on its shoulders (above the torso's top at z 1.65), not a knee.
+    for (name, (parent, pivot)) in controls.iter().filter(|(n, _)| n.starts_with("head")) {
+        assert!(
+            pivot.z > 1.4 && parent.as_deref() == Some("root"),
+            "{name}: {pivot}"
+        );
+    }
     for n in 1..=3 {
         let (l, r) = (format!("leg.L.{n}"), format!("leg.R.{n}"));
         // Twins: the right leg's pivots are the left's mirrored.
@@ -193,6 +195,48 @@ pub(crate) fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
         ));
     }
     capsules(&parts, 0.035)
+}
+
+/// [`human`] with its head set on its shoulders by a neck as thick as most of the head (no
+/// narrowing between two thick ends): the torso tapers into the head, as on the beast.
+pub(crate) fn human_without_neck() -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
+        (v(0.0, 0.0, 1.2), v(0.0, 0.0, 1.5), 0.19),
+        (v(0.0, -0.03, 1.65), v(0.0, 0.0, 1.75), 0.24),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.4 * side, 0.0, 1.05), v(0.75 * side, 0.0, 0.3), 0.1));
+        parts.push((v(0.75 * side, 0.0, 0.3), v(0.85 * side, 0.0, -0.3), 0.08));
+        parts.push((v(0.3 * side, 0.0, -0.1), v(0.32 * side, 0.0, -1.9), 0.13));
+    }
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn a_head_set_on_the_shoulders_gets_its_own_control() {
+    // The head was a body slab with the shoulders (no control), as the beast's was.
+    let controls = controls_of(&human_without_neck());
+    let names: Vec<&String> = controls.keys().collect();
+    for limb in ["head.1", "arm.L.1", "arm.R.1", "leg.L.1", "leg.R.1"] {
+        assert!(controls.contains_key(limb), "no {limb} in {names:?}");
+    }
+    // Its pivot is above the shoulders, at the base of the head, on the centre line.
+    let pivot = controls["head.1"].1;
+    assert!(
+        pivot.z > 1.2 && pivot.z < 1.65 && pivot.x.abs() < 0.1,
+        "{pivot}"
+    );
+    // Its joint ring goes round the neck, below the head's middle: the head's skin is the
+    // head's, not the shoulders' slab's wrapped round it up to the crown.
+    let scene = rigged_with(&human_without_neck(), &AutorigSettings::default());
+    let head = scene.cages.internals.iter().find(|c| c.name == "head.1");
+    let ring = head.map(|c| c.joint.clone()).unwrap_or_default();
+    let top = ring
+        .iter()
+        .map(|&v| scene.cages.vertices[v as usize].z)
+        .fold(f64::MIN, f64::max);
+    assert!(!ring.is_empty() && top < 1.65, "the ring reaches z {top}");
 }
 
 #[test]

@@ -894,3 +894,20 @@ fn a_human_turns_its_head_on_a_short_neck_leaving_its_arms_still() {
         bends_cleanly(&scene, &binding, edit, 30.0, &["head", "neck"]);
     }
 }
+
+#[test]
+fn a_head_set_on_the_shoulders_turns_and_nods_leaving_its_arms_still() {
+    // The beast's case: no neck narrower than the head; the head is split from the torso above
+    // the shoulders and turns, nods and tilts back with no fold, its volume kept, arms and legs
+    // still.
+    let scene = rigged(&crate::limb_names::human_without_neck());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    for edit in [
+        "head.1: rotate 0 0 1 30",
+        "head.1: rotate 0 0 1 -30",
+        "head.1: rotate 1 0 0 30",
+        "head.1: rotate 1 0 0 -30",
+    ] {
+        bends_cleanly(&scene, &binding, edit, 30.0, &["head", "neck", "body"]);
+    }
+}

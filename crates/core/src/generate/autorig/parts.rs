@@ -5,7 +5,7 @@
 //! along a grid axis, so the joints between its segments are flat).
 
 use std::cmp::Reverse;
-use std::collections::{BTreeMap, BinaryHeap};
+use std::collections::{BTreeMap, BTreeSet, BinaryHeap};
 
 use glam::IVec3;
 
@@ -78,7 +78,8 @@ pub(super) fn cut_into_parts(
 ) -> Parts {
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
-    split_at_necks(grid, &mut body);
+    let necked = split_at_necks(grid, &mut body);
+    let heads = split_heads_above_shoulders(grid, occupied, &mut body, &necked);
     // Bodies: face-connected pieces of body cells; limbs: of the rest.
     let (body_of, bodies) = components(grid, |i| body[i]);
     let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
@@ -90,7 +91,12 @@ pub(super) fn cut_into_parts(
         let extent = hi - lo + IVec3::ONE;
         let axis = longest_axis(extent);
         let thickness = 2.0 * mean_depth(depth, &cells);
-        let count = slab_count(f64::from(extent[axis]), cutting.slab_length * thickness);
+        // A head split off above the shoulders is one slab: halved, neither half is a part.
+        let count = if cells.iter().any(|i| heads.contains(i)) {
+            1
+        } else {
+            slab_count(f64::from(extent[axis]), cutting.slab_length * thickness)
+        };
         for &i in &cells {
             let along = f64::from(grid.cell_of(i)[axis] - lo[axis]) + 0.5;
             let slab = ((along / f64::from(extent[axis])) * count as f64) as usize;
@@ -333,7 +339,8 @@ fn body_cells(
 /// on its thinner side, leaves the body, so that each end is a body of its own and the neck a
 /// limb between them (a head gets a control). Ends of fewer than [`NECK_END_LAYERS`] layers
 /// (a rounded tip) are not split off.
-fn split_at_necks(grid: &Grid, body: &mut [bool]) {
+fn split_at_necks(grid: &Grid, body: &mut [bool]) -> BTreeSet<usize> {
+    let mut split = BTreeSet::new();
     let (body_of, bodies) = components(grid, |i| body[i]);
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); bodies];
     for (i, b) in body_of.iter().enumerate() {
@@ -371,11 +378,132 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) {
             for &i in &cells {
                 if layer(i) == k {
                     body[i] = false;
+                } else {
+                    split.insert(i);
                 }
             }
         }
     }
+    split
 }
+
+/// A standing figure's head on a body that does not narrow to a neck first (a humanoid's head
+/// on thick shoulders, the beast's): where a standing body (longest axis vertical) stands on
+/// legs (its piece of the solid reaches [`LEGS_SHARE`] of its height below it), the narrowest
+/// layer above its thickest one in its upper half (the chest and shoulders) that holds at
+/// most [`HEAD_SHARE`] of that thickest layer and leaves [`NECK_END_LAYERS`] layers above it
+/// leaves the body, as [`split_at_necks`] does between two thick ends. Bodies split there are
+/// not looked at again; a lumpy sphere or a bust, on no legs, is not split. Returns the cells
+/// of the heads split off: each becomes one slab (halved, each half was under a fifth of a
+/// body slab and merged away, leaving the head no control).
+fn split_heads_above_shoulders(
+    grid: &Grid,
+    occupied: &[bool],
+    body: &mut [bool],
+    necked: &BTreeSet<usize>,
+) -> BTreeSet<usize> {
+    let mut heads = BTreeSet::new();
+    let (body_of, bodies) = components(grid, |i| body[i]);
+    let (piece_of, pieces) = components(grid, |i| occupied[i]);
+    let mut piece_bottom = vec![i32::MAX; pieces];
+    for (i, p) in piece_of.iter().enumerate() {
+        if let Some(p) = *p {
+            piece_bottom[p] = piece_bottom[p].min(grid.cell_of(i).z);
+        }
+    }
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); bodies];
+    for (i, b) in body_of.iter().enumerate() {
+        if let Some(b) = *b {
+            members[b].push(i);
+        }
+    }
+    for cells in members {
+        let Some(bottom) = cells
+            .first()
+            .and_then(|&i| piece_of[i])
+            .map(|p| piece_bottom[p])
+        else {
+            continue;
+        };
+        let (lo, hi) = cell_bounds(grid, &cells);
+        let height = hi.z - lo.z + 1;
+        let standing = longest_axis(hi - lo + IVec3::ONE) == 2;
+        let on_legs = f64::from(lo.z - bottom) >= LEGS_SHARE * f64::from(height);
+        if !standing || !on_legs || cells.iter().any(|i| necked.contains(i)) {
+            continue;
+        }
+        let layers = height as usize;
+        let layer = |i: usize| (grid.cell_of(i).z - lo.z) as usize;
+        let mut count = vec![0usize; layers];
+        for &i in &cells {
+            count[layer(i)] += 1;
+        }
+        let Some(peak) =
+            (layers / 2..layers).max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))
+        else {
+            continue;
+        };
+        let thickest = count[peak] as f64;
+        // A head of HEAD_LAYERS at least; of NECK_END_LAYERS where there is one.
+        let neck_under = |above: usize| {
+            (peak + 1..layers.saturating_sub(above))
+                .filter(|&k| count[k] > 0 && count[k] as f64 <= HEAD_SHARE * thickest)
+                .min_by(|&a, &c| count[a].cmp(&count[c]).then(a.cmp(&c)))
+        };
+        let neck = neck_under(NECK_END_LAYERS).or_else(|| neck_under(HEAD_LAYERS));
+        if let Some(k) = neck {
+            let mut head = Vec::new();
+            for &i in &cells {
+                if layer(i) == k {
+                    body[i] = false;
+                } else if layer(i) > k {
+                    head.push(i);
+                }
+            }
+            // The head's skin: the thin shell of limb cells around its core, above the neck
+            // layer, within HEAD_SKIN cells of the core. Left a limb region, the shoulders'
+            // slab took it and wrapped the head, so the joint ring reached its crown.
+            let above = lo.z + k as i32;
+            let mut front = head.clone();
+            let mut seen: BTreeSet<usize> = head.iter().copied().collect();
+            for _ in 0..HEAD_SKIN {
+                let mut next = Vec::new();
+                for &i in &front {
+                    let c = grid.cell_of(i);
+                    for step in FACE_STEPS {
+                        let Some(n) = grid.index(c + step) else {
+                            continue;
+                        };
+                        if occupied[n] && !body[n] && grid.cell_of(n).z > above && seen.insert(n) {
+                            next.push(n);
+                        }
+                    }
+                }
+                front = next;
+                head.extend_from_slice(&front);
+            }
+            for i in head {
+                body[i] = true;
+                heads.insert(i);
+            }
+        }
+    }
+    heads
+}
+
+/// How many cells of limb region around a head split off above the shoulders are its skin.
+const HEAD_SKIN: usize = 2;
+
+/// The fewest layers of body cells a head split off above the shoulders holds.
+const HEAD_LAYERS: usize = 2;
+
+/// The most body cells the layer under a standing body's head holds, as a share of the
+/// body's thickest layer.
+const HEAD_SHARE: f64 = 0.6;
+
+/// How far below a standing body its figure reaches (its legs), as a share of the body's
+/// height, for its top to be looked at for a head.
+const LEGS_SHARE: f64 = 0.2;
 
 /// The most body cells a neck's layer holds, as a share of the thickest layer of its thinner
 /// end.
