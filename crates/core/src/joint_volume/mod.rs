@@ -227,19 +227,13 @@ impl JointVolumes {
         let x = dofs.get_or_insert_with(|| operator.dofs(&self.rest, pose));
         mesh.resize(operator.row_count(), Vec3::ZERO);
         // Gauss–Seidel: neighbouring joints share a segment's rows (a hip's region and its
-        // knee's both hold the thigh), so a sweep is repeated until no ring moves. Each joint's
-        // scale is solved from its ring as the mitre left it, so a joint solved again in a
-        // later sweep stays within the scale's bounds rather than scaling its scaled ring.
-        let mitred: Vec<Vec<DVec3>> = bent
-            .iter()
-            .map(|(joint, _)| joint.ring.iter().map(|&v| pose[v as usize]).collect())
-            .collect();
-        let mut scales = vec![0.0; bent.len()];
+        // knee's both hold the thigh), so a sweep is repeated until no ring moves.
         for sweep in 0..MAX_SWEEPS {
             let mut any = false;
-            for (((joint, bend), base), scale) in bent.iter().zip(&mitred).zip(&mut scales) {
+            for (joint, bend) in &bent {
+                let base: Vec<DVec3> = joint.ring.iter().map(|&v| pose[v as usize]).collect();
                 let mut volume_at = |s: f64, pose: &mut [DVec3]| -> f64 {
-                    for (&v, p) in joint.ring.iter().zip(bend.bulged(base, s)) {
+                    for (&v, p) in joint.ring.iter().zip(bend.bulged(&base, s)) {
                         pose[v as usize] = p;
                     }
                     operator.update_dofs(&self.rest, pose, &joint.ring, x);
@@ -247,16 +241,16 @@ impl JointVolumes {
                     region_volume(&mesh, &joint.triangles, &joint.loops) - joint.rest_volume
                 };
                 // In a live rig's first sweep, from where this joint's last settle ended (a
-                // drag's previous step); a whole settle starts from the mitre, so that a pose
-                // settles to the same cages whatever was settled before (a bake against its
-                // frames shown one by one).
+                // drag's previous step); a whole settle starts from 0, so that a pose settles
+                // to the same cages whatever was settled before (a bake against its frames
+                // shown one by one).
                 let hint = &self.hints[joint.index];
                 let start = if sweep == 0 && moved.is_some() {
                     f64::from_bits(hint.load(Ordering::Relaxed))
                 } else {
-                    *scale
+                    0.0
                 };
-                let solved = solve(|s| volume_at(s, pose), joint.rest_volume, *scale, start);
+                let solved = solve(|s| volume_at(s, pose), joint.rest_volume, start);
                 if sweep == 0 {
                     hint.store(solved.scale.to_bits(), Ordering::Relaxed);
                 }
@@ -265,18 +259,13 @@ impl JointVolumes {
                 if solved.scale != solved.last {
                     volume_at(solved.scale, pose);
                 }
-                if solved.scale != *scale {
+                if solved.scale != 0.0 {
                     any = true;
-                    *scale = solved.scale;
+                    settled.extend_from_slice(&joint.ring);
                 }
             }
             if !any {
                 break;
-            }
-        }
-        for ((joint, _), scale) in bent.iter().zip(&scales) {
-            if *scale != 0.0 {
-                settled.extend_from_slice(&joint.ring);
             }
         }
         settled.sort_unstable();

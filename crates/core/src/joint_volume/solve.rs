@@ -24,43 +24,29 @@ pub(super) struct Solved {
 }
 
 /// The scale `s` at which `excess(s)` (the region's volume less its rest volume) vanishes, by
-/// the secant method from `current` (where the ring stands: 0 at the mitre) and `start` (a
-/// previous solution, when it widens or narrows from `current` as this one must; else
-/// `current` ± 0.05) within [`S_MIN`, `S_MAX`]; `current` when the region is settled there,
-/// the best evaluated otherwise. The scale is the ring's whole scale from the mitre, so the
-/// bounds hold however often a joint is solved again.
-pub(super) fn solve(
-    mut excess: impl FnMut(f64) -> f64,
-    rest_volume: f64,
-    current: f64,
-    start: f64,
-) -> Solved {
-    let e0 = excess(current);
+/// the secant method from 0 and `start` (a previous solution, when it widens or narrows as
+/// this one must; else ±0.05) within [`S_MIN`, `S_MAX`]; 0 when the region is settled
+/// already, the best evaluated otherwise.
+pub(super) fn solve(mut excess: impl FnMut(f64) -> f64, rest_volume: f64, start: f64) -> Solved {
+    let e0 = excess(0.0);
     let size = rest_volume.abs();
     if !e0.is_finite() || e0.abs() <= SETTLED * size {
         return Solved {
-            scale: current,
-            last: current,
+            scale: 0.0,
+            last: 0.0,
         };
     }
     // Lost volume (a change against the region's orientation): widen; gained: narrow.
     let widen = e0 * rest_volume < 0.0;
-    let (mut s0, mut e_prev) = (current, e0);
+    let (mut s0, mut e_prev) = (0.0, e0);
     let mut s1 = match (widen, start) {
-        (true, s) if s > current && s <= S_MAX => s,
-        (false, s) if s >= S_MIN && s < current => s,
-        (true, _) => (current + 0.05).min(S_MAX),
-        (false, _) => (current - 0.05).max(S_MIN),
+        (true, s) if s > 0.0 && s <= S_MAX => s,
+        (false, s) if (S_MIN..0.0).contains(&s) => s,
+        (true, _) => 0.05,
+        (false, _) => -0.05,
     };
-    if s1 == current {
-        // At the bound already, in the direction it would go.
-        return Solved {
-            scale: current,
-            last: current,
-        };
-    }
     let mut e1 = excess(s1);
-    let mut best = (current, e0.abs());
+    let mut best = (0.0, e0.abs());
     for _ in 2..MAX_EVALUATIONS {
         if e1.is_finite() && e1.abs() < best.1 {
             best = (s1, e1.abs());
@@ -95,7 +81,7 @@ mod tests {
     #[test]
     fn the_secant_method_finds_the_scale_of_a_cubic_volume() {
         // A region whose volume grows as (1 + s)³ and stands at 0.8 of its rest volume.
-        let found = solve(|s| 0.8 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0, 0.0);
+        let found = solve(|s| 0.8 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0);
         let exact = 0.8f64.powf(-1.0 / 3.0) - 1.0;
         assert!(
             (found.scale - exact).abs() < 1e-3,
@@ -103,23 +89,23 @@ mod tests {
             found.scale
         );
         // Started from a previous solution near it, the same answer.
-        let warm = solve(|s| 0.8 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0, 0.07);
+        let warm = solve(|s| 0.8 * (1.0 + s).powi(3) - 1.0, 1.0, 0.07);
         assert!((warm.scale - exact).abs() < 1e-3);
         // A gain narrows the ring (s < 0).
-        let gain = solve(|s| 1.3 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0, 0.0);
+        let gain = solve(|s| 1.3 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0);
         assert!(gain.scale < 0.0);
     }
 
     #[test]
     fn a_settled_region_is_left_and_an_unreachable_one_stops_at_the_bound() {
-        let settled = solve(|s| 1e-5 + s, 1.0, 0.0, 0.0);
+        let settled = solve(|s| 1e-5 + s, 1.0, 0.0);
         assert_eq!((settled.scale, settled.last), (0.0, 0.0));
         // A region that would need the ring three times as wide: as far as it may go.
-        let far = solve(|s| 0.1 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0, 0.0);
+        let far = solve(|s| 0.1 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0);
         assert_eq!(far.scale, S_MAX);
         // A negative orientation (a mesh wound inwards): the same scale.
-        let inward = solve(|s| -(0.8 * (1.0 + s).powi(3) - 1.0), -1.0, 0.0, 0.0);
-        let outward = solve(|s| 0.8 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0, 0.0);
+        let inward = solve(|s| -(0.8 * (1.0 + s).powi(3) - 1.0), -1.0, 0.0);
+        let outward = solve(|s| 0.8 * (1.0 + s).powi(3) - 1.0, 1.0, 0.0);
         assert!((inward.scale - outward.scale).abs() < 1e-9);
     }
 }
