@@ -200,6 +200,11 @@ pub(crate) fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
 /// [`human`] with its head set on its shoulders by a neck as thick as most of the head (no
 /// narrowing between two thick ends): the torso tapers into the head, as on the beast.
 pub(crate) fn human_without_neck() -> Mesh {
+    human_without_neck_on_legs(-1.9)
+}
+
+/// [`human_without_neck`] with its feet at height `foot_z` (its hips at −0.1).
+pub(crate) fn human_without_neck_on_legs(foot_z: f64) -> Mesh {
     let mut parts = vec![
         (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
         (v(0.0, 0.0, 1.2), v(0.0, 0.0, 1.5), 0.19),
@@ -208,7 +213,7 @@ pub(crate) fn human_without_neck() -> Mesh {
     for side in [-1.0, 1.0] {
         parts.push((v(0.4 * side, 0.0, 1.05), v(0.75 * side, 0.0, 0.3), 0.1));
         parts.push((v(0.75 * side, 0.0, 0.3), v(0.85 * side, 0.0, -0.3), 0.08));
-        parts.push((v(0.3 * side, 0.0, -0.1), v(0.32 * side, 0.0, -1.9), 0.13));
+        parts.push((v(0.3 * side, 0.0, -0.1), v(0.32 * side, 0.0, foot_z), 0.13));
     }
     capsules(&parts, 0.035)
 }

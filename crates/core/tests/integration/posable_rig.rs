@@ -911,3 +911,18 @@ fn a_head_set_on_the_shoulders_turns_and_nods_leaving_its_arms_still() {
         bends_cleanly(&scene, &binding, edit, 30.0, &["head", "neck", "body"]);
     }
 }
+
+#[test]
+fn a_stocky_figure_on_short_legs_turns_its_head_on_its_shoulders() {
+    // The Ogre's case: legs reaching 0.17 of the body's height below it (here feet at −0.7
+    // under hips at −0.1). Under the rule's earlier 0.2 the head stayed in the top body slab
+    // with no control.
+    let scene = rigged(&crate::limb_names::human_without_neck_on_legs(-0.7));
+    let head = scene.cages.internals.iter().find(|c| c.name == "head.1");
+    let pivot = head.and_then(|c| c.pivot).unwrap_or(DVec3::ZERO);
+    assert!(pivot.z > 1.2 && pivot.z < 1.65, "head.1's pivot {pivot}");
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    for edit in ["head.1: rotate 0 0 1 30", "head.1: rotate 1 0 0 -30"] {
+        bends_cleanly(&scene, &binding, edit, 30.0, &["head", "neck", "body"]);
+    }
+}

@@ -502,8 +502,8 @@ const HEAD_LAYERS: usize = 2;
 const HEAD_SHARE: f64 = 0.6;
 
 /// How far below a standing body its figure reaches (its legs), as a share of the body's
-/// height, for its top to be looked at for a head.
-const LEGS_SHARE: f64 = 0.2;
+/// height, for its top to be looked at for a head (the Ogre's legs reach 0.17).
+const LEGS_SHARE: f64 = 0.15;
 
 /// The most body cells a neck's layer holds, as a share of the thickest layer of its thinner
 /// end.
