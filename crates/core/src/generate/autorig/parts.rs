@@ -92,7 +92,7 @@ pub(super) fn cut_into_parts(
         let axis = longest_axis(extent);
         let thickness = 2.0 * mean_depth(depth, &cells);
         // A head split off above the shoulders is one slab: halved, neither half is a part.
-        let count = if cells.iter().any(|i| heads.contains(i)) {
+        let count = if cells.iter().any(|&i| heads[i]) {
             1
         } else {
             slab_count(f64::from(extent[axis]), cutting.slab_length * thickness)
@@ -338,9 +338,9 @@ fn body_cells(
 /// longest axis, where it holds at most [`NECK_SHARE`] of the body cells of the thickest layer
 /// on its thinner side, leaves the body, so that each end is a body of its own and the neck a
 /// limb between them (a head gets a control). Ends of fewer than [`NECK_END_LAYERS`] layers
-/// (a rounded tip) are not split off.
-fn split_at_necks(grid: &Grid, body: &mut [bool]) -> BTreeSet<usize> {
-    let mut split = BTreeSet::new();
+/// (a rounded tip) are not split off. Returns which cells are in a body split so.
+fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
+    let mut split = vec![false; grid.len()];
     let (body_of, bodies) = components(grid, |i| body[i]);
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); bodies];
     for (i, b) in body_of.iter().enumerate() {
@@ -379,7 +379,7 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> BTreeSet<usize> {
                 if layer(i) == k {
                     body[i] = false;
                 } else {
-                    split.insert(i);
+                    split[i] = true;
                 }
             }
         }
@@ -388,21 +388,23 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> BTreeSet<usize> {
 }
 
 /// A standing figure's head on a body that does not narrow to a neck first (a humanoid's head
-/// on thick shoulders, the beast's): where a standing body (longest axis vertical) stands on
-/// legs (its piece of the solid reaches [`LEGS_SHARE`] of its height below it), the narrowest
-/// layer above its thickest one in its upper half (the chest and shoulders) that holds at
-/// most [`HEAD_SHARE`] of that thickest layer and leaves [`NECK_END_LAYERS`] layers above it
-/// leaves the body, as [`split_at_necks`] does between two thick ends. Bodies split there are
-/// not looked at again; a lumpy sphere or a bust, on no legs, is not split. Returns the cells
-/// of the heads split off: each becomes one slab (halved, each half was under a fifth of a
-/// body slab and merged away, leaving the head no control).
+/// on thick shoulders, the beast's, the Ogre's): where a standing body (longest axis
+/// vertical) stands on legs (its piece of the solid reaches [`LEGS_SHARE`] of its height
+/// below it), the narrowest layer above its thickest one in its upper half (the chest and
+/// shoulders) that holds at most [`HEAD_SHARE`] of that thickest layer and leaves
+/// [`NECK_END_LAYERS`] layers above it ([`HEAD_LAYERS`] where none does) leaves the body, as
+/// [`split_at_necks`] does between two thick ends (`necked`: the bodies it split, not looked
+/// at again); a lumpy sphere or a bust, on no legs, is not split. The head's skin, the limb
+/// cells within [`HEAD_SKIN`] cells of it above that layer, joins its body. Returns which
+/// cells are heads: each becomes one slab (halved, each half was under a fifth of a body
+/// slab and merged away, leaving the head no control).
 fn split_heads_above_shoulders(
     grid: &Grid,
     occupied: &[bool],
     body: &mut [bool],
-    necked: &BTreeSet<usize>,
-) -> BTreeSet<usize> {
-    let mut heads = BTreeSet::new();
+    necked: &[bool],
+) -> Vec<bool> {
+    let mut heads = vec![false; grid.len()];
     let (body_of, bodies) = components(grid, |i| body[i]);
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut piece_bottom = vec![i32::MAX; pieces];
@@ -429,7 +431,7 @@ fn split_heads_above_shoulders(
         let height = hi.z - lo.z + 1;
         let standing = longest_axis(hi - lo + IVec3::ONE) == 2;
         let on_legs = f64::from(lo.z - bottom) >= LEGS_SHARE * f64::from(height);
-        if !standing || !on_legs || cells.iter().any(|i| necked.contains(i)) {
+        if !standing || !on_legs || cells.iter().any(|&i| necked[i]) {
             continue;
         }
         let layers = height as usize;
@@ -484,7 +486,7 @@ fn split_heads_above_shoulders(
             }
             for i in head {
                 body[i] = true;
-                heads.insert(i);
+                heads[i] = true;
             }
         }
     }
