@@ -450,6 +450,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         .into());
     }
     let grid = starcages_cli::commands::three_counts(&args.grid, "--grid", 32)?;
+    if let Some(h) = args.h.iter().find(|h| !(**h > 0.0 && **h <= 1.0)) {
+        return Err(starcages_cli::InputError(format!("--h {h}: each h must be in (0, 1]")).into());
+    }
+    // Scenes left out by `--only` are not built (the prism alone is 200k triangles).
+    let mut names = Vec::new();
+    let mut wanted = |name: &str| {
+        names.push(name.to_owned());
+        args.only.is_empty() || args.only.iter().any(|n| n == name)
+    };
     let mut scenes: Vec<(String, Scene)> = Vec::new();
     for (name, detail) in [
         ("bar", 1.0),
@@ -458,6 +467,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ("prism", args.prism_detail),
         ("creature", 1.0),
     ] {
+        if !wanted(name) {
+            continue;
+        }
         if let Some(scene) = demo_scene(name, detail) {
             scenes.push((name.to_owned(), scene));
         }
@@ -473,6 +485,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             .collect();
         files.sort();
         for file in files {
+            let stem = file
+                .file_stem()
+                .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+            let name = format!("{stem}-{}x{}x{}", grid[0], grid[1], grid[2]);
+            if !wanted(&name) {
+                continue;
+            }
             // Y-up as every OBJ: turned to Z-up, as `autocage` and the editor do.
             let (mesh, up) = starcages_cli::commands::read_new_scene_mesh(&file, None)?;
             let cages = autocage(
@@ -482,27 +501,28 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                     ..Default::default()
                 },
             );
-            let name = file
-                .file_stem()
-                .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
             let scene = Scene::from_mesh_file(file, up, mesh, cages, SceneSettings::default());
-            scenes.push((format!("{name}-{}x{}x{}", grid[0], grid[1], grid[2]), scene));
+            scenes.push((name, scene));
         }
     }
     for file in &args.scene {
-        let scene = starcages_io::load_scene(file)?;
         let name = file
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        scenes.push((name, scene));
+        if wanted(&name) {
+            scenes.push((name, starcages_io::load_scene(file)?));
+        }
     }
-    scenes.retain(|(n, _)| args.only.is_empty() || args.only.contains(n));
+    if let Some(unknown) = args.only.iter().find(|n| !names.contains(n)) {
+        return Err(starcages_cli::InputError(format!(
+            "--only {unknown}: no such scene; the scenes are {}",
+            names.join(", ")
+        ))
+        .into());
+    }
     let mut rows = Vec::new();
     let mut ratios = Vec::new();
     let mut table2 = Vec::new();
-    if let Some(h) = args.h.iter().find(|h| !(**h > 0.0 && **h <= 1.0)) {
-        return Err(starcages_cli::InputError(format!("--h {h}: each h must be in (0, 1]")).into());
-    }
     for (name, scene) in &scenes {
         let pose = wave(scene);
         let mut stars = Vec::new();

@@ -32,6 +32,14 @@ fn bench_sweeps_h_and_reports_bind_ratios() {
     assert!(nnz(0) >= nnz(1), "{} vs {}", nnz(0), nnz(1));
     let bad = bench(&["--h", "0"]);
     assert_eq!(bad.status.code(), Some(2));
+    // A misspelt scene is named with the ones there are, not an empty table.
+    let unknown = bench(&["--only", "bars", "--json"]);
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(
+        stderr(&unknown).contains("--only bars: no such scene; the scenes are bar, egg"),
+        "{}",
+        stderr(&unknown)
+    );
 }
 
 /// `bench --scale` subdivides a mesh file and reports, per size, the bind's phases and its peak
