@@ -339,19 +339,24 @@ impl<'a> Clusters<'a> {
             if distance > 0.0 && distance >= beta * cluster.radius {
                 total += cluster.area.dot(r) / distance.powi(3);
             } else if cluster.children.is_empty() {
-                for &t in &cluster.triangles {
-                    let [a, b, c] = self.triangles[t];
-                    total += crate::geometry::solid_angle(
-                        self.positions[a as usize] - p,
-                        self.positions[b as usize] - p,
-                        self.positions[c as usize] - p,
-                    );
-                }
+                total += self.solid_angle(cluster, p);
             } else {
                 stack.extend_from_slice(&cluster.children);
             }
         }
         total / (4.0 * std::f64::consts::PI)
+    }
+
+    /// The solid angle a group's triangles subtend at `p`, triangle by triangle.
+    fn solid_angle(&self, group: &Cluster, p: DVec3) -> f64 {
+        group
+            .triangles
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = self.triangles[t].map(|i| self.positions[i as usize] - p);
+                crate::geometry::solid_angle(a, b, c)
+            })
+            .sum()
     }
 
     /// Whether the centre of `cell` is inside: a winding number above ½. Taken from dipoles
@@ -375,14 +380,7 @@ impl<'a> Clusters<'a> {
             if (group.cell - cell).abs().max_element() <= 2
                 || group.centre.distance(p) < 2.0 * group.radius
             {
-                for &t in &group.triangles {
-                    let [a, b, c] = self.triangles[t];
-                    total += crate::geometry::solid_angle(
-                        self.positions[a as usize] - p,
-                        self.positions[b as usize] - p,
-                        self.positions[c as usize] - p,
-                    );
-                }
+                total += self.solid_angle(group, p);
             } else {
                 let r = group.centre - p;
                 total += group.area.dot(r) / r.length().powi(3);
@@ -520,22 +518,9 @@ mod tests {
         assert!(check(&positions, &triangles) > 300);
         // A box of 12 triangles, each many cells wide: a group's triangles reach far from the
         // cell holding their centroids, so its radius, not its cell, says when it is far.
-        let positions: Vec<DVec3> = (0..8)
-            .map(|i| DVec3::new(f64::from(i & 1), f64::from((i >> 1) & 1), f64::from(i >> 2)))
-            .map(|p| p * DVec3::new(3.0, 1.0, 0.5))
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let triangles: Vec<[u32; 3]> = quads
-            .iter()
-            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-            .collect();
+        let cuboid = crate::cage::shapes::cuboid(DVec3::ZERO, DVec3::new(3.0, 1.0, 0.5));
+        let (positions, triangles) = (cuboid.positions().to_vec(), cuboid.triangles().to_vec());
+        assert_eq!(triangles.len(), 12);
         assert!(brute_force(&positions, &triangles, DVec3::new(1.5, 0.5, 0.25)) > 0.99);
         assert!(check(&positions, &triangles) > 50);
         // The box with its top open: the winding number passes ½ near the opening, where
