@@ -43,12 +43,23 @@ def cli_deform(scene_file, out):
 
 def paired(ours_rest, theirs_rest):
     """Index of each of our vertices among the CLI's (its OBJ reads back in face order), by
-    rest position: a grid of cells 1e-4 of the diagonal wide, the neighbouring cells searched."""
+    rest position: both sorted along their coordinates rounded to 1e-4 of the diagonal, which
+    pairs them when both round alike (the CLI writes the positions it read); otherwise each
+    vertex is looked up in a grid of such cells, the neighbouring cells searched."""
     cell = 1e-4 * float(np.linalg.norm(ours_rest.max(axis=0) - ours_rest.min(axis=0)))
+    assert len(ours_rest) == len(theirs_rest), "the CLI wrote another vertex count"
+
+    def order(points):
+        key = np.round(points / cell).astype(np.int64)
+        return np.lexsort((key[:, 2], key[:, 1], key[:, 0]))
+
+    out = np.empty(len(ours_rest), dtype=np.int64)
+    out[order(ours_rest)] = order(theirs_rest)
+    if np.linalg.norm(theirs_rest[out] - ours_rest, axis=1).max() < 1e-5 * cell * 1e4:
+        return out
     grid = {}
     for j, p in enumerate(theirs_rest):
         grid.setdefault(tuple(np.floor(p / cell).astype(int)), []).append(j)
-    out = np.empty(len(ours_rest), dtype=np.int64)
     for i, p in enumerate(ours_rest):
         c = np.floor(p / cell).astype(int)
         best, best_d = -1, np.inf

@@ -73,7 +73,6 @@ fi
 test -x target/debug/starcages-cli
 # PYTHONPATH comes before site-packages: a wheel installed there earlier is not what is tested.
 "$venv/bin/python" -c "import starcages, sys; sys.exit(not starcages.__file__.startswith('$PWD/$module_dir/'))"
-STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests
 
 # The Blender extension (blender/starcages_extension): its tests run headless through the bpy
 # package (Blender as a Python module, about 370 MB; it needs the Python version Blender
@@ -87,10 +86,19 @@ if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
         echo "scripts/test.sh: the bpy package could not be installed for $("$python" --version): the Blender extension's tests are skipped" >&2
     fi
 fi
+# Both Python suites are mostly one thread each: the Blender one runs beside pytest.
+blender_pid=""
 if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
     blender_out=$(mktemp -d)
-    if ! "$bpy_venv/bin/python" scripts/blender_extension_test.py "$PWD/target/debug/starcages-cli" \
-        "$blender_out" >"$blender_out/log" 2>&1; then
+    "$bpy_venv/bin/python" scripts/blender_extension_test.py "$PWD/target/debug/starcages-cli" \
+        "$blender_out" >"$blender_out/log" 2>&1 &
+    blender_pid=$!
+    # A failing pytest ends the script: the Blender run goes with it.
+    trap 'kill "$blender_pid" 2>/dev/null || true' EXIT
+fi
+STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests
+if [ -n "$blender_pid" ]; then
+    if ! wait "$blender_pid"; then
         grep -v '^EGL' "$blender_out/log" >&2
         exit 1
     fi
