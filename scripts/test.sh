@@ -35,15 +35,10 @@ export PROPTEST_RNG_SEED="${PROPTEST_RNG_SEED:-20261123}"
 # features over the packages of one invocation, so every build below names the same packages
 # and features, and the module's build reuses the tests' starcages-core and starcages-io.
 python_module=(--features starcages-python/extension-module)
-if cargo nextest --version >/dev/null 2>&1; then
-    cargo nextest run --workspace --locked --build-jobs "$jobs" "${python_module[@]}" "$@"
-else
-    echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
-    cargo test --workspace --locked -j"$jobs" "${python_module[@]}" "$@"
-fi
 
+# Everything is built first: the tests, the CLI and the Python package's extension module.
 # The Python package (crates/python): its extension module, built by cargo in the same
-# dependency graph as the tests above (only PyO3, numpy and the crate itself compile here; a
+# dependency graph as the Rust tests (only PyO3, numpy and the crate itself compile here; a
 # `maturin build` resolves the crate alone and compiles starcages-core and -io again, 2 of 10
 # minutes of a cold run), is put on PYTHONPATH as `starcages` and tested with pytest against
 # starcages-cli in a virtual environment (target/python-venv, which gets numpy and pytest from
@@ -68,7 +63,7 @@ venv=target/python-venv
 if ! "$venv/bin/python" -c 'import numpy, pytest' 2>/dev/null; then
     "$venv/bin/python" -m pip install -q --disable-pip-version-check numpy pytest
 fi
-# The CLI binary the tests above built (a `cargo build -p starcages-cli` here would resolve
+# The CLI binary the build above made for the tests (a `cargo build -p starcages-cli` would resolve
 # the package's features alone and compile much of the workspace again: 1m43s cold).
 test -x target/debug/starcages-cli
 # PYTHONPATH comes before site-packages: a wheel installed there earlier is not what is tested.
@@ -86,21 +81,38 @@ if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
         echo "scripts/test.sh: the bpy package could not be installed for $("$python" --version): the Blender extension's tests are skipped" >&2
     fi
 fi
-# Both Python suites are mostly one thread each: the Blender one runs beside pytest.
+# The two Python suites (mostly one thread each) run in the background at the lowest CPU
+# priority while the Rust tests run, using the time those leave idle (waits on the software
+# GPU, the last long tests); their output follows the Rust tests'. A failure of the Rust
+# tests ends the script and the Python runs with it.
+python_out=$(mktemp -d)
+STARCAGES_CLI="$PWD/target/debug/starcages-cli" nice -n 19 "$venv/bin/python" -m pytest -q \
+    -p no:cacheprovider crates/python/tests >"$python_out/pytest.log" 2>&1 &
+pytest_pid=$!
 blender_pid=""
 if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
-    blender_out=$(mktemp -d)
-    "$bpy_venv/bin/python" scripts/blender_extension_test.py "$PWD/target/debug/starcages-cli" \
-        "$blender_out" >"$blender_out/log" 2>&1 &
+    nice -n 19 "$bpy_venv/bin/python" scripts/blender_extension_test.py \
+        "$PWD/target/debug/starcages-cli" "$python_out" >"$python_out/blender.log" 2>&1 &
     blender_pid=$!
-    # A failing pytest ends the script: the Blender run goes with it.
-    trap 'kill "$blender_pid" 2>/dev/null || true' EXIT
 fi
-STARCAGES_CLI="$PWD/target/debug/starcages-cli" "$venv/bin/python" -m pytest -q -p no:cacheprovider crates/python/tests
+trap 'kill $pytest_pid $blender_pid 2>/dev/null || true' EXIT
+
+if cargo nextest --version >/dev/null 2>&1; then
+    cargo nextest run --workspace --locked --build-jobs "$jobs" "${python_module[@]}" "$@"
+else
+    echo "scripts/test.sh: cargo-nextest not found, using cargo test (cargo install cargo-nextest for faster runs)" >&2
+    cargo test --workspace --locked -j"$jobs" "${python_module[@]}" "$@"
+fi
+
+if ! wait "$pytest_pid"; then
+    cat "$python_out/pytest.log" >&2
+    exit 1
+fi
+tail -n 1 "$python_out/pytest.log"
 if [ -n "$blender_pid" ]; then
     if ! wait "$blender_pid"; then
-        grep -v '^EGL' "$blender_out/log" >&2
+        grep -v '^EGL' "$python_out/blender.log" >&2
         exit 1
     fi
-    grep -E '^(undo|bent|Blender|reopened|control drag|import|cage|keyed|bake|blender extension)' "$blender_out/log"
+    grep -E '^(undo|bent|Blender|reopened|control drag|import|cage|keyed|bake|blender extension)' "$python_out/blender.log"
 fi
