@@ -464,6 +464,60 @@ fn parse_validated(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
 /// astronomically many paths in a few bytes).
 const MAX_NODE_INSTANCES: usize = 1_000_000;
 
+fn too_many_instances(path: &Path) -> FileError {
+    FileError::format(
+        path,
+        format!(
+            "the node graph expands to more than {MAX_NODE_INSTANCES} node instances \
+             (subtrees shared many times over); re-export it as a plain tree"
+        ),
+    )
+}
+
+/// How many node instances the trees under `roots` expand to, counted once per node from its
+/// children's counts (linear in the nodes and their links, without recursion), saturating
+/// just past [`MAX_NODE_INSTANCES`]. None when a node is its own ancestor: [`walk`] names it.
+fn instance_count(roots: &[gltf::Node<'_>]) -> Option<usize> {
+    // Per node index: None not reached, Some(None) on the current path, Some(Some(n)) counted.
+    let mut counted: Vec<Option<Option<usize>>> = Vec::new();
+    let mut total = 0usize;
+    for root in roots {
+        let mut stack = vec![(root.clone(), false)];
+        while let Some((node, children_done)) = stack.pop() {
+            let index = node.index();
+            if counted.len() <= index {
+                counted.resize(index + 1, None);
+            }
+            if children_done {
+                let count = node
+                    .children()
+                    .map(|c| counted.get(c.index()).copied().flatten().flatten())
+                    .fold(1usize, |sum, c| sum.saturating_add(c.unwrap_or(0)))
+                    .min(MAX_NODE_INSTANCES + 1);
+                counted[index] = Some(Some(count));
+                continue;
+            }
+            match counted[index] {
+                Some(Some(_)) => continue,
+                Some(None) => return None,
+                None => {}
+            }
+            counted[index] = Some(None);
+            stack.push((node.clone(), true));
+            for child in node.children() {
+                match counted.get(child.index()).copied().flatten() {
+                    Some(None) => return None,
+                    Some(Some(_)) => {}
+                    None => stack.push((child, false)),
+                }
+            }
+        }
+        let count = counted.get(root.index()).copied().flatten().flatten();
+        total = total.saturating_add(count.unwrap_or(0));
+    }
+    Some(total)
+}
+
 /// Visits the node trees under `roots` depth first without recursion (a deep chain cannot
 /// overflow the stack), refusing cycles and graphs that expand past [`MAX_NODE_INSTANCES`].
 fn walk<'a>(
@@ -475,8 +529,15 @@ fn walk<'a>(
     // (node, its parent's world transform, depth, the nearest node at or above it whose own
     // transform is not finite or flattens); `on_path[i]`: node i is an ancestor of the node
     // being visited, `path_nodes[d]`: the ancestor at depth d.
-    let mut stack: Vec<(gltf::Node<'a>, DMat4, usize, Option<usize>)> =
-        roots.map(|n| (n, DMat4::IDENTITY, 0, None)).collect();
+    let roots: Vec<gltf::Node<'a>> = roots.collect();
+    // A graph sharing subtrees many times over is refused before its instances are visited.
+    if instance_count(&roots).is_some_and(|n| n > MAX_NODE_INSTANCES) {
+        return Err(too_many_instances(path));
+    }
+    let mut stack: Vec<(gltf::Node<'a>, DMat4, usize, Option<usize>)> = roots
+        .into_iter()
+        .map(|n| (n, DMat4::IDENTITY, 0, None))
+        .collect();
     stack.reverse();
     let mut path_nodes: Vec<usize> = Vec::new();
     let mut on_path: Vec<bool> = Vec::new();
@@ -502,13 +563,7 @@ fn walk<'a>(
         }
         instances += 1;
         if instances > MAX_NODE_INSTANCES {
-            return Err(FileError::format(
-                path,
-                format!(
-                    "the node graph expands to more than {MAX_NODE_INSTANCES} node instances \
-                     (subtrees shared many times over); re-export it as a plain tree"
-                ),
-            ));
+            return Err(too_many_instances(path));
         }
         on_path[index] = true;
         path_nodes.push(index);
