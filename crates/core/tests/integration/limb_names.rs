@@ -376,3 +376,51 @@ fn a_head_on_a_short_neck_is_its_own_body_with_a_control() {
     let parent = parent(&controls, "head.1");
     assert!(parent == "root" || parent.starts_with("neck."), "{names:?}");
 }
+
+#[test]
+fn a_cow_s_head_on_a_thick_neck_gets_its_own_control() {
+    // A quadruped facing +Y whose head (radius 0.34) sits on a short neck (0.22) rising from
+    // the body's (0.45) upper front end, as spot's: the body neither narrows across its length
+    // nor stands, so the head was a slab of the body with no control. The body's thickness has
+    // a second summit in the head, joined to the torso's through the neck's saddle: split
+    // there. Its ears stand out sideways and a little down, as spot's.
+    let mut parts = vec![
+        (v(0.0, -0.45, 0.0), v(0.0, 0.35, 0.0), 0.45),
+        (v(0.0, 0.4, 0.25), v(0.0, 0.75, 0.5), 0.22),
+        (v(0.0, 0.85, 0.6), v(0.0, 1.0, 0.6), 0.34),
+    ];
+    for x in [-1.0, 1.0] {
+        parts.push((v(0.25 * x, 0.85, 0.75), v(0.65 * x, 0.85, 0.65), 0.07));
+    }
+    for (x, y) in [(-0.25, -0.5), (0.25, -0.5), (-0.25, 0.3), (0.25, 0.3)] {
+        parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.12));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(controls.contains_key("head.1"), "no head.1 in {names:?}");
+    // The head turns about its neck: a pivot inside the neck, on the centre line.
+    let head = controls["head.1"].1;
+    let (a, b) = (v(0.0, 0.4, 0.25), v(0.0, 0.75, 0.5));
+    let t = ((head - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+    assert!(
+        head.x.abs() < 0.05 && (head - (a + t * (b - a))).length() < 0.22,
+        "the head's pivot {head}"
+    );
+    let head_parent = parent(&controls, "head.1");
+    assert!(
+        head_parent == "root" || head_parent.starts_with("neck."),
+        "{names:?}"
+    );
+    for leg in [
+        "leg.front.L.1",
+        "leg.front.R.1",
+        "leg.back.L.1",
+        "leg.back.R.1",
+    ] {
+        assert!(controls.contains_key(leg), "no {leg} in {names:?}");
+    }
+    // The ears hang from the head; facing +Y, the left one is on −X.
+    assert_eq!(parent(&controls, "ear.L.1"), "head.1");
+    assert_eq!(parent(&controls, "ear.R.1"), "head.1");
+    assert!(controls["ear.L.1"].1.x < 0.0 && controls["ear.R.1"].1.x > 0.0);
+}

@@ -31,6 +31,7 @@ mod parts;
 mod pieces;
 mod polycube;
 mod repair;
+mod saddles;
 mod surface;
 mod symmetry;
 mod voxels;

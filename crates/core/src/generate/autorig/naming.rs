@@ -268,6 +268,9 @@ pub(super) fn limb_names(
         });
         // Ears and horns rise from where they grow (a muzzle, a leg do not).
         let rises = s.tip.z - s.root.z > 0.3 * (s.tip - s.root).length();
+        // On a head, ears may stand out sideways and a little down (spot's fall 15°); a side
+        // limb hanging from it more steeply than 30° is not one.
+        let droops = s.root.z - s.tip.z > 0.5 * (s.tip - s.root).length();
         let role = if head_on_neck {
             "head"
         } else if carries_head {
@@ -285,7 +288,7 @@ pub(super) fn limb_names(
         } else if is_leg(s) {
             // On a bust the one limb reaching its bottom is its neck.
             if bust { "neck" } else { "leg" }
-        } else if side != 0.0 && ((parent_is_head && s.tip.z > s.root.z) || (on_top && rises)) {
+        } else if side != 0.0 && ((parent_is_head && !droops) || (on_top && rises)) {
             "ear"
         } else if side == 0.0 {
             centre_role(s.root, s.tip, &frame)

@@ -10,7 +10,8 @@ use std::collections::{BTreeMap, BTreeSet, BinaryHeap};
 use glam::IVec3;
 
 use super::branches::branches;
-use super::voxels::{FACE_STEPS, Grid, components};
+use super::saddles::split_at_saddles;
+use super::voxels::{FACE_STEPS, Grid, component_cells, components};
 
 /// What a part is, for its name and for the internal cages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -79,7 +80,14 @@ pub(super) fn cut_into_parts(
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
     let necked = split_at_necks(grid, &mut body);
-    let heads = split_heads_above_shoulders(grid, occupied, &mut body, &necked);
+    let mut heads = split_heads_above_shoulders(grid, occupied, &mut body, &necked);
+    // A head on a thick neck (spot's) splits at the saddle of the body's thickness, and is one
+    // slab as a head above the shoulders is.
+    let split: Vec<bool> = necked.iter().zip(&heads).map(|(n, h)| *n || *h).collect();
+    let ends = split_at_saddles(grid, depth, &mut body, &split);
+    for (h, e) in heads.iter_mut().zip(ends) {
+        *h |= e;
+    }
     // Bodies: face-connected pieces of body cells; limbs: of the rest.
     let (body_of, bodies) = components(grid, |i| body[i]);
     let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
@@ -341,13 +349,7 @@ fn body_cells(
 /// (a rounded tip) are not split off. Returns which cells are in a body split so.
 fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
     let mut split = vec![false; grid.len()];
-    let (body_of, bodies) = components(grid, |i| body[i]);
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); bodies];
-    for (i, b) in body_of.iter().enumerate() {
-        if let Some(b) = *b {
-            members[b].push(i);
-        }
-    }
+    let members = component_cells(grid, |i| body[i]);
     for cells in members {
         let (lo, hi) = cell_bounds(grid, &cells);
         let axis = longest_axis(hi - lo + IVec3::ONE);
@@ -405,18 +407,12 @@ fn split_heads_above_shoulders(
     necked: &[bool],
 ) -> Vec<bool> {
     let mut heads = vec![false; grid.len()];
-    let (body_of, bodies) = components(grid, |i| body[i]);
+    let members = component_cells(grid, |i| body[i]);
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut piece_bottom = vec![i32::MAX; pieces];
     for (i, p) in piece_of.iter().enumerate() {
         if let Some(p) = *p {
             piece_bottom[p] = piece_bottom[p].min(grid.cell_of(i).z);
-        }
-    }
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); bodies];
-    for (i, b) in body_of.iter().enumerate() {
-        if let Some(b) = *b {
-            members[b].push(i);
         }
     }
     for cells in members {

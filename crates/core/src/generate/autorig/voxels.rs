@@ -428,6 +428,18 @@ pub(super) fn components(
     (label, count)
 }
 
+/// The cells of each face-connected component of `member` cells, in index order.
+pub(super) fn component_cells(grid: &Grid, member: impl Fn(usize) -> bool) -> Vec<Vec<usize>> {
+    let (component_of, count) = components(grid, member);
+    let mut cells: Vec<Vec<usize>> = vec![Vec::new(); count];
+    for (i, c) in component_of.iter().enumerate() {
+        if let Some(c) = *c {
+            cells[c].push(i);
+        }
+    }
+    cells
+}
+
 /// Distance (in cells) from each occupied cell's centre to the nearest empty cell's centre,
 /// by a two-pass 26-neighbour chamfer (weights 1, √2, √3); 0 for empty cells.
 pub(super) fn distance_to_outside(grid: &Grid, occupied: &[bool]) -> Vec<f64> {
