@@ -20,11 +20,12 @@ pub(super) fn bodies_as_limbs(
     cages: &CageSet,
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
+    lateral: Option<usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
     let roles = separate_bodies(cages, roles);
     let parent_limb = present_parents(&roles, parent_limb);
     let (roles, parent_limb) = join_limbs_between_bodies(cages, &roles, &parent_limb);
-    attach_bodies(cages, &roles, &parent_limb)
+    attach_bodies(cages, &roles, &parent_limb, lateral)
 }
 
 /// Each limb's parent as the nearest ancestor that still has cages (merges may have taken a
@@ -216,6 +217,7 @@ fn attach_bodies(
     cages: &CageSet,
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
+    lateral: Option<usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
     let body_vertices = body_vertices(cages, roles);
     let Some(main) = main_body(&body_vertices) else {
@@ -328,7 +330,16 @@ fn attach_bodies(
     for body in on_limb {
         merge_through_thick_joint(&mut roles, &mut parents, &mut bodies, pseudo(body));
     }
-    // A thick thigh on the torso carrying one leg to the ground is the leg's first segment.
+    // A thick thigh on the torso carrying one leg to the ground is the leg's first segment; a
+    // thick shoulder off the centre line carrying one limb, the limb's (the mirrored beast's
+    // mirrored solid is thick at the shoulders, whose bodies were `shoulder.L` carrying a
+    // two-segment `arm.L`; a head carrying a long muzzle stays a body).
+    let off_centre: BTreeSet<usize> = lateral
+        .map(|axis| off_centre_bodies(cages, &body_vertices, main, axis))
+        .unwrap_or_default()
+        .into_iter()
+        .map(pseudo)
+        .collect();
     let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
     let ground = lo.z + 0.2 * (hi.z - lo.z);
     let reaches_ground = |roles: &[Role], limb: usize| {
@@ -348,14 +359,55 @@ fn attach_bodies(
             .filter(|(_, p)| **p == body)
             .map(|(c, _)| *c)
             .collect();
-        let [leg] = children[..] else { continue };
-        if reaches_ground(&roles, leg) && !bodies.contains(&leg) {
-            append_limb(&mut roles, &mut parents, body, leg, 2);
+        let [child] = children[..] else { continue };
+        if bodies.contains(&child) {
+            continue;
+        }
+        if reaches_ground(&roles, child) {
+            append_limb(&mut roles, &mut parents, body, child, 2);
+            bodies.remove(&body);
+        } else if off_centre.contains(&body)
+            && append_limb(&mut roles, &mut parents, body, child, 2)
+        {
             bodies.remove(&body);
         }
     }
     legs_from_hip_pieces(cages, &mut roles, &mut parents, &bodies, &reaches_ground);
     (roles, parents, bodies)
+}
+
+/// The bodies other than `main` off the centre line: a body's middle further from the main
+/// body's centre along the `lateral` axis than a quarter of the body's own width there (a
+/// shoulder; not a head, nor a head turned a little).
+fn off_centre_bodies(
+    cages: &CageSet,
+    body_vertices: &BTreeMap<usize, BTreeSet<u32>>,
+    main: usize,
+    lateral: usize,
+) -> BTreeSet<usize> {
+    let along = |vertices: &BTreeSet<u32>| {
+        let values: Vec<f64> = vertices
+            .iter()
+            .filter_map(|&v| cages.vertices.get(v as usize).map(|p| p[lateral]))
+            .collect();
+        let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
+        (lo, hi, mean)
+    };
+    let Some(main_vertices) = body_vertices.get(&main) else {
+        return BTreeSet::new();
+    };
+    let (main_lo, main_hi, _) = along(main_vertices);
+    let centre = 0.5 * (main_lo + main_hi);
+    body_vertices
+        .iter()
+        .filter(|(b, vertices)| {
+            let (lo, hi, middle) = along(vertices);
+            **b != main && (middle - centre).abs() > 0.25 * (hi - lo)
+        })
+        .map(|(b, _)| *b)
+        .collect()
 }
 
 /// Legs touching at the crotch grow from a hip band outside the body that the rig cuts into
@@ -506,5 +558,107 @@ fn merge_through_thick_joint(
         };
     if joined {
         bodies.remove(&body);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::coords::CoordinateKind;
+    use crate::scene::LeafCage;
+
+    /// Leaf cages as boxes (one polygon over their 8 corners: the limb tree reads only which
+    /// vertices the cages share and where they are), corners shared by position.
+    fn boxes(extents: &[(DVec3, DVec3)]) -> CageSet {
+        let mut vertices: Vec<DVec3> = Vec::new();
+        let mut leaves = Vec::new();
+        for (k, &(lo, hi)) in extents.iter().enumerate() {
+            let mut face = Vec::new();
+            for corner in 0..8 {
+                let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
+                let p = DVec3::new(
+                    pick(1, lo.x, hi.x),
+                    pick(2, lo.y, hi.y),
+                    pick(4, lo.z, hi.z),
+                );
+                let index = vertices
+                    .iter()
+                    .position(|q| (*q - p).length() < 1e-9)
+                    .unwrap_or_else(|| {
+                        vertices.push(p);
+                        vertices.len() - 1
+                    });
+                face.push(index as u32);
+            }
+            leaves.push(LeafCage {
+                name: format!("cage{k}"),
+                kind: CoordinateKind::MeanValue,
+                h: None,
+                border_h: BTreeMap::new(),
+                faces: vec![face],
+            });
+        }
+        CageSet {
+            vertices,
+            leaves,
+            internals: Vec::new(),
+        }
+    }
+
+    /// A torso, a thick body beside it at `x` carrying a limb of two segments hanging from it
+    /// above the ground.
+    fn torso_with_a_body_at(x: f64) -> (CageSet, Vec<Role>) {
+        let (a, b) = (x - 0.3, x + 0.3);
+        let cages = boxes(&[
+            (DVec3::new(-1.0, -0.5, -2.0), DVec3::new(1.0, 0.5, 2.0)),
+            (DVec3::new(a, -0.5, 2.0), DVec3::new(b, 0.5, 2.6)),
+            (DVec3::new(a, -0.5, 2.6), DVec3::new(b, 0.5, 3.2)),
+            (DVec3::new(a, -0.5, 3.2), DVec3::new(b, 0.5, 3.8)),
+        ]);
+        let roles = vec![
+            Role::Body { body: 0, slab: 0 },
+            Role::Body { body: 1, slab: 0 },
+            Role::Limb {
+                limb: 0,
+                segment: 0,
+            },
+            Role::Limb {
+                limb: 0,
+                segment: 1,
+            },
+        ];
+        (cages, roles)
+    }
+
+    #[test]
+    fn a_thick_shoulder_off_the_centre_line_is_its_arm_s_first_segment() {
+        // On top of the torso's side (x 1.3, a quarter of its 0.6 width is 0.15 from the
+        // centre): the body and the limb become one chain of three segments from the torso.
+        let (cages, roles) = torso_with_a_body_at(1.3);
+        let (roles, parents, bodies) = bodies_as_limbs(&cages, &roles, &BTreeMap::new(), Some(0));
+        assert!(bodies.is_empty(), "{bodies:?}");
+        let Role::Limb { limb, segment: 0 } = roles[1] else {
+            panic!("the shoulder is {:?}", roles[1]);
+        };
+        assert_eq!(roles[2], Role::Limb { limb, segment: 1 });
+        assert_eq!(roles[3], Role::Limb { limb, segment: 2 });
+        assert!(!parents.contains_key(&limb), "{parents:?}");
+        // Negative controls: with no lateral axis known, or on the centre line (a head with a
+        // long muzzle), the body stays a body carrying the limb.
+        for (x, lateral) in [(1.3, None), (0.05, Some(0))] {
+            let (cages, roles) = torso_with_a_body_at(x);
+            let (roles, parents, bodies) =
+                bodies_as_limbs(&cages, &roles, &BTreeMap::new(), lateral);
+            let Role::Limb { limb: body, .. } = roles[1] else {
+                panic!("{:?}", roles[1]);
+            };
+            assert!(bodies.contains(&body), "x {x}: {bodies:?}");
+            let Role::Limb { limb: arm, .. } = roles[2] else {
+                panic!("{:?}", roles[2]);
+            };
+            assert_eq!(parents.get(&arm), Some(&body), "x {x}");
+        }
     }
 }

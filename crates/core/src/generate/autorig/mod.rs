@@ -486,14 +486,18 @@ fn rig_on_grid(
     };
     control.advance();
     let mut cages = cages;
-    let (roles, parent_limb, bodies) =
-        limb_tree::bodies_as_limbs(&cages, &parts_of_leaves(&parts, &cages), &parts.parent_limb);
     let plane = mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a])));
     // Without a mirror, the figure's sides are across the horizontal axis it is symmetric
     // across, where there is one.
     let lateral = plane
         .map(|(a, _)| a)
         .or_else(|| horizontal_symmetry_axis(mesh));
+    let (roles, parent_limb, bodies) = limb_tree::bodies_as_limbs(
+        &cages,
+        &parts_of_leaves(&parts, &cages),
+        &parts.parent_limb,
+        lateral.filter(|&a| a < 2),
+    );
     let names = naming::limb_names(&cages, &roles, &parent_limb, &bodies, plane, lateral);
     naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
