@@ -6,6 +6,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use super::symmetry::find;
 use super::voxels::{Grid, component_cells};
 
 /// The most a saddle's depth may be, as a share of the lower summit's depth, for the body to
@@ -72,13 +73,6 @@ fn deepest_saddle(grid: &Grid, depth: &[f64], cells: &[usize]) -> Option<Saddle>
     let mut parent: Vec<usize> = Vec::with_capacity(order.len());
     let mut summit: Vec<f64> = Vec::with_capacity(order.len());
     let mut size: Vec<usize> = Vec::with_capacity(order.len());
-    fn find(parent: &mut [usize], mut a: usize) -> usize {
-        while parent[a] != a {
-            parent[a] = parent[parent[a]];
-            a = parent[a];
-        }
-        a
-    }
     // The lowest share so far, and the two sides' cells at that merge.
     let mut best: Option<(f64, [Vec<usize>; 2])> = None;
     for (k, &i) in order.iter().enumerate() {

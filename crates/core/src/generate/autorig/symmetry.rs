@@ -233,7 +233,7 @@ pub(super) fn merge_low_twins(
 }
 
 /// The representative of `p` in a union-find forest.
-fn find(into: &mut [usize], mut p: usize) -> usize {
+pub(super) fn find(into: &mut [usize], mut p: usize) -> usize {
     while into[p] != p {
         into[p] = into[into[p]];
         p = into[p];
