@@ -34,6 +34,7 @@ mod repair;
 mod saddles;
 mod surface;
 mod symmetry;
+mod union_find;
 mod voxels;
 
 use std::collections::{BTreeMap, BTreeSet};

@@ -6,7 +6,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::symmetry::find;
+use super::union_find::find;
 use super::voxels::{Grid, component_cells};
 
 /// The most a saddle's depth may be, as a share of the lower summit's depth, for the body to

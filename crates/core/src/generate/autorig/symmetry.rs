@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 use glam::IVec3;
 
 use super::parts::{Parts, Role};
+use super::union_find::find;
 use super::voxels::Grid;
 
 /// The grid plane the rig is symmetric about: `axis`, at grid coordinate `half` (cells below
@@ -230,13 +231,4 @@ pub(super) fn merge_low_twins(
     parts.roles = roles;
     super::parts::compact(parts);
     merges
-}
-
-/// The representative of `p` in a union-find forest.
-pub(super) fn find(into: &mut [usize], mut p: usize) -> usize {
-    while into[p] != p {
-        into[p] = into[into[p]];
-        p = into[p];
-    }
-    p
 }
