@@ -424,3 +424,60 @@ fn a_cow_s_head_on_a_thick_neck_gets_its_own_control() {
     assert_eq!(parent(&controls, "ear.R.1"), "head.1");
     assert!(controls["ear.L.1"].1.x < 0.0 && controls["ear.R.1"].1.x > 0.0);
 }
+
+/// A squat, broad-shouldered standing figure (a brute, as the beast is): its torso, the head
+/// set on it split off, is wider across its shoulders than it is tall, though no deeper from
+/// front to back than a man's.
+fn brute() -> Mesh {
+    let mut parts = vec![
+        (v(-0.45, 0.0, 1.05), v(0.45, 0.0, 1.05), 0.38),
+        (v(0.0, 0.0, 0.4), v(0.0, 0.0, 1.05), 0.36),
+        (v(0.0, -0.1, 1.6), v(0.0, -0.15, 1.7), 0.22),
+    ];
+    // Feet and hands reach forward (−Y): the figure is not symmetric from front to back.
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.8 * side, 0.0, 1.1), v(1.0 * side, 0.0, 0.6), 0.12));
+        parts.push((v(1.0 * side, 0.0, 0.6), v(1.05 * side, -0.3, 0.2), 0.1));
+        parts.push((v(0.25 * side, 0.0, 0.2), v(0.35 * side, 0.0, -0.9), 0.14));
+        parts.push((
+            v(0.35 * side, 0.0, -0.95),
+            v(0.35 * side, -0.35, -0.97),
+            0.1,
+        ));
+    }
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn a_torso_broader_than_tall_still_stands_with_the_mirror_or_without() {
+    // Taken as lying (its width against its height), its arms were a lying body's upper
+    // front side limbs: `ear.L` and `ear.R` (the mirrored beast's at detail 5).
+    for mirror in [Mirror::None, Mirror::Auto] {
+        let settings = AutorigSettings {
+            mirror,
+            ..AutorigSettings::default()
+        };
+        let controls = controls_with(&brute(), &settings);
+        let names: Vec<&String> = controls.keys().collect();
+        // Mirrored, its head is split off and then merged back into the shoulders' slab,
+        // which holds a piece of surface only the head's part joins to the rest (as the
+        // mirrored beast's head is): a gap listed in docs/autorig.md.
+        let head = (mirror == Mirror::None).then_some("head.1");
+        for limb in head
+            .into_iter()
+            .chain(["arm.L.1", "arm.R.1", "leg.L.1", "leg.R.1"])
+        {
+            assert!(
+                controls.contains_key(limb),
+                "{mirror:?}: no {limb} in {names:?}"
+            );
+        }
+        assert!(
+            !names
+                .iter()
+                .any(|n| n.starts_with("ear") || n.starts_with("limb")),
+            "{mirror:?}: {names:?}"
+        );
+        assert!(controls["arm.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    }
+}

@@ -64,7 +64,18 @@ pub(super) fn limb_names(
         .and_then(|s| centroid(s.iter().map(point)));
     let (body_lo, body_hi) = crate::cage::bounds_of(&main_body);
     let body_extent = body_hi - body_lo;
-    let lying = body_extent.x.max(body_extent.y) > body_extent.z;
+    // A body is lying where it is longer than tall across its middle plane: with a known
+    // left-right axis (the mirror's or the symmetry's), along the other horizontal axis only,
+    // so that a standing torso broad across its shoulders (the mirrored beast's, its head
+    // split off) is not taken for a lying one.
+    let known_lateral = mirror
+        .map(|(axis, _)| axis)
+        .or(symmetric)
+        .filter(|&axis| axis < 2);
+    let lying = match known_lateral {
+        Some(axis) => body_extent[1 - axis] > body_extent.z,
+        None => body_extent.x.max(body_extent.y) > body_extent.z,
+    };
     let mesh_extent = mesh_hi - mesh_lo;
     // Each limb's leaf vertices, and their middle for the pairs that say which axis is left to
     // right.
