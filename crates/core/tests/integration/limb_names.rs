@@ -377,13 +377,9 @@ fn a_head_on_a_short_neck_is_its_own_body_with_a_control() {
     assert!(parent == "root" || parent.starts_with("neck."), "{names:?}");
 }
 
-#[test]
-fn a_cow_s_head_on_a_thick_neck_gets_its_own_control() {
-    // A quadruped facing +Y whose head (radius 0.34) sits on a short neck (0.22) rising from
-    // the body's (0.45) upper front end, as spot's: the body neither narrows across its length
-    // nor stands, so the head was a slab of the body with no control. The body's thickness has
-    // a second summit in the head, joined to the torso's through the neck's saddle: split
-    // there. Its ears stand out sideways and a little down, as spot's.
+/// A quadruped facing +Y whose head sits on a short thick neck, its ears drooping a little
+/// (see [`a_cow_s_head_on_a_thick_neck_gets_its_own_control`]).
+fn cow_parts() -> Vec<(DVec3, DVec3, f64)> {
     let mut parts = vec![
         (v(0.0, -0.45, 0.0), v(0.0, 0.35, 0.0), 0.45),
         (v(0.0, 0.4, 0.25), v(0.0, 0.75, 0.5), 0.22),
@@ -395,7 +391,17 @@ fn a_cow_s_head_on_a_thick_neck_gets_its_own_control() {
     for (x, y) in [(-0.25, -0.5), (0.25, -0.5), (-0.25, 0.3), (0.25, 0.3)] {
         parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.12));
     }
-    let controls = controls_of(&capsules(&parts, 0.035));
+    parts
+}
+
+#[test]
+fn a_cow_s_head_on_a_thick_neck_gets_its_own_control() {
+    // A quadruped facing +Y whose head (radius 0.34) sits on a short neck (0.22) rising from
+    // the body's (0.45) upper front end, as spot's: the body neither narrows across its length
+    // nor stands, so the head was a slab of the body with no control. The body's thickness has
+    // a second summit in the head, joined to the torso's through the neck's saddle: split
+    // there. Its ears stand out sideways and a little down, as spot's.
+    let controls = controls_of(&capsules(&cow_parts(), 0.035));
     let names: Vec<&String> = controls.keys().collect();
     assert!(controls.contains_key("head.1"), "no head.1 in {names:?}");
     // The head turns about its neck: a pivot inside the neck, on the centre line.
@@ -479,5 +485,32 @@ fn a_torso_broader_than_tall_still_stands_with_the_mirror_or_without() {
             "{mirror:?}: {names:?}"
         );
         assert!(controls["arm.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    }
+}
+
+#[test]
+fn a_crest_on_a_cow_s_head_does_not_make_the_head_a_neck() {
+    // At detail 5 the top of spot's head, between its ears and horns, is a centre limb of its
+    // own; a body carrying a centre limb was named `neck` (as a thick neck base carrying the
+    // neck and head is), so spot's head was `neck.001.1` carrying `neck.1`. The cow above
+    // with a crest on its head, at detail 5, had its head `neck.001.1` and the crest `neck.1`.
+    let mut parts = cow_parts();
+    parts.push((v(0.0, 0.9, 0.9), v(0.0, 0.85, 1.12), 0.08));
+    let settings = AutorigSettings {
+        detail: 5,
+        ..AutorigSettings::default()
+    };
+    let controls = controls_with(&capsules(&parts, 0.03), &settings);
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(controls.contains_key("head.1"), "no head.1 in {names:?}");
+    // Nothing hanging from the head, or from what hangs from it, is a neck.
+    for (name, (parent, _)) in &controls {
+        let on_head = parent.as_deref().is_some_and(|p| {
+            p == "head.1" || controls.get(p).and_then(|c| c.0.as_deref()) == Some("head.1")
+        });
+        assert!(
+            !(on_head && name.starts_with("neck")),
+            "{name} in {names:?}"
+        );
     }
 }

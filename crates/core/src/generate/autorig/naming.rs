@@ -270,12 +270,15 @@ pub(super) fn limb_names(
         let body_height = frame.body_hi.z - frame.body_lo.z;
         let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
         let headwards = headwards_of(s);
-        // A centre limb grows from it (a thick neck base carrying the neck and head).
+        // A centre limb longer than itself grows from it (a thick neck base carrying the
+        // neck and head; not a head's crown between its ears, spot's at detail 5, which made
+        // its head `neck`).
+        let length = |s: &Shape| (s.tip - s.root).length();
         let carries_centre_limb = limbs.iter().any(|(l, record)| {
             record.parent == Some(limb)
-                && shapes
-                    .get(l)
-                    .is_some_and(|c| (c.middle[lateral] - centre).abs() <= 0.25 * c.width)
+                && shapes.get(l).is_some_and(|c| {
+                    (c.middle[lateral] - centre).abs() <= 0.25 * c.width && length(c) > length(s)
+                })
         });
         // Ears and horns rise from where they grow (a muzzle, a leg do not).
         let rises = s.tip.z - s.root.z > 0.3 * (s.tip - s.root).length();
@@ -301,6 +304,13 @@ pub(super) fn limb_names(
             if bust { "neck" } else { "leg" }
         } else if side != 0.0 && ((parent_is_head && !droops) || (on_top && rises)) {
             "ear"
+        } else if side == 0.0
+            && parent_is_head
+            && bodies.contains(&limbs[&limb].parent.unwrap_or(usize::MAX))
+        {
+            // A centre limb on a head of its own (spot's crown between its ears at detail 5)
+            // is no neck.
+            "limb"
         } else if side == 0.0 {
             centre_role(s.root, s.tip, &frame)
         } else if frame.forward.is_none() {
