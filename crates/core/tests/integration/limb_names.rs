@@ -514,3 +514,29 @@ fn a_crest_on_a_cow_s_head_does_not_make_the_head_a_neck() {
         );
     }
 }
+
+#[test]
+fn a_cow_s_horns_are_horns_and_its_ears_ears() {
+    // Spot at detail 4 had both its ears and its horns named `ear` (`ear.L`, `ear.L.001`).
+    // The cow above with a horn rising from each side of its crown, at detail 4: the side
+    // limbs of its head that rise least are its ears, the steeper ones its horns.
+    let mut parts = cow_parts();
+    for x in [-1.0, 1.0] {
+        parts.push((v(0.12 * x, 0.9, 0.85), v(0.22 * x, 0.95, 1.25), 0.05));
+    }
+    let settings = AutorigSettings {
+        detail: 4,
+        ..AutorigSettings::default()
+    };
+    let controls = controls_with(&capsules(&parts, 0.03), &settings);
+    let names: Vec<&String> = controls.keys().collect();
+    for (horn, ear) in [("horn.L.1", "ear.L.1"), ("horn.R.1", "ear.R.1")] {
+        assert!(controls.contains_key(horn), "no {horn} in {names:?}");
+        assert!(controls.contains_key(ear), "no {ear} in {names:?}");
+        // The horn's pivot is on the crown, above the ear's.
+        assert!(controls[horn].1.z > controls[ear].1.z + 0.1, "{controls:?}");
+    }
+    // Facing +Y, the left ones are on −X.
+    assert!(controls["horn.L.1"].1.x < 0.0 && controls["horn.R.1"].1.x > 0.0);
+    assert!(!names.iter().any(|n| n.contains(".001")), "{names:?}");
+}

@@ -565,46 +565,29 @@ fn merge_through_thick_joint(
 mod tests {
     use glam::DVec3;
 
+    use super::super::test_cages::point_cages;
     use super::*;
-    use crate::coords::CoordinateKind;
-    use crate::scene::LeafCage;
 
     /// Leaf cages as boxes (one polygon over their 8 corners: the limb tree reads only which
     /// vertices the cages share and where they are), corners shared by position.
     fn boxes(extents: &[(DVec3, DVec3)]) -> CageSet {
-        let mut vertices: Vec<DVec3> = Vec::new();
-        let mut leaves = Vec::new();
-        for (k, &(lo, hi)) in extents.iter().enumerate() {
-            let mut face = Vec::new();
-            for corner in 0..8 {
-                let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
-                let p = DVec3::new(
-                    pick(1, lo.x, hi.x),
-                    pick(2, lo.y, hi.y),
-                    pick(4, lo.z, hi.z),
-                );
-                let index = vertices
-                    .iter()
-                    .position(|q| (*q - p).length() < 1e-9)
-                    .unwrap_or_else(|| {
-                        vertices.push(p);
-                        vertices.len() - 1
-                    });
-                face.push(index as u32);
-            }
-            leaves.push(LeafCage {
-                name: format!("cage{k}"),
-                kind: CoordinateKind::MeanValue,
-                h: None,
-                border_h: BTreeMap::new(),
-                faces: vec![face],
-            });
-        }
-        CageSet {
-            vertices,
-            leaves,
-            internals: Vec::new(),
-        }
+        let corners: Vec<Vec<DVec3>> = extents
+            .iter()
+            .map(|&(lo, hi)| {
+                (0..8)
+                    .map(|corner| {
+                        let pick =
+                            |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
+                        DVec3::new(
+                            pick(1, lo.x, hi.x),
+                            pick(2, lo.y, hi.y),
+                            pick(4, lo.z, hi.z),
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        point_cages(&corners)
     }
 
     /// A torso, a thick body beside it at `x` carrying a limb of two segments hanging from it

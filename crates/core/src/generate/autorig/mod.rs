@@ -34,6 +34,8 @@ mod repair;
 mod saddles;
 mod surface;
 mod symmetry;
+#[cfg(test)]
+mod test_cages;
 mod union_find;
 mod voxels;
 

@@ -125,12 +125,13 @@ pub(super) fn limb_names(
         .iter()
         .filter_map(|(&limb, record)| {
             let all = limb_vertices.get(&limb)?;
-            let first: BTreeSet<u32> = record
-                .segments
-                .first()?
-                .iter()
-                .flat_map(|&l| vertices_of(&cages.leaves[l]))
-                .collect();
+            let segment_vertices = |segment: &Vec<usize>| -> BTreeSet<u32> {
+                segment
+                    .iter()
+                    .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                    .collect()
+            };
+            let first = segment_vertices(record.segments.first()?);
             let others: BTreeSet<u32> = cages
                 .leaves
                 .iter()
@@ -152,8 +153,10 @@ pub(super) fn limb_names(
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
                     (lo.min(p[lateral]), hi.max(p[lateral]))
                 });
-            // The tip: the limb's vertex farthest from its root.
-            let tip = all
+            // The tip: the vertex of the limb's last segment farthest from its root (a leg
+            // whose first segment reaches up the flank above its root, spot's back leg at
+            // detail 4, had its tip there and was no leg).
+            let tip = segment_vertices(record.segments.last()?)
                 .iter()
                 .map(point)
                 .max_by(|a, b| (*a - root).length().total_cmp(&(*b - root).length()))?;
@@ -353,6 +356,26 @@ pub(super) fn limb_names(
         base.insert(left, (role.clone(), Some('L')));
         base.insert(right, (role, Some('R')));
     }
+    // Two ears on one side (spot's ear and horn): the one that rises least is the ear, the
+    // steeper ones horns.
+    for letter in [Some('L'), Some('R')] {
+        let mut ears: Vec<(usize, f64)> = base
+            .iter()
+            .filter(|(_, (r, s))| r == "ear" && *s == letter)
+            .filter_map(|(&l, _)| {
+                let s = shapes.get(&l)?;
+                let reach = (s.tip - s.root).length().max(1e-12);
+                Some((l, (s.tip.z - s.root.z) / reach))
+            })
+            .collect();
+        if ears.len() < 2 {
+            continue;
+        }
+        ears.sort_by(|a, b| a.1.total_cmp(&b.1));
+        for &(limb, _) in &ears[1..] {
+            base.insert(limb, ("horn".to_owned(), letter));
+        }
+    }
     // Quadrupeds: legs on a side in order along the body, front first.
     let mut names: BTreeMap<usize, String> = BTreeMap::new();
     for letter in [Some('L'), Some('R')] {
@@ -507,5 +530,83 @@ pub(super) fn rename_limb_cages(
                 format!("{base}{}", char::from(b'a' + (*n as u8 - 1).min(25)))
             };
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::{BTreeMap, BTreeSet};
+
+    use glam::DVec3;
+
+    use super::super::test_cages::point_cages;
+    use super::*;
+
+    /// Four corners of a square of half side `r` around (x, y) at height z.
+    fn ring(x: f64, y: f64, z: f64, r: f64) -> Vec<DVec3> {
+        [(-r, -r), (r, -r), (r, r), (-r, r)]
+            .iter()
+            .map(|(dx, dy)| DVec3::new(x + dx, y + dy, z))
+            .collect()
+    }
+
+    #[test]
+    fn a_leg_whose_first_segment_reaches_up_the_flank_is_a_leg() {
+        // A quadruped facing +Y (its neck rises at the front) whose legs' first segments also
+        // hold a piece of the flank above the hip, reaching farther from the hip than the
+        // hoof does, as spot's back leg at detail 4: the leg's tip was on the flank, above
+        // its root, and the leg was `limb.1`.
+        let legs = [(0.25, 0.7), (-0.25, 0.7), (0.25, -0.7), (-0.25, -0.7)];
+        let mut body: Vec<DVec3> = Vec::new();
+        for x in [-0.4, 0.4] {
+            for y in [-1.0, 1.0] {
+                for z in [0.0, 0.8] {
+                    body.push(DVec3::new(x, y, z));
+                }
+            }
+        }
+        let mut cages = Vec::new();
+        for &(x, y) in &legs {
+            body.extend(ring(x, y, 0.0, 0.08));
+            let mut thigh = ring(x, y, 0.0, 0.08);
+            thigh.extend(ring(x, y, -0.25, 0.08));
+            thigh.extend([
+                DVec3::new(x - 0.08, y + 0.3, 0.7),
+                DVec3::new(x + 0.08, y + 0.3, 0.7),
+            ]);
+            let mut shin = ring(x, y, -0.25, 0.08);
+            shin.extend(ring(x, y, -0.5, 0.08));
+            cages.push(thigh);
+            cages.push(shin);
+        }
+        body.extend(ring(0.0, 0.9, 0.6, 0.1));
+        let mut neck = ring(0.0, 0.9, 0.6, 0.1);
+        neck.extend(ring(0.0, 1.3, 1.4, 0.1));
+        cages.push(neck);
+        cages.push(body);
+        let mut roles: Vec<Role> = (0..legs.len())
+            .flat_map(|limb| (0..2).map(move |segment| Role::Limb { limb, segment }))
+            .collect();
+        roles.push(Role::Limb {
+            limb: legs.len(),
+            segment: 0,
+        });
+        roles.push(Role::Body { body: 0, slab: 0 });
+        let cages = point_cages(&cages);
+        let names = limb_names(
+            &cages,
+            &roles,
+            &BTreeMap::new(),
+            &BTreeSet::new(),
+            None,
+            None,
+        );
+        let legs: BTreeSet<&str> = (0..legs.len())
+            .filter_map(|limb| names.get(&limb).map(String::as_str))
+            .collect();
+        // Facing +Y, the left side is −X.
+        let expected: BTreeSet<&str> =
+            BTreeSet::from(["leg.front.L", "leg.front.R", "leg.back.L", "leg.back.R"]);
+        assert_eq!(legs, expected, "{names:?}");
     }
 }
