@@ -133,18 +133,26 @@ fn improve_block(grid: &Grid, label: &mut [Option<u32>], v: IVec3) -> bool {
     }
 }
 
-/// Merges every part of the block around `v` into the lowest-numbered one, and fills the
-/// block's empty cells with it when the block alone is still pinched.
+/// Merges every part of the block around `v` into the largest one (the lowest-numbered of
+/// equals), and fills the block's empty cells with it when the block alone is still pinched.
+/// The largest keeps its role: a body slab pinched against a leg's first segment stays body
+/// (merged into the lower-numbered part, the leg, spot's middle slab at detail 4 with the
+/// mirror became a thigh and cut its torso in two).
 fn merge_block(grid: &Grid, parts: &mut Parts, v: IVec3) {
     let cells = block(grid, v);
-    let Some(into) = cells.iter().flatten().filter_map(|&i| parts.label[i]).min() else {
-        return;
-    };
     let merged: Vec<u32> = cells
         .iter()
         .flatten()
         .filter_map(|&i| parts.label[i])
         .collect();
+    let size = |part: u32| parts.label.iter().filter(|l| **l == Some(part)).count();
+    let Some(into) = merged
+        .iter()
+        .copied()
+        .max_by_key(|&part| (size(part), std::cmp::Reverse(part)))
+    else {
+        return;
+    };
     for l in parts.label.iter_mut().flatten() {
         if merged.contains(l) {
             *l = into;
@@ -177,5 +185,45 @@ mod tests {
         fine[0] = Some(0);
         fine[1] = Some(1);
         assert_eq!(pinches_of(&fine), 0);
+    }
+
+    #[test]
+    fn a_merge_keeps_the_largest_part_s_role() {
+        // A limb's first segment (part 0, one cell) pinched at a corner against a body slab
+        // (part 1, many cells): the merge keeps the slab, so the body is not cut in two by a
+        // limb holding its middle (lowest-numbered first, spot at detail 4 with the mirror
+        // lost its torso's middle to a thigh).
+        use glam::DVec3;
+        use std::collections::BTreeMap;
+
+        use super::super::parts::Role;
+
+        let grid = Grid::around(DVec3::ZERO, DVec3::new(4.0, 4.0, 4.0), 6, None, &[]);
+        let v = grid.dims / 2;
+        let corner = |c: i32| v - IVec3::ONE + IVec3::new(c & 1, (c >> 1) & 1, c >> 2);
+        let mut label = vec![None; grid.len()];
+        // The slab: the block's far corner and every cell beyond it.
+        for (i, l) in label.iter_mut().enumerate() {
+            if grid.cell_of(i).cmpge(corner(7)).all() {
+                *l = Some(1);
+            }
+        }
+        let limb_cell = grid.index(corner(0)).unwrap();
+        label[limb_cell] = Some(0);
+        let mut parts = Parts {
+            label,
+            roles: vec![
+                Role::Limb {
+                    limb: 0,
+                    segment: 0,
+                },
+                Role::Body { body: 0, slab: 2 },
+            ],
+            parent_limb: BTreeMap::new(),
+        };
+        assert!(pinches(&grid, &parts.label, v) > 0);
+        merge_block(&grid, &mut parts, v);
+        assert_eq!(parts.label[limb_cell], Some(1));
+        assert!(!parts.label.contains(&Some(0)));
     }
 }
