@@ -540,3 +540,36 @@ fn a_cow_s_horns_are_horns_and_its_ears_ears() {
     assert!(controls["horn.L.1"].1.x < 0.0 && controls["horn.R.1"].1.x > 0.0);
     assert!(!names.iter().any(|n| n.contains(".001")), "{names:?}");
 }
+
+#[test]
+fn a_horse_s_neck_turned_to_a_side_is_its_neck() {
+    // A quadruped facing +Y whose neck rises from the front of its body and leans to its
+    // left, its head as thin as the neck (the horse at detail 2: neck and head one limb off
+    // the centre line, named `ear.L` as a cow's ear out from the upper front).
+    let mut parts = vec![
+        (v(0.0, -0.6, 0.0), v(0.0, 0.6, 0.0), 0.3),
+        (v(0.0, 0.7, 0.15), v(-0.25, 1.1, 0.9), 0.12),
+        (v(-0.25, 1.1, 0.9), v(-0.3, 1.45, 0.75), 0.12),
+    ];
+    for (x, y) in [(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45), (0.18, 0.45)] {
+        parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.09));
+    }
+    for detail in [2, 3] {
+        let settings = AutorigSettings {
+            detail,
+            ..AutorigSettings::default()
+        };
+        let controls = controls_with(&capsules(&parts, 0.03), &settings);
+        let names: Vec<&String> = controls.keys().collect();
+        assert!(
+            !names.iter().any(|n| n.starts_with("ear")),
+            "detail {detail}: {names:?}"
+        );
+        assert!(
+            names
+                .iter()
+                .any(|n| n.starts_with("neck.") || n.starts_with("head.")),
+            "detail {detail}: {names:?}"
+        );
+    }
+}

@@ -245,12 +245,6 @@ pub(super) fn limb_names(
             && !bodies.contains(&limb);
         let centred_body = bodies.contains(&limb)
             && ((s.middle[lateral] - centre).abs() <= 0.5 * s.width || raised_body);
-        let side = if head_on_neck || carries_head || centred_body {
-            0.0
-        } else {
-            side_of(s)
-        };
-        let side_letter = (side != 0.0).then_some(if side == frame.left_sign { 'L' } else { 'R' });
         let parent_is_head = limbs[&limb].parent.is_some_and(|p| {
             let Some(ps) = shapes.get(&p) else {
                 return false;
@@ -268,6 +262,33 @@ pub(super) fn limb_names(
                         || matches!(centre_role(ps.root, ps.tip, &frame), "head" | "neck"))
             }
         });
+        // A long limb off a lying body's side, not on a head (a fifth of the figure's height
+        // long), reaching well above the body (a quarter of its height above its top) or out
+        // beyond its front end, is a neck or a head turned to a side: the horse's neck and
+        // head at detail 2 were `ear.L`, and a head at the end of a neck the body's slabs
+        // climb, `ear.L`. Ears are shorter (spot's 0.12-0.15 of its height) or grow from a
+        // head. `centre_role` then tells neck from head.
+        let beyond_front = frame.forward.is_some_and(|(axis, sign)| {
+            let front = if sign > 0.0 {
+                frame.body_hi[axis]
+            } else {
+                frame.body_lo[axis]
+            };
+            (s.tip[axis] - front) * sign > 0.0
+        });
+        let turned_neck = frame.forward.is_some()
+            && !bodies.contains(&limb)
+            && !parent_is_head
+            && !is_leg(s)
+            && (s.tip - s.root).length() > 0.2 * height
+            && (s.tip.z > frame.body_hi.z + 0.25 * (frame.body_hi.z - frame.body_lo.z)
+                || beyond_front);
+        let side = if head_on_neck || carries_head || centred_body || turned_neck {
+            0.0
+        } else {
+            side_of(s)
+        };
+        let side_letter = (side != 0.0).then_some(if side == frame.left_sign { 'L' } else { 'R' });
         // Ears (horns) stand on top: a side limb rooted in the body's top fifth (or on a
         // head) that reaches above it.
         let body_height = frame.body_hi.z - frame.body_lo.z;
