@@ -182,6 +182,8 @@ pub(super) fn limb_names(
             offset.signum()
         }
     };
+    // How far a limb reaches from its root to its tip.
+    let length = |s: &Shape| (s.tip - s.root).length();
     let is_leg = |s: &Shape| s.tip.z - mesh_lo.z < 0.2 * height && s.tip.z < s.root.z;
     // Which way a lying body faces: towards the limbs that reach well above it (a neck,
     // ears, horns; a quarter of its height), else towards a second thick region (its head), else −Y as in Blender.
@@ -280,7 +282,7 @@ pub(super) fn limb_names(
             && !bodies.contains(&limb)
             && !parent_is_head
             && !is_leg(s)
-            && (s.tip - s.root).length() > 0.2 * height
+            && length(s) > 0.2 * height
             && (s.tip.z > frame.body_hi.z + 0.25 * (frame.body_hi.z - frame.body_lo.z)
                 || beyond_front);
         let side = if head_on_neck || carries_head || centred_body || turned_neck {
@@ -297,7 +299,6 @@ pub(super) fn limb_names(
         // A centre limb longer than itself grows from it (a thick neck base carrying the
         // neck and head; not a head's crown between its ears, spot's at detail 5, which made
         // its head `neck`).
-        let length = |s: &Shape| (s.tip - s.root).length();
         let carries_centre_limb = limbs.iter().any(|(l, record)| {
             record.parent == Some(limb)
                 && shapes.get(l).is_some_and(|c| {
@@ -305,10 +306,10 @@ pub(super) fn limb_names(
                 })
         });
         // Ears and horns rise from where they grow (a muzzle, a leg do not).
-        let rises = s.tip.z - s.root.z > 0.3 * (s.tip - s.root).length();
+        let rises = s.tip.z - s.root.z > 0.3 * length(s);
         // On a head, ears may stand out sideways and a little down (spot's fall 15°); a side
         // limb hanging from it more steeply than 30° is not one.
-        let droops = s.root.z - s.tip.z > 0.5 * (s.tip - s.root).length();
+        let droops = s.root.z - s.tip.z > 0.5 * length(s);
         let role = if head_on_neck {
             "head"
         } else if carries_head {
@@ -330,7 +331,7 @@ pub(super) fn limb_names(
             "ear"
         } else if side == 0.0
             && parent_is_head
-            && bodies.contains(&limbs[&limb].parent.unwrap_or(usize::MAX))
+            && limbs[&limb].parent.is_some_and(|p| bodies.contains(&p))
         {
             // A centre limb on a head of its own (spot's crown between its ears at detail 5)
             // is no neck.
@@ -385,8 +386,7 @@ pub(super) fn limb_names(
             .filter(|(_, (r, s))| r == "ear" && *s == letter)
             .filter_map(|(&l, _)| {
                 let s = shapes.get(&l)?;
-                let reach = (s.tip - s.root).length().max(1e-12);
-                Some((l, (s.tip.z - s.root.z) / reach))
+                Some((l, (s.tip.z - s.root.z) / length(s).max(1e-12)))
             })
             .collect();
         if ears.len() < 2 {

@@ -8,6 +8,8 @@
 //! where no change helps, the parts of the block are merged. Cells never become empty, so
 //! every mesh vertex stays covered.
 
+use std::collections::BTreeMap;
+
 use glam::IVec3;
 
 use crate::geometry::block_face_connected;
@@ -145,11 +147,17 @@ fn merge_block(grid: &Grid, parts: &mut Parts, v: IVec3) {
         .flatten()
         .filter_map(|&i| parts.label[i])
         .collect();
-    let size = |part: u32| parts.label.iter().filter(|l| **l == Some(part)).count();
-    let Some(into) = merged
+    // Each merged part's cells, counted in one pass over the grid.
+    let mut size: BTreeMap<u32, usize> = merged.iter().map(|&part| (part, 0)).collect();
+    for l in parts.label.iter().flatten() {
+        if let Some(count) = size.get_mut(l) {
+            *count += 1;
+        }
+    }
+    let Some(into) = size
         .iter()
-        .copied()
-        .max_by_key(|&part| (size(part), std::cmp::Reverse(part)))
+        .max_by_key(|&(&part, &count)| (count, std::cmp::Reverse(part)))
+        .map(|(&part, _)| part)
     else {
         return;
     };
@@ -194,7 +202,6 @@ mod tests {
         // limb holding its middle (lowest-numbered first, spot at detail 4 with the mirror
         // lost its torso's middle to a thigh).
         use glam::DVec3;
-        use std::collections::BTreeMap;
 
         use super::super::parts::Role;
 
