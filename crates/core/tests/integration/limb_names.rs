@@ -361,6 +361,29 @@ fn legs_a_cell_apart_all_along_are_two_legs() {
 }
 
 #[test]
+fn legs_closer_than_a_cell_all_along_are_two_legs() {
+    // The human above with straight legs 0.08 apart all along, less than a cell of the default
+    // detail (0.13): no grid of that detail has a column of cells between them, with the plane
+    // between them on a cell face or through a column's middle, so one leg was found (four
+    // segments, carrying both). The grid is refined until its cells fit between them.
+    let controls = controls_of(&human(0.17, 0.17, 1.55));
+    let names: Vec<&String> = controls.keys().collect();
+    for side in ["L", "R"] {
+        let segments = names
+            .iter()
+            .filter(|n| n.starts_with(&format!("leg.{side}.")))
+            .count();
+        // As many segments as the detail's grid cuts a leg into (four to five), not the finer
+        // grid's (seven and eight before its depths were taken as the detail's grid's).
+        assert!((2..=5).contains(&segments), "leg.{side}: {names:?}");
+    }
+    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert_eq!(parent(&controls, "leg.L.2"), "leg.L.1");
+    let arms = names.iter().filter(|n| n.starts_with("arm.L.")).count();
+    assert!((2..=4).contains(&arms), "{names:?}");
+}
+
+#[test]
 fn a_head_on_a_short_neck_is_its_own_body_with_a_control() {
     // The human above with a neck 0.25 long (0.2 thick) under a head 0.48 wide: the balls
     // inscribed at the head's and the torso's thickest cells join through the neck, so the

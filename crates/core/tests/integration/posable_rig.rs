@@ -926,3 +926,24 @@ fn a_stocky_figure_on_short_legs_turns_its_head_on_its_shoulders() {
         bends_cleanly(&scene, &binding, edit, 30.0, &["head", "neck", "body"]);
     }
 }
+
+#[test]
+fn legs_closer_than_a_cell_bend_at_the_knee_one_leaving_the_other_still() {
+    // The generated human with its legs 0.08 apart, less than a cell of the default detail:
+    // the rig parts them on a finer grid, with cells between them, so the other leg has no
+    // cage face in common with the bent one and stays where it is.
+    let scene = rigged(&crate::limb_names::human(0.17, 0.17, 1.55));
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    for (edit, bend, limb) in [
+        ("leg.L.2: rotate 1 0 0 90", 90.0, "leg.L"),
+        ("leg.R.1: rotate 1 0 0 45", 45.0, "leg.R"),
+    ] {
+        let (change, flips) = check_bend(&scene, &binding, edit, bend, &[limb]);
+        assert!(
+            change.abs() < 0.02,
+            "{edit}: volume {:.2} %",
+            100.0 * change
+        );
+        assert_eq!(flips, 0, "{edit}: {flips} triangles inside out");
+    }
+}

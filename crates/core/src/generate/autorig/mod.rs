@@ -23,6 +23,7 @@
 //! faces and collapses decide the high side's.
 
 mod branches;
+mod close_legs;
 mod controls;
 mod decimate;
 mod limb_tree;
@@ -48,6 +49,7 @@ use crate::check::validate_scene;
 use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
+use close_legs::{cells_to_part_legs, sided_legs, stands_on_separate_feet};
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
@@ -270,7 +272,8 @@ pub fn autorig(
     let mut best: Option<Autorig> = None;
     for refinement in 0..=MAX_REFINEMENTS {
         let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
-        let mut rig = match rig_on_grid(&surface, settings, cells, refinement, false, control) {
+        let mut rig = match rig_on_grid(&surface, settings, cells, refinement, false, 1.0, control)
+        {
             Ok(rig) => rig,
             Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
             Err(_) => continue,
@@ -286,10 +289,23 @@ pub fn autorig(
             && stands_on_separate_feet(&surface)
             && symmetric_across_a_horizontal_plane(mesh)
         {
-            match rig_on_grid(&surface, settings, cells, refinement, true, control) {
+            match rig_on_grid(&surface, settings, cells, refinement, true, 1.0, control) {
                 Ok(centred) if sided_legs(&centred) > legs => rig = centred,
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                 _ => {}
+            }
+            // Legs closer than a cell: a grid whose cells fit between them, at most
+            // [`MAX_LEG_REFINEMENT`] times finer. (Homer's ankles, 1 % of his height apart,
+            // would need four times: not tried.)
+            if sided_legs(&rig) < 2
+                && let Some(fine) = cells_between_legs(mesh, cells)
+            {
+                let finer = f64::from(fine) / f64::from(cells);
+                match rig_on_grid(&surface, settings, fine, refinement, true, finer, control) {
+                    Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
+                    Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
+                    _ => {}
+                }
             }
         }
         let scene = Scene::new(
@@ -315,6 +331,27 @@ pub fn autorig(
     best.ok_or(AutorigError::Cancelled)
 }
 
+/// The cells along the longest side of a grid fine enough to part legs closer than a cell of
+/// `cells` ([`cells_to_part_legs`] across each horizontal plane the mesh is symmetric across),
+/// if more than `cells` and at most [`MAX_LEG_REFINEMENT`] times them.
+fn cells_between_legs(mesh: &Mesh, cells: u32) -> Option<u32> {
+    let scores = symmetry_scores(mesh);
+    let (lo, hi) = mesh.bounds();
+    (0..2)
+        .filter(|&a| scores[a] >= SYMMETRIC_SHARE)
+        .filter_map(|a| cells_to_part_legs(mesh, a, 0.5 * (lo[a] + hi[a])))
+        .filter(|&fine| fine > cells && f64::from(fine) <= MAX_LEG_REFINEMENT * f64::from(cells))
+        .min()
+}
+
+/// How much finer than the detail's grid [`cells_between_legs`] may make it.
+const MAX_LEG_REFINEMENT: f64 = 2.0;
+
+/// How far, in cells, a grid's depth (from a cell's centre to the nearest empty cell's)
+/// overstates a limb's mean distance to its surface: the surface lies inside the boundary
+/// cells, at about three quarters of a cell from the next empty cell's centre.
+const DEPTH_OVERSTATED: f64 = 0.75;
+
 /// Times the grid may be refined to give every cage one piece of surface, and by how much.
 const MAX_REFINEMENTS: u32 = 3;
 const REFINEMENT: f64 = 1.25;
@@ -327,6 +364,7 @@ fn rig_on_grid(
     cells: u32,
     refinement: u32,
     centre_symmetry: bool,
+    finer: f64,
     control: &BindControl,
 ) -> Result<Autorig, AutorigError> {
     let mesh = surface.mesh;
@@ -389,6 +427,10 @@ fn rig_on_grid(
         // saves memory against single MVC (docs/performance.md, "Design measurements"); 0.5
         // made too many slabs.
         slab_length: BODY_SLAB_SHARE * segment_length,
+        // A grid `finer` times the detail's measures a limb's depth in more cells, each of
+        // which overstates it less: thicknesses as the detail's grid would measure them keep
+        // its segments.
+        depth_offset: DEPTH_OVERSTATED * (finer - 1.0),
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
@@ -729,56 +771,6 @@ fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
         .filter(|&a| scores[a] >= 0.9)
         .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
 }
-
-/// How many limbs of `rig` are legs with a side (`leg.L`, `leg.front.R` …), by its leaf
-/// cages' names.
-fn sided_legs(rig: &Autorig) -> usize {
-    let limbs: BTreeSet<&str> = rig
-        .cages
-        .leaves
-        .iter()
-        .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
-        .filter(|limb| limb.starts_with("leg.") && (limb.ends_with(".L") || limb.ends_with(".R")))
-        .collect();
-    limbs.len()
-}
-
-/// Whether the figure stands on separate feet: the welded mesh vertices in its lowest
-/// [`FEET_SHARE`] of height fall in two pieces or more joined by its surface (legs the grid may
-/// have joined; a ball, a bust or a body on one base is one piece).
-fn stands_on_separate_feet(surface: &SurfaceMesh) -> bool {
-    let points = surface.mesh.welded_positions();
-    let (lo, hi) = surface.mesh.bounds();
-    let floor = lo.z + FEET_SHARE * (hi.z - lo.z);
-    let low: Vec<bool> = points.iter().map(|p| p.z <= floor).collect();
-    let mut seen = vec![false; points.len()];
-    let mut pieces = 0;
-    for start in 0..points.len() {
-        if !low[start] || seen[start] {
-            continue;
-        }
-        pieces += 1;
-        if pieces >= 2 {
-            return true;
-        }
-        seen[start] = true;
-        let mut stack = vec![start];
-        while let Some(v) = stack.pop() {
-            for &n in surface.neighbours.get(v).into_iter().flatten() {
-                let n = n as usize;
-                if low.get(n) == Some(&true) && !seen[n] {
-                    seen[n] = true;
-                    stack.push(n);
-                }
-            }
-        }
-    }
-    false
-}
-
-/// The share of the figure's height, from the bottom, in which [`stands_on_separate_feet`]
-/// looks for feet.
-const FEET_SHARE: f64 = 0.05;
 
 /// Whether the mesh is symmetric across the centre plane of X or Y ([`SYMMETRIC_SHARE`]).
 fn symmetric_across_a_horizontal_plane(mesh: &Mesh) -> bool {

@@ -68,6 +68,9 @@ pub(super) struct Cutting {
     pub segment_length: f64,
     /// Slab length across a body, in thicknesses of the body.
     pub slab_length: f64,
+    /// Cells added to a part's mean depth where its thickness sets lengths (0 on the detail's
+    /// own grid).
+    pub depth_offset: f64,
 }
 
 /// Splits the occupied cells into parts (see the module).
@@ -98,7 +101,7 @@ pub(super) fn cut_into_parts(
         let (lo, hi) = cell_bounds(grid, &cells);
         let extent = hi - lo + IVec3::ONE;
         let axis = longest_axis(extent);
-        let thickness = 2.0 * mean_depth(depth, &cells);
+        let thickness = 2.0 * (mean_depth(depth, &cells) + cutting.depth_offset);
         // A head split off above the shoulders is one slab: halved, neither half is a part.
         let count = if cells.iter().any(|&i| heads[i]) {
             1
@@ -121,7 +124,7 @@ pub(super) fn cut_into_parts(
     for l in 0..limbs {
         let cells: Vec<usize> = (0..grid.len()).filter(|&i| limb_of[i] == Some(l)).collect();
         let distance = geodesic_from_body(grid, &cells, &limb_of, l, &body);
-        let thickness = 2.0 * mean_depth(depth, &cells);
+        let thickness = 2.0 * (mean_depth(depth, &cells) + cutting.depth_offset);
         let first = next_limb;
         if let Some(role) = stub_body(grid, &distance, thickness, &group) {
             for &i in &cells {
@@ -137,7 +140,7 @@ pub(super) fn cut_into_parts(
             }
             let own: Vec<usize> = branch.cells.iter().map(|&(i, _)| i).collect();
             let longest = branch.cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
-            let thickness = 2.0 * mean_depth(depth, &own);
+            let thickness = 2.0 * (mean_depth(depth, &own) + cutting.depth_offset);
             let count = slab_count(longest, cutting.segment_length * thickness);
             // The first segment is two segments long: a turn of the whole limb shears it most.
             let units = (count + 1) as f64;
