@@ -596,3 +596,51 @@ fn a_horse_s_neck_turned_to_a_side_is_its_neck() {
         );
     }
 }
+
+/// A figure built as Cheburashka is (an unseen mesh whose ears were `arm.R` and `arm.L.001`
+/// and one arm `leg.R`): a head thicker than the torso it sits on through a waist, ears
+/// standing out sideways from the head's middle, short arms hanging to a fifth of the height,
+/// and blobs of feet under the torso.
+pub(crate) fn big_headed_figure() -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.3), v(0.0, 0.0, 0.42), 0.17),
+        (v(0.0, 0.0, 0.55), v(0.0, 0.0, 0.65), 0.12),
+        (v(0.0, 0.0, 0.88), v(0.0, 0.0, 0.881), 0.27),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.24 * side, 0.0, 0.88), v(0.52 * side, 0.0, 0.91), 0.11));
+        parts.push((v(0.16 * side, 0.0, 0.44), v(0.26 * side, 0.0, 0.25), 0.05));
+        parts.push((v(0.09 * side, 0.0, 0.07), v(0.1 * side, -0.12, 0.07), 0.07));
+    }
+    capsules(&parts, 0.02)
+}
+
+#[test]
+fn a_head_thicker_than_the_torso_carries_its_ears_and_the_arms_hang_from_the_torso() {
+    let controls = controls_of(&big_headed_figure());
+    let names: Vec<&String> = controls.keys().collect();
+    for limb in ["head.1", "ear.L.1", "ear.R.1", "arm.L.1", "arm.R.1"] {
+        assert!(controls.contains_key(limb), "no {limb} in {names:?}");
+    }
+    assert_eq!(parent(&controls, "head.1"), "root");
+    assert_eq!(parent(&controls, "ear.L.1"), "head.1");
+    assert_eq!(parent(&controls, "ear.R.1"), "head.1");
+    assert_eq!(parent(&controls, "arm.L.1"), "root");
+    // The head turns about its neck, between the torso and the head's middle.
+    let pivot = controls["head.1"].1;
+    assert!(
+        pivot.z > 0.45 && pivot.z < 0.8 && pivot.x.abs() < 0.05,
+        "{pivot}"
+    );
+    assert!(controls["ear.L.1"].1.x > 0.0 && controls["arm.R.1"].1.x < 0.0);
+    // The feet under the torso are its legs, one a side; nothing else.
+    assert!(
+        names.iter().all(|n| [
+            "root", "head.", "ear.L.", "ear.R.", "arm.L.", "arm.R.", "leg.L.", "leg.R."
+        ]
+        .iter()
+        .any(|prefix| n.starts_with(prefix))
+            && !n.contains(".001")),
+        "{names:?}"
+    );
+}

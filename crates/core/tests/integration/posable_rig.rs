@@ -947,3 +947,23 @@ fn legs_closer_than_a_cell_bend_at_the_knee_one_leaving_the_other_still() {
         assert_eq!(flips, 0, "{edit}: {flips} triangles inside out");
     }
 }
+
+#[test]
+fn a_head_thicker_than_the_torso_turns_and_nods_with_its_ears_leaving_the_arms_still() {
+    // Cheburashka's build: the head, split from the torso at its neck, turns and nods 30°
+    // carrying its ears, with no fold and its volume kept; the arms and the feet stay still.
+    let scene = rigged(&crate::limb_names::big_headed_figure());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    for edit in ["head.1: rotate 0 0 1 30", "head.1: rotate 1 0 0 30"] {
+        bends_cleanly(&scene, &binding, edit, 30.0, &["head", "ear"]);
+    }
+    // An ear bends at its root (the bend spreads into the head's side round it), leaving the
+    // other ear, the arms and the feet still.
+    bends_cleanly(
+        &scene,
+        &binding,
+        "ear.L.1: rotate 0 1 0 -30",
+        30.0,
+        &["ear.L", "head"],
+    );
+}

@@ -75,11 +75,15 @@ pub(super) fn body_vertices(cages: &CageSet, roles: &[Role]) -> BTreeMap<usize, 
 }
 
 /// The main body: the one with most cage vertices (body 0 is the first found, not the
-/// largest), the lowest number on a tie.
-pub(super) fn main_body(body_vertices: &BTreeMap<usize, BTreeSet<u32>>) -> Option<usize> {
+/// largest), the lowest number on a tie; not one of `heads` (bodies split off as heads: a
+/// head may be larger than the torso it sits on) where there is another.
+pub(super) fn main_body(
+    body_vertices: &BTreeMap<usize, BTreeSet<u32>>,
+    heads: &BTreeSet<usize>,
+) -> Option<usize> {
     body_vertices
         .iter()
-        .max_by_key(|(b, v)| (v.len(), std::cmp::Reverse(**b)))
+        .max_by_key(|(b, v)| (!heads.contains(b), v.len(), std::cmp::Reverse(**b)))
         .map(|(b, _)| *b)
 }
 

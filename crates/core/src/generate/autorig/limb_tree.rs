@@ -21,11 +21,12 @@ pub(super) fn bodies_as_limbs(
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
     lateral: Option<usize>,
+    heads: &BTreeSet<usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
     let roles = separate_bodies(cages, roles);
     let parent_limb = present_parents(&roles, parent_limb);
-    let (roles, parent_limb) = join_limbs_between_bodies(cages, &roles, &parent_limb);
-    attach_bodies(cages, &roles, &parent_limb, lateral)
+    let (roles, parent_limb) = join_limbs_between_bodies(cages, &roles, &parent_limb, heads);
+    attach_bodies(cages, &roles, &parent_limb, lateral, heads)
 }
 
 /// Each limb's parent as the nearest ancestor that still has cages (merges may have taken a
@@ -105,6 +106,7 @@ fn join_limbs_between_bodies(
     cages: &CageSet,
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
+    heads: &BTreeSet<usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>) {
     let mut body_vertices: BTreeMap<usize, BTreeSet<u32>> = BTreeMap::new();
     // Per limb and segment, its vertices.
@@ -125,7 +127,7 @@ fn join_limbs_between_bodies(
     }
     let mut roles = roles.to_vec();
     let mut parents = parent_limb.clone();
-    let Some(main) = main_body(&body_vertices) else {
+    let Some(main) = main_body(&body_vertices, heads) else {
         return (roles, parents);
     };
     let shared = |a: &BTreeSet<u32>, b: &BTreeSet<u32>| a.intersection(b).count();
@@ -218,9 +220,10 @@ fn attach_bodies(
     roles: &[Role],
     parent_limb: &BTreeMap<usize, usize>,
     lateral: Option<usize>,
+    heads: &BTreeSet<usize>,
 ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeSet<usize>) {
     let body_vertices = body_vertices(cages, roles);
-    let Some(main) = main_body(&body_vertices) else {
+    let Some(main) = main_body(&body_vertices, heads) else {
         return (roles.to_vec(), parent_limb.clone(), BTreeSet::new());
     };
     let next_limb = roles
@@ -620,7 +623,8 @@ mod tests {
         // On top of the torso's side (x 1.3, a quarter of its 0.6 width is 0.15 from the
         // centre): the body and the limb become one chain of three segments from the torso.
         let (cages, roles) = torso_with_a_body_at(1.3);
-        let (roles, parents, bodies) = bodies_as_limbs(&cages, &roles, &BTreeMap::new(), Some(0));
+        let (roles, parents, bodies) =
+            bodies_as_limbs(&cages, &roles, &BTreeMap::new(), Some(0), &BTreeSet::new());
         assert!(bodies.is_empty(), "{bodies:?}");
         let Role::Limb { limb, segment: 0 } = roles[1] else {
             panic!("the shoulder is {:?}", roles[1]);
@@ -633,7 +637,7 @@ mod tests {
         for (x, lateral) in [(1.3, None), (0.05, Some(0))] {
             let (cages, roles) = torso_with_a_body_at(x);
             let (roles, parents, bodies) =
-                bodies_as_limbs(&cages, &roles, &BTreeMap::new(), lateral);
+                bodies_as_limbs(&cages, &roles, &BTreeMap::new(), lateral, &BTreeSet::new());
             let Role::Limb { limb: body, .. } = roles[1] else {
                 panic!("{:?}", roles[1]);
             };

@@ -431,6 +431,7 @@ fn rig_on_grid(
         // which overstates it less: thicknesses as the detail's grid would measure them keep
         // its segments.
         depth_offset: DEPTH_OVERSTATED * (finer - 1.0),
+        on_separate_feet: stands_on_separate_feet(surface),
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
@@ -542,8 +543,17 @@ fn rig_on_grid(
         &parts_of_leaves(&parts, &cages),
         &parts.parent_limb,
         lateral.filter(|&a| a < 2),
+        &parts.heads,
     );
-    let names = naming::limb_names(&cages, &roles, &parent_limb, &bodies, plane, lateral);
+    let names = naming::limb_names(
+        &cages,
+        &roles,
+        &parent_limb,
+        &bodies,
+        plane,
+        lateral,
+        &parts.heads,
+    );
     naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
         controls::add_controls(&mut cages, &roles, &parent_limb, &names);

@@ -35,12 +35,13 @@ pub(super) fn limb_names(
     bodies: &BTreeSet<usize>,
     mirror: Option<(usize, f64)>,
     symmetric: Option<usize>,
+    heads: &BTreeSet<usize>,
 ) -> BTreeMap<usize, String> {
     let limbs = limbs_of(roles, parent_limb);
     let point = |v: &u32| cages.vertices[*v as usize];
     let (mesh_lo, mesh_hi) = crate::cage::bounds_of(&cages.vertices);
     let body_sizes = body_vertices(cages, roles);
-    let main_key = main_body(&body_sizes);
+    let main_key = main_body(&body_sizes, heads);
     let main_body: Vec<DVec3> = main_key
         .and_then(|b| body_sizes.get(&b))
         .map(|s| s.iter().map(point).collect())
@@ -120,6 +121,8 @@ pub(super) fn limb_names(
         middle: DVec3,
         width: f64,
         tip: DVec3,
+        /// The height of the limb's lowest vertex.
+        bottom: f64,
     }
     let shapes: BTreeMap<usize, Shape> = limbs
         .iter()
@@ -160,6 +163,7 @@ pub(super) fn limb_names(
                 .iter()
                 .map(point)
                 .max_by(|a, b| (*a - root).length().total_cmp(&(*b - root).length()))?;
+            let bottom = all.iter().map(|v| point(v).z).fold(f64::INFINITY, f64::min);
             Some((
                 limb,
                 Shape {
@@ -167,6 +171,7 @@ pub(super) fn limb_names(
                     middle,
                     width: hi - lo,
                     tip,
+                    bottom,
                 },
             ))
         })
@@ -184,7 +189,15 @@ pub(super) fn limb_names(
     };
     // How far a limb reaches from its root to its tip.
     let length = |s: &Shape| (s.tip - s.root).length();
-    let is_leg = |s: &Shape| s.tip.z - mesh_lo.z < 0.2 * height && s.tip.z < s.root.z;
+    // A leg ends near the ground (its tip in the figure's lowest fifth) and reaches down to it
+    // (its lowest vertex in the lowest tenth; the shared meshes' legs in their lowest 5 %),
+    // below where it starts. Short arms hanging to a fifth of the height (Cheburashka's, their
+    // lowest vertex at 16-19 %) do not; a foot whose toe rises above its ankle does.
+    let is_leg = |s: &Shape| {
+        s.tip.z - mesh_lo.z < 0.2 * height
+            && s.bottom - mesh_lo.z < 0.1 * height
+            && s.bottom < s.root.z
+    };
     // Which way a lying body faces: towards the limbs that reach well above it (a neck,
     // ears, horns; a quarter of its height), else towards a second thick region (its head), else −Y as in Blender.
     let forward = lying.then(|| {
@@ -350,6 +363,25 @@ pub(super) fn limb_names(
         };
         base.insert(limb, (role.to_owned(), side_letter));
     }
+    // Two limbs that mirror each other across the plane have one role: a leg needs both to
+    // reach the ground. Cheburashka's short arms hang to a fifth of his height, and the one
+    // whose tip was lower was `leg.R` beside `arm.L`.
+    let keys: Vec<usize> = base.keys().copied().collect();
+    for (i, &a) in keys.iter().enumerate() {
+        for &b in &keys[i + 1..] {
+            let (Some(sa), Some(sb)) = (shapes.get(&a), shapes.get(&b)) else {
+                continue;
+            };
+            let roles = (base[&a].0.as_str(), base[&b].0.as_str());
+            let one_leg = matches!(roles, ("leg", "arm") | ("arm", "leg"));
+            if one_leg && mirror_each_other(sa.middle, sb.middle, lateral, centre) {
+                let arm = if roles.0 == "leg" { a } else { b };
+                if let Some(entry) = base.get_mut(&arm) {
+                    entry.0 = "arm".to_owned();
+                }
+            }
+        }
+    }
     // A pair of like limbs from one place that both fall on one side of the plane (a bunny's
     // ears both leaning one way) are told apart by which lies further to the left.
     let mut groups: BTreeMap<(String, Option<usize>), Vec<usize>> = BTreeMap::new();
@@ -466,14 +498,21 @@ pub(super) fn limb_names(
 /// its left to its right.
 fn has_mirrored_pair(middles: &[DVec3], axis: usize, centre: DVec3) -> bool {
     middles.iter().enumerate().any(|(i, a)| {
-        middles[i + 1..].iter().any(|b| {
-            let (da, db) = (a[axis] - centre[axis], b[axis] - centre[axis]);
-            let apart = (da - db).abs();
-            let mut off = *a - *b;
-            off[axis] = 0.0;
-            da * db < 0.0 && (da + db).abs() <= 0.25 * apart && off.length() <= 0.25 * apart
-        })
+        middles[i + 1..]
+            .iter()
+            .any(|b| mirror_each_other(*a, *b, axis, centre[axis]))
     })
+}
+
+/// Whether points `a` and `b` are mirror images across the plane at `centre` across `axis`:
+/// on opposite sides at about the same distance, level with each other (within a quarter of
+/// their distance apart).
+fn mirror_each_other(a: DVec3, b: DVec3, axis: usize, centre: f64) -> bool {
+    let (da, db) = (a[axis] - centre, b[axis] - centre);
+    let apart = (da - db).abs();
+    let mut off = a - b;
+    off[axis] = 0.0;
+    da * db < 0.0 && (da + db).abs() <= 0.25 * apart && off.length() <= 0.25 * apart
 }
 
 /// Which sign along the lateral axis is the figure's left: +X for an upright figure (facing
@@ -621,6 +660,7 @@ mod tests {
             &BTreeSet::new(),
             None,
             None,
+            &BTreeSet::new(),
         );
         let legs: BTreeSet<&str> = (0..legs.len())
             .filter_map(|limb| names.get(&limb).map(String::as_str))

@@ -42,6 +42,9 @@ pub(super) struct Parts {
     /// The limb each branching limb grows from (an ear from the head top, a leg from the hip
     /// band it shares with the other leg); limbs growing from a body are not listed.
     pub parent_limb: BTreeMap<usize, usize>,
+    /// The bodies split off as heads (above the shoulders or on a neck): never the main body,
+    /// though a head may be the largest (Cheburashka's).
+    pub heads: BTreeSet<usize>,
 }
 
 impl Parts {
@@ -71,6 +74,10 @@ pub(super) struct Cutting {
     /// Cells added to a part's mean depth where its thickness sets lengths (0 on the detail's
     /// own grid).
     pub depth_offset: f64,
+    /// Whether the figure stands on separate feet (its surface's lowest vertices fall in two
+    /// pieces or more): a standing body reaching the ground is then looked at for a head on a
+    /// neck (Cheburashka's feet are blobs under his body, which holds them).
+    pub on_separate_feet: bool,
 }
 
 /// Splits the occupied cells into parts (see the module).
@@ -83,7 +90,8 @@ pub(super) fn cut_into_parts(
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
     let necked = split_at_necks(grid, &mut body);
-    let mut heads = split_heads_above_shoulders(grid, occupied, &mut body, &necked);
+    let mut heads =
+        split_heads_above_shoulders(grid, occupied, &mut body, &necked, cutting.on_separate_feet);
     // A head on a thick neck (spot's) splits at the saddle of the body's thickness, and is one
     // slab as a head above the shoulders is.
     let split: Vec<bool> = necked.iter().zip(&heads).map(|(n, h)| *n || *h).collect();
@@ -169,10 +177,15 @@ pub(super) fn cut_into_parts(
             roles[*p as usize] = role;
         }
     }
+    let head_bodies = (0..grid.len())
+        .filter(|&i| heads[i])
+        .filter_map(|i| body_of[i])
+        .collect();
     let mut parts = Parts {
         label: part_of,
         roles,
         parent_limb,
+        heads: head_bodies,
     };
     merge_small_parts(grid, &mut parts);
     parts
@@ -399,7 +412,10 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
 /// shoulders) that holds at most [`HEAD_SHARE`] of that thickest layer and leaves
 /// [`NECK_END_LAYERS`] layers above it ([`HEAD_LAYERS`] where none does) leaves the body, as
 /// [`split_at_necks`] does between two thick ends (`necked`: the bodies it split, not looked
-/// at again); a lumpy sphere or a bust, on no legs, is not split. The head's skin, the limb
+/// at again); a lumpy sphere or a bust, on no legs, is not split. A standing body that
+/// reaches the ground itself, on a figure standing on separate feet (`on_separate_feet`:
+/// the grid held its feet in the body, Cheburashka's), is split at a waist between a thick
+/// head and chest instead ([`neck_between_thick_ends`]). The head's skin, the limb
 /// cells within [`HEAD_SKIN`] cells of it above that layer, joins its body. Returns which
 /// cells are heads: each becomes one slab (halved, each half was under a fifth of a body
 /// slab and merged away, leaving the head no control).
@@ -408,6 +424,7 @@ fn split_heads_above_shoulders(
     occupied: &[bool],
     body: &mut [bool],
     necked: &[bool],
+    on_separate_feet: bool,
 ) -> Vec<bool> {
     let mut heads = vec![false; grid.len()];
     let members = component_cells(grid, |i| body[i]);
@@ -430,7 +447,7 @@ fn split_heads_above_shoulders(
         let height = hi.z - lo.z + 1;
         let standing = longest_axis(hi - lo + IVec3::ONE) == 2;
         let on_legs = f64::from(lo.z - bottom) >= LEGS_SHARE * f64::from(height);
-        if !standing || !on_legs || cells.iter().any(|&i| necked[i]) {
+        if !standing || !(on_legs || on_separate_feet) || cells.iter().any(|&i| necked[i]) {
             continue;
         }
         let layers = height as usize;
@@ -439,19 +456,23 @@ fn split_heads_above_shoulders(
         for &i in &cells {
             count[layer(i)] += 1;
         }
-        let Some(peak) =
-            (layers / 2..layers).max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))
-        else {
-            continue;
+        let neck = if on_legs {
+            let Some(peak) =
+                (layers / 2..layers).max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))
+            else {
+                continue;
+            };
+            let thickest = count[peak] as f64;
+            // A head of HEAD_LAYERS at least; of NECK_END_LAYERS where there is one.
+            let neck_under = |above: usize| {
+                (peak + 1..layers.saturating_sub(above))
+                    .filter(|&k| count[k] > 0 && count[k] as f64 <= HEAD_SHARE * thickest)
+                    .min_by(|&a, &c| count[a].cmp(&count[c]).then(a.cmp(&c)))
+            };
+            neck_under(NECK_END_LAYERS).or_else(|| neck_under(HEAD_LAYERS))
+        } else {
+            neck_between_thick_ends(&count)
         };
-        let thickest = count[peak] as f64;
-        // A head of HEAD_LAYERS at least; of NECK_END_LAYERS where there is one.
-        let neck_under = |above: usize| {
-            (peak + 1..layers.saturating_sub(above))
-                .filter(|&k| count[k] > 0 && count[k] as f64 <= HEAD_SHARE * thickest)
-                .min_by(|&a, &c| count[a].cmp(&count[c]).then(a.cmp(&c)))
-        };
-        let neck = neck_under(NECK_END_LAYERS).or_else(|| neck_under(HEAD_LAYERS));
         if let Some(k) = neck {
             let mut head = Vec::new();
             for &i in &cells {
@@ -491,6 +512,27 @@ fn split_heads_above_shoulders(
     }
     heads
 }
+
+/// The neck of a standing body that reaches the ground on separate feet (the grid holds the
+/// feet in the body: Cheburashka's): the layer above its lowest third (a head may be more
+/// than half the body, his nearly is) and below [`NECK_END_LAYERS`] layers of head, with the fewest cells against the thinner of its two
+/// ends' thickest layers, where that is at most [`WAIST_SHARE`] (a waist between a thick
+/// head and a thick chest). `count`: the body's cells per layer, from the ground up.
+fn neck_between_thick_ends(count: &[usize]) -> Option<usize> {
+    let layers = count.len();
+    let thickest = |range: &[usize]| range.iter().copied().max().unwrap_or(0);
+    let ratio = |k: usize| {
+        let ends = thickest(&count[..k]).min(thickest(&count[k + 1..]));
+        count[k] as f64 / ends.max(1) as f64
+    };
+    (layers / 3..layers.saturating_sub(NECK_END_LAYERS))
+        .filter(|&k| count[k] > 0 && ratio(k) <= WAIST_SHARE)
+        .min_by(|&a, &b| ratio(a).total_cmp(&ratio(b)).then(a.cmp(&b)))
+}
+
+/// The most cells the neck of [`neck_between_thick_ends`] holds, as a share of the thinner
+/// end's thickest layer (Cheburashka's: 59 cells against his chest's 98).
+const WAIST_SHARE: f64 = 0.65;
 
 /// How many cells of limb region around a head split off above the shoulders are its skin.
 const HEAD_SKIN: usize = 2;

@@ -227,6 +227,7 @@ mod tests {
                 Role::Body { body: 0, slab: 2 },
             ],
             parent_limb: BTreeMap::new(),
+            heads: Default::default(),
         };
         assert!(pinches(&grid, &parts.label, v) > 0);
         merge_block(&grid, &mut parts, v);
