@@ -269,11 +269,19 @@ pub fn autorig(
     let mesh: &Mesh = &deduplicated;
     let (cells, _) = resolution(settings.detail);
     let surface = SurfaceMesh::new(mesh);
+    let facts = MeshFacts {
+        symmetry: symmetry_scores(mesh),
+        on_separate_feet: stands_on_separate_feet(&surface),
+    };
     let mut best: Option<Autorig> = None;
     for refinement in 0..=MAX_REFINEMENTS {
         let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
-        let mut rig = match rig_on_grid(&surface, settings, cells, refinement, false, 1.0, control)
-        {
+        let on_grid = |cells: u32, choice: GridChoice| {
+            rig_on_grid(
+                &surface, settings, &facts, cells, refinement, choice, control,
+            )
+        };
+        let mut rig = match on_grid(cells, GridChoice::DETAIL) {
             Ok(rig) => rig,
             Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
             Err(_) => continue,
@@ -286,10 +294,10 @@ pub fn autorig(
         let legs = sided_legs(&rig);
         if legs < 2
             && settings.mirror == Mirror::None
-            && stands_on_separate_feet(&surface)
-            && symmetric_across_a_horizontal_plane(mesh)
+            && facts.on_separate_feet
+            && symmetric_across_a_horizontal_plane(&facts.symmetry)
         {
-            match rig_on_grid(&surface, settings, cells, refinement, true, 1.0, control) {
+            match on_grid(cells, GridChoice::CENTRED) {
                 Ok(centred) if sided_legs(&centred) > legs => rig = centred,
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                 _ => {}
@@ -298,10 +306,14 @@ pub fn autorig(
             // [`MAX_LEG_REFINEMENT`] times finer. (Homer's ankles, 1 % of his height apart,
             // would need four times: not tried.)
             if sided_legs(&rig) < 2
-                && let Some(fine) = cells_between_legs(mesh, cells)
+                && let Some(fine) = cells_between_legs(mesh, &facts.symmetry, cells)
             {
                 let finer = f64::from(fine) / f64::from(cells);
-                match rig_on_grid(&surface, settings, fine, refinement, true, finer, control) {
+                let choice = GridChoice {
+                    centre_symmetry: true,
+                    finer,
+                };
+                match on_grid(fine, choice) {
                     Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
                     Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                     _ => {}
@@ -334,8 +346,7 @@ pub fn autorig(
 /// The cells along the longest side of a grid fine enough to part legs closer than a cell of
 /// `cells` ([`cells_to_part_legs`] across each horizontal plane the mesh is symmetric across),
 /// if more than `cells` and at most [`MAX_LEG_REFINEMENT`] times them.
-fn cells_between_legs(mesh: &Mesh, cells: u32) -> Option<u32> {
-    let scores = symmetry_scores(mesh);
+fn cells_between_legs(mesh: &Mesh, scores: &[f64; 3], cells: u32) -> Option<u32> {
     let (lo, hi) = mesh.bounds();
     (0..2)
         .filter(|&a| scores[a] >= SYMMETRIC_SHARE)
@@ -356,17 +367,52 @@ const DEPTH_OVERSTATED: f64 = 0.75;
 const MAX_REFINEMENTS: u32 = 3;
 const REFINEMENT: f64 = 1.25;
 
+/// What [`autorig`] measures of the mesh once, for every grid it rigs on.
+struct MeshFacts {
+    /// [`symmetry_scores`].
+    symmetry: [f64; 3],
+    /// [`stands_on_separate_feet`].
+    on_separate_feet: bool,
+}
+
+/// How a grid is laid over the mesh, besides its cells along the longest side.
+#[derive(Debug, Clone, Copy)]
+struct GridChoice {
+    /// Each horizontal plane the mesh is symmetric across through the middle of a column of
+    /// cells (the retry for legs close together).
+    centre_symmetry: bool,
+    /// How many times finer than the detail's grid it is (1 on the detail's own).
+    finer: f64,
+}
+
+impl GridChoice {
+    /// The detail's grid, laid from the mesh's corner.
+    const DETAIL: Self = Self {
+        centre_symmetry: false,
+        finer: 1.0,
+    };
+    /// The detail's grid, centred on the planes of symmetry.
+    const CENTRED: Self = Self {
+        centre_symmetry: true,
+        finer: 1.0,
+    };
+}
+
 /// [`autorig`] on a grid of `cells` along the mesh's longest side (`refinement`: how many
-/// times the detail's grid was refined to reach it).
+/// times the detail's grid was refined to reach it), laid as `choice` says.
 fn rig_on_grid(
     surface: &SurfaceMesh,
     settings: &AutorigSettings,
+    facts: &MeshFacts,
     cells: u32,
     refinement: u32,
-    centre_symmetry: bool,
-    finer: f64,
+    choice: GridChoice,
     control: &BindControl,
 ) -> Result<Autorig, AutorigError> {
+    let GridChoice {
+        centre_symmetry,
+        finer,
+    } = choice;
     let mesh = surface.mesh;
     let (lo, hi) = mesh.bounds();
     let extent = hi - lo;
@@ -383,14 +429,13 @@ fn rig_on_grid(
     let mirror_axis = match settings.mirror {
         Mirror::None => None,
         Mirror::Axis(a) => Some(a),
-        Mirror::Auto => most_symmetric_axis(mesh),
+        Mirror::Auto => most_symmetric_axis(&facts.symmetry),
     };
     // On a retry for legs close together ([`autorig`]), each horizontal plane of symmetry of
     // the mesh through the middle of a column of cells.
     let centred: Vec<(usize, f64)> = if centre_symmetry {
-        let scores = symmetry_scores(mesh);
         (0..2)
-            .filter(|&a| mirror_axis.is_none() && scores[a] >= SYMMETRIC_SHARE)
+            .filter(|&a| mirror_axis.is_none() && facts.symmetry[a] >= SYMMETRIC_SHARE)
             .map(|a| (a, 0.5 * (lo[a] + hi[a])))
             .collect()
     } else {
@@ -431,7 +476,7 @@ fn rig_on_grid(
         // which overstates it less: thicknesses as the detail's grid would measure them keep
         // its segments.
         depth_offset: DEPTH_OVERSTATED * (finer - 1.0),
-        on_separate_feet: stands_on_separate_feet(surface),
+        on_separate_feet: facts.on_separate_feet,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
@@ -537,7 +582,7 @@ fn rig_on_grid(
     // across, where there is one.
     let lateral = plane
         .map(|(a, _)| a)
-        .or_else(|| horizontal_symmetry_axis(mesh));
+        .or_else(|| horizontal_symmetry_axis(&facts.symmetry));
     let (roles, parent_limb, bodies) = limb_tree::bodies_as_limbs(
         &cages,
         &parts_of_leaves(&parts, &cages),
@@ -773,20 +818,17 @@ fn widen(grid: &Grid, occupied: &mut [bool], mesh: &Mesh, distance: f64) {
 }
 
 /// The axis across whose centre plane the mesh's vertices are most symmetric, if their mirror
-/// images land within 2 % of the diagonal of a vertex for at least 90 % of them (sampled on a
-/// coarse grid of occupied cells).
-fn most_symmetric_axis(mesh: &Mesh) -> Option<usize> {
-    let scores = symmetry_scores(mesh);
+/// images land within 2 % of the diagonal of a vertex for at least 90 % of them (`scores`:
+/// [`symmetry_scores`], sampled on a coarse grid of occupied cells).
+fn most_symmetric_axis(scores: &[f64; 3]) -> Option<usize> {
     (0..3)
         .filter(|&a| scores[a] >= 0.9)
         .max_by(|&a, &b| scores[a].total_cmp(&scores[b]).then(b.cmp(&a)))
 }
 
 /// Whether the mesh is symmetric across the centre plane of X or Y ([`SYMMETRIC_SHARE`]).
-fn symmetric_across_a_horizontal_plane(mesh: &Mesh) -> bool {
-    symmetry_scores(mesh)[..2]
-        .iter()
-        .any(|&score| score >= SYMMETRIC_SHARE)
+fn symmetric_across_a_horizontal_plane(scores: &[f64; 3]) -> bool {
+    scores[..2].iter().any(|&score| score >= SYMMETRIC_SHARE)
 }
 
 /// The share of a mesh's vertices whose mirror image lands on its surface
@@ -797,8 +839,7 @@ const SYMMETRIC_SHARE: f64 = 0.9;
 /// vertices mirrored onto it, and 5 points more than across the other. A figure's left and
 /// right are across it (a head deeper than it is wide included); None where both or neither
 /// are (a cube, a lopsided shape).
-fn horizontal_symmetry_axis(mesh: &Mesh) -> Option<usize> {
-    let scores = symmetry_scores(mesh);
+fn horizontal_symmetry_axis(scores: &[f64; 3]) -> Option<usize> {
     let (x, y) = (scores[0], scores[1]);
     match () {
         _ if x >= SYMMETRIC_SHARE && x >= y + 0.05 => Some(0),
