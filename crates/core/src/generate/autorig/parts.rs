@@ -375,24 +375,7 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
         for &i in &cells {
             count[layer(i)] += 1;
         }
-        let mut below = vec![0usize; layers];
-        let mut above = vec![0usize; layers];
-        for k in 1..layers {
-            below[k] = below[k - 1].max(count[k - 1]);
-        }
-        for k in (0..layers.saturating_sub(1)).rev() {
-            above[k] = above[k + 1].max(count[k + 1]);
-        }
-        let neck = (NECK_END_LAYERS..layers.saturating_sub(NECK_END_LAYERS))
-            .filter(|&k| {
-                let thinner_end = below[k].min(above[k]) as f64;
-                count[k] > 0 && (count[k] as f64) <= NECK_SHARE * thinner_end
-            })
-            .min_by(|&a, &b| {
-                let ratio = |k: usize| count[k] as f64 / below[k].min(above[k]).max(1) as f64;
-                ratio(a).total_cmp(&ratio(b)).then(a.cmp(&b))
-            });
-        if let Some(k) = neck {
+        if let Some(k) = narrowest_between_ends(&count, NECK_END_LAYERS, NECK_SHARE) {
             for &i in &cells {
                 if layer(i) == k {
                     body[i] = false;
@@ -514,19 +497,30 @@ fn split_heads_above_shoulders(
 }
 
 /// The neck of a standing body that reaches the ground on separate feet (the grid holds the
-/// feet in the body: Cheburashka's): the layer above its lowest third (a head may be more
-/// than half the body, his nearly is) and below [`NECK_END_LAYERS`] layers of head, with the fewest cells against the thinner of its two
-/// ends' thickest layers, where that is at most [`WAIST_SHARE`] (a waist between a thick
-/// head and a thick chest). `count`: the body's cells per layer, from the ground up.
+/// feet in the body: Cheburashka's): [`narrowest_between_ends`] above its lowest third (a head
+/// may be more than half the body, his nearly is), at most [`WAIST_SHARE`] of the thinner end
+/// (a waist between a thick head and a thick chest). `count`: the body's cells per layer, from
+/// the ground up.
 fn neck_between_thick_ends(count: &[usize]) -> Option<usize> {
+    narrowest_between_ends(count, count.len() / 3, WAIST_SHARE)
+}
+
+/// The layer from `first` on, below the last [`NECK_END_LAYERS`], holding the fewest of
+/// `count`'s cells against the thinner of its two ends' thickest layers (the lowest such layer
+/// on a tie), where that is at most `share`: a neck between two thick ends.
+fn narrowest_between_ends(count: &[usize], first: usize, share: f64) -> Option<usize> {
     let layers = count.len();
-    let thickest = |range: &[usize]| range.iter().copied().max().unwrap_or(0);
-    let ratio = |k: usize| {
-        let ends = thickest(&count[..k]).min(thickest(&count[k + 1..]));
-        count[k] as f64 / ends.max(1) as f64
-    };
-    (layers / 3..layers.saturating_sub(NECK_END_LAYERS))
-        .filter(|&k| count[k] > 0 && ratio(k) <= WAIST_SHARE)
+    let mut below = vec![0usize; layers];
+    let mut above = vec![0usize; layers];
+    for k in 1..layers {
+        below[k] = below[k - 1].max(count[k - 1]);
+    }
+    for k in (0..layers.saturating_sub(1)).rev() {
+        above[k] = above[k + 1].max(count[k + 1]);
+    }
+    let ratio = |k: usize| count[k] as f64 / below[k].min(above[k]).max(1) as f64;
+    (first..layers.saturating_sub(NECK_END_LAYERS))
+        .filter(|&k| count[k] > 0 && ratio(k) <= share)
         .min_by(|&a, &b| ratio(a).total_cmp(&ratio(b)).then(a.cmp(&b)))
 }
 
