@@ -15,7 +15,9 @@ use starcages_core::generate::{AutorigSettings, autorig, autorig_settings};
 use starcages_core::hierarchy::{CageEdit, Hierarchy, posed_pivot};
 use starcages_core::joint_volume::JointVolumes;
 use starcages_core::mesh::Mesh;
-use starcages_core::scene::{InternalCage, LocalCage, MeshSource, Scene, leaf_containment};
+use starcages_core::scene::{
+    Containment, InternalCage, LocalCage, MeshSource, Scene, leaf_containment,
+};
 use starcages_core::star::StarBinding;
 
 use crate::common::capsules;
@@ -153,16 +155,20 @@ fn diagonal(points: &[DVec3]) -> f64 {
     (hi - lo).length()
 }
 
-/// The mesh vertices held by the leaf cages of each limb (by name prefix).
-pub(crate) fn vertices_of_limb(scene: &Scene, limb: &str) -> Vec<usize> {
+/// Where each mesh vertex of `scene` lies among its leaf cages (by leaf index).
+pub(crate) fn mesh_containment(scene: &Scene) -> Vec<Containment> {
     let locals: Vec<LocalCage> = scene
         .cages
         .leaves
         .iter()
         .map(|l| LocalCage::new(&scene.cages.vertices, &l.faces).unwrap())
         .collect();
-    let points = scene.mesh.positions();
-    let containment = leaf_containment(&locals, points);
+    leaf_containment(&locals, scene.mesh.positions())
+}
+
+/// The mesh vertices held by the leaf cages of each limb (by name prefix).
+pub(crate) fn vertices_of_limb(scene: &Scene, limb: &str) -> Vec<usize> {
+    let containment = mesh_containment(scene);
     let members: BTreeSet<usize> = scene
         .cages
         .leaves

@@ -7,9 +7,13 @@
 //! sheet), or when it lies on a curve where three surfaces meet and slides along that curve;
 //! corners stay. A collapse is refused when it would change the surface's topology (the link
 //! condition), fold or flatten a triangle, move the surface further than a limit from the
-//! vertex, or sweep over a mesh vertex or another cage vertex (so no mesh vertex changes cage,
-//! and no cage vertex ends up on or inside a face it did not touch). All positions stay on
-//! grid vertices, so the tests are exact in integers.
+//! vertex, or sweep over another cage vertex (so no cage vertex ends up on or inside a face it
+//! did not touch). A collapse that moves the outer surface never sweeps over a mesh vertex
+//! either (no mesh vertex leaves the cages' union); one that moves only faces between two cages
+//! may, where the caller allows it for both cages ([`Sweep`]): the mesh vertices it sweeps change
+//! cage, and are reported, so that the caller can refuse it where that leaves a piece of one
+//! limb's surface in another's cage. All positions stay on grid vertices, so the tests are
+//! exact in integers.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -42,11 +46,60 @@ impl Triangle {
 const OUTER_ERROR: f64 = 0.75;
 const INNER_ERROR: f64 = 1.5;
 
+/// Which collapses of faces between two cages may sweep over mesh vertices: those between two
+/// parts neither of which is listed (parts where a sweep left a piece of surface cut off from
+/// the rest of the cage's).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Sweep<'a> {
+    pub refused: &'a BTreeSet<u32>,
+}
+
+impl Sweep<'_> {
+    /// Whether a collapse moving only triangles between these labels may sweep mesh vertices.
+    fn allows(&self, sheets: impl IntoIterator<Item = Sides>) -> bool {
+        sheets.into_iter().all(|(a, b)| match (a, b) {
+            (Some(a), Some(b)) => !self.refused.contains(&a) && !self.refused.contains(&b),
+            _ => false,
+        })
+    }
+}
+
+/// The decimated complex and the mesh vertices whose cage it changed.
+pub(super) struct Decimated {
+    /// (corners, front, back) over the input's vertex numbering.
+    pub triangles: Vec<([u32; 3], Option<u32>, Option<u32>)>,
+    pub swept: Swept,
+}
+
+/// What the collapses swept over.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Swept {
+    /// Per mesh point: whether a collapse swept over it (it may now lie in another cage).
+    pub points: Vec<bool>,
+    /// The parts on either side of the faces that swept them.
+    pub parts: BTreeSet<u32>,
+}
+
+/// Mesh points (and their mirror images) in grid units, bucketed by grid cell, each with its
+/// mesh point's index (None for an image).
+type PointsByCell = BTreeMap<(i32, i32, i32), Vec<(DVec3, Option<u32>)>>;
+
+/// What a collapse must not sweep over: cage vertices, and mesh points unless allowed.
+struct Obstacles<'a> {
+    /// Cage vertices in grid units.
+    position: &'a [I64Vec3],
+    /// The live cage vertices by grid position.
+    at: &'a BTreeMap<(i32, i32, i32), u32>,
+    points: &'a PointsByCell,
+    sweep: Sweep<'a>,
+}
+
 /// The decimated complex: the triangles of `faces` (polygons over `vertices`, each with the
 /// part it bounds and the part behind it), with fewer vertices. Returns the triangles as
 /// (corners, front, back) over the same vertex numbering; vertices no triangle uses are gone
 /// from every triangle. The faces of the parts in `frozen` stay as they are (grid-stepped):
-/// the auto rig freezes a cage whose decimated surface did not validate.
+/// the auto rig freezes a cage whose decimated surface did not validate. `sweep` says where a
+/// collapse between two cages may move mesh points from one to the other.
 pub(super) fn decimate(
     grid: &Grid,
     vertices: &[IVec3],
@@ -54,7 +107,8 @@ pub(super) fn decimate(
     mesh_points: &[DVec3],
     frozen: &BTreeSet<u32>,
     mirror: Option<&MirrorPlane>,
-) -> Vec<([u32; 3], Option<u32>, Option<u32>)> {
+    sweep: Sweep<'_>,
+) -> Decimated {
     let mut triangles: Vec<Triangle> = Vec::new();
     for (corners, front, back) in faces {
         for k in 1..corners.len().saturating_sub(1) {
@@ -79,8 +133,8 @@ pub(super) fn decimate(
         .map(|(i, v)| ((v.x, v.y, v.z), i as u32))
         .collect();
     // Mesh points in grid units, bucketed by cell.
-    let mut points: BTreeMap<(i32, i32, i32), Vec<DVec3>> = BTreeMap::new();
-    for &p in mesh_points {
+    let mut points: PointsByCell = BTreeMap::new();
+    for (index, &p) in mesh_points.iter().enumerate() {
         let q = (p - grid.origin) / grid.cell;
         // With a mirror, the images of the mesh points too: no collapse sweeps over either.
         let image = mirror.map(|m| {
@@ -88,9 +142,10 @@ pub(super) fn decimate(
             r[m.axis] = f64::from(2 * m.half) - r[m.axis];
             r
         });
-        for q in std::iter::once(q).chain(image) {
+        let real = std::iter::once((q, Some(index as u32)));
+        for (q, index) in real.chain(image.map(|r| (r, None))) {
             let c = q.floor().as_ivec3();
-            points.entry((c.x, c.y, c.z)).or_default().push(q);
+            points.entry((c.x, c.y, c.z)).or_default().push((q, index));
         }
     }
     let index_of = at.clone();
@@ -103,6 +158,10 @@ pub(super) fn decimate(
     // Along the mirror axis: below the plane (-1), on it (0) or above (1).
     let side_of = |v: u32| mirror.map_or(-1, |m| (vertices[v as usize][m.axis] - m.half).signum());
     let mut removed = vec![false; vertices.len()];
+    let mut swept = Swept {
+        points: vec![false; mesh_points.len()],
+        parts: BTreeSet::new(),
+    };
     for _round in 0..8 {
         let mut changed = false;
         for v in 0..vertices.len() as u32 {
@@ -132,19 +191,36 @@ pub(super) fn decimate(
                 if mirror.is_some() && (side_of(u) > 0 || (side_of(v) == 0 && side_of(u) != 0)) {
                     continue;
                 }
-                let Some(undo) =
-                    try_collapse(v, u, &mut triangles, &mut star, &position, &at, &points)
+                let obstacles = Obstacles {
+                    position: &position,
+                    at: &at,
+                    points: &points,
+                    sweep,
+                };
+                let Some((undo, mut over)) =
+                    try_collapse(v, u, &mut triangles, &mut star, &obstacles)
                 else {
                     continue;
                 };
                 let p = vertices[v as usize];
                 at.remove(&(p.x, p.y, p.z));
+                let obstacles = Obstacles {
+                    position: &position,
+                    at: &at,
+                    points: &points,
+                    sweep,
+                };
                 let image = match (mirror, image_of(v), image_of(u)) {
                     (None, _, _) => Some(None),
                     (Some(_), Some(mv), _) if mv == v => Some(None),
                     (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => {
-                        try_collapse(mv, mu, &mut triangles, &mut star, &position, &at, &points)
-                            .map(|_| Some(mv))
+                        try_collapse(mv, mu, &mut triangles, &mut star, &obstacles).map(
+                            |(_, image_over)| {
+                                over.points.extend(image_over.points);
+                                over.parts.extend(image_over.parts);
+                                Some(mv)
+                            },
+                        )
                     }
                     _ => None,
                 };
@@ -153,6 +229,12 @@ pub(super) fn decimate(
                     at.insert((p.x, p.y, p.z), v);
                     continue;
                 };
+                for i in over.points {
+                    if let Some(s) = swept.points.get_mut(i as usize) {
+                        *s = true;
+                    }
+                }
+                swept.parts.extend(over.parts);
                 removed[v as usize] = true;
                 if let Some(mv) = image {
                     removed[mv as usize] = true;
@@ -167,11 +249,12 @@ pub(super) fn decimate(
             break;
         }
     }
-    triangles
+    let triangles = triangles
         .into_iter()
         .filter(|t| t.alive)
         .map(|t| (t.corners, t.front, t.back))
-        .collect()
+        .collect();
+    Decimated { triangles, swept }
 }
 
 /// The neighbours `v` may collapse into, nearest first: any neighbour for a sheet vertex, the
@@ -235,16 +318,28 @@ impl Undo {
     }
 }
 
-/// Collapses `v` into `u` if every check passes (see the module); returns how to take it back.
+/// The mesh points one collapse swept over, and the parts either side of its faces there.
+#[derive(Debug, Default)]
+struct SweptOver {
+    points: Vec<u32>,
+    parts: BTreeSet<u32>,
+}
+
+/// Collapses `v` into `u` if every check passes (see the module); returns how to take it back
+/// and the mesh points it swept over (where `obstacles.sweep` allowed it).
 fn try_collapse(
     v: u32,
     u: u32,
     triangles: &mut [Triangle],
     star: &mut [Vec<usize>],
-    position: &[I64Vec3],
-    at: &BTreeMap<(i32, i32, i32), u32>,
-    points: &BTreeMap<(i32, i32, i32), Vec<DVec3>>,
-) -> Option<Undo> {
+    obstacles: &Obstacles<'_>,
+) -> Option<(Undo, SweptOver)> {
+    let Obstacles {
+        position,
+        at,
+        points,
+        sweep,
+    } = *obstacles;
     let around_v: Vec<usize> = star[v as usize]
         .iter()
         .copied()
@@ -277,6 +372,9 @@ fn try_collapse(
         return None;
     }
     let (pv, pu) = (position[v as usize], position[u as usize]);
+    // Only faces between two cages move, both of which let mesh points change cage.
+    let may_sweep = sweep.allows(dying.iter().chain(&moving).map(|&t| triangles[t].sheet()));
+    let mut over = SweptOver::default();
     let limit = if dying.iter().chain(&moving).all(|&t| {
         let s = triangles[t].sheet();
         s.0.is_none() || s.1.is_none()
@@ -332,8 +430,20 @@ fn try_collapse(
                     let Some(list) = points.get(&(x as i32, y as i32, z as i32)) else {
                         continue;
                     };
-                    if list.iter().any(|&p| in_tetra_f(p, &tetra_f)) {
-                        return None;
+                    for &(p, index) in list {
+                        if !in_tetra_f(p, &tetra_f) {
+                            continue;
+                        }
+                        match index {
+                            Some(i) if may_sweep => {
+                                over.points.push(i);
+                                let sheet = triangles[t].sheet();
+                                over.parts.extend(sheet.0.into_iter().chain(sheet.1));
+                            }
+                            // An image only guards the mirror's collapse, made with its own.
+                            None if may_sweep => {}
+                            _ => return None,
+                        }
                     }
                 }
             }
@@ -387,7 +497,7 @@ fn try_collapse(
         star[u as usize].push(t);
     }
     star[v as usize].clear();
-    Some(undo)
+    Some((undo, over))
 }
 
 /// Whether the triangles around one edge (each by the labels on its two sides) leave some part,
@@ -578,7 +688,18 @@ mod tests {
             }
         }
         let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None, &[]);
-        let triangles = decimate(&grid, &vertices, &faces, &[], &BTreeSet::new(), None);
+        let triangles = decimate(
+            &grid,
+            &vertices,
+            &faces,
+            &[],
+            &BTreeSet::new(),
+            None,
+            Sweep {
+                refused: &BTreeSet::new(),
+            },
+        )
+        .triangles;
         let used: BTreeSet<u32> = triangles.iter().flat_map(|(c, _, _)| *c).collect();
         assert!(used.len() < 16, "{used:?}");
         for corner in [id(0, 0), id(3, 0), id(0, 3), id(3, 3)] {
@@ -592,5 +713,56 @@ mod tests {
             })
             .sum();
         assert_eq!(area, 2 * 9, "the sheet still covers its area, facing +z");
+    }
+
+    /// A bump in the sheet between parts 0 and 1 over a mesh point: flattening it moves the
+    /// point from part 1 to part 0, done and reported where both parts allow it, refused where
+    /// either does not.
+    #[test]
+    fn a_bump_between_two_cages_sweeps_a_mesh_point_only_where_both_allow_it() {
+        // A 4x4 sheet of unit squares on z = 0, its middle vertex raised to z = 1.
+        let mut vertices = Vec::new();
+        for y in 0..5 {
+            for x in 0..5 {
+                vertices.push(IVec3::new(x, y, i32::from(x == 2 && y == 2)));
+            }
+        }
+        let id = |x: u32, y: u32| x + 5 * y;
+        let apex = id(2, 2);
+        let mut faces = Vec::new();
+        for y in 0..4 {
+            for x in 0..4 {
+                // Fanned from the apex where a square has it, so both triangles touch it.
+                let quad = [id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)];
+                let first = quad.iter().position(|&c| c == apex).unwrap_or(0);
+                let turned: Vec<u32> = (0..4).map(|k| quad[(first + k) % 4]).collect();
+                faces.push((turned, Some(0), Some(1)));
+            }
+        }
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(4.0), 4, None, &[]);
+        // Under the apex, in grid units (2, 2, 0.5).
+        let point = grid.origin + DVec3::new(2.0, 2.0, 0.5) * grid.cell;
+        let run = |refused: &BTreeSet<u32>| {
+            decimate(
+                &grid,
+                &vertices,
+                &faces,
+                &[point],
+                &BTreeSet::new(),
+                None,
+                Sweep { refused },
+            )
+        };
+        let apex_kept = |d: &Decimated| d.triangles.iter().any(|(c, _, _)| c.contains(&apex));
+        let allowed = run(&BTreeSet::new());
+        assert!(!apex_kept(&allowed), "the bump is flattened");
+        assert_eq!(allowed.swept.points, vec![true]);
+        assert_eq!(allowed.swept.parts, BTreeSet::from([0, 1]));
+        for refused in [BTreeSet::from([0]), BTreeSet::from([1])] {
+            let kept = run(&refused);
+            assert!(apex_kept(&kept), "refused {refused:?}: the bump stays");
+            assert_eq!(kept.swept.points, vec![false]);
+            assert!(kept.swept.parts.is_empty());
+        }
     }
 }

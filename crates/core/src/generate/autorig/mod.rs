@@ -50,6 +50,7 @@ use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{cells_to_part_legs, sided_legs, stands_on_separate_feet};
+use decimate::Sweep;
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
@@ -496,6 +497,16 @@ fn rig_on_grid(
     let mut rounds = 0;
     // Parts whose decimated cage did not validate keep their grid-stepped faces.
     let mut frozen: BTreeSet<u32> = BTreeSet::new();
+    // Parts where a collapse between two cages swept a piece of surface away from the rest
+    // of the cage's: their faces sweep no mesh vertex in the next round.
+    let mut no_sweep: BTreeSet<u32> = BTreeSet::new();
+    let partners = |parts: &Parts, leaves: &[u32]| -> Vec<u32> {
+        let partner = mirror.as_ref().map(|m| symmetry::partners(&grid, m, parts));
+        leaves
+            .iter()
+            .filter_map(|&l| partner.as_ref()?.get(l as usize).copied())
+            .collect()
+    };
     let cages = loop {
         let problem_of = |set: &CageSet| {
             let scene = Scene::new(
@@ -508,15 +519,29 @@ fn rig_on_grid(
         };
         // Decimated cages first; a cage named by a problem is kept grid-stepped and the rest
         // decimated again; all grid-stepped where that does not validate either.
-        let decimated = leaf_cages(
+        let (decimated, swept) = leaf_cages(
             &grid,
             &parts,
             settings,
             mirror.as_ref(),
-            Some((mesh, &frozen)),
+            Some((mesh, &frozen, Sweep { refused: &no_sweep })),
         );
         let Some(problem) = problem_of(&decimated) else {
-            break decimated;
+            let cut_off = leaves_cut_by_sweeps(
+                &decimated,
+                mesh.welded_positions(),
+                &surface.neighbours,
+                &swept.points,
+                &swept.parts,
+            );
+            if cut_off.is_empty() {
+                break decimated;
+            }
+            let images = partners(&parts, &cut_off);
+            no_sweep.extend(cut_off);
+            no_sweep.extend(images);
+            check()?;
+            continue;
         };
         let named: Vec<u32> = problem
             .elements(&decimated)
@@ -527,19 +552,13 @@ fn rig_on_grid(
             .collect();
         if !named.is_empty() {
             // A frozen cage's image is frozen with it.
-            let partner = mirror
-                .as_ref()
-                .map(|m| symmetry::partners(&grid, m, &parts));
-            let images: Vec<u32> = named
-                .iter()
-                .filter_map(|&l| partner.as_ref()?.get(l as usize).copied())
-                .collect();
+            let images = partners(&parts, &named);
             frozen.extend(named);
             frozen.extend(images);
             check()?;
             continue;
         }
-        let set = leaf_cages(&grid, &parts, settings, mirror.as_ref(), None);
+        let (set, _) = leaf_cages(&grid, &parts, settings, mirror.as_ref(), None);
         let Some(problem) = problem_of(&set) else {
             break set;
         };
@@ -573,6 +592,7 @@ fn rig_on_grid(
             merges += make_symmetric(&grid, m, &mut parts, surface);
         }
         frozen.clear();
+        no_sweep.clear();
         check()?;
     };
     control.advance();
@@ -633,29 +653,36 @@ fn rig_on_grid(
 }
 
 /// The leaf cages of the parts, named by role; decimated around the mesh where given, except
-/// the frozen parts' faces.
+/// the frozen parts' faces, with what the collapses swept into another cage (nothing when
+/// not decimated).
 fn leaf_cages(
     grid: &Grid,
     parts: &Parts,
     settings: &AutorigSettings,
     mirror: Option<&MirrorPlane>,
-    decimate_around: Option<(&Mesh, &BTreeSet<u32>)>,
-) -> CageSet {
+    decimate_around: Option<(&Mesh, &BTreeSet<u32>, Sweep<'_>)>,
+) -> (CageSet, decimate::Swept) {
     let faces = polycube::boundary_faces(grid, parts, mirror);
     let (vertices, faces) = polycube::indexed_faces(&faces);
-    let faces = match decimate_around {
-        Some((mesh, frozen)) => decimate::decimate(
-            grid,
-            &vertices,
-            &faces,
-            mesh.welded_positions(),
-            frozen,
-            mirror,
-        )
-        .into_iter()
-        .map(|(corners, front, back)| (corners.to_vec(), front, back))
-        .collect(),
-        None => faces,
+    let (faces, swept) = match decimate_around {
+        Some((mesh, frozen, sweep)) => {
+            let decimated = decimate::decimate(
+                grid,
+                &vertices,
+                &faces,
+                mesh.welded_positions(),
+                frozen,
+                mirror,
+                sweep,
+            );
+            let faces = decimated
+                .triangles
+                .into_iter()
+                .map(|(corners, front, back)| (corners.to_vec(), front, back))
+                .collect();
+            (faces, decimated.swept)
+        }
+        None => (faces, decimate::Swept::default()),
     };
     let (vertices, per_part) = polycube::part_faces(&vertices, &faces, parts.roles.len());
     let names = part_names(&parts.roles);
@@ -680,7 +707,7 @@ fn leaf_cages(
             }
         })
         .collect();
-    CageSet {
+    let cages = CageSet {
         vertices: vertices
             .iter()
             .map(|&v| match mirror {
@@ -690,7 +717,8 @@ fn leaf_cages(
             .collect(),
         leaves,
         internals: Vec::new(),
-    }
+    };
+    (cages, swept)
 }
 
 /// Names by role: `body_K` along each body (`body2_K` for a second body), `limbL_K` from the
@@ -908,38 +936,78 @@ pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
     pieces_per_leaf(scene, &surface::surface_neighbours(&scene.mesh))
 }
 
+/// The leaf cages (by index) a decimation's sweeps (`swept`: per welded vertex, whether a
+/// collapse moved it into another cage; `touched`: the parts on either side of those
+/// collapses) may have left wrong: a touched cage holding more than one piece of surface (a
+/// sweep out of it cut its own surface, as at an ear's base, or swept most of a neighbour's
+/// piece out and left a sliver of it), or any cage holding a piece made only of vertices swept
+/// into it (the inner thigh of a leg close beside, cut off from the cage's own). No sliver
+/// allowance, unlike [`pieces_per_leaf`]: one such vertex would move with the wrong limb.
+fn leaves_cut_by_sweeps(
+    set: &CageSet,
+    points: &[DVec3],
+    neighbours: &[Vec<u32>],
+    swept: &[bool],
+    touched: &BTreeSet<u32>,
+) -> Vec<u32> {
+    if touched.is_empty() {
+        return Vec::new();
+    }
+    let is_swept = |v: u32| swept.get(v as usize).copied().unwrap_or(false);
+    surface_pieces(set, points, neighbours)
+        .iter()
+        .enumerate()
+        .filter(|(leaf, pieces)| {
+            (touched.contains(&(*leaf as u32)) && pieces.len() > 1)
+                || pieces.iter().any(|p| p.iter().all(|&v| is_swept(v)))
+        })
+        .map(|(leaf, _)| leaf as u32)
+        .collect()
+}
+
 /// [`surface_pieces_per_leaf`] with the mesh's surface adjacency already found.
 fn pieces_per_leaf(scene: &Scene, neighbours: &[Vec<u32>]) -> Vec<usize> {
-    let set = &scene.cages;
+    surface_pieces(&scene.cages, scene.mesh.welded_positions(), neighbours)
+        .iter()
+        .map(|pieces| {
+            pieces
+                .iter()
+                .filter(|p| p.len() >= sliver_of(pieces))
+                .count()
+        })
+        .collect()
+}
+
+/// The size under which a piece of a cage's surface is a sliver (see [`SLIVER_VERTICES`]):
+/// that, or a hundredth of the vertices the cage holds.
+fn sliver_of(pieces: &[Vec<u32>]) -> usize {
+    let held: usize = pieces.iter().map(Vec::len).sum();
+    SLIVER_VERTICES.max(held / 100)
+}
+
+/// For each leaf cage of `set`, the pieces of the mesh surface among the welded vertices
+/// (`points`, joined by `neighbours`) it holds inside or on it, each as its vertices; a leaf
+/// that is not a valid cage holds none.
+fn surface_pieces(set: &CageSet, points: &[DVec3], neighbours: &[Vec<u32>]) -> Vec<Vec<Vec<u32>>> {
     let locals: Vec<Option<crate::scene::LocalCage>> = set
         .leaves
         .iter()
         .map(|l| crate::scene::LocalCage::new(&set.vertices, &l.faces).ok())
         .collect();
-    let points = scene.mesh.welded_positions();
-    let valid: Vec<crate::scene::LocalCage> = locals.iter().flatten().cloned().collect();
-    let index_of: Vec<usize> = locals
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| l.is_some())
-        .map(|(i, _)| i)
-        .collect();
+    let index_of: Vec<usize> = (0..locals.len()).filter(|&i| locals[i].is_some()).collect();
+    let valid: Vec<crate::scene::LocalCage> = locals.into_iter().flatten().collect();
     let containment = crate::scene::leaf_containment(&valid, points);
-    let mut pieces = vec![0; set.leaves.len()];
+    let mut pieces = vec![Vec::new(); set.leaves.len()];
     let mut member = vec![false; points.len()];
     let mut seen = vec![false; points.len()];
     for (k, &leaf) in index_of.iter().enumerate() {
         member.iter_mut().for_each(|m| *m = false);
         seen.iter_mut().for_each(|s| *s = false);
-        let mut held = 0;
         for (v, c) in containment.iter().enumerate() {
             if c.inside.contains(&k) || c.on_surface.contains(&k) {
                 member[v] = true;
-                held += 1;
             }
         }
-        let sliver = SLIVER_VERTICES.max(held / 100);
-        let mut count = 0;
         let mut stack = Vec::new();
         for start in 0..points.len() {
             if !member[start] || seen[start] {
@@ -947,22 +1015,19 @@ fn pieces_per_leaf(scene: &Scene, neighbours: &[Vec<u32>]) -> Vec<usize> {
             }
             seen[start] = true;
             stack.push(start);
-            let mut size = 0;
+            let mut piece = Vec::new();
             while let Some(v) = stack.pop() {
-                size += 1;
-                for &n in &neighbours[v] {
+                piece.push(v as u32);
+                for &n in neighbours.get(v).into_iter().flatten() {
                     let n = n as usize;
-                    if member[n] && !seen[n] {
+                    if member.get(n) == Some(&true) && !seen[n] {
                         seen[n] = true;
                         stack.push(n);
                     }
                 }
             }
-            if size >= sliver {
-                count += 1;
-            }
+            pieces[leaf].push(piece);
         }
-        pieces[leaf] = count;
     }
     pieces
 }
