@@ -256,11 +256,20 @@ def test_bent_joints_keep_their_volume(tmp_path):
     binding = scene.bind()
     rest = scene.cage_vertices
     assert np.array_equal(binding.keep_joint_volumes(rest), rest)
-    # A control with a joint ring under another control: a knee.
-    knee = next(c["name"] for c in scene.controls if c["joint"] and c["name"].endswith(".2"))
-    mitred = scene.posed([f"{knee}: rotate 0 1 0 80"])
-    kept = binding.keep_joint_volumes(mitred)
-    assert np.abs(kept - mitred).max() > 1e-6 * diagonal(rest), "no ring moved"
+    # Controls with a joint ring under another control: knees. A knee whose mitre already
+    # keeps its region's volume within 0.1 % is left alone (the back left one since the
+    # decimation sweeps faces between cages), so the test takes the first one that is not.
+    knees = [c["name"] for c in scene.controls if c["joint"] and c["name"].endswith(".2")]
+    assert len(knees) >= 4, knees
+
+    def settled(knee):
+        mitred = scene.posed([f"{knee}: rotate 0 1 0 80"])
+        return mitred, binding.keep_joint_volumes(mitred)
+
+    moved = [k for k in knees if np.abs(np.subtract(*settled(k))).max() > 1e-6 * diagonal(rest)]
+    assert moved, "no ring moved on any knee"
+    knee = moved[0]
+    mitred, kept = settled(knee)
     # Settled again, it stays.
     assert np.array_equal(binding.keep_joint_volumes(kept), kept)
     triangles = scene.mesh_triangles.astype(np.int64)
