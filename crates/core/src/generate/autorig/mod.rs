@@ -956,13 +956,7 @@ fn leaves_cut_by_sweeps(
     let points = surface.mesh.welded_positions();
     let is_swept = |v: usize| swept.points.get(v).copied().unwrap_or(false);
     let swept_vertices: Vec<usize> = (0..points.len()).filter(|&v| is_swept(v)).collect();
-    let locals: Vec<Option<crate::scene::LocalCage>> = set
-        .leaves
-        .iter()
-        .map(|l| crate::scene::LocalCage::new(&set.vertices, &l.faces).ok())
-        .collect();
-    let index_of: Vec<usize> = (0..locals.len()).filter(|&i| locals[i].is_some()).collect();
-    let valid: Vec<crate::scene::LocalCage> = locals.into_iter().flatten().collect();
+    let (valid, index_of) = valid_leaf_cages(set);
     let swept_points: Vec<DVec3> = swept_vertices.iter().map(|&v| points[v]).collect();
     let containment = crate::scene::leaf_containment(&valid, &swept_points);
     // The cages holding each vertex of a touched cage: a swept one's by its containment,
@@ -999,20 +993,11 @@ fn leaves_cut_by_sweeps(
             if seen[start] {
                 continue;
             }
-            seen[start] = true;
             pieces += 1;
             let mut all_swept = true;
-            let mut stack = vec![start];
-            while let Some(v) = stack.pop() {
+            walk_piece(start, &member, &mut seen, &surface.neighbours, |v| {
                 all_swept &= is_swept(v);
-                for &n in surface.neighbours.get(v).into_iter().flatten() {
-                    let n = n as usize;
-                    if member[n] && !seen[n] {
-                        seen[n] = true;
-                        stack.push(n);
-                    }
-                }
-            }
+            });
             swept_only |= all_swept;
         }
         for &v in vertices {
@@ -1028,67 +1013,73 @@ fn leaves_cut_by_sweeps(
 
 /// [`surface_pieces_per_leaf`] with the mesh's surface adjacency already found.
 fn pieces_per_leaf(scene: &Scene, neighbours: &[Vec<u32>]) -> Vec<usize> {
-    surface_pieces(&scene.cages, scene.mesh.welded_positions(), neighbours)
-        .iter()
-        .map(|pieces| {
-            pieces
-                .iter()
-                .filter(|p| p.len() >= sliver_of(pieces))
-                .count()
-        })
-        .collect()
-}
-
-/// The size under which a piece of a cage's surface is a sliver (see [`SLIVER_VERTICES`]):
-/// that, or a hundredth of the vertices the cage holds.
-fn sliver_of(pieces: &[Vec<u32>]) -> usize {
-    let held: usize = pieces.iter().map(Vec::len).sum();
-    SLIVER_VERTICES.max(held / 100)
-}
-
-/// For each leaf cage of `set`, the pieces of the mesh surface among the welded vertices
-/// (`points`, joined by `neighbours`) it holds inside or on it, each as its vertices; a leaf
-/// that is not a valid cage holds none.
-fn surface_pieces(set: &CageSet, points: &[DVec3], neighbours: &[Vec<u32>]) -> Vec<Vec<Vec<u32>>> {
-    let locals: Vec<Option<crate::scene::LocalCage>> = set
-        .leaves
-        .iter()
-        .map(|l| crate::scene::LocalCage::new(&set.vertices, &l.faces).ok())
-        .collect();
-    let index_of: Vec<usize> = (0..locals.len()).filter(|&i| locals[i].is_some()).collect();
-    let valid: Vec<crate::scene::LocalCage> = locals.into_iter().flatten().collect();
+    let set = &scene.cages;
+    let (valid, index_of) = valid_leaf_cages(set);
+    let points = scene.mesh.welded_positions();
     let containment = crate::scene::leaf_containment(&valid, points);
-    let mut pieces = vec![Vec::new(); set.leaves.len()];
+    let mut pieces = vec![0; set.leaves.len()];
     let mut member = vec![false; points.len()];
     let mut seen = vec![false; points.len()];
     for (k, &leaf) in index_of.iter().enumerate() {
         member.iter_mut().for_each(|m| *m = false);
         seen.iter_mut().for_each(|s| *s = false);
+        let mut held = 0;
         for (v, c) in containment.iter().enumerate() {
             if c.inside.contains(&k) || c.on_surface.contains(&k) {
                 member[v] = true;
+                held += 1;
             }
         }
-        let mut stack = Vec::new();
+        let sliver = SLIVER_VERTICES.max(held / 100);
+        let mut count = 0;
         for start in 0..points.len() {
             if !member[start] || seen[start] {
                 continue;
             }
-            seen[start] = true;
-            stack.push(start);
-            let mut piece = Vec::new();
-            while let Some(v) = stack.pop() {
-                piece.push(v as u32);
-                for &n in neighbours.get(v).into_iter().flatten() {
-                    let n = n as usize;
-                    if member.get(n) == Some(&true) && !seen[n] {
-                        seen[n] = true;
-                        stack.push(n);
-                    }
-                }
+            let mut size = 0;
+            walk_piece(start, &member, &mut seen, neighbours, |_| size += 1);
+            if size >= sliver {
+                count += 1;
             }
-            pieces[leaf].push(piece);
         }
+        pieces[leaf] = count;
     }
     pieces
+}
+
+/// The leaf cages of `set` that are valid cages, and the leaf index of each.
+fn valid_leaf_cages(set: &CageSet) -> (Vec<crate::scene::LocalCage>, Vec<usize>) {
+    set.leaves
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| {
+            Some((
+                crate::scene::LocalCage::new(&set.vertices, &l.faces).ok()?,
+                i,
+            ))
+        })
+        .unzip()
+}
+
+/// Visits the piece of surface through `start` among the `member` vertices (joined by
+/// `neighbours`), each vertex once, marking them in `seen`.
+fn walk_piece(
+    start: usize,
+    member: &[bool],
+    seen: &mut [bool],
+    neighbours: &[Vec<u32>],
+    mut visit: impl FnMut(usize),
+) {
+    seen[start] = true;
+    let mut stack = vec![start];
+    while let Some(v) = stack.pop() {
+        visit(v);
+        for &n in neighbours.get(v).into_iter().flatten() {
+            let n = n as usize;
+            if member.get(n) == Some(&true) && !seen[n] {
+                seen[n] = true;
+                stack.push(n);
+            }
+        }
+    }
 }
