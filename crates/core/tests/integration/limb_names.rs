@@ -365,7 +365,7 @@ fn legs_closer_than_a_cell_all_along_are_two_legs() {
     // The human above with straight legs 0.08 apart all along, less than a cell of the default
     // detail (0.13): no grid of that detail has a column of cells between them, with the plane
     // between them on a cell face or through a column's middle, so one leg was found (four
-    // segments, carrying both). The grid is refined until its cells fit between them.
+    // segments, carrying both). The column on the plane is made thinner than the gap.
     let controls = controls_of(&human(0.17, 0.17, 1.55));
     let names: Vec<&String> = controls.keys().collect();
     for side in ["L", "R"] {
@@ -373,8 +373,8 @@ fn legs_closer_than_a_cell_all_along_are_two_legs() {
             .iter()
             .filter(|n| n.starts_with(&format!("leg.{side}.")))
             .count();
-        // As many segments as the detail's grid cuts a leg into (four to five), not the finer
-        // grid's (seven and eight before its depths were taken as the detail's grid's).
+        // As many segments as the detail's grid cuts a leg into (four to five; a grid fine
+        // enough to have whole cells between the legs cut seven and eight).
         assert!((2..=5).contains(&segments), "leg.{side}: {names:?}");
     }
     assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
@@ -643,4 +643,72 @@ fn a_head_thicker_than_the_torso_carries_its_ears_and_the_arms_hang_from_the_tor
             && !n.contains(".001")),
         "{names:?}"
     );
+}
+
+/// [`human`] whose legs are as thick as his torso is deep (a cartoon's, Homer's: 0.26 against
+/// the torso's 0.38), their axes `hip_x` either side of the middle.
+pub(crate) fn thick_legged_human(hip_x: f64) -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
+        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.55), 0.1),
+        (v(0.0, -0.03, 1.8), v(0.0, 0.0, 1.9), 0.24),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.4 * side, 0.0, 1.05), v(0.95 * side, 0.0, 0.5), 0.1));
+        parts.push((v(0.95 * side, 0.0, 0.5), v(1.3 * side, 0.0, 0.0), 0.08));
+        parts.push((v(hip_x * side, 0.0, -0.1), v(hip_x * side, 0.0, -1.9), 0.26));
+    }
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn legs_as_thick_as_the_body_is_deep_are_legs_with_or_without_a_mirror() {
+    // Thighs 0.52 thick under a torso 0.76 deep: the body's thick cells reached down both
+    // legs to the feet, so the legs were body slabs with no control (none found, with or
+    // without a mirror). The layers where the body stands in two pieces leave it.
+    for mirror in [Mirror::None, Mirror::Auto] {
+        let settings = AutorigSettings {
+            mirror,
+            ..AutorigSettings::default()
+        };
+        let controls = controls_with(&thick_legged_human(0.36), &settings);
+        let names: Vec<&String> = controls.keys().collect();
+        for control in [
+            "leg.L.1", "leg.L.2", "leg.R.1", "leg.R.2", "arm.L.1", "head.1",
+        ] {
+            assert!(
+                controls.contains_key(control),
+                "{mirror:?}: no {control} in {names:?}"
+            );
+        }
+        assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+        assert_eq!(parent(&controls, "leg.L.2"), "leg.L.1");
+        // The hip joint is at the crotch, not down a body slab's length.
+        let hip = controls["leg.L.1"].1;
+        assert!(hip.z > -0.6 && hip.z < 0.3, "leg.L.1's pivot {hip}");
+    }
+}
+
+#[test]
+fn legs_closer_than_a_cell_are_two_legs_with_a_mirror_too() {
+    // Legs 0.08 apart (a cell of the default detail is 0.13), thin and thick: the mirror's
+    // plane is a grid plane, so the cells on both sides of it held both legs' inner surfaces
+    // and joined them (no leg found). Two thin columns either side of the plane part them.
+    for mesh in [human(0.17, 0.17, 1.55), thick_legged_human(0.3)] {
+        for mirror in [Mirror::None, Mirror::Auto] {
+            let settings = AutorigSettings {
+                mirror,
+                ..AutorigSettings::default()
+            };
+            let controls = controls_with(&mesh, &settings);
+            let names: Vec<&String> = controls.keys().collect();
+            for control in ["leg.L.1", "leg.L.2", "leg.R.1", "leg.R.2"] {
+                assert!(
+                    controls.contains_key(control),
+                    "{mirror:?}: no {control} in {names:?}"
+                );
+            }
+            assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+        }
+    }
 }

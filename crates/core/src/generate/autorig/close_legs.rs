@@ -1,11 +1,12 @@
-//! Legs standing closer together than a grid cell: when the rig found them, and how fine a grid
-//! must be to find them.
+//! Legs standing closer together than a grid cell: when the rig found them, and how wide the
+//! gap between them is.
 //!
 //! Cells that hold both legs' inner surfaces join the legs into one solid as thick as the body,
 //! so one leg, or none, is found. [`super::autorig`] then rigs a figure that stands on separate
 //! feet and is symmetric across a horizontal plane again, on a grid with that plane through the
-//! middle of a column of cells; where the gap is narrower than a cell, on a grid whose cells fit
-//! in it ([`cells_to_part_legs`]).
+//! middle of a column of cells; where the gap is narrower than a cell, on a grid whose column
+//! there is thinner than the gap ([`gap_between_legs`], [`super::voxels::Band`]), every other
+//! cell as the detail's.
 
 use super::Autorig;
 use super::surface::SurfaceMesh;
@@ -62,19 +63,16 @@ pub(super) fn stands_on_separate_feet(surface: &SurfaceMesh) -> bool {
 /// looks for feet.
 const FEET_SHARE: f64 = 0.05;
 
-/// Cells along the mesh's longest side of a grid whose cells fit between the legs, measured
-/// across the plane `axis = centre` (a vertical plane the figure is symmetric across): the
-/// crotch is the lowest point of the surface that crosses the plane; in the lower
-/// [`LEG_SPAN_MEASURED`] of the height below it, the gap between the legs is twice the least
-/// distance of a mesh vertex from the plane (no triangle there crosses it, so its nearest point
-/// is a corner). The cells are [`CELL_IN_GAP`] of that gap, so that a column centred on the
-/// plane holds no surface. None where the plane crosses no triangle (the halves are not joined),
-/// the crotch is lower than [`LEAST_LEG_SHARE`] of the height, or the legs touch below it.
-pub(super) fn cells_to_part_legs(mesh: &Mesh, axis: usize, centre: f64) -> Option<u32> {
+/// The gap between the legs across the plane `axis = centre` (a vertical plane the figure is
+/// symmetric across): the crotch is the lowest point of the surface that crosses the plane; in
+/// the lower [`LEG_SPAN_MEASURED`] of the height below it, the gap is twice the least distance
+/// of a mesh vertex from the plane (no triangle there crosses it, so its nearest point is a
+/// corner). None where the plane crosses no triangle (the halves are not joined), the crotch is
+/// lower than [`LEAST_LEG_SHARE`] of the height, or the legs touch below it.
+pub(super) fn gap_between_legs(mesh: &Mesh, axis: usize, centre: f64) -> Option<f64> {
     let positions = mesh.welded_positions();
     let (lo, hi) = mesh.bounds();
     let height = hi.z - lo.z;
-    let longest = (hi - lo).max_element();
     if axis > 1 || height.is_nan() || height <= 0.0 {
         return None;
     }
@@ -100,24 +98,20 @@ pub(super) fn cells_to_part_legs(mesh: &Mesh, axis: usize, centre: f64) -> Optio
         .filter(|p| p.z <= top)
         .map(|p| (p[axis] - centre).abs())
         .min_by(f64::total_cmp)?;
-    let cell = CELL_IN_GAP * 2.0 * half_gap;
-    if cell.is_nan() || cell <= 0.0 {
-        return None;
-    }
-    let cells = (longest / cell).ceil();
-    (cells.is_finite() && cells <= f64::from(u32::MAX)).then_some(cells as u32)
+    let gap = 2.0 * half_gap;
+    (gap.is_finite() && gap > 0.0).then_some(gap)
 }
 
 /// The share of the legs' height, from the ground up to the crotch, over which
-/// [`cells_to_part_legs`] measures the gap between them (above it the thighs curve into the
+/// [`gap_between_legs`] measures it (above it the thighs curve into the
 /// crotch).
 const LEG_SPAN_MEASURED: f64 = 0.75;
 
-/// A grid cell's share of the gap between the legs in [`cells_to_part_legs`]: below 1, so that
-/// the surface sampled at [0.45 cells](super::voxels::solid_cells) stays out of the column.
-const CELL_IN_GAP: f64 = 0.8;
+/// The width of the thin cells between legs ([`super::voxels::Band`]) as a share of the gap
+/// between them: below 1, so that no surface passes through them.
+pub(super) const CELL_IN_GAP: f64 = 0.8;
 
-/// The least height of a crotch, as a share of the figure's, for [`cells_to_part_legs`] to see
+/// The least height of a crotch, as a share of the figure's, for [`gap_between_legs`] to see
 /// legs below it.
 const LEAST_LEG_SHARE: f64 = 0.1;
 
@@ -152,21 +146,18 @@ mod tests {
     }
 
     #[test]
-    fn the_cells_fit_in_the_gap_between_the_legs() {
-        let mesh = two_legs(0.05);
-        let cells = cells_to_part_legs(&mesh, 0, 0.0).unwrap();
-        let cell = 2.0 / f64::from(cells);
-        assert!(cell < 0.05 && cell > 0.7 * 0.05, "cell {cell}");
-        // A twice wider gap: cells twice as large, their count rounded up (so 2 × ⌈n / 2⌉ ≤ n + 2).
-        let wide = cells_to_part_legs(&two_legs(0.1), 0, 0.0).unwrap();
-        assert!(wide * 2 <= cells + 2, "{wide} against {cells}");
+    fn the_gap_between_the_legs_is_measured_below_the_crotch() {
+        for gap in [0.05, 0.1] {
+            let measured = gap_between_legs(&two_legs(gap), 0, 0.0).unwrap();
+            assert!((measured - gap).abs() < 1e-12, "{measured} against {gap}");
+        }
     }
 
     #[test]
     fn no_legs_no_gap() {
         // Legs that touch.
-        assert_eq!(cells_to_part_legs(&two_legs(0.0), 0, 0.0), None);
+        assert_eq!(gap_between_legs(&two_legs(0.0), 0, 0.0), None);
         // Across the other horizontal plane, the "legs" are one solid from the ground up.
-        assert_eq!(cells_to_part_legs(&two_legs(0.05), 1, 0.0), None);
+        assert_eq!(gap_between_legs(&two_legs(0.05), 1, 0.0), None);
     }
 }

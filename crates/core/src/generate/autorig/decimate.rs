@@ -135,7 +135,7 @@ pub(super) fn decimate(
     // Mesh points in grid units, bucketed by cell.
     let mut points: PointsByCell = BTreeMap::new();
     for (index, &p) in mesh_points.iter().enumerate() {
-        let q = (p - grid.origin) / grid.cell;
+        let q = grid.units_of(p);
         // With a mirror, the images of the mesh points too: no collapse sweeps over either.
         let image = mirror.map(|m| {
             let mut r = q;
@@ -687,7 +687,7 @@ mod tests {
                 ));
             }
         }
-        let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None, &[]);
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(3.0), 3, None, &[], None);
         let triangles = decimate(
             &grid,
             &vertices,
@@ -739,7 +739,7 @@ mod tests {
                 faces.push((turned, Some(0), Some(1)));
             }
         }
-        let grid = Grid::around(DVec3::ZERO, DVec3::splat(4.0), 4, None, &[]);
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(4.0), 4, None, &[], None);
         // Under the apex, in grid units (2, 2, 0.5).
         let point = grid.origin + DVec3::new(2.0, 2.0, 0.5) * grid.cell;
         let run = |refused: &BTreeSet<u32>| {

@@ -49,12 +49,12 @@ use crate::check::validate_scene;
 use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
-use close_legs::{cells_to_part_legs, sided_legs, stands_on_separate_feet};
+use close_legs::{CELL_IN_GAP, gap_between_legs, sided_legs, stands_on_separate_feet};
 use decimate::Sweep;
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
-use voxels::Grid;
+use voxels::{BandAt, Grid};
 
 /// The mirror plane the rig is made symmetric across.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -291,30 +291,31 @@ pub fn autorig(
         // solid as thick as the body: one leg, or none, is found. A figure symmetric across a
         // horizontal plane standing on separate feet is rigged again on a grid with that plane
         // through the middle of a column of cells, which stays empty between legs more than a
-        // cell apart; the grid that finds more legs with a side is kept.
+        // cell apart, then with that column thinner than the gap between them; the grid that
+        // finds more legs with a side is kept.
         let legs = sided_legs(&rig);
-        if legs < 2
-            && settings.mirror == Mirror::None
-            && facts.on_separate_feet
-            && symmetric_across_a_horizontal_plane(&facts.symmetry)
-        {
-            match on_grid(cells, GridChoice::CENTRED) {
-                Ok(centred) if sided_legs(&centred) > legs => rig = centred,
-                Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
-                _ => {}
-            }
-            // Legs closer than a cell: a grid whose cells fit between them, at most
-            // [`MAX_LEG_REFINEMENT`] times finer. (Homer's ankles, 1 % of his height apart,
-            // would need four times: not tried.)
-            if sided_legs(&rig) < 2
-                && let Some(fine) = cells_between_legs(mesh, &facts.symmetry, cells)
+        if legs < 2 && facts.on_separate_feet {
+            if settings.mirror == Mirror::None
+                && symmetric_across_a_horizontal_plane(&facts.symmetry)
             {
-                let finer = f64::from(fine) / f64::from(cells);
+                match on_grid(cells, GridChoice::CENTRED) {
+                    Ok(centred) if sided_legs(&centred) > legs => rig = centred,
+                    Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
+                    _ => {}
+                }
+            }
+            // Legs closer than a cell: a column of cells thin enough to fit between them, every
+            // other cell the detail's (with a mirror, two columns, one either side of its
+            // plane, which is a grid plane). No finer grid is needed, so the rig costs what
+            // the detail's does (a grid twice as fine made eight times the cells).
+            if sided_legs(&rig) < 2
+                && let Some(band) = legs_band(mesh, settings.mirror, &facts.symmetry, cells)
+            {
                 let choice = GridChoice {
-                    centre_symmetry: true,
-                    finer,
+                    centre_symmetry: settings.mirror == Mirror::None,
+                    band: Some(band),
                 };
-                match on_grid(fine, choice) {
+                match on_grid(cells, choice) {
                     Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
                     Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                     _ => {}
@@ -344,25 +345,36 @@ pub fn autorig(
     best.ok_or(AutorigError::Cancelled)
 }
 
-/// The cells along the longest side of a grid fine enough to part legs closer than a cell of
-/// `cells` ([`cells_to_part_legs`] across each horizontal plane the mesh is symmetric across),
-/// if more than `cells` and at most [`MAX_LEG_REFINEMENT`] times them.
-fn cells_between_legs(mesh: &Mesh, scores: &[f64; 3], cells: u32) -> Option<u32> {
+/// Thin cells between legs closer than a cell of the detail's grid (`cells` along the longest
+/// side): across the mirror's plane where the rig mirrors across a horizontal axis, else
+/// across the centre plane of each horizontal axis the mesh is symmetric across (the widest
+/// gap where both part legs), [`CELL_IN_GAP`] of the gap between the legs wide. None where no
+/// plane has legs on either side ([`gap_between_legs`]) or their gap is wider than the cells
+/// the band replaces (one, two with a mirror).
+fn legs_band(mesh: &Mesh, mirror: Mirror, scores: &[f64; 3], cells: u32) -> Option<BandAt> {
     let (lo, hi) = mesh.bounds();
-    (0..2)
-        .filter(|&a| scores[a] >= SYMMETRIC_SHARE)
-        .filter_map(|a| cells_to_part_legs(mesh, a, 0.5 * (lo[a] + hi[a])))
-        .filter(|&fine| fine > cells && f64::from(fine) <= MAX_LEG_REFINEMENT * f64::from(cells))
-        .min()
+    let cell = (hi - lo).max_element() / f64::from(cells.max(1));
+    let axes: Vec<(usize, f64)> = match mirror {
+        Mirror::None => (0..2)
+            .filter(|&a| scores[a] >= SYMMETRIC_SHARE)
+            .map(|a| (a, 0.5 * (lo[a] + hi[a])))
+            .collect(),
+        Mirror::Axis(a) => vec![(a, mirror_plane(lo[a], hi[a]))],
+        Mirror::Auto => most_symmetric_axis(scores)
+            .map(|a| (a, mirror_plane(lo[a], hi[a])))
+            .into_iter()
+            .collect(),
+    };
+    axes.into_iter()
+        .filter(|&(a, _)| a < 2)
+        .filter_map(|(axis, plane)| {
+            let width = CELL_IN_GAP * gap_between_legs(mesh, axis, plane)?;
+            // With a mirror, the band is two columns, one either side of its plane.
+            let columns = if mirror == Mirror::None { 1.0 } else { 2.0 };
+            (width < columns * cell).then_some(BandAt { axis, plane, width })
+        })
+        .max_by(|a, b| a.width.total_cmp(&b.width))
 }
-
-/// How much finer than the detail's grid [`cells_between_legs`] may make it.
-const MAX_LEG_REFINEMENT: f64 = 2.0;
-
-/// How far, in cells, a grid's depth (from a cell's centre to the nearest empty cell's)
-/// overstates a limb's mean distance to its surface: the surface lies inside the boundary
-/// cells, at about three quarters of a cell from the next empty cell's centre.
-const DEPTH_OVERSTATED: f64 = 0.75;
 
 /// Times the grid may be refined to give every cage one piece of surface, and by how much.
 const MAX_REFINEMENTS: u32 = 3;
@@ -382,20 +394,20 @@ struct GridChoice {
     /// Each horizontal plane the mesh is symmetric across through the middle of a column of
     /// cells (the retry for legs close together).
     centre_symmetry: bool,
-    /// How many times finer than the detail's grid it is (1 on the detail's own).
-    finer: f64,
+    /// Thin cells between legs closer than a cell ([`legs_band`]).
+    band: Option<BandAt>,
 }
 
 impl GridChoice {
     /// The detail's grid, laid from the mesh's corner.
     const DETAIL: Self = Self {
         centre_symmetry: false,
-        finer: 1.0,
+        band: None,
     };
     /// The detail's grid, centred on the planes of symmetry.
     const CENTRED: Self = Self {
         centre_symmetry: true,
-        finer: 1.0,
+        band: None,
     };
 }
 
@@ -412,7 +424,7 @@ fn rig_on_grid(
 ) -> Result<Autorig, AutorigError> {
     let GridChoice {
         centre_symmetry,
-        finer,
+        band,
     } = choice;
     let mesh = surface.mesh;
     let (lo, hi) = mesh.bounds();
@@ -448,6 +460,7 @@ fn rig_on_grid(
         cells,
         mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a]))),
         &centred,
+        band,
     );
     let mut occupied = voxels::solid_cells(&grid, mesh);
     if settings.margin > 0.0 {
@@ -473,10 +486,6 @@ fn rig_on_grid(
         // saves memory against single MVC (docs/performance.md, "Design measurements"); 0.5
         // made too many slabs.
         slab_length: BODY_SLAB_SHARE * segment_length,
-        // A grid `finer` times the detail's measures a limb's depth in more cells, each of
-        // which overstates it less: thicknesses as the detail's grid would measure them keep
-        // its segments.
-        depth_offset: DEPTH_OVERSTATED * (finer - 1.0),
         on_separate_feet: facts.on_separate_feet,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);

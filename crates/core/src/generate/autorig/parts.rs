@@ -71,9 +71,6 @@ pub(super) struct Cutting {
     pub segment_length: f64,
     /// Slab length across a body, in thicknesses of the body.
     pub slab_length: f64,
-    /// Cells added to a part's mean depth where its thickness sets lengths (0 on the detail's
-    /// own grid).
-    pub depth_offset: f64,
     /// Whether the figure stands on separate feet (its surface's lowest vertices fall in two
     /// pieces or more): a standing body reaching the ground is then looked at for a head on a
     /// neck (Cheburashka's feet are blobs under his body, which holds them).
@@ -89,6 +86,7 @@ pub(super) fn cut_into_parts(
 ) -> Parts {
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
+    legs_leave_the_body(grid, &piece_of, pieces, &mut body);
     let necked = split_at_necks(grid, &mut body);
     let mut heads =
         split_heads_above_shoulders(grid, occupied, &mut body, &necked, cutting.on_separate_feet);
@@ -109,7 +107,7 @@ pub(super) fn cut_into_parts(
         let (lo, hi) = cell_bounds(grid, &cells);
         let extent = hi - lo + IVec3::ONE;
         let axis = longest_axis(extent);
-        let thickness = 2.0 * (mean_depth(depth, &cells) + cutting.depth_offset);
+        let thickness = 2.0 * (mean_depth(depth, &cells));
         // A head split off above the shoulders is one slab: halved, neither half is a part.
         let count = if cells.iter().any(|&i| heads[i]) {
             1
@@ -132,7 +130,7 @@ pub(super) fn cut_into_parts(
     for l in 0..limbs {
         let cells: Vec<usize> = (0..grid.len()).filter(|&i| limb_of[i] == Some(l)).collect();
         let distance = geodesic_from_body(grid, &cells, &limb_of, l, &body);
-        let thickness = 2.0 * (mean_depth(depth, &cells) + cutting.depth_offset);
+        let thickness = 2.0 * (mean_depth(depth, &cells));
         let first = next_limb;
         if let Some(role) = stub_body(grid, &distance, thickness, &group) {
             for &i in &cells {
@@ -148,7 +146,7 @@ pub(super) fn cut_into_parts(
             }
             let own: Vec<usize> = branch.cells.iter().map(|&(i, _)| i).collect();
             let longest = branch.cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
-            let thickness = 2.0 * (mean_depth(depth, &own) + cutting.depth_offset);
+            let thickness = 2.0 * (mean_depth(depth, &own));
             let count = slab_count(longest, cutting.segment_length * thickness);
             // The first segment is two segments long: a turn of the whole limb shears it most.
             let units = (count + 1) as f64;
@@ -356,6 +354,97 @@ fn body_cells(
     }
     left.iter().map(|&r| r > 0.0).collect()
 }
+
+/// Legs as thick as the body (a humanoid's thighs are as deep as his torso is): where a
+/// standing body (longest axis vertical) reaches the bottom of its piece of the solid, and its
+/// layers from there up each hold two pieces or more of at least [`LEG_PIECE_SHARE`] of the
+/// layer's largest (two legs, side by side; a grid with thin cells between legs closer than a
+/// cell parts them) for at least [`LEGS_IN_BODY_SHARE`] of its height, those layers leave the
+/// body: the legs are limbs hanging from the body above the crotch, and the body stands on
+/// them.
+fn legs_leave_the_body(grid: &Grid, piece_of: &[Option<usize>], pieces: usize, body: &mut [bool]) {
+    let mut piece_bottom = vec![i32::MAX; pieces];
+    for (i, p) in piece_of.iter().enumerate() {
+        if let Some(p) = *p {
+            piece_bottom[p] = piece_bottom[p].min(grid.cell_of(i).z);
+        }
+    }
+    for cells in component_cells(grid, |i| body[i]) {
+        let (lo, hi) = cell_bounds(grid, &cells);
+        let extent = hi - lo + IVec3::ONE;
+        let on_ground = cells
+            .first()
+            .and_then(|&i| piece_of[i])
+            .is_some_and(|p| lo.z <= piece_bottom[p] + 1);
+        if longest_axis(extent) != 2 || !on_ground {
+            continue;
+        }
+        let layers = extent.z as usize;
+        let mut by_layer: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); layers];
+        for &i in &cells {
+            by_layer[(grid.cell_of(i).z - lo.z) as usize].insert(i);
+        }
+        // Layers from the bottom holding two pieces or more (a foot alone in the lowest
+        // layer or two, one foot set lower than the other, does not end the run).
+        let mut run = 0;
+        for (k, layer) in by_layer.iter().enumerate() {
+            if pieces_in_layer(grid, layer) >= 2 {
+                run = k + 1;
+            } else if k >= run + LOWEST_LAYERS_ALONE || run > 0 {
+                break;
+            }
+        }
+        if (run as f64) < LEGS_IN_BODY_SHARE * layers as f64 || run >= layers {
+            continue;
+        }
+        for layer in by_layer.iter().take(run) {
+            for &i in layer {
+                body[i] = false;
+            }
+        }
+    }
+}
+
+/// The face-connected pieces of one layer's cells holding at least [`LEG_PIECE_SHARE`] of the
+/// largest piece's cells.
+fn pieces_in_layer(grid: &Grid, layer: &BTreeSet<usize>) -> usize {
+    let mut seen: BTreeSet<usize> = BTreeSet::new();
+    let mut sizes = Vec::new();
+    for &start in layer {
+        if !seen.insert(start) {
+            continue;
+        }
+        let mut size = 0usize;
+        let mut stack = vec![start];
+        while let Some(i) = stack.pop() {
+            size += 1;
+            let c = grid.cell_of(i);
+            for step in &FACE_STEPS[..4] {
+                if let Some(n) = grid.index(c + *step)
+                    && layer.contains(&n)
+                    && seen.insert(n)
+                {
+                    stack.push(n);
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    let largest = sizes.iter().copied().max().unwrap_or(0) as f64;
+    sizes
+        .iter()
+        .filter(|&&n| n as f64 >= LEG_PIECE_SHARE * largest)
+        .count()
+}
+
+/// The least share of a standing body's height its legs ([`legs_leave_the_body`]) reach.
+const LEGS_IN_BODY_SHARE: f64 = 0.15;
+
+/// The least size of a leg's piece of a layer, as a share of the layer's largest piece.
+const LEG_PIECE_SHARE: f64 = 0.25;
+
+/// How many of a standing body's lowest layers may hold one foot alone before its legs start.
+const LOWEST_LAYERS_ALONE: usize = 2;
 
 /// A body that narrows to a neck between two thick ends (a head on a short neck, which the
 /// balls of the head's and the torso's thickest cells join): the narrowest layer across its

@@ -205,7 +205,7 @@ mod tests {
 
         use super::super::parts::Role;
 
-        let grid = Grid::around(DVec3::ZERO, DVec3::new(4.0, 4.0, 4.0), 6, None, &[]);
+        let grid = Grid::around(DVec3::ZERO, DVec3::new(4.0, 4.0, 4.0), 6, None, &[], None);
         let v = grid.dims / 2;
         let corner = |c: i32| v - IVec3::ONE + IVec3::new(c & 1, (c >> 1) & 1, c >> 2);
         let mut label = vec![None; grid.len()];

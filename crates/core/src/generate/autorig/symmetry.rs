@@ -55,9 +55,18 @@ impl MirrorPlane {
 /// lie at exactly opposite offsets from it.
 pub(super) fn vertex_position(grid: &Grid, plane: &MirrorPlane, v: IVec3) -> glam::DVec3 {
     let a = plane.axis;
-    let centre = grid.origin[a] + f64::from(plane.half) * grid.cell;
+    let centre = grid.position_along(a, f64::from(plane.half));
+    let k = v[a] - plane.half;
+    // The offset from |k| alone, so that v and its image get it alike (a band of thin cells
+    // across the plane included).
+    let offset = match grid.band {
+        Some(band) if band.axis == a => {
+            grid.position_along(a, f64::from(plane.half + k.abs())) - centre
+        }
+        _ => f64::from(k.abs()) * grid.cell,
+    };
     let mut p = grid.vertex(v);
-    p[a] = centre + f64::from(v[a] - plane.half) * grid.cell;
+    p[a] = centre + f64::from(k.signum()) * offset;
     p
 }
 

@@ -6,15 +6,49 @@ use rayon::prelude::*;
 
 use crate::mesh::Mesh;
 
-/// A regular grid of cubic cells with an empty layer all around.
+/// A regular grid of cubic cells with an empty layer all around, except for an optional
+/// [`Band`] of thin cells across one axis.
 #[derive(Debug, Clone)]
 pub(super) struct Grid {
     /// Position of grid vertex (0, 0, 0).
     pub origin: DVec3,
-    /// Side of a cell.
+    /// Side of a cell (outside the band).
     pub cell: f64,
     /// Cells along x, y and z.
     pub dims: IVec3,
+    /// Thin cells across one axis (legs closer than a cell), if any.
+    pub band: Option<Band>,
+}
+
+/// Cells thinner than the others across one axis: grid planes `first..=last` along `axis` lie
+/// evenly from `from` to `to`, the planes beyond them a cell apart. Grid coordinates ("units")
+/// map to positions piecewise linearly, so a face, an edge or a cell of the grid keeps its
+/// topology and only its size along `axis` changes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Band {
+    /// The axis the band is thin across.
+    pub axis: usize,
+    /// The first grid plane of the band.
+    pub first: i32,
+    /// The last grid plane of the band (after `first`).
+    pub last: i32,
+    /// Position of plane `first` along `axis`.
+    pub from: f64,
+    /// Position of plane `last` along `axis`.
+    pub to: f64,
+}
+
+/// Where [`Grid::around`] lays a [`Band`]: thin cells `width` wide in all across `axis`,
+/// centred on the plane at `plane` (one column of cells, or two, one on either side of the
+/// plane, where the grid mirrors across it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct BandAt {
+    /// The axis.
+    pub axis: usize,
+    /// The plane's coordinate along it.
+    pub plane: f64,
+    /// The band's width.
+    pub width: f64,
 }
 
 /// The 6 face neighbours of a cell.
@@ -36,12 +70,15 @@ impl Grid {
     /// axis) passes through the middle of a column of cells: a symmetric figure's legs a little
     /// more than a cell apart then leave that column empty, where a cell face on or near the
     /// plane puts both legs' inner surfaces in the cells beside it and joins them.
+    /// With `band`, the column (or the two columns, where the grid mirrors across the same
+    /// plane) around its plane is that thin, every other cell as it would be.
     pub fn around(
         lo: DVec3,
         hi: DVec3,
         cells_along_longest: u32,
         mirror: Option<(usize, f64)>,
         centred: &[(usize, f64)],
+        band: Option<BandAt>,
     ) -> Self {
         let extent = (hi - lo).max(DVec3::splat(1e-12));
         let cell = extent.max_element() / f64::from(cells_along_longest.max(1));
@@ -67,7 +104,104 @@ impl Grid {
             origin[a] = plane - (below + 0.5) * cell;
             dims[a] = ((hi[a] - origin[a]) / cell).ceil() as i32 + 2;
         }
-        Self { origin, cell, dims }
+        let band = band
+            .filter(|b| b.axis < 3 && b.width > 0.0 && b.plane.is_finite())
+            .and_then(|b| {
+                let a = b.axis;
+                let mirrored = mirror.is_some_and(|(m, _)| m == a);
+                // Across the mirror's plane, a grid plane on it: two thin columns.
+                let thin = if mirrored { 2 } else { 1 };
+                if b.width >= f64::from(thin) * cell {
+                    return None;
+                }
+                let (from, to) = (b.plane - 0.5 * b.width, b.plane + 0.5 * b.width);
+                // Whole cells beyond the band, reaching two cells past the bounds.
+                let mut below = ((from - (lo[a] - 2.0 * cell)) / cell).ceil().max(1.0) as i32;
+                let mut above = ((hi[a] + 2.0 * cell - to) / cell).ceil().max(1.0) as i32;
+                if mirrored {
+                    below = below.max(above);
+                    above = below;
+                }
+                origin[a] = from - f64::from(below) * cell;
+                dims[a] = below + thin + above;
+                Some(Band {
+                    axis: a,
+                    first: below,
+                    last: below + thin,
+                    from,
+                    to,
+                })
+            });
+        Self {
+            origin,
+            cell,
+            dims,
+            band,
+        }
+    }
+
+    /// The position along `axis` of grid coordinate `u` (a plane at a whole `u`).
+    pub fn position_along(&self, axis: usize, u: f64) -> f64 {
+        match self.band {
+            Some(b) if b.axis == axis => {
+                let (first, last) = (f64::from(b.first), f64::from(b.last));
+                if u <= first {
+                    b.from - (first - u) * self.cell
+                } else if u >= last {
+                    b.to + (u - last) * self.cell
+                } else {
+                    b.from + (u - first) / (last - first) * (b.to - b.from)
+                }
+            }
+            _ => self.origin[axis] + u * self.cell,
+        }
+    }
+
+    /// The grid coordinate along `axis` of position `x`: the inverse of
+    /// [`Self::position_along`].
+    pub fn units_along(&self, axis: usize, x: f64) -> f64 {
+        match self.band {
+            Some(b) if b.axis == axis => {
+                let (first, last) = (f64::from(b.first), f64::from(b.last));
+                if x <= b.from {
+                    first - (b.from - x) / self.cell
+                } else if x >= b.to {
+                    last + (x - b.to) / self.cell
+                } else {
+                    first + (x - b.from) / (b.to - b.from) * (last - first)
+                }
+            }
+            _ => (x - self.origin[axis]) / self.cell,
+        }
+    }
+
+    /// A point in grid coordinates (cell `c` spans `c` to `c + 1`).
+    pub fn units_of(&self, p: DVec3) -> DVec3 {
+        DVec3::new(
+            self.units_along(0, p.x),
+            self.units_along(1, p.y),
+            self.units_along(2, p.z),
+        )
+    }
+
+    /// The position of a point given in grid coordinates.
+    pub fn position_of(&self, q: DVec3) -> DVec3 {
+        DVec3::new(
+            self.position_along(0, q.x),
+            self.position_along(1, q.y),
+            self.position_along(2, q.z),
+        )
+    }
+
+    /// The side of the thinnest cell whose extent overlaps the box `lo`..`hi` (a cell where
+    /// the box stays clear of the band).
+    pub fn thinnest_cell_near(&self, lo: DVec3, hi: DVec3) -> f64 {
+        match self.band {
+            Some(b) if lo[b.axis] <= b.to && hi[b.axis] >= b.from => {
+                (b.to - b.from) / f64::from(b.last - b.first)
+            }
+            _ => self.cell,
+        }
     }
 
     /// Number of cells.
@@ -93,7 +227,7 @@ impl Grid {
 
     /// The cell holding `p` (clamped into the grid).
     pub fn cell_at(&self, p: DVec3) -> IVec3 {
-        ((p - self.origin) / self.cell)
+        self.units_of(p)
             .floor()
             .as_ivec3()
             .clamp(IVec3::ZERO, self.dims - IVec3::ONE)
@@ -101,12 +235,12 @@ impl Grid {
 
     /// Centre of a cell.
     pub fn centre(&self, c: IVec3) -> DVec3 {
-        self.origin + (c.as_dvec3() + 0.5) * self.cell
+        self.position_of(c.as_dvec3() + 0.5)
     }
 
     /// Position of a grid vertex.
     pub fn vertex(&self, v: IVec3) -> DVec3 {
-        self.origin + v.as_dvec3() * self.cell
+        self.position_of(v.as_dvec3())
     }
 
     /// Face neighbours of a flat index that lie in the grid.
@@ -130,7 +264,7 @@ pub(super) fn solid_cells(grid: &Grid, mesh: &Mesh) -> Vec<bool> {
         }
         // A point within a hair of a cell face marks the cell beyond it too, so that no mesh
         // vertex ends up on the surface of the solid.
-        let local = (p - grid.origin) / grid.cell - c.as_dvec3();
+        let local = grid.units_of(p) - c.as_dvec3();
         for axis in 0..3 {
             let mut step = IVec3::ZERO;
             if local[axis] < 1e-6 {
@@ -149,11 +283,11 @@ pub(super) fn solid_cells(grid: &Grid, mesh: &Mesh) -> Vec<bool> {
         mark(p, &mut occupied);
     }
     // Triangles larger than a cell pass through cells that hold none of their corners.
-    let spacing = 0.45 * grid.cell;
     for triangle in triangles {
         let Some([a, b, c]) = corners(positions, triangle) else {
             continue;
         };
+        let spacing = 0.45 * grid.thinnest_cell_near(a.min(b).min(c), a.max(b).max(c));
         let longest = (b - a).length().max((c - b).length()).max((a - c).length());
         let n = (longest / spacing).ceil().min(4096.0) as u32;
         if n <= 1 {
@@ -483,6 +617,122 @@ mod tests {
     use super::*;
     use crate::geometry::solid_angle;
 
+    /// The planes along `axis` of `grid`, as positions.
+    fn planes(grid: &Grid, axis: usize) -> Vec<f64> {
+        (0..=grid.dims[axis])
+            .map(|k| {
+                let mut v = IVec3::ZERO;
+                v[axis] = k;
+                grid.vertex(v)[axis]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_band_makes_one_column_thin_and_leaves_every_other_cell_whole() {
+        let (lo, hi) = (DVec3::new(-1.0, -0.5, 0.0), DVec3::new(1.0, 0.5, 4.0));
+        let plain = Grid::around(lo, hi, 40, None, &[], None);
+        let band = BandAt {
+            axis: 0,
+            plane: 0.03,
+            width: 0.02,
+        };
+        let grid = Grid::around(lo, hi, 40, None, &[], Some(band));
+        let x = planes(&grid, 0);
+        let widths: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+        let thin: Vec<usize> = (0..widths.len())
+            .filter(|&k| (widths[k] - grid.cell).abs() > 1e-9)
+            .collect();
+        assert_eq!(thin.len(), 1, "{widths:?}");
+        let k = thin[0];
+        assert!((widths[k] - 0.02).abs() < 1e-12 && (x[k] + x[k + 1] - 0.06).abs() < 1e-12);
+        // Still two cells beyond the bounds (at least one and a half), the other axes as on
+        // the plain grid.
+        assert!(x[0] <= lo.x - 1.5 * grid.cell && x[x.len() - 1] >= hi.x + 1.5 * grid.cell);
+        assert_eq!(planes(&grid, 1), planes(&plain, 1));
+        assert_eq!(grid.cell, plain.cell);
+        // Positions and grid coordinates are inverse; every cell holds its centre.
+        for i in 0..grid.len() {
+            let c = grid.cell_of(i);
+            assert_eq!(grid.cell_at(grid.centre(c)), c);
+            let q = c.as_dvec3() + DVec3::new(0.3, 0.7, 0.1);
+            assert!((grid.units_of(grid.position_of(q)) - q).length() < 1e-9);
+        }
+        // A band as wide as a cell is no band.
+        let wide = BandAt { width: 0.1, ..band };
+        assert!(
+            Grid::around(lo, hi, 40, None, &[], Some(wide))
+                .band
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn a_band_across_the_mirror_s_plane_is_two_thin_columns_mirroring_each_other() {
+        let (lo, hi) = (DVec3::new(-1.0, -0.5, 0.0), DVec3::new(1.0, 0.5, 4.0));
+        let band = BandAt {
+            axis: 0,
+            plane: 0.0,
+            width: 0.16,
+        };
+        let grid = Grid::around(lo, hi, 40, Some((0, 0.0)), &[], Some(band));
+        let half = grid.dims.x / 2;
+        let x = planes(&grid, 0);
+        assert_eq!(x[half as usize], 0.0);
+        assert!((x[half as usize + 1] - 0.08).abs() < 1e-12);
+        for k in 0..=half {
+            let (above, below) = (x[(half + k) as usize], x[(half - k) as usize]);
+            assert!(
+                (above + below).abs() < 1e-12,
+                "plane {k}: {above} against {below}"
+            );
+        }
+        // Mirror images of grid vertices lie at exactly opposite offsets from the plane.
+        let plane = super::super::symmetry::MirrorPlane::of(&grid, 0);
+        for v in 0..=grid.dims.x {
+            let p = super::super::symmetry::vertex_position(&grid, &plane, IVec3::new(v, 3, 5));
+            let image = plane.vertex(IVec3::new(v, 3, 5));
+            let q = super::super::symmetry::vertex_position(&grid, &plane, image);
+            assert_eq!(p.x, -q.x);
+        }
+    }
+
+    #[test]
+    fn the_thin_column_between_two_close_walls_stays_empty() {
+        // Two slabs 0.03 apart, a cell 0.1: on the plain grid a column holds both inner faces;
+        // with a band 0.024 wide between them, no cell of it is solid below their bridge.
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for (from, to) in [
+            (DVec3::new(-0.5, -0.5, 0.0), DVec3::new(-0.015, 0.5, 2.0)),
+            (DVec3::new(0.015, -0.5, 0.0), DVec3::new(0.5, 0.5, 2.0)),
+            (DVec3::new(-0.5, -0.5, 2.0), DVec3::new(0.5, 0.5, 2.5)),
+        ] {
+            let part = crate::generate::demo::box_mesh(from, to, [2, 2, 8]);
+            let base = positions.len() as u32;
+            positions.extend_from_slice(part.welded_positions());
+            triangles.extend(part.welded_triangles().iter().map(|t| t.map(|k| k + base)));
+        }
+        let mesh = Mesh::new(positions, triangles, None, None).unwrap();
+        let (lo, hi) = mesh.bounds();
+        let band = BandAt {
+            axis: 0,
+            plane: 0.0,
+            width: 0.024,
+        };
+        for (band, parted) in [(None, false), (Some(band), true)] {
+            let grid = Grid::around(lo, hi, 25, None, &[(0, 0.0)], band);
+            let occupied = solid_cells(&grid, &mesh);
+            let column = grid.cell_at(DVec3::ZERO).x;
+            let filled = (0..grid.len())
+                .filter(|&i| occupied[i])
+                .map(|i| grid.cell_of(i))
+                .filter(|c| c.x == column && grid.centre(*c).z < 1.9)
+                .count();
+            assert_eq!(filled == 0, parted, "{filled} cells of the column filled");
+        }
+    }
+
     /// The winding number summed over every triangle, no dipoles.
     fn brute_force(positions: &[DVec3], triangles: &[[u32; 3]], p: DVec3) -> f64 {
         let total: f64 = triangles
@@ -501,7 +751,7 @@ mod tests {
     fn check(positions: &[DVec3], triangles: &[[u32; 3]]) -> usize {
         let lo = positions.iter().fold(DVec3::MAX, |m, p| m.min(*p));
         let hi = positions.iter().fold(DVec3::MIN, |m, p| m.max(*p));
-        let grid = Grid::around(lo, hi, 16, None, &[]);
+        let grid = Grid::around(lo, hi, 16, None, &[], None);
         let clusters = Clusters::new(&grid, positions, triangles);
         let mut inside = 0;
         for i in 0..grid.len() {
