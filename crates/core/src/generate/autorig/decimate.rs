@@ -92,23 +92,42 @@ struct Obstacles<'a> {
     at: &'a BTreeMap<(i32, i32, i32), u32>,
     points: &'a PointsByCell,
     sweep: Sweep<'a>,
+    /// The grid planes bounding a band of thin cells (`Grid::band`): its axis and the two
+    /// planes' coordinates. Grid units map to positions affinely on either side of each, so a
+    /// triangle that crosses neither is as flat, and sweeps what it sweeps, in both; one of a
+    /// part in `Held::off_band` that would cross one is not made.
+    band: Option<(usize, [i64; 2])>,
+    off_band: &'a BTreeSet<u32>,
+}
+
+/// The parts whose decimated cages did not validate, held back from the decimation.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Held<'a> {
+    /// Parts whose faces stay grid-stepped.
+    pub frozen: &'a BTreeSet<u32>,
+    /// Parts whose triangles cross no plane of the grid's band of thin cells (a triangle
+    /// across the band is flat in grid units, not in positions: the cage it bounds may then
+    /// leave a mesh vertex out). Tried before `frozen`, which costs far more cage vertices.
+    pub off_band: &'a BTreeSet<u32>,
 }
 
 /// The decimated complex: the triangles of `faces` (polygons over `vertices`, each with the
 /// part it bounds and the part behind it), with fewer vertices. Returns the triangles as
 /// (corners, front, back) over the same vertex numbering; vertices no triangle uses are gone
-/// from every triangle. The faces of the parts in `frozen` stay as they are (grid-stepped):
-/// the auto rig freezes a cage whose decimated surface did not validate. `sweep` says where a
+/// from every triangle. The faces of the parts in `held.frozen` stay as they are (grid-stepped):
+/// the auto rig freezes a cage whose decimated surface did not validate (after keeping its
+/// triangles off the band's planes, `held.off_band`). `sweep` says where a
 /// collapse between two cages may move mesh points from one to the other.
 pub(super) fn decimate(
     grid: &Grid,
     vertices: &[IVec3],
     faces: &[(Vec<u32>, Option<u32>, Option<u32>)],
     mesh_points: &[DVec3],
-    frozen: &BTreeSet<u32>,
+    held: Held<'_>,
     mirror: Option<&MirrorPlane>,
     sweep: Sweep<'_>,
 ) -> Decimated {
+    let Held { frozen, off_band } = held;
     let mut triangles: Vec<Triangle> = Vec::new();
     for (corners, front, back) in faces {
         for k in 1..corners.len().saturating_sub(1) {
@@ -121,6 +140,9 @@ pub(super) fn decimate(
         }
     }
     let position: Vec<I64Vec3> = vertices.iter().map(|v| v.as_i64vec3()).collect();
+    let band = grid
+        .band
+        .map(|b| (b.axis, [i64::from(b.first), i64::from(b.last)]));
     let mut star: Vec<Vec<usize>> = vec![Vec::new(); vertices.len()];
     for (t, tri) in triangles.iter().enumerate() {
         for &c in &tri.corners {
@@ -196,6 +218,8 @@ pub(super) fn decimate(
                     at: &at,
                     points: &points,
                     sweep,
+                    band,
+                    off_band,
                 };
                 let Some((undo, mut over)) =
                     try_collapse(v, u, &mut triangles, &mut star, &obstacles)
@@ -209,6 +233,8 @@ pub(super) fn decimate(
                     at: &at,
                     points: &points,
                     sweep,
+                    band,
+                    off_band,
                 };
                 let image = match (mirror, image_of(v), image_of(u)) {
                     (None, _, _) => Some(None),
@@ -339,6 +365,8 @@ fn try_collapse(
         at,
         points,
         sweep,
+        band,
+        off_band,
     } = *obstacles;
     let around_v: Vec<usize> = star[v as usize]
         .iter()
@@ -392,6 +420,21 @@ fn try_collapse(
         let n_new = (nb - na).cross(nc - na);
         if n_new == I64Vec3::ZERO || n_old.dot(n_new) <= 0 {
             return None;
+        }
+        let (front, back) = triangles[t].sheet();
+        if let Some((axis, planes)) = band
+            && [front, back]
+                .iter()
+                .flatten()
+                .any(|part| off_band.contains(part))
+        {
+            let (low, high) = (
+                na[axis].min(nb[axis]).min(nc[axis]),
+                na[axis].max(nb[axis]).max(nc[axis]),
+            );
+            if planes.iter().any(|&plane| low < plane && plane < high) {
+                return None;
+            }
         }
         // How far the surface moves from v: v's distance to the new triangle's plane.
         let distance = ((pv - na).dot(n_new) as f64).abs() / n_new.as_dvec3().length();
@@ -634,6 +677,7 @@ fn in_tetra_f(q: DVec3, t: &[DVec3; 4]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::generate::autorig::voxels::BandAt;
 
     fn p(x: i64, y: i64, z: i64) -> I64Vec3 {
         I64Vec3::new(x, y, z)
@@ -693,7 +737,10 @@ mod tests {
             &vertices,
             &faces,
             &[],
-            &BTreeSet::new(),
+            Held {
+                frozen: &BTreeSet::new(),
+                off_band: &BTreeSet::new(),
+            },
             None,
             Sweep {
                 refused: &BTreeSet::new(),
@@ -713,6 +760,74 @@ mod tests {
             })
             .sum();
         assert_eq!(area, 2 * 9, "the sheet still covers its area, facing +z");
+    }
+
+    #[test]
+    fn an_off_band_part_s_triangles_cross_no_plane_of_the_band() {
+        // A flat sheet of unit squares across a band of one thin column: decimated freely,
+        // its triangles span the band (flat in grid units, not in positions); held off the
+        // band, none crosses either of its planes, and the sheet still covers its area.
+        let band = BandAt {
+            axis: 0,
+            plane: 2.0,
+            width: 0.1,
+        };
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(4.0), 4, None, &[], Some(band));
+        let planes = grid.band.map(|b| [b.first, b.last]).unwrap();
+        let (from, to) = (planes[0] - 3, planes[1] + 3);
+        let mut vertices = Vec::new();
+        for y in 0..4 {
+            for x in from..=to {
+                vertices.push(IVec3::new(x, y, 0));
+            }
+        }
+        let row = (to - from + 1) as u32;
+        let id = |x: i32, y: u32| (x - from) as u32 + row * y;
+        let mut faces = Vec::new();
+        for y in 0..3 {
+            for x in from..to {
+                let quad = vec![id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)];
+                faces.push((quad, Some(0), None));
+            }
+        }
+        let run = |off_band: &BTreeSet<u32>| {
+            decimate(
+                &grid,
+                &vertices,
+                &faces,
+                &[],
+                Held {
+                    frozen: &BTreeSet::new(),
+                    off_band,
+                },
+                None,
+                Sweep {
+                    refused: &BTreeSet::new(),
+                },
+            )
+            .triangles
+        };
+        let crossing = |triangles: &[([u32; 3], Option<u32>, Option<u32>)]| {
+            triangles
+                .iter()
+                .filter(|(c, _, _)| {
+                    let x = c.map(|i| vertices[i as usize].x);
+                    let (low, high) = (x.iter().min().unwrap(), x.iter().max().unwrap());
+                    planes.iter().any(|p| low < p && p < high)
+                })
+                .count()
+        };
+        assert!(crossing(&run(&BTreeSet::new())) > 0);
+        let held = run(&BTreeSet::from([0]));
+        assert_eq!(crossing(&held), 0);
+        let area: i64 = held
+            .iter()
+            .map(|(c, _, _)| {
+                let [a, b, c] = c.map(|i| vertices[i as usize].as_i64vec3());
+                (b - a).cross(c - a).z
+            })
+            .sum();
+        assert_eq!(area, 2 * 3 * i64::from(to - from));
     }
 
     /// A bump in the sheet between parts 0 and 1 over a mesh point: flattening it moves the
@@ -748,7 +863,10 @@ mod tests {
                 &vertices,
                 &faces,
                 &[point],
-                &BTreeSet::new(),
+                Held {
+                    frozen: &BTreeSet::new(),
+                    off_band: &BTreeSet::new(),
+                },
                 None,
                 Sweep { refused },
             )

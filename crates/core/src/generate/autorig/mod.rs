@@ -50,7 +50,7 @@ use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{CELL_IN_GAP, gap_between_legs, sided_legs, stands_on_separate_feet};
-use decimate::Sweep;
+use decimate::{Held, Sweep};
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
@@ -506,6 +506,9 @@ fn rig_on_grid(
     let mut rounds = 0;
     // Parts whose decimated cage did not validate keep their grid-stepped faces.
     let mut frozen: BTreeSet<u32> = BTreeSet::new();
+    // Parts whose decimated cage did not validate with triangles across the band of thin
+    // cells between legs: theirs cross none in the next round, before they are frozen.
+    let mut off_band: BTreeSet<u32> = BTreeSet::new();
     // Parts where a collapse between two cages swept a piece of surface away from the rest
     // of the cage's: their faces sweep no mesh vertex in the next round.
     let mut no_sweep: BTreeSet<u32> = BTreeSet::new();
@@ -533,7 +536,14 @@ fn rig_on_grid(
             &parts,
             settings,
             mirror.as_ref(),
-            Some((mesh, &frozen, Sweep { refused: &no_sweep })),
+            Some((
+                mesh,
+                Held {
+                    frozen: &frozen,
+                    off_band: &off_band,
+                },
+                Sweep { refused: &no_sweep },
+            )),
         );
         let Some(problem) = problem_of(&decimated) else {
             let cut_off = leaves_cut_by_sweeps(&decimated, &grid, &parts, surface, &swept);
@@ -555,11 +565,28 @@ fn rig_on_grid(
             .map(|l| l as u32)
             .filter(|l| !frozen.contains(l))
             .collect();
+        // With a band of thin cells, the named cages' triangles first keep off its planes,
+        // then every cage's (also where the problem names no cage: a mesh vertex left
+        // outside), and only then are the named cages frozen.
+        let every_part: BTreeSet<u32> = (0..parts.roles.len() as u32).collect();
+        let band = grid.band.is_some();
+        if band && named.is_empty() && off_band != every_part {
+            off_band = every_part;
+            check()?;
+            continue;
+        }
         if !named.is_empty() {
-            // A frozen cage's image is frozen with it.
+            // A held cage's image is held with it.
             let images = partners(&parts, &named);
-            frozen.extend(named);
-            frozen.extend(images);
+            if band && named.iter().all(|l| !off_band.contains(l)) {
+                off_band.extend(named);
+                off_band.extend(images);
+            } else if band && off_band != every_part {
+                off_band = every_part;
+            } else {
+                frozen.extend(named);
+                frozen.extend(images);
+            }
             check()?;
             continue;
         }
@@ -597,6 +624,7 @@ fn rig_on_grid(
             merges += make_symmetric(&grid, m, &mut parts, surface);
         }
         frozen.clear();
+        off_band.clear();
         no_sweep.clear();
         check()?;
     };
@@ -658,25 +686,25 @@ fn rig_on_grid(
 }
 
 /// The leaf cages of the parts, named by role; decimated around the mesh where given, except
-/// the frozen parts' faces, with what the collapses swept into another cage (nothing when
+/// the held parts' faces (`decimate::Held`), with what the collapses swept into another cage (nothing when
 /// not decimated).
 fn leaf_cages(
     grid: &Grid,
     parts: &Parts,
     settings: &AutorigSettings,
     mirror: Option<&MirrorPlane>,
-    decimate_around: Option<(&Mesh, &BTreeSet<u32>, Sweep<'_>)>,
+    decimate_around: Option<(&Mesh, Held<'_>, Sweep<'_>)>,
 ) -> (CageSet, decimate::Swept) {
     let faces = polycube::boundary_faces(grid, parts, mirror);
     let (vertices, faces) = polycube::indexed_faces(&faces);
     let (faces, swept) = match decimate_around {
-        Some((mesh, frozen, sweep)) => {
+        Some((mesh, held, sweep)) => {
             let decimated = decimate::decimate(
                 grid,
                 &vertices,
                 &faces,
                 mesh.welded_positions(),
-                frozen,
+                held,
                 mirror,
                 sweep,
             );
