@@ -686,8 +686,8 @@ fn rig_on_grid(
 }
 
 /// The leaf cages of the parts, named by role; decimated around the mesh where given, except
-/// the held parts' faces (`decimate::Held`), with what the collapses swept into another cage (nothing when
-/// not decimated).
+/// the held parts' faces (`decimate::Held`), with what the collapses swept into another cage
+/// (nothing when not decimated).
 fn leaf_cages(
     grid: &Grid,
     parts: &Parts,

@@ -107,7 +107,7 @@ pub(super) fn cut_into_parts(
         let (lo, hi) = cell_bounds(grid, &cells);
         let extent = hi - lo + IVec3::ONE;
         let axis = longest_axis(extent);
-        let thickness = 2.0 * (mean_depth(depth, &cells));
+        let thickness = 2.0 * mean_depth(depth, &cells);
         // A head split off above the shoulders is one slab: halved, neither half is a part.
         let count = if cells.iter().any(|&i| heads[i]) {
             1
@@ -130,7 +130,7 @@ pub(super) fn cut_into_parts(
     for l in 0..limbs {
         let cells: Vec<usize> = (0..grid.len()).filter(|&i| limb_of[i] == Some(l)).collect();
         let distance = geodesic_from_body(grid, &cells, &limb_of, l, &body);
-        let thickness = 2.0 * (mean_depth(depth, &cells));
+        let thickness = 2.0 * mean_depth(depth, &cells);
         let first = next_limb;
         if let Some(role) = stub_body(grid, &distance, thickness, &group) {
             for &i in &cells {
@@ -146,7 +146,7 @@ pub(super) fn cut_into_parts(
             }
             let own: Vec<usize> = branch.cells.iter().map(|&(i, _)| i).collect();
             let longest = branch.cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
-            let thickness = 2.0 * (mean_depth(depth, &own));
+            let thickness = 2.0 * mean_depth(depth, &own);
             let count = slab_count(longest, cutting.segment_length * thickness);
             // The first segment is two segments long: a turn of the whole limb shears it most.
             let units = (count + 1) as f64;
@@ -419,6 +419,7 @@ fn pieces_in_layer(grid: &Grid, layer: &BTreeSet<usize>) -> usize {
         while let Some(i) = stack.pop() {
             size += 1;
             let c = grid.cell_of(i);
+            // Within the layer: the x and y steps.
             for step in &FACE_STEPS[..4] {
                 if let Some(n) = grid.index(c + *step)
                     && layer.contains(&n)
