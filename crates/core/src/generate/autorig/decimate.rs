@@ -84,12 +84,11 @@ pub(super) struct Swept {
 /// mesh point's index (None for an image).
 type PointsByCell = BTreeMap<(i32, i32, i32), Vec<(DVec3, Option<u32>)>>;
 
-/// What a collapse must not sweep over: cage vertices, and mesh points unless allowed.
+/// What a collapse must not sweep over: cage vertices (the live ones, which collapses change,
+/// are passed beside it), and mesh points unless allowed.
 struct Obstacles<'a> {
     /// Cage vertices in grid units.
     position: &'a [I64Vec3],
-    /// The live cage vertices by grid position.
-    at: &'a BTreeMap<(i32, i32, i32), u32>,
     points: &'a PointsByCell,
     sweep: Sweep<'a>,
     /// The grid planes bounding a band of thin cells (`Grid::band`): its axis and the two
@@ -171,6 +170,14 @@ pub(super) fn decimate(
         }
     }
     let index_of = at.clone();
+    // What a collapse must not break, besides the live vertices (`at`, which collapses change).
+    let obstacles = Obstacles {
+        position: &position,
+        points: &points,
+        sweep,
+        band,
+        off_band,
+    };
     // The image of each vertex (itself on the plane), where it is a vertex.
     let image_of = |v: u32| -> Option<u32> {
         let m = mirror?;
@@ -213,34 +220,18 @@ pub(super) fn decimate(
                 if mirror.is_some() && (side_of(u) > 0 || (side_of(v) == 0 && side_of(u) != 0)) {
                     continue;
                 }
-                let obstacles = Obstacles {
-                    position: &position,
-                    at: &at,
-                    points: &points,
-                    sweep,
-                    band,
-                    off_band,
-                };
                 let Some((undo, mut over)) =
-                    try_collapse(v, u, &mut triangles, &mut star, &obstacles)
+                    try_collapse(v, u, &mut triangles, &mut star, &at, &obstacles)
                 else {
                     continue;
                 };
                 let p = vertices[v as usize];
                 at.remove(&(p.x, p.y, p.z));
-                let obstacles = Obstacles {
-                    position: &position,
-                    at: &at,
-                    points: &points,
-                    sweep,
-                    band,
-                    off_band,
-                };
                 let image = match (mirror, image_of(v), image_of(u)) {
                     (None, _, _) => Some(None),
                     (Some(_), Some(mv), _) if mv == v => Some(None),
                     (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => {
-                        try_collapse(mv, mu, &mut triangles, &mut star, &obstacles).map(
+                        try_collapse(mv, mu, &mut triangles, &mut star, &at, &obstacles).map(
                             |(_, image_over)| {
                                 over.points.extend(image_over.points);
                                 over.parts.extend(image_over.parts);
@@ -358,11 +349,11 @@ fn try_collapse(
     u: u32,
     triangles: &mut [Triangle],
     star: &mut [Vec<usize>],
+    at: &BTreeMap<(i32, i32, i32), u32>,
     obstacles: &Obstacles<'_>,
 ) -> Option<(Undo, SweptOver)> {
     let Obstacles {
         position,
-        at,
         points,
         sweep,
         band,
