@@ -712,3 +712,48 @@ fn legs_closer_than_a_cell_are_two_legs_with_a_mirror_too() {
         }
     }
 }
+
+/// Homer's build, facing −Y: a belly far thicker than the rest, low on a short torso, under
+/// shoulders that narrow straight into a head column (no neck), arms out sideways from the
+/// shoulders, short legs.
+pub(crate) fn pot_bellied_figure() -> Mesh {
+    let mut parts = vec![
+        (v(0.0, -0.04, 0.0), v(0.0, -0.04, 0.2), 0.32),
+        (v(0.0, 0.0, 0.3), v(0.0, 0.0, 0.75), 0.24),
+        (v(0.0, 0.0, 0.85), v(0.0, 0.0, 1.35), 0.2),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.2 * side, 0.0, 0.72), v(0.95 * side, 0.0, 0.66), 0.09));
+        parts.push((v(0.22 * side, 0.0, -0.3), v(0.22 * side, 0.0, -1.0), 0.14));
+    }
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn a_head_column_over_a_low_belly_gets_its_own_control_above_the_arms() {
+    // The thickest layer of the upper half is the shoulders', and the head column holds 0.69
+    // of it, more than a head on the shoulders may: no head was found (Homer had none). Above
+    // the whole body's thickest layer, the belly's, the head column is the narrowest.
+    for mirror in [Mirror::None, Mirror::Auto] {
+        let settings = AutorigSettings {
+            mirror,
+            ..AutorigSettings::default()
+        };
+        let controls = controls_with(&pot_bellied_figure(), &settings);
+        let names: Vec<&String> = controls.keys().collect();
+        for control in ["head.1", "arm.L.1", "arm.R.1", "leg.L.1", "leg.R.1"] {
+            assert!(
+                controls.contains_key(control),
+                "{mirror:?}: no {control} in {names:?}"
+            );
+        }
+        assert_eq!(parent(&controls, "head.1"), "root", "{mirror:?}");
+        assert_eq!(parent(&controls, "arm.L.1"), "root", "{mirror:?}");
+        // The head turns about the top of the shoulders, above the arms, under its middle.
+        let pivot = controls["head.1"].1;
+        assert!(
+            pivot.z > 0.75 && pivot.z < 1.2 && pivot.x.abs() < 0.05,
+            "{mirror:?}: head.1's pivot {pivot}"
+        );
+    }
+}

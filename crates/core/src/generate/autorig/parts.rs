@@ -483,7 +483,9 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
 /// vertical) stands on legs (its piece of the solid reaches [`LEGS_SHARE`] of its height
 /// below it), the narrowest layer above its thickest one in its upper half (the chest and
 /// shoulders) that holds at most [`HEAD_SHARE`] of that thickest layer and leaves
-/// [`NECK_END_LAYERS`] layers above it ([`HEAD_LAYERS`] where none does) leaves the body, as
+/// [`NECK_END_LAYERS`] layers above it ([`HEAD_LAYERS`] where none does; where no layer there
+/// is that narrow, the narrowest above the whole body's thickest layer that touches no limb
+/// reaching below it: Homer's head column on a low belly, clear of his arms) leaves the body, as
 /// [`split_at_necks`] does between two thick ends (`necked`: the bodies it split, not looked
 /// at again); a lumpy sphere or a bust, on no legs, is not split. A standing body that
 /// reaches the ground itself, on a figure standing on separate feet (`on_separate_feet`:
@@ -502,6 +504,13 @@ fn split_heads_above_shoulders(
     let mut heads = vec![false; grid.len()];
     let members = component_cells(grid, |i| body[i]);
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
+    let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
+    let mut limb_bottom = vec![i32::MAX; limbs];
+    for (i, l) in limb_of.iter().enumerate() {
+        if let Some(l) = *l {
+            limb_bottom[l] = limb_bottom[l].min(grid.cell_of(i).z);
+        }
+    }
     let mut piece_bottom = vec![i32::MAX; pieces];
     for (i, p) in piece_of.iter().enumerate() {
         if let Some(p) = *p {
@@ -530,19 +539,38 @@ fn split_heads_above_shoulders(
             count[layer(i)] += 1;
         }
         let neck = if on_legs {
-            let Some(peak) =
-                (layers / 2..layers).max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))
-            else {
-                continue;
+            // A neck layer touching a limb region that reaches below it (an arm) would join
+            // that limb once it leaves the body: the arms would hang from a neck.
+            let touches_limb_below = |k: usize| {
+                cells.iter().filter(|&&i| layer(i) == k).any(|&i| {
+                    FACE_STEPS.iter().any(|&step| {
+                        grid.index(grid.cell_of(i) + step)
+                            .and_then(|n| limb_of[n])
+                            .is_some_and(|l| limb_bottom[l] < lo.z + k as i32)
+                    })
+                })
             };
-            let thickest = count[peak] as f64;
-            // A head of HEAD_LAYERS at least; of NECK_END_LAYERS where there is one.
-            let neck_under = |above: usize| {
+            // The narrowest layer above the thickest one from layer `first` up, holding at
+            // most HEAD_SHARE of it and leaving `above` layers of head; above the whole body's
+            // thickest layer (`first` 0), one that keeps off the arms.
+            let neck_above_thickest = |first: usize, above: usize| {
+                let peak =
+                    (first..layers).max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))?;
+                let thickest = count[peak] as f64;
                 (peak + 1..layers.saturating_sub(above))
                     .filter(|&k| count[k] > 0 && count[k] as f64 <= HEAD_SHARE * thickest)
+                    .filter(|&k| first > 0 || !touches_limb_below(k))
                     .min_by(|&a, &c| count[a].cmp(&count[c]).then(a.cmp(&c)))
             };
-            neck_under(NECK_END_LAYERS).or_else(|| neck_under(HEAD_LAYERS))
+            // Above the chest and shoulders (the upper half's thickest layer); where no layer
+            // there is narrow enough, above the whole body's thickest layer: a belly low on a
+            // short torso, under a head column nearly as wide as its shoulders (Homer's). A
+            // head of NECK_END_LAYERS, else of HEAD_LAYERS (a crown, where the head narrows
+            // nowhere else).
+            neck_above_thickest(layers / 2, NECK_END_LAYERS)
+                .or_else(|| neck_above_thickest(0, NECK_END_LAYERS))
+                .or_else(|| neck_above_thickest(layers / 2, HEAD_LAYERS))
+                .or_else(|| neck_above_thickest(0, HEAD_LAYERS))
         } else {
             neck_between_thick_ends(&count)
         };
