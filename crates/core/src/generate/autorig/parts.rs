@@ -45,6 +45,21 @@ pub(super) struct Parts {
     /// The bodies split off as heads (above the shoulders or on a neck): never the main body,
     /// though a head may be the largest (Cheburashka's).
     pub heads: BTreeSet<usize>,
+    /// Body slabs halved between two legs, by the low half's role (below the plane across the
+    /// legs).
+    pub halved: BTreeMap<Role, Halved>,
+}
+
+/// A body slab halved between two legs ([`Parts::halved`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Halved {
+    /// The high half's role.
+    pub high: Role,
+    /// The horizontal grid axis across the legs.
+    pub axis: usize,
+    /// The grid plane between the legs: cells at or above it along `axis` are the high half.
+    /// On a mirrored grid it is the mirror's plane, and the high half the low half's image.
+    pub plane: i32,
 }
 
 impl Parts {
@@ -84,6 +99,28 @@ pub(super) fn cut_into_parts(
     depth: &[f64],
     cutting: &Cutting,
 ) -> Parts {
+    let parts = cut_halving_crotches(grid, occupied, depth, cutting, true);
+    // A halved slab whose half was a sliver merged into a neighbour (a leg's first segment,
+    // whose ring then moved up into the body): cut again with the slab whole.
+    let halves_kept = parts
+        .halved
+        .iter()
+        .all(|(low, halved)| parts.roles.contains(low) && parts.roles.contains(&halved.high));
+    if halves_kept {
+        parts
+    } else {
+        cut_halving_crotches(grid, occupied, depth, cutting, false)
+    }
+}
+
+/// [`cut_into_parts`], halving the slab above two legs between them where `halve`.
+fn cut_halving_crotches(
+    grid: &Grid,
+    occupied: &[bool],
+    depth: &[f64],
+    cutting: &Cutting,
+    halve: bool,
+) -> Parts {
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
     legs_leave_the_body(grid, &piece_of, pieces, &mut body);
@@ -101,6 +138,7 @@ pub(super) fn cut_into_parts(
     let (body_of, bodies) = components(grid, |i| body[i]);
     let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
     let mut group: Vec<Option<Role>> = vec![None; grid.len()];
+    let mut halved = BTreeMap::new();
     // Slabs across each body's longest grid axis.
     for b in 0..bodies {
         let cells: Vec<usize> = (0..grid.len()).filter(|&i| body_of[i] == Some(b)).collect();
@@ -114,13 +152,43 @@ pub(super) fn cut_into_parts(
         } else {
             slab_count(f64::from(extent[axis]), cutting.slab_length * thickness)
         };
-        for &i in &cells {
-            let along = f64::from(grid.cell_of(i)[axis] - lo[axis]) + 0.5;
-            let slab = ((along / f64::from(extent[axis])) * count as f64) as usize;
-            group[i] = Some(Role::Body {
+        // The slab above two legs is halved between them, one half a slab of its own: both
+        // hips' rings on one slab's cage moved each other.
+        let crotch = if halve && axis == 2 && count >= 2 {
+            // The limbs' cells in the layer under the body, within its footprint: the tops
+            // of its legs.
+            let tops: BTreeSet<usize> = (lo.y..=hi.y)
+                .flat_map(|y| (lo.x..=hi.x).map(move |x| IVec3::new(x, y, lo.z - 1)))
+                .filter_map(|c| grid.index(c))
+                .filter(|&n| occupied[n] && !body[n])
+                .collect();
+            plane_between_legs(grid, &tops)
+        } else {
+            None
+        };
+        if let Some((across, plane)) = crotch {
+            let high = Role::Body {
                 body: b,
-                slab: slab.min(count - 1),
-            });
+                slab: count,
+            };
+            halved.insert(
+                Role::Body { body: b, slab: 0 },
+                Halved {
+                    high,
+                    axis: across,
+                    plane,
+                },
+            );
+        }
+        for &i in &cells {
+            let cell = grid.cell_of(i);
+            let along = f64::from(cell[axis] - lo[axis]) + 0.5;
+            let slab = (((along / f64::from(extent[axis])) * count as f64) as usize).min(count - 1);
+            let slab = match crotch {
+                Some((across, plane)) if slab == 0 && cell[across] >= plane => count,
+                _ => slab,
+            };
+            group[i] = Some(Role::Body { body: b, slab });
         }
     }
     // Each limb region's branches (one per limb: legs joined at the hip, ears on a head top),
@@ -184,6 +252,7 @@ pub(super) fn cut_into_parts(
         roles,
         parent_limb,
         heads: head_bodies,
+        halved,
     };
     merge_small_parts(grid, &mut parts);
     parts
@@ -405,19 +474,78 @@ fn legs_leave_the_body(grid: &Grid, piece_of: &[Option<usize>], pieces: usize, b
     }
 }
 
+/// The grid plane between the two largest pieces of a layer (the tops of two legs), across the
+/// horizontal axis along which their centres lie furthest apart, where they are at most
+/// [`CLOSE_LEGS_GAP`] cells apart with two columns of cells or more between them: the grid plane nearest to the middle between
+/// their centres (the mirror's plane on a mirrored grid, where they are each other's images).
+fn plane_between_legs(grid: &Grid, layer: &BTreeSet<usize>) -> Option<(usize, i32)> {
+    let mut pieces = layer_pieces(grid, layer);
+    pieces.sort_by_key(|p| Reverse(p.len()));
+    let [a, b, ..] = pieces.as_slice() else {
+        return None;
+    };
+    let centre = |cells: &[usize]| {
+        let sum = cells.iter().fold(glam::DVec3::ZERO, |s, &i| {
+            s + grid.cell_of(i).as_dvec3() + glam::DVec3::splat(0.5)
+        });
+        sum / cells.len() as f64
+    };
+    let (ca, cb) = (centre(a), centre(b));
+    let axis = if (ca.x - cb.x).abs() >= (ca.y - cb.y).abs() {
+        0
+    } else {
+        1
+    };
+    let plane = (0.5 * (ca[axis] + cb[axis])).round() as i32;
+    // Legs further apart have rings far enough apart on the slab's cage that neither moves
+    // the other (the armadillo's: 0.000 % of the diagonal).
+    let span = |cells: &[usize]| {
+        let along = cells.iter().map(|&i| grid.cell_of(i)[axis]);
+        (along.clone().min().unwrap_or(0), along.max().unwrap_or(0))
+    };
+    let ((a_lo, a_hi), (b_lo, b_hi)) = (span(a), span(b));
+    // From the far side of the lower piece's last cell to the near side of the other's first:
+    // the cells between them, thin ones in a band counted by their width.
+    let (first, last) = if a_hi < b_lo {
+        (a_hi, b_lo)
+    } else {
+        (b_hi, a_lo)
+    };
+    let gap = grid.position_along(axis, f64::from(last))
+        - grid.position_along(axis, f64::from(first + 1));
+    // With one column between them (a band without a mirror), the plane would run along one
+    // leg's side, whose ring would then hold vertices of both halves: its knee moved the other
+    // half (Homer's, 0.33 % of the diagonal).
+    if gap > CLOSE_LEGS_GAP * grid.cell || last - first - 1 < 2 {
+        return None;
+    }
+    Some((axis, plane))
+}
+
+/// The widest gap between two legs' tops, in cells, for the slab above them to be halved
+/// between them ([`plane_between_legs`]): Homer's, parted by a band of thin cells, have less
+/// than a cell between them; the armadillo's three.
+const CLOSE_LEGS_GAP: f64 = 1.0;
+
 /// The face-connected pieces of one layer's cells holding at least [`LEG_PIECE_SHARE`] of the
 /// largest piece's cells.
 fn pieces_in_layer(grid: &Grid, layer: &BTreeSet<usize>) -> usize {
+    layer_pieces(grid, layer).len()
+}
+
+/// The face-connected pieces of one layer's cells holding at least [`LEG_PIECE_SHARE`] of the
+/// largest piece's cells, each as its cells.
+fn layer_pieces(grid: &Grid, layer: &BTreeSet<usize>) -> Vec<Vec<usize>> {
     let mut seen: BTreeSet<usize> = BTreeSet::new();
-    let mut sizes = Vec::new();
+    let mut pieces = Vec::new();
     for &start in layer {
         if !seen.insert(start) {
             continue;
         }
-        let mut size = 0usize;
+        let mut piece = Vec::new();
         let mut stack = vec![start];
         while let Some(i) = stack.pop() {
-            size += 1;
+            piece.push(i);
             let c = grid.cell_of(i);
             // Within the layer: the x and y steps.
             for step in &FACE_STEPS[..4] {
@@ -429,13 +557,11 @@ fn pieces_in_layer(grid: &Grid, layer: &BTreeSet<usize>) -> usize {
                 }
             }
         }
-        sizes.push(size);
+        pieces.push(piece);
     }
-    let largest = sizes.iter().copied().max().unwrap_or(0) as f64;
-    sizes
-        .iter()
-        .filter(|&&n| n as f64 >= LEG_PIECE_SHARE * largest)
-        .count()
+    let largest = pieces.iter().map(Vec::len).max().unwrap_or(0) as f64;
+    pieces.retain(|p| p.len() as f64 >= LEG_PIECE_SHARE * largest);
+    pieces
 }
 
 /// The least share of a standing body's height its legs ([`legs_leave_the_body`]) reach.

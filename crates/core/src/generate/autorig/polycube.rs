@@ -140,8 +140,11 @@ pub(super) fn boundary_faces(
         // mirror image of the original's), each side's part its partner.
         let partner = partners(grid, m, parts);
         let image_of = |p: Option<u32>| p.map(|p| partner.get(p as usize).copied().unwrap_or(p));
+        // A face on the plane itself (between a part and its image: a slab halved there
+        // between two legs) is its own image.
         let images: Vec<GridFace> = faces
             .iter()
+            .filter(|f| !f.corners.iter().all(|c| c[m.axis] == m.half))
             .map(|f| {
                 let mut corners: Vec<IVec3> = f.corners.iter().map(|&c| m.vertex(c)).collect();
                 corners[1..].reverse();

@@ -228,6 +228,7 @@ mod tests {
             ],
             parent_limb: BTreeMap::new(),
             heads: Default::default(),
+            halved: Default::default(),
         };
         assert!(pinches(&grid, &parts.label, v) > 0);
         merge_block(&grid, &mut parts, v);

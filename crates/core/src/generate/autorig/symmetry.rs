@@ -156,7 +156,16 @@ pub(super) fn mirror_parts(grid: &Grid, plane: &MirrorPlane, parts: &mut Parts) 
         if !low[p] {
             continue;
         }
-        image[p] = Some(if crosses[p] {
+        // The low half of a slab halved on the plane (between two legs) has the high half
+        // as its image, a part of its own.
+        let halved = parts
+            .halved
+            .get(&parts.roles[p])
+            .filter(|h| h.axis == plane.axis && h.plane == plane.half);
+        image[p] = Some(if let Some(h) = halved {
+            roles.push(h.high);
+            roles.len() as u32 - 1
+        } else if crosses[p] {
             p as u32
         } else {
             let role = match parts.roles[p] {
