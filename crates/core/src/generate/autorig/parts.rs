@@ -476,8 +476,9 @@ fn legs_leave_the_body(grid: &Grid, piece_of: &[Option<usize>], pieces: usize, b
 
 /// The grid plane between the two largest pieces of a layer (the tops of two legs), across the
 /// horizontal axis along which their centres lie furthest apart, where they are at most
-/// [`CLOSE_LEGS_GAP`] cells apart with two columns of cells or more between them: the grid plane nearest to the middle between
-/// their centres (the mirror's plane on a mirrored grid, where they are each other's images).
+/// [`CLOSE_LEGS_GAP`] cells apart with two columns of cells or more between them: the grid
+/// plane nearest to the middle between their centres (the mirror's plane on a mirrored grid,
+/// where they are each other's images).
 fn plane_between_legs(grid: &Grid, layer: &BTreeSet<usize>) -> Option<(usize, i32)> {
     let mut pieces = layer_pieces(grid, layer);
     pieces.sort_by_key(|p| Reverse(p.len()));
