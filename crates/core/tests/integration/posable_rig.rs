@@ -1025,3 +1025,11 @@ fn thick_legs_closer_than_a_cell_turn_at_the_hip_leaving_the_other_leg_still_on_
     let scene = rigged_with(&crate::limb_names::thick_legged_human(0.30), &settings);
     bends_a_knee_and_a_hip_one_leg_at_a_time(&scene);
 }
+
+#[test]
+fn thick_legs_closer_than_a_cell_turn_at_the_hip_leaving_the_other_leg_still_without_a_mirror() {
+    // Without a mirror, the band between the legs is two thin columns too, either side of a
+    // grid plane, and the crotch slab is halved on it as on a mirrored rig.
+    let scene = rigged(&crate::limb_names::thick_legged_human(0.30));
+    bends_a_knee_and_a_hip_one_leg_at_a_time(&scene);
+}

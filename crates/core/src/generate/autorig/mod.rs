@@ -304,10 +304,10 @@ pub fn autorig(
                     _ => {}
                 }
             }
-            // Legs closer than a cell: a column of cells thin enough to fit between them, every
-            // other cell the detail's (with a mirror, two columns, one either side of its
-            // plane, which is a grid plane). No finer grid is needed, so the rig costs what
-            // the detail's does (a grid twice as fine made eight times the cells).
+            // Legs closer than a cell: two columns of cells thin enough to fit between them,
+            // one either side of a grid plane (the mirror's, with a mirror), every other cell
+            // the detail's. No finer grid is needed, so the rig costs what the detail's does
+            // (a grid twice as fine made eight times the cells).
             if sided_legs(&rig) < 2
                 && let Some(band) = legs_band(mesh, settings.mirror, &facts.symmetry, cells)
             {
@@ -349,8 +349,8 @@ pub fn autorig(
 /// side): across the mirror's plane where the rig mirrors across a horizontal axis, else
 /// across the centre plane of each horizontal axis the mesh is symmetric across (the widest
 /// gap where both part legs), [`CELL_IN_GAP`] of the gap between the legs wide. None where no
-/// plane has legs on either side ([`gap_between_legs`]) or their gap is wider than the cells
-/// the band replaces (one, two with a mirror).
+/// plane has legs on either side ([`gap_between_legs`]) or their gap is wider than the two
+/// cells the band replaces.
 fn legs_band(mesh: &Mesh, mirror: Mirror, scores: &[f64; 3], cells: u32) -> Option<BandAt> {
     let (lo, hi) = mesh.bounds();
     let cell = (hi - lo).max_element() / f64::from(cells.max(1));
@@ -369,8 +369,8 @@ fn legs_band(mesh: &Mesh, mirror: Mirror, scores: &[f64; 3], cells: u32) -> Opti
         .filter(|&(a, _)| a < 2)
         .filter_map(|(axis, plane)| {
             let width = CELL_IN_GAP * gap_between_legs(mesh, axis, plane)?;
-            // With a mirror, the band is two columns, one either side of its plane.
-            let columns = if mirror == Mirror::None { 1.0 } else { 2.0 };
+            // Two columns, one either side of its plane.
+            let columns = 2.0;
             (width < columns * cell).then_some(BandAt { axis, plane, width })
         })
         .max_by(|a, b| a.width.total_cmp(&b.width))
@@ -490,12 +490,12 @@ fn rig_on_grid(
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
-    let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface);
+    let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
     control.advance();
     check()?;
     // Repairs move cells between parts, which may leave a part two pieces again.
     merges += repair::make_manifold(&grid, &mut parts);
-    merges += pieces::merge_inseparable_pieces(&grid, &mut parts, surface);
+    merges += pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
     parts::one_limb_per_root(&grid, &mut parts);
     if let Some(m) = &mirror {
         merges += make_symmetric(&grid, m, &mut parts, surface);
@@ -846,7 +846,9 @@ fn make_symmetric(
     for _ in 0..4 {
         let extra = pieces::extra_pieces_total(grid, parts, surface);
         let mut trial = parts.clone();
-        if extra == 0 || pieces::merge_inseparable_pieces(grid, &mut trial, surface) == 0 {
+        if extra == 0
+            || pieces::merge_inseparable_pieces(grid, &mut trial, surface, Some(mirror)) == 0
+        {
             break;
         }
         let mut candidate = parts.clone();

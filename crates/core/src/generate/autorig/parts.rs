@@ -45,6 +45,9 @@ pub(super) struct Parts {
     /// The bodies split off as heads (above the shoulders or on a neck): never the main body,
     /// though a head may be the largest (Cheburashka's).
     pub heads: BTreeSet<usize>,
+    /// The heads that are a crown: the top [`HEAD_LAYERS`] of a standing body that narrows
+    /// nowhere lower ([`split_heads_above_shoulders`]).
+    pub crowns: BTreeSet<usize>,
     /// Body slabs halved between two legs, by the low half's role (below the plane across the
     /// legs).
     pub halved: BTreeMap<Role, Halved>,
@@ -125,7 +128,7 @@ fn cut_halving_crotches(
     let mut body = body_cells(grid, &piece_of, pieces, depth, cutting.body_fraction);
     legs_leave_the_body(grid, &piece_of, pieces, &mut body);
     let necked = split_at_necks(grid, &mut body);
-    let mut heads =
+    let (mut heads, crowns) =
         split_heads_above_shoulders(grid, occupied, &mut body, &necked, cutting.on_separate_feet);
     // A head on a thick neck (spot's) splits at the saddle of the body's thickness, and is one
     // slab as a head above the shoulders is.
@@ -252,6 +255,10 @@ fn cut_halving_crotches(
         roles,
         parent_limb,
         heads: head_bodies,
+        crowns: (0..grid.len())
+            .filter(|&i| crowns[i])
+            .filter_map(|i| body_of[i])
+            .collect(),
         halved,
     };
     merge_small_parts(grid, &mut parts);
@@ -477,8 +484,8 @@ fn legs_leave_the_body(grid: &Grid, piece_of: &[Option<usize>], pieces: usize, b
 /// The grid plane between the two largest pieces of a layer (the tops of two legs), across the
 /// horizontal axis along which their centres lie furthest apart, where they are at most
 /// [`CLOSE_LEGS_GAP`] cells apart with two columns of cells or more between them: the grid
-/// plane nearest to the middle between their centres (the mirror's plane on a mirrored grid,
-/// where they are each other's images).
+/// plane in the middle of those columns (between a band's two thin columns: the mirror's
+/// plane on a mirrored grid, where the legs are each other's images).
 fn plane_between_legs(grid: &Grid, layer: &BTreeSet<usize>) -> Option<(usize, i32)> {
     let mut pieces = layer_pieces(grid, layer);
     pieces.sort_by_key(|p| Reverse(p.len()));
@@ -497,7 +504,6 @@ fn plane_between_legs(grid: &Grid, layer: &BTreeSet<usize>) -> Option<(usize, i3
     } else {
         1
     };
-    let plane = (0.5 * (ca[axis] + cb[axis])).round() as i32;
     // Legs further apart have rings far enough apart on the slab's cage that neither moves
     // the other (the armadillo's: 0.000 % of the diagonal).
     let span = |cells: &[usize]| {
@@ -514,12 +520,14 @@ fn plane_between_legs(grid: &Grid, layer: &BTreeSet<usize>) -> Option<(usize, i3
     };
     let gap = grid.position_along(axis, f64::from(last))
         - grid.position_along(axis, f64::from(first + 1));
-    // With one column between them (a band without a mirror), the plane would run along one
-    // leg's side, whose ring would then hold vertices of both halves: its knee moved the other
-    // half (Homer's, 0.33 % of the diagonal).
+    // With one column between them, the plane would run along one leg's side, whose ring
+    // would then hold vertices of both halves: its knee moved the other half (Homer's, 0.33 %
+    // of the diagonal, when a band was one thin column). The plane runs between the middle
+    // columns of the gap (a band's two thin columns; the mirror's plane).
     if gap > CLOSE_LEGS_GAP * grid.cell || last - first - 1 < 2 {
         return None;
     }
+    let plane = (first + 1 + last) / 2;
     Some((axis, plane))
 }
 
@@ -619,7 +627,7 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
 /// the grid held its feet in the body, Cheburashka's), is split at a waist between a thick
 /// head and chest instead ([`neck_between_thick_ends`]). The head's skin, the limb
 /// cells within [`HEAD_SKIN`] cells of it above that layer, joins its body. Returns which
-/// cells are heads: each becomes one slab (halved, each half was under a fifth of a body
+/// cells are heads, and which of them crowns (a head of [`HEAD_LAYERS`]): each becomes one slab (halved, each half was under a fifth of a body
 /// slab and merged away, leaving the head no control).
 fn split_heads_above_shoulders(
     grid: &Grid,
@@ -627,8 +635,9 @@ fn split_heads_above_shoulders(
     body: &mut [bool],
     necked: &[bool],
     on_separate_feet: bool,
-) -> Vec<bool> {
+) -> (Vec<bool>, Vec<bool>) {
     let mut heads = vec![false; grid.len()];
+    let mut crowns = vec![false; grid.len()];
     let members = component_cells(grid, |i| body[i]);
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
     let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
@@ -696,12 +705,16 @@ fn split_heads_above_shoulders(
             // nowhere else).
             neck_above_thickest(layers / 2, NECK_END_LAYERS)
                 .or_else(|| neck_above_thickest(0, NECK_END_LAYERS))
-                .or_else(|| neck_above_thickest(layers / 2, HEAD_LAYERS))
-                .or_else(|| neck_above_thickest(0, HEAD_LAYERS))
+                .map(|k| (k, false))
+                .or_else(|| {
+                    neck_above_thickest(layers / 2, HEAD_LAYERS)
+                        .or_else(|| neck_above_thickest(0, HEAD_LAYERS))
+                        .map(|k| (k, true))
+                })
         } else {
-            neck_between_thick_ends(&count)
+            neck_between_thick_ends(&count).map(|k| (k, false))
         };
-        if let Some(k) = neck {
+        if let Some((k, crown)) = neck {
             let mut head = Vec::new();
             for &i in &cells {
                 if layer(i) == k {
@@ -735,10 +748,11 @@ fn split_heads_above_shoulders(
             for i in head {
                 body[i] = true;
                 heads[i] = true;
+                crowns[i] = crown;
             }
         }
     }
-    heads
+    (heads, crowns)
 }
 
 /// The neck of a standing body that reaches the ground on separate feet (the grid holds the

@@ -3,14 +3,16 @@
 //! each cell going to the piece whose vertices it holds or, holding none, to the nearest one.
 //! Pieces that share a cell cannot be told apart at this grid's resolution: their part merges
 //! with the neighbour through which they connect (fingers that touch, with their palm; the lips
-//! of a closed mouth, with the head's side), so that the cage holds one piece.
+//! of a closed mouth, with the head's side), so that the cage holds one piece; a head whose
+//! pieces join below it (a jaw cut by the neck layer) takes the cells between them instead.
 
 use std::cmp::Reverse;
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use super::SLIVER_VERTICES;
-use super::parts::{Parts, compact, contacts_of, split_disconnected};
+use super::parts::{Parts, Role, compact, contacts_of, split_disconnected};
 use super::surface::SurfaceMesh;
+use super::symmetry::MirrorPlane;
 use super::voxels::Grid;
 
 /// Splits the parts whose cells hold more than one piece of the surface (see the module).
@@ -218,10 +220,65 @@ impl<'a> Surface<'a> {
             .saturating_sub(1)
     }
 
+    /// The labels with the cells of other parts along the shortest way over the surface
+    /// between two of `p`'s pieces ([`Self::path_joining`]) given to `p`, with their images
+    /// across `mirror` (a mirrored rig stays symmetric), where they are at most
+    /// [`ANNEX_SHARE`] of its cells and every part they touch stays one face-connected piece
+    /// of cells. None otherwise.
+    fn annexing_path(
+        &self,
+        grid: &Grid,
+        parts: &Parts,
+        by_part: &BTreeMap<u32, Vec<usize>>,
+        p: u32,
+        mirror: Option<&MirrorPlane>,
+        mark: &mut [bool],
+    ) -> Option<Vec<Option<u32>>> {
+        let pieces = self.significant_pieces(parts, by_part, &[p], mark);
+        let cells: BTreeSet<usize> = self
+            .path_joining(parts, p, &pieces)
+            .into_iter()
+            .filter_map(|v| self.cell_of[v])
+            .flat_map(|c| {
+                let image = mirror.and_then(|m| grid.index(m.cell(grid.cell_of(c))));
+                std::iter::once(c).chain(image)
+            })
+            .filter(|&c| parts.label[c].is_some_and(|q| q != p))
+            .collect();
+        let own = parts.label.iter().filter(|&&l| l == Some(p)).count();
+        if cells.is_empty() || cells.len() as f64 > ANNEX_SHARE * own as f64 {
+            return None;
+        }
+        let donors: BTreeSet<u32> = cells.iter().filter_map(|&c| parts.label[c]).collect();
+        let mut label = parts.label.clone();
+        for &c in &cells {
+            label[c] = Some(p);
+        }
+        std::iter::once(p)
+            .chain(donors)
+            .all(|q| face_connected(grid, &label, q))
+            .then_some(label)
+    }
+
     /// The parts along the shortest path of mesh edges outside `p` that joins two of its
-    /// pieces (the palm between two fingers): a breadth-first search grown from every piece at
-    /// once, stopped where two fronts meet.
+    /// pieces (the palm between two fingers).
     fn parts_joining(&self, parts: &Parts, p: u32, pieces: &[Vec<usize>]) -> Vec<u32> {
+        let part_of = |v: usize| self.cell_of[v].and_then(|c| parts.label[c]);
+        let mut joined: Vec<u32> = self
+            .path_joining(parts, p, pieces)
+            .into_iter()
+            .filter_map(part_of)
+            .filter(|&q| q != p)
+            .collect();
+        joined.sort_unstable();
+        joined.dedup();
+        joined
+    }
+
+    /// The mesh vertices along the shortest path of mesh edges outside `p` that joins two of
+    /// its pieces, ends included: a breadth-first search grown from every piece at once,
+    /// stopped where two fronts meet. Empty where no path joins them.
+    fn path_joining(&self, parts: &Parts, p: u32, pieces: &[Vec<usize>]) -> Vec<usize> {
         let part_of = |v: usize| self.cell_of[v].and_then(|c| parts.label[c]);
         let mut source = vec![usize::MAX; self.cell_of.len()];
         let mut parent = vec![usize::MAX; self.cell_of.len()];
@@ -252,15 +309,9 @@ impl<'a> Surface<'a> {
                     parent[n] = v;
                     queue.push_back(n);
                 } else if source[n] != source[v] {
-                    let mut joined: Vec<u32> = path_to_source(v, &parent)
-                        .into_iter()
-                        .chain(path_to_source(n, &parent))
-                        .filter_map(part_of)
-                        .filter(|&q| q != p)
-                        .collect();
-                    joined.sort_unstable();
-                    joined.dedup();
-                    return joined;
+                    let mut path = path_to_source(v, &parent);
+                    path.extend(path_to_source(n, &parent));
+                    return path;
                 }
             }
         }
@@ -289,6 +340,7 @@ pub(super) fn merge_inseparable_pieces(
     grid: &Grid,
     parts: &mut Parts,
     surface: &SurfaceMesh,
+    mirror: Option<&MirrorPlane>,
 ) -> usize {
     let surface = Surface::new(grid, surface);
     let mut mark = vec![false; surface.cell_of.len()];
@@ -300,6 +352,37 @@ pub(super) fn merge_inseparable_pieces(
             .map(|&p| (p, surface.extra_pieces(parts, &by_part, &[p], &mut mark)))
             .collect();
         let extra_of = |members: &[u32]| members.iter().filter_map(|q| extra.get(q)).sum::<usize>();
+        // A head's pieces joined through a few cells of the body (a jaw reaching below the
+        // neck layer: Homer's) take those cells rather than merging the head into the body,
+        // which would leave it no control. Not a crown's: pieces of a crown joined below it
+        // are the top of a head whose face lies lower, and it merges as before.
+        let annexed = extra.iter().filter(|&(_, &e)| e > 0).find_map(|(&p, _)| {
+            let head = matches!(
+                parts.roles.get(p as usize),
+                Some(Role::Body { body, .. })
+                    if parts.heads.contains(body) && !parts.crowns.contains(body)
+            );
+            if !head {
+                return None;
+            }
+            let label = surface.annexing_path(grid, parts, &by_part, p, mirror, &mut mark)?;
+            let before: usize = extra.values().sum();
+            let trial = Parts {
+                label,
+                ..parts.clone()
+            };
+            let by_trial = surface.vertices_by_part(&trial);
+            let after: usize = by_trial
+                .keys()
+                .map(|&q| surface.extra_pieces(&trial, &by_trial, &[q], &mut mark))
+                .sum();
+            (after < before).then_some(trial.label)
+        });
+        if let Some(label) = annexed {
+            parts.label = label;
+            compact(parts);
+            continue;
+        }
         // The first part with extra pieces that a merge improves, merged with its best
         // neighbour (most extra pieces removed, then most faces shared, then lowest label), or
         // with the parts joining two of its pieces.
@@ -338,5 +421,119 @@ pub(super) fn merge_inseparable_pieces(
         }
         compact(parts);
         merges += 1;
+    }
+}
+
+/// The most cells [`Surface::annexing_path`] moves into a part, as a share of its own.
+const ANNEX_SHARE: f64 = 0.25;
+
+/// Whether the cells labelled `p` are one face-connected piece (true where there are none).
+fn face_connected(grid: &Grid, label: &[Option<u32>], p: u32) -> bool {
+    let Some(start) = label.iter().position(|&l| l == Some(p)) else {
+        return true;
+    };
+    let mut seen = BTreeSet::from([start]);
+    let mut stack = vec![start];
+    while let Some(c) = stack.pop() {
+        for n in grid.face_neighbours(c) {
+            if label[n] == Some(p) && seen.insert(n) {
+                stack.push(n);
+            }
+        }
+    }
+    seen.len() == label.iter().filter(|&&l| l == Some(p)).count()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::mesh::Mesh;
+
+    /// A ribbon along a U: down one column, across the bottom, up the other (0.1 apart along
+    /// it, 0.3 wide across y), inside a box from the origin to (4, 1, 5).
+    fn u_ribbon() -> Mesh {
+        let mut path = Vec::new();
+        for k in 0..31 {
+            path.push(DVec3::new(0.5, 0.35, 4.45 - 0.1 * f64::from(k)));
+        }
+        for k in 1..20 {
+            path.push(DVec3::new(0.5 + 0.1 * f64::from(k), 0.35, 1.45));
+        }
+        for k in 0..31 {
+            path.push(DVec3::new(2.5, 0.35, 1.45 + 0.1 * f64::from(k)));
+        }
+        let across = DVec3::new(0.0, 0.3, 0.0);
+        let positions: Vec<DVec3> = path.iter().flat_map(|&p| [p, p + across]).collect();
+        let triangles = (0..path.len() as u32 - 1)
+            .flat_map(|k| {
+                [
+                    [2 * k, 2 * k + 2, 2 * k + 1],
+                    [2 * k + 1, 2 * k + 2, 2 * k + 3],
+                ]
+            })
+            .collect();
+        Mesh::new(positions, triangles, None, None).unwrap()
+    }
+
+    /// Every cell of the grid in a part: the head above the U's bottom layer, the body below.
+    fn head_over_body(grid: &Grid, heads: BTreeSet<usize>) -> Parts {
+        let bottom = grid.cell_at(DVec3::new(0.5, 0.5, 1.45)).z;
+        Parts {
+            label: (0..grid.len())
+                .map(|i| Some(u32::from(grid.cell_of(i).z > bottom)))
+                .collect(),
+            roles: vec![
+                Role::Body { body: 0, slab: 0 },
+                Role::Body { body: 1, slab: 0 },
+            ],
+            parent_limb: BTreeMap::new(),
+            heads,
+            crowns: BTreeSet::new(),
+            halved: BTreeMap::new(),
+        }
+    }
+
+    #[test]
+    fn a_heads_pieces_joined_under_it_take_the_cells_between_them_instead_of_merging() {
+        // The head's cells hold both columns of the U, joined only across its bottom, in the
+        // body's layer (Homer's lower jaw, joined to his face under the neck layer).
+        let mesh = u_ribbon();
+        let surface = SurfaceMesh::new(&mesh);
+        let grid = Grid::around(DVec3::ZERO, DVec3::new(4.0, 1.0, 5.0), 5, None, &[], None);
+        let before = head_over_body(&grid, BTreeSet::from([1]));
+        assert_eq!(extra_pieces_total(&grid, &before, &surface), 1);
+        let mut parts = before.clone();
+        assert_eq!(
+            merge_inseparable_pieces(&grid, &mut parts, &surface, None),
+            0
+        );
+        assert_eq!(extra_pieces_total(&grid, &parts, &surface), 0);
+        // The head keeps its role; it took the cells of the U's bottom, the body the rest.
+        assert_eq!(parts.roles.len(), 2);
+        let moved: Vec<usize> = (0..grid.len())
+            .filter(|&i| parts.label[i] != before.label[i])
+            .collect();
+        let bottom = grid.cell_at(DVec3::new(0.5, 0.5, 1.45));
+        assert!(!moved.is_empty() && moved.len() <= 3, "{moved:?}");
+        for &i in &moved {
+            assert_eq!(before.label[i], Some(0));
+            assert_eq!(parts.label[i], Some(1));
+            assert_eq!(grid.cell_of(i).z, bottom.z);
+        }
+        // Not a head, or a crown (the top of a head whose face lies lower): the two parts
+        // merge into one, as two fingers do with their palm.
+        let crown = Parts {
+            crowns: BTreeSet::from([1]),
+            ..head_over_body(&grid, BTreeSet::from([1]))
+        };
+        for mut parts in [head_over_body(&grid, BTreeSet::new()), crown] {
+            assert_eq!(
+                merge_inseparable_pieces(&grid, &mut parts, &surface, None),
+                1
+            );
+            assert_eq!(parts.roles, vec![Role::Body { body: 0, slab: 0 }]);
+        }
     }
 }

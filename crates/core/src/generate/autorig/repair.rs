@@ -228,6 +228,7 @@ mod tests {
             ],
             parent_limb: BTreeMap::new(),
             heads: Default::default(),
+            crowns: Default::default(),
             halved: Default::default(),
         };
         assert!(pinches(&grid, &parts.label, v) > 0);

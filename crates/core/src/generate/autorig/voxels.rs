@@ -39,8 +39,9 @@ pub(super) struct Band {
 }
 
 /// Where [`Grid::around`] lays a [`Band`]: thin cells `width` wide in all across `axis`,
-/// centred on the plane at `plane` (one column of cells, or two, one on either side of the
-/// plane, where the grid mirrors across it).
+/// centred on the plane at `plane`: two columns of cells, one on either side of the plane, a
+/// grid plane (the mirror's, where the grid mirrors across it; the plane between two legs,
+/// where their crotch's slab is halved, `parts::plane_between_legs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct BandAt {
     /// The axis.
@@ -109,8 +110,8 @@ impl Grid {
             .and_then(|b| {
                 let a = b.axis;
                 let mirrored = mirror.is_some_and(|(m, _)| m == a);
-                // Across the mirror's plane, a grid plane on it: two thin columns.
-                let thin = if mirrored { 2 } else { 1 };
+                // Two thin columns, a grid plane between them (the mirror's, with a mirror).
+                let thin = 2;
                 if b.width >= f64::from(thin) * cell {
                     return None;
                 }
@@ -629,7 +630,7 @@ mod tests {
     }
 
     #[test]
-    fn a_band_makes_one_column_thin_and_leaves_every_other_cell_whole() {
+    fn a_band_makes_two_thin_columns_and_leaves_every_other_cell_whole() {
         let (lo, hi) = (DVec3::new(-1.0, -0.5, 0.0), DVec3::new(1.0, 0.5, 4.0));
         let plain = Grid::around(lo, hi, 40, None, &[], None);
         let band = BandAt {
@@ -643,9 +644,12 @@ mod tests {
         let thin: Vec<usize> = (0..widths.len())
             .filter(|&k| (widths[k] - grid.cell).abs() > 1e-9)
             .collect();
-        assert_eq!(thin.len(), 1, "{widths:?}");
+        // Two columns side by side, half the band each, a grid plane on the band's middle.
+        assert_eq!(thin.len(), 2, "{widths:?}");
         let k = thin[0];
-        assert!((widths[k] - 0.02).abs() < 1e-12 && (x[k] + x[k + 1] - 0.06).abs() < 1e-12);
+        assert_eq!(thin[1], k + 1);
+        assert!((widths[k] - 0.01).abs() < 1e-12 && (widths[k + 1] - 0.01).abs() < 1e-12);
+        assert!((x[k + 1] - 0.03).abs() < 1e-12, "{}", x[k + 1]);
         // Still two cells beyond the bounds (at least one and a half), the other axes as on
         // the plain grid.
         assert!(x[0] <= lo.x - 1.5 * grid.cell && x[x.len() - 1] >= hi.x + 1.5 * grid.cell);
@@ -658,8 +662,8 @@ mod tests {
             let q = c.as_dvec3() + DVec3::new(0.3, 0.7, 0.1);
             assert!((grid.units_of(grid.position_of(q)) - q).length() < 1e-9);
         }
-        // A band as wide as a cell is no band.
-        let wide = BandAt { width: 0.1, ..band };
+        // A band as wide as the two cells it replaces is no band.
+        let wide = BandAt { width: 0.2, ..band };
         assert!(
             Grid::around(lo, hi, 40, None, &[], Some(wide))
                 .band
