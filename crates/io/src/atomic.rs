@@ -214,22 +214,23 @@ fn sweep_stale(folder: &Path, prefix: &str) {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> std::path::PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("starcages-atomic-{name}-{}", std::process::id()));
-        std::fs::remove_dir_all(&dir).ok();
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh folder, removed when dropped.
+    fn scratch(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("starcages-atomic-{name}-"))
+            .tempdir()
+            .unwrap()
     }
 
     #[test]
     fn replaces_content_and_leaves_no_temp_file() {
-        let dir = scratch("replace");
+        let scratch = scratch("replace");
+        let dir = scratch.path();
         let path = dir.join("scene.json");
         write_atomic(&path, b"first").unwrap();
         write_atomic(&path, b"second").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"second");
-        let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        let leftovers: Vec<_> = std::fs::read_dir(dir)
             .unwrap()
             .filter_map(Result::ok)
             .collect();
@@ -238,7 +239,8 @@ mod tests {
 
     #[test]
     fn failure_keeps_the_old_file_and_says_why() {
-        let dir = scratch("missing");
+        let scratch = scratch("missing");
+        let dir = scratch.path();
         let path = dir.join("nested").join("scene.json");
         let error = write_atomic(&path, b"x").unwrap_err().to_string();
         assert!(
@@ -250,7 +252,8 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn planted_symlinks_at_temp_names_are_never_followed() {
-        let dir = scratch("symlink");
+        let scratch = scratch("symlink");
+        let dir = scratch.path();
         let victim = dir.join("victim.txt");
         std::fs::write(&victim, b"precious").unwrap();
         let path = dir.join("out.obj");
@@ -276,7 +279,8 @@ mod tests {
 
     #[test]
     fn stale_temp_files_of_ours_are_swept_and_fresh_ones_kept() {
-        let dir = scratch("sweep");
+        let scratch = scratch("sweep");
+        let dir = scratch.path();
         let path = dir.join("scene.json");
         let stale = dir.join(".scene.json.OLD123.starcages-tmp");
         let fresh = dir.join(".scene.json.NEW123.starcages-tmp");
@@ -306,7 +310,8 @@ mod tests {
     #[test]
     fn saved_files_are_readable_by_others_as_new_files_are_and_keep_replaced_permissions() {
         use std::os::unix::fs::PermissionsExt as _;
-        let dir = scratch("permissions");
+        let scratch = scratch("permissions");
+        let dir = scratch.path();
         let plain = dir.join("plain.txt");
         std::fs::write(&plain, b"x").unwrap();
         let expected = plain.metadata().unwrap().permissions().mode() & 0o777;

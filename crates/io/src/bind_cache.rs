@@ -69,8 +69,8 @@ mod tests {
 
     #[test]
     fn cache_is_used_rebuilt_when_stale_and_never_trusted_when_corrupt() {
-        let dir = std::env::temp_dir().join(format!("starcages-cache-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let scene_path = dir.join("egg.json");
         let mut scene = demo_scene("egg", 0.2).unwrap();
         let control = BindControl::default();

@@ -117,8 +117,8 @@ mod tests {
 
     #[test]
     fn cage_sets_round_trip_and_shared_vertices_are_welded() {
-        let dir = std::env::temp_dir().join(format!("starcages-cage-set-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let scene = demo_scene("egg", 0.2).unwrap();
         let path = dir.join("cages.obj");
         std::fs::write(

@@ -307,8 +307,8 @@ mod tests {
 
     #[test]
     fn obj_and_glb_round_trip_through_our_readers() {
-        let dir = std::env::temp_dir().join(format!("starcages-mesh-write-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let mesh = quad();
         let moved: Vec<DVec3> = mesh
             .positions()

@@ -12,14 +12,9 @@ pub fn bench(args: &[&str]) -> Output {
         .expect("run starcages-bench")
 }
 
-/// A fresh scratch folder for one test.
-pub fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "starcages-bench-test-{}-{name}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch folder for one test, removed when dropped.
+pub fn dir(name: &str) -> starcages_test_support::Scratch {
+    starcages_test_support::Scratch::new(&format!("bench-test-{name}"))
 }
 
 /// Writes demo `name` at `detail` into `dir` as NAME.json; returns its path.

@@ -1,7 +1,7 @@
 //! Helpers shared by the CLI's end-to-end tests.
 #![allow(dead_code, clippy::unwrap_used)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 /// A closed box as OBJ (8 vertices, 12 triangles).
@@ -16,11 +16,9 @@ pub fn cli(args: &[&str]) -> Output {
         .expect("run starcages-cli")
 }
 
-/// A fresh scratch folder for one test.
-pub fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("starcages-cli-test-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch folder for one test, removed when dropped.
+pub fn dir(name: &str) -> starcages_test_support::Scratch {
+    starcages_test_support::Scratch::new(&format!("cli-test-{name}"))
 }
 
 /// A path as a command-line argument.

@@ -401,7 +401,8 @@ mod tests {
 
     #[test]
     fn the_in_app_dialog_lists_folders_and_matching_files_and_checks_the_choice() {
-        let dir = std::env::temp_dir().join(format!("starcages-dialog-{}", std::process::id()));
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path().to_path_buf();
         std::fs::create_dir_all(dir.join("sub")).unwrap();
         std::fs::write(dir.join("a.json"), "{}").unwrap();
         std::fs::write(dir.join("b.txt"), "").unwrap();

@@ -58,7 +58,8 @@ fn a_bind_runs_in_the_background_the_ui_keeps_drawing_and_cancel_keeps_the_previ
     assert!(rig.preview);
     assert!(!std::sync::Arc::ptr_eq(&old, &rig.binding));
     // Export says why it cannot write the preview and starts the refinement again.
-    let path = scratch("cancelled-refinement").join("deformed.obj");
+    let dir = scratch("cancelled-refinement");
+    let path = dir.join("deformed.obj");
     harness.state_mut().run(Command::ExportMesh(path.clone()));
     let state = &harness.state().state;
     assert!(!path.exists());
@@ -179,7 +180,8 @@ fn harmonic_join_cages_arrive_after_a_deformable_preview() {
         StarBinding::bind_scene(&quick, &starcages_core::BindControl::default()).unwrap();
     assert_eq!(first.binding.operator, expected.operator);
     // Export waits for the full binding.
-    let path = scratch("preview-export").join("deformed.obj");
+    let dir = scratch("preview-export");
+    let path = dir.join("deformed.obj");
     app.run(Command::ExportMesh(path.clone()));
     if app.state.rig.as_ref().unwrap().preview {
         assert!(!path.exists(), "a preview binding was exported");

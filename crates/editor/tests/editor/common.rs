@@ -1,6 +1,5 @@
 //! Shared helpers: the harness on the critter demo, scratch folders, waiting for jobs.
 
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use egui_kittest::Harness;
@@ -53,11 +52,9 @@ pub fn harness() -> Harness<'static, EditorApp> {
     harness_on(document()).0
 }
 
-/// A fresh scratch folder for this test.
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-editor-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh scratch folder for this test, removed when dropped.
+pub fn scratch(name: &str) -> starcages_test_support::Scratch {
+    starcages_test_support::Scratch::new(&format!("editor-{name}"))
 }
 
 /// Sends `command` as the UI would, then runs one frame for it to show.

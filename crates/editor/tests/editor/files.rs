@@ -69,7 +69,8 @@ fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable(
 #[test]
 fn opening_over_unsaved_work_asks_first() {
     let mut harness = harness();
-    let path = scratch("prompt").join("saved.json");
+    let dir = scratch("prompt");
+    let path = dir.join("saved.json");
     harness.state_mut().run(Command::SaveAs(path.clone()));
     {
         let app = harness.state_mut();
@@ -113,7 +114,7 @@ fn a_file_that_cannot_be_opened_is_refused_before_the_unsaved_prompt() {
     for (path, why) in [
         (notes, "a .txt file is neither a scene (.json) nor a mesh"),
         (folder.join("gone.json"), "there is no such file"),
-        (folder.clone(), "a file without an extension"),
+        (folder.to_path_buf(), "a file without an extension"),
     ] {
         harness.state_mut().run(Command::Open(path.clone()));
         harness.run_steps(2);
@@ -237,7 +238,7 @@ fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
     {
         let dialog = harness.state_mut().ui.files.in_app.as_mut();
         let dialog = dialog.expect("the in-app dialog is open");
-        dialog.enter(dir.clone());
+        dialog.enter(dir.to_path_buf());
         dialog.name = "bar.json".into();
     }
     harness.run_steps(2);
@@ -266,9 +267,7 @@ fn the_in_app_file_dialog_opens_a_scene_when_no_native_dialog_can_be_shown() {
 fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
     let mut harness = harness();
     harness.state_mut().ui.files.in_app_only = true;
-    let dir =
-        std::env::temp_dir().join(format!("starcages-save-from-prompt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("save-from-prompt");
     let other = dir.join("bar.json");
     starcages_io::save_scene(
         &starcages_core::generate::demo::demo_scene("bar", 0.3).unwrap(),
@@ -297,7 +296,7 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
             .in_app
             .as_mut()
             .expect("the save dialog");
-        dialog.enter(dir.clone());
+        dialog.enter(dir.to_path_buf());
         dialog.name = "critter-edited.json".into();
     }
     harness.run_steps(2);
@@ -349,7 +348,7 @@ fn save_as_proposes_the_mesh_s_name() {
         let app = harness.state_mut();
         app.ui.files.in_app_only = true;
         app.state.doc.scene.mesh_source =
-            starcages_core::scene::MeshSource::File(scratch("names").join("armadillo.obj"));
+            starcages_core::scene::MeshSource::File("/models/armadillo.obj".into());
     }
     for (item, proposed) in [
         ("Save as…", "armadillo.json"),

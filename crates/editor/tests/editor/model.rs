@@ -235,16 +235,15 @@ fn commands(state: &EditorState, step: &Step, next_gesture: &mut u64) -> Vec<Com
     }
 }
 
-fn other_scenes() -> &'static [PathBuf; 2] {
-    static PATHS: std::sync::OnceLock<[PathBuf; 2]> = std::sync::OnceLock::new();
-    PATHS.get_or_init(|| {
-        let dir = crate::common::scratch("model");
-        let bar = dir.join("bar.json");
-        let bumpy = dir.join("bumpy.json");
-        save_scene(&demo_scene("bar", 0.3).unwrap(), &bar).unwrap();
-        save_scene(&demo_scene("bumpy", 0.3).unwrap(), &bumpy).unwrap();
-        [bar, bumpy]
-    })
+/// Two scenes to open over the edited one, saved in a scratch folder that lives as long as the
+/// folder guard.
+fn other_scenes() -> (starcages_test_support::Scratch, [PathBuf; 2]) {
+    let dir = crate::common::scratch("model");
+    let bar = dir.join("bar.json");
+    let bumpy = dir.join("bumpy.json");
+    save_scene(&demo_scene("bar", 0.3).unwrap(), &bar).unwrap();
+    save_scene(&demo_scene("bumpy", 0.3).unwrap(), &bumpy).unwrap();
+    (dir, [bar, bumpy])
 }
 
 fn run_sequence(steps: &[Step]) -> Result<(), TestCaseError> {
@@ -258,12 +257,14 @@ fn run_sequence(steps: &[Step]) -> Result<(), TestCaseError> {
     let mut opened = Snapshot::of(&app.state.doc.scene);
     let mut next_gesture = 0;
     let mut poses_changed = 0;
+    let mut others = None;
     for (i, step) in steps.iter().enumerate() {
         let pose_before = app.state.doc.scene.pose.clone();
         match step {
             Step::Wait => app.wait_for_jobs(),
             Step::OpenOther { which } => {
-                let path = other_scenes()[*which].clone();
+                let (_, paths) = others.get_or_insert_with(other_scenes);
+                let path = paths[*which].clone();
                 app.run(Command::Open(path));
                 app.run(Command::AnswerUnsaved(UnsavedAnswer::Discard));
                 app.wait_for_jobs();

@@ -167,7 +167,8 @@ fn replacing_the_document_cancels_its_running_bind() {
     });
     let control = harness.state().state.bind_job.as_ref().unwrap().control();
     assert!(!control.is_cancelled());
-    let path = scratch("cancel-on-replace").join("bar.json");
+    let dir = scratch("cancel-on-replace");
+    let path = dir.join("bar.json");
     save_scene(&demo_scene("bar", 0.3).unwrap(), &path).unwrap();
     harness.state_mut().run(Command::Open(path));
     send_and_settle(

@@ -180,12 +180,8 @@ fn importing_cages_adds_them_to_the_rig_sharing_faces() {
     let mut harness = crate::common::bar_harness(false);
     // A box beside the bar's +x face, written Y-up (OBJ convention); the bar is symmetric in
     // y and z, so the box is the same in both axes.
-    let path = box_obj(
-        "import-cages",
-        "tip",
-        [1.1, -0.35, -0.35],
-        [2.0, 0.35, 0.35],
-    );
+    let dir = scratch("import-cages");
+    let path = box_obj(&dir, "tip", [1.1, -0.35, -0.35], [2.0, 0.35, 0.35]);
     send_and_settle(&mut harness, Command::ImportCages(path));
     let state = &harness.state().state;
     let scene = &state.doc.scene;
@@ -201,8 +197,8 @@ fn importing_cages_adds_them_to_the_rig_sharing_faces() {
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
 }
 
-/// An OBJ holding one box group called `name` from `lo` to `hi`, in a scratch folder.
-fn box_obj(folder: &str, name: &str, lo: [f64; 3], hi: [f64; 3]) -> std::path::PathBuf {
+/// An OBJ holding one box group called `name` from `lo` to `hi`, in folder `dir`.
+fn box_obj(dir: &std::path::Path, name: &str, lo: [f64; 3], hi: [f64; 3]) -> std::path::PathBuf {
     let corners: Vec<String> = (0..8)
         .map(|c: usize| {
             let at = |axis: usize| {
@@ -221,7 +217,7 @@ fn box_obj(folder: &str, name: &str, lo: [f64; 3], hi: [f64; 3]) -> std::path::P
         let corners: Vec<String> = f.iter().map(|v| v.to_string()).collect();
         text += &format!("f {}\n", corners.join(" "));
     }
-    let path = scratch(folder).join(format!("{name}.obj"));
+    let path = dir.join(format!("{name}.obj"));
     std::fs::write(&path, text).unwrap();
     path
 }
@@ -234,12 +230,8 @@ fn importing_internal_cages_drives_the_cage_vertices_inside_them() {
     let mut harness = crate::common::bar_harness(false);
     // The bar's right cage spans x 0..1.1 and y, z -0.35..0.35 at this detail (symmetric in y
     // and z, so the same Y-up or Z-up).
-    let path = box_obj(
-        "import-internal",
-        "driver",
-        [-0.1, -0.5, -0.5],
-        [1.3, 0.5, 0.5],
-    );
+    let dir = scratch("import-internal");
+    let path = box_obj(&dir, "driver", [-0.1, -0.5, -0.5], [1.3, 0.5, 0.5]);
     send_and_settle(&mut harness, Command::ImportInternalCages(path.clone()));
     let state = &harness.state().state;
     let set = &state.doc.scene.cages;

@@ -12,6 +12,8 @@ use starcages_core::mesh::Mesh;
 use starcages_core::scene::UpAxis;
 use starcages_io::{parse_fbx, read_mesh, read_mesh_as};
 
+use starcages_test_support::Scratch;
+
 /// One value of an FBX node's property list.
 #[derive(Clone)]
 enum Prop {
@@ -402,12 +404,13 @@ fn assert_placed(what: &str, mesh: &Mesh, placements: &[DAffine3]) {
     );
 }
 
-fn scratch(name: &str, bytes: &[u8]) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-fbx-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// `bytes` written to a file `name` in a fresh scratch folder, which is removed when the first
+/// of the two is dropped.
+fn scratch(name: &str, bytes: &[u8]) -> (Scratch, std::path::PathBuf) {
+    let dir = Scratch::new("fbx");
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
-    path
+    (dir, path)
 }
 
 #[test]
@@ -416,7 +419,7 @@ fn every_node_is_placed_in_world_space_in_metres_and_outward() {
     for (what, bytes) in [("binary", binary(&doc)), ("ascii", ascii(&doc))] {
         // The file is Z-up: read as the Y-up mesh StarCages takes FBX to be, then turned to
         // the scene's Z-up, the corners are where the file's own axes put them.
-        let path = scratch(&format!("awkward-{what}.fbx"), &bytes);
+        let (_dir, path) = scratch(&format!("awkward-{what}.fbx"), &bytes);
         let mesh = read_mesh_as(&path, UpAxis::Y).unwrap();
         assert_placed(what, &mesh, &placements);
         // In the file axes StarCages reads FBX in (Y-up): the same corners, turned.
@@ -547,11 +550,11 @@ fn a_skinned_mesh_rests_at_its_bind_pose() {
 #[test]
 fn the_one_entry_point_reads_fbx_and_refuses_what_it_cannot() {
     let (doc, placements) = awkward_scene();
-    let path = scratch("cube.fbx", &binary(&doc));
+    let (_dir, path) = scratch("cube.fbx", &binary(&doc));
     let mesh = read_mesh(&path).unwrap();
     assert_eq!(mesh.welded_positions().len(), 8 * placements.len());
     let says = |bytes: &[u8], text: &str| {
-        let path = scratch("bad.fbx", bytes);
+        let (_dir, path) = scratch("bad.fbx", bytes);
         let error = read_mesh(&path).unwrap_err().to_string();
         assert!(error.contains("bad.fbx"), "the file is named: {error}");
         assert!(error.contains(text), "{text:?} not in {error}");
@@ -789,7 +792,7 @@ fn materials_per_face_with_their_colours_and_image_files() {
     ];
     let doc = document(2, 1.0, objects, connections);
     for (what, bytes) in [("binary", binary(&doc)), ("ascii", ascii(&doc))] {
-        let path = scratch(&format!("materials-{what}.fbx"), &bytes);
+        let (_dir, path) = scratch(&format!("materials-{what}.fbx"), &bytes);
         let png = path.with_file_name("skin.png");
         std::fs::write(&png, starcages_io::sample_files::checker_png()).unwrap();
         let (mesh, look) = starcages_io::read_mesh_look(&path).unwrap();

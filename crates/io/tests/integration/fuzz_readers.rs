@@ -9,14 +9,14 @@
 // Tests may unwrap: a panic is the failure report (clippy.toml allows it in #[test] fns).
 #![allow(clippy::unwrap_used)]
 
-use std::path::PathBuf;
-
 use proptest::prelude::*;
 use serde_json::Value;
 use starcages_core::generate::demo::demo_scene;
 use starcages_core::star::{StarBinding, decode_binding_cache, encode_binding_cache};
 use starcages_io::{glb_bytes, parse_obj_cages, parse_points, read_cage_obj, read_mesh};
 use starcages_io::{load_scene, save_scene};
+
+use starcages_test_support::Scratch;
 
 /// Cases per property: 64 in the test suite, more from `scripts/fuzz.sh`
 /// (`STARCAGES_FUZZ_CASES`).
@@ -27,15 +27,14 @@ pub fn fuzz_cases() -> u32 {
         .unwrap_or(64)
 }
 
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-fuzz-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch() -> Scratch {
+    Scratch::new("fuzz")
 }
 
 /// A small valid scene with poses and animation keys (so damage reaches every section).
 fn valid_scene_text() -> String {
-    let path = scratch().join("valid.json");
+    let dir = scratch();
+    let path = dir.join("valid.json");
     let mut scene = demo_scene("bar", 0.2).unwrap();
     let lifted: Vec<glam::DVec3> = scene.pose.iter().map(|p| *p + glam::DVec3::Z).collect();
     scene.poses.insert("up".into(), lifted);

@@ -6,9 +6,10 @@ use std::path::{Path, PathBuf};
 
 use starcages_io::read_mesh;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-gltf-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
+use starcages_test_support::Scratch;
+
+fn scratch(name: &str) -> Scratch {
+    let dir = Scratch::new(&format!("gltf-{name}"));
     std::fs::create_dir_all(dir.join("models").join("sub")).unwrap();
     dir
 }

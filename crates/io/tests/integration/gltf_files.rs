@@ -2,19 +2,13 @@
 //! accessors of the wrong type, short strides, sparse storage, missing positions, node graphs
 //! with cycles or astronomically many paths; a very deep (valid) node chain reads fine.
 
-use std::path::PathBuf;
-
 use base64::Engine as _;
 use starcages_io::read_mesh;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "starcages-gltf-files-{name}-{}",
-        std::process::id()
-    ));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+use starcages_test_support::Scratch;
+
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("gltf-files-{name}"))
 }
 
 /// 48 bytes: three float positions (36) then three u32 indices (12).

@@ -1,15 +1,13 @@
 //! Hostile input, round three: nonsense that used to be accepted silently, and work a user could
 //! multiply without bound.
 
-use std::path::PathBuf;
-
 use starcages_core::generate::demo::demo_scene;
 use starcages_io::{load_scene, save_scene};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-hostile-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+use starcages_test_support::Scratch;
+
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("hostile-{name}"))
 }
 
 /// serde reads a struct from an array by position; a scene file's named-field objects may not

@@ -172,8 +172,7 @@ fn the_same_cube_reads_from_every_format() {
     assert_cube("binary stl", &parse_stl(at, &binary_stl()).unwrap(), 36);
     assert_cube("off", &parse_off(at, &off()).unwrap(), 8);
     // By extension, through the one entry point every command and the editor use.
-    let dir = std::env::temp_dir().join(format!("starcages-formats-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = starcages_test_support::Scratch::new("formats");
     for (name, bytes) in [
         ("cube.ply", binary_ply(false)),
         ("cube.stl", binary_stl()),
@@ -347,8 +346,7 @@ fn nonsense_is_refused_not_read_as_another_mesh() {
     );
     // A binary OFF says so, from the text and from a file (not "not UTF-8 text").
     says(parse_off(at, "OFF BINARY\n"), "binary OFF");
-    let dir = std::env::temp_dir().join(format!("starcages-off-binary-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = starcages_test_support::Scratch::new("off-binary");
     let file = dir.join("cube.off");
     let mut bytes = b"OFF BINARY\n".to_vec();
     bytes.extend([0x00, 0x00, 0x00, 0x08, 0xff, 0xfe, 0x80, 0x81]);

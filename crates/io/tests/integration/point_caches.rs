@@ -4,7 +4,6 @@
 //! crate.
 
 use starcages_core::anim::SampleTimes;
-use std::path::PathBuf;
 
 use glam::{DVec3, Vec3};
 use starcages_core::anim::Animation;
@@ -14,11 +13,10 @@ use starcages_io::{
 };
 use starcages_io::{load_scene, save_scene};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-anim-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+use starcages_test_support::Scratch;
+
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("anim-{name}"))
 }
 
 /// Writes a cache and returns its bytes.

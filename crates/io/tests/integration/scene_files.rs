@@ -16,10 +16,10 @@ use starcages_core::scene::{LeafCage, MeshSource, Scene, SceneProblem, SceneSett
 use starcages_io::read_mesh;
 use starcages_io::{SceneFileError, load_scene, save_scene};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-scenes-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+use starcages_test_support::Scratch;
+
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("scenes-{name}"))
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -687,8 +687,7 @@ fn written_meshes_follow_the_declared_axes_and_glb_is_always_y_up() {
 #[test]
 fn states_survive_saving_and_reopening() {
     let scene = critter();
-    let dir = std::env::temp_dir().join(format!("starcages-hierarchy-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("hierarchy");
     let path = dir.join("critter.json");
     let mut s = scene.clone();
     s.pose = s.poses["fig13"].clone();

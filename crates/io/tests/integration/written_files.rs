@@ -7,7 +7,7 @@
 //! header a writer without those checks wrote.
 
 use starcages_core::anim::SampleTimes;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
@@ -18,10 +18,10 @@ use starcages_io::{
     MorphAnimation, PointCacheFormat, PointCacheWriter, read_mesh, read_point_cache,
 };
 
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("starcages-written-files-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+use starcages_test_support::Scratch;
+
+fn scratch() -> Scratch {
+    Scratch::new("written-files")
 }
 
 fn tetrahedron() -> Mesh {
