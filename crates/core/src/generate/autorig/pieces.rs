@@ -221,10 +221,7 @@ impl<'a> Surface<'a> {
     }
 
     /// The labels with the cells of other parts along the shortest way over the surface
-    /// between two of `p`'s pieces ([`Self::path_joining`]) given to `p`, with their images
-    /// across `mirror` (a mirrored rig stays symmetric), where they are at most
-    /// [`ANNEX_SHARE`] of its cells and every part they touch stays one face-connected piece
-    /// of cells. None otherwise.
+    /// between two of `p`'s pieces ([`Self::path_joining`]) given to `p` ([`give_cells`]).
     fn annexing_path(
         &self,
         grid: &Grid,
@@ -235,29 +232,38 @@ impl<'a> Surface<'a> {
         mark: &mut [bool],
     ) -> Option<Vec<Option<u32>>> {
         let pieces = self.significant_pieces(parts, by_part, &[p], mark);
-        let cells: BTreeSet<usize> = self
-            .path_joining(parts, p, &pieces)
-            .into_iter()
-            .filter_map(|v| self.cell_of[v])
-            .flat_map(|c| {
-                let image = mirror.and_then(|m| grid.index(m.cell(grid.cell_of(c))));
-                std::iter::once(c).chain(image)
-            })
-            .filter(|&c| parts.label[c].is_some_and(|q| q != p))
-            .collect();
-        let own = parts.label.iter().filter(|&&l| l == Some(p)).count();
-        if cells.is_empty() || cells.len() as f64 > ANNEX_SHARE * own as f64 {
-            return None;
-        }
-        let donors: BTreeSet<u32> = cells.iter().filter_map(|&c| parts.label[c]).collect();
-        let mut label = parts.label.clone();
-        for &c in &cells {
-            label[c] = Some(p);
-        }
-        std::iter::once(p)
-            .chain(donors)
-            .all(|q| face_connected(grid, &label, q))
-            .then_some(label)
+        let cells = self.path_joining(parts, p, &pieces).into_iter();
+        give_cells(
+            grid,
+            parts,
+            cells.filter_map(|v| self.cell_of[v]),
+            p,
+            mirror,
+        )
+    }
+
+    /// The labels with the cells of `q` holding its pieces but the largest given to `p`
+    /// ([`give_cells`]): what taking cells from `q` cut off from the rest of it.
+    fn annexing_pieces(
+        &self,
+        grid: &Grid,
+        parts: &Parts,
+        by_part: &BTreeMap<u32, Vec<usize>>,
+        (q, p): (u32, u32),
+        mirror: Option<&MirrorPlane>,
+        mark: &mut [bool],
+    ) -> Option<Vec<Option<u32>>> {
+        let mut pieces = self.significant_pieces(parts, by_part, &[q], mark);
+        pieces.sort_by_key(|piece| Reverse(piece.len()));
+        let cut_off = pieces.iter().skip(1).flatten();
+        let cells = cut_off.filter_map(|&v| self.cell_of[v]);
+        give_cells(
+            grid,
+            parts,
+            cells.filter(|&c| parts.label[c] == Some(q)),
+            p,
+            mirror,
+        )
     }
 
     /// The parts along the shortest path of mesh edges outside `p` that joins two of its
@@ -365,12 +371,42 @@ pub(super) fn merge_inseparable_pieces(
             if !head {
                 return None;
             }
-            let label = surface.annexing_path(grid, parts, &by_part, p, mirror, &mut mark)?;
+            // Taking the cells may bring in a piece of their own, or cut one off the part they
+            // came from: up to ANNEX_ROUNDS takings, as long as all they take stays within
+            // ANNEX_SHARE of the head's cells.
+            let own = parts.label.iter().filter(|&&l| l == Some(p)).count();
+            let mut trial = parts.clone();
+            for _ in 0..ANNEX_ROUNDS {
+                let by_trial = surface.vertices_by_part(&trial);
+                let label = if surface.extra_pieces(&trial, &by_trial, &[p], &mut mark) > 0 {
+                    surface.annexing_path(grid, &trial, &by_trial, p, mirror, &mut mark)
+                } else {
+                    // A part the cells came from, left with a piece cut off (a chin's front).
+                    let donors: BTreeSet<u32> = (trial.label.iter().zip(&parts.label))
+                        .filter(|(a, b)| a != b)
+                        .filter_map(|(_, b)| *b)
+                        .collect();
+                    donors.into_iter().find_map(|q| {
+                        let now = surface.extra_pieces(&trial, &by_trial, &[q], &mut mark);
+                        (now > extra.get(&q).copied().unwrap_or(0)).then(|| {
+                            let pair = (q, p);
+                            surface
+                                .annexing_pieces(grid, &trial, &by_trial, pair, mirror, &mut mark)
+                        })?
+                    })
+                };
+                match label {
+                    Some(label) => trial.label = label,
+                    None => break,
+                }
+            }
+            let taken = (trial.label.iter().zip(&parts.label))
+                .filter(|(a, b)| a != b)
+                .count();
+            if taken == 0 || taken as f64 > ANNEX_SHARE * own as f64 {
+                return None;
+            }
             let before: usize = extra.values().sum();
-            let trial = Parts {
-                label,
-                ..parts.clone()
-            };
             let by_trial = surface.vertices_by_part(&trial);
             let after: usize = by_trial
                 .keys()
@@ -424,8 +460,43 @@ pub(super) fn merge_inseparable_pieces(
     }
 }
 
-/// The most cells [`Surface::annexing_path`] moves into a part, as a share of its own.
+/// The most cells a head takes from other parts to be one piece, as a share of its own.
 const ANNEX_SHARE: f64 = 0.25;
+
+/// The most takings of cells (a way between two pieces, or pieces cut off) for a head to be one
+/// piece.
+const ANNEX_ROUNDS: usize = 4;
+
+/// The labels with `cells` (and their images across `mirror`, so that a mirrored rig stays
+/// symmetric) given to `p`, where they belong to other parts and `p` and every part they come
+/// from stay one face-connected piece of cells. None where no cell moves or one would not.
+fn give_cells(
+    grid: &Grid,
+    parts: &Parts,
+    cells: impl Iterator<Item = usize>,
+    p: u32,
+    mirror: Option<&MirrorPlane>,
+) -> Option<Vec<Option<u32>>> {
+    let cells: BTreeSet<usize> = cells
+        .flat_map(|c| {
+            let image = mirror.and_then(|m| grid.index(m.cell(grid.cell_of(c))));
+            std::iter::once(c).chain(image)
+        })
+        .filter(|&c| parts.label[c].is_some_and(|q| q != p))
+        .collect();
+    if cells.is_empty() {
+        return None;
+    }
+    let donors: BTreeSet<u32> = cells.iter().filter_map(|&c| parts.label[c]).collect();
+    let mut label = parts.label.clone();
+    for &c in &cells {
+        label[c] = Some(p);
+    }
+    std::iter::once(p)
+        .chain(donors)
+        .all(|q| face_connected(grid, &label, q))
+        .then_some(label)
+}
 
 /// Whether the cells labelled `p` are one face-connected piece (true where there are none).
 fn face_connected(grid: &Grid, label: &[Option<u32>], p: u32) -> bool {
