@@ -954,7 +954,7 @@ fn bends_a_knee_and_a_hip_one_leg_at_a_time(scene: &Scene) {
 #[test]
 fn legs_closer_than_a_cell_bend_at_the_knee_one_leaving_the_other_still() {
     // The generated human with its legs 0.08 apart, less than a cell of the default detail:
-    // the rig parts them with a column of thin cells between them, so the other leg has no
+    // the rig parts them with two thin columns of cells between them, so the other leg has no
     // cage face in common with the bent one and stays where it is.
     let scene = rigged(&crate::limb_names::human(0.17, 0.17, 1.55));
     bends_a_knee_and_a_hip_one_leg_at_a_time(&scene);
@@ -1016,8 +1016,7 @@ fn thick_legs_closer_than_a_cell_turn_at_the_hip_leaving_the_other_leg_still_on_
     // Thighs as thick as the torso is deep, 0.08 apart (a cell is 0.13): both hips' rings were
     // faces of the one body slab above the crotch, so turning one hip moved the other thigh
     // 0.104 % of the diagonal. That slab is halved on the mirror's plane, between the two thin
-    // columns that part the legs. (Without a mirror one thin column parts them, and a plane
-    // beside it would run along one leg's side: the other thigh moves 0.119 %.)
+    // columns that part the legs (the test below: the same without a mirror).
     let settings = AutorigSettings {
         mirror: Mirror::Auto,
         ..AutorigSettings::default()

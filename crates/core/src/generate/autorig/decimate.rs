@@ -766,7 +766,7 @@ mod tests {
 
     #[test]
     fn an_off_band_part_s_triangles_cross_no_plane_of_the_band() {
-        // A flat sheet of unit squares across a band of one thin column: decimated freely,
+        // A flat sheet of unit squares across a band of two thin columns: decimated freely,
         // its triangles span the band (flat in grid units, not in positions); held off the
         // band, none crosses either of its planes, and the sheet still covers its area.
         let band = BandAt {
