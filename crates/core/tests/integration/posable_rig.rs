@@ -496,6 +496,68 @@ fn a_knee_and_an_elbow_bend_at_their_joints_keeping_volume_and_other_limbs() {
     );
 }
 
+/// A stocky biped facing −Y (left on +X): legs short and thick, so each is cut into two
+/// segments only.
+fn stocky_biped() -> Mesh {
+    capsules(
+        &[
+            (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
+            (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
+            (v(-0.3, 0.0, 1.1), v(-1.6, 0.0, 0.9), 0.14),
+            (v(0.3, 0.0, 1.1), v(1.6, 0.0, 0.9), 0.14),
+            (v(-0.27, 0.0, 0.0), v(-0.27, 0.0, -1.05), 0.21),
+            (v(0.27, 0.0, 0.0), v(0.27, 0.0, -1.05), 0.21),
+        ],
+        0.04,
+    )
+}
+
+#[test]
+fn a_leg_of_two_segments_bends_at_its_middle_the_knee() {
+    let mesh = stocky_biped();
+    let scene = rigged(&mesh);
+    let controls = control_names(&scene);
+    let sole = mesh
+        .positions()
+        .iter()
+        .map(|p| p.z)
+        .fold(f64::INFINITY, f64::min);
+    for leg in ["leg.L", "leg.R"] {
+        let segments = (1..=4)
+            .filter(|n| controls.contains(&format!("{leg}.{n}")))
+            .count();
+        assert_eq!(segments, 2, "{leg}: {controls:?}");
+        let (hip, knee) = (
+            pivot_of(&scene, &format!("{leg}.1")),
+            pivot_of(&scene, &format!("{leg}.2")),
+        );
+        // From the hip's ring down to the sole, the knee lies halfway (it was two thirds of
+        // the way down, between the knee and the ankle), within a cell's rounding.
+        let along = (hip.z - knee.z) / (hip.z - sole);
+        assert!(
+            (along - 0.5).abs() < 0.1,
+            "{leg}: the knee is {:.0} % of the way from the hip to the sole",
+            100.0 * along
+        );
+    }
+    // And it bends there as a knee does: the other limbs still, the leg's volume kept, no
+    // triangle inside out.
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    let (change, flips) = check_bend(
+        &scene,
+        &binding,
+        "leg.L.2: rotate 1 0 0 90",
+        90.0,
+        &["leg.L"],
+    );
+    assert!(
+        change.abs() < 0.02,
+        "the leg's volume changed by {:.2} %",
+        100.0 * change
+    );
+    assert_eq!(flips, 0, "{flips} triangles inside out");
+}
+
 #[test]
 fn a_quadruped_turns_its_head_bends_a_front_knee_and_swings_its_tail_leaving_the_rest_still() {
     let scene = rigged(&quadruped());

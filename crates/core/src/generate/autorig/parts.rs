@@ -194,6 +194,18 @@ fn cut_halving_crotches(
             group[i] = Some(Role::Body { body: b, slab });
         }
     }
+    // The trunk: the largest body that is not a head (Cheburashka's head is his largest).
+    let mut body_size = vec![0usize; bodies];
+    let mut head_body = vec![false; bodies];
+    for (i, b) in body_of.iter().enumerate() {
+        if let Some(b) = b {
+            body_size[*b] += 1;
+            head_body[*b] |= heads[i];
+        }
+    }
+    let trunk = (0..bodies)
+        .filter(|&b| !head_body[b])
+        .max_by_key(|&b| body_size[b]);
     // Each limb region's branches (one per limb: legs joined at the hip, ears on a head top),
     // each cut into a chain of segments by geodesic distance from where it starts.
     let mut next_limb = 0;
@@ -209,7 +221,21 @@ fn cut_halving_crotches(
             }
             continue;
         }
+        // The body the region touches most, by cell faces: whether it grows from the trunk.
+        let mut contacts = vec![0usize; bodies];
+        for &i in &cells {
+            for n in grid.face_neighbours(i) {
+                if let Some(b) = body_of[n] {
+                    contacts[b] += 1;
+                }
+            }
+        }
+        let touched = (0..bodies)
+            .filter(|&b| contacts[b] > 0)
+            .max_by_key(|&b| contacts[b]);
+        let region_from_trunk = touched.is_some() && touched == trunk;
         for branch in branches(grid, &cells, &distance, thickness) {
+            let from_trunk = region_from_trunk && branch.parent.is_none();
             let limb = next_limb;
             next_limb += 1;
             if let Some(p) = branch.parent {
@@ -219,8 +245,6 @@ fn cut_halving_crotches(
             let longest = branch.cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
             let thickness = 2.0 * mean_depth(depth, &own);
             let count = slab_count(longest, cutting.segment_length * thickness);
-            // The first segment is two segments long: a turn of the whole limb shears it most.
-            let units = (count + 1) as f64;
             // Along a straight limb the joints are grid layers, where the layer's distance is
             // within STRAIGHT_SLACK cells of the body's distance.
             let straight = straightened(grid, &branch.cells);
@@ -229,8 +253,7 @@ fn cut_halving_crotches(
                     Some(&along) if (along - d).abs() <= STRAIGHT_SLACK => along,
                     _ => d,
                 };
-                let unit = ((d / longest.max(1e-9)) * units) as usize;
-                let segment = unit.max(1) - 1;
+                let segment = segment_at(d / longest.max(1e-9), count, from_trunk);
                 group[i] = Some(Role::Limb {
                     limb,
                     segment: segment.min(count - 1),
@@ -1050,6 +1073,64 @@ fn mean_depth(depth: &[f64], cells: &[usize]) -> f64 {
 }
 
 /// How many pieces of about `piece` a length is cut into (at least one).
+/// The segment (0 at the body) of a limb cut into `count` segments at `along`, the share of
+/// its length from the body. The first segment is two segments long, a turn of the whole limb
+/// shearing it most, but never more than half of a limb that grows from the trunk
+/// (`from_trunk`): a whole leg or arm of two segments bends at its middle (the knee, the
+/// elbow), not two thirds of the way out, between the knee and the ankle. A limb that grows
+/// from another body (a shin below a knee thick enough to be a body of its own, the beast's;
+/// an ear on a head) keeps its joint two thirds out (the ankle).
+fn segment_at(along: f64, count: usize, from_trunk: bool) -> usize {
+    let segment = if count == 2 && from_trunk {
+        (along * 2.0) as usize
+    } else {
+        let unit = (along * (count + 1) as f64) as usize;
+        unit.max(1) - 1
+    };
+    segment.min(count.max(1) - 1)
+}
+
 fn slab_count(length: f64, piece: f64) -> usize {
     ((length / piece.max(1.0)).round() as usize).clamp(1, 64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::segment_at;
+
+    /// Where each segment of a limb cut into `count` starts, as a share of its length.
+    fn starts(count: usize, from_trunk: bool) -> Vec<f64> {
+        let steps = 1200;
+        let mut starts = vec![0.0];
+        for k in 1..=steps {
+            let along = k as f64 / steps as f64;
+            let before = segment_at((k - 1) as f64 / steps as f64, count, from_trunk);
+            let here = segment_at(along, count, from_trunk);
+            assert!(
+                here == before || here == before + 1,
+                "{count}: {before} -> {here}"
+            );
+            if here != before {
+                starts.push(along);
+            }
+        }
+        starts
+    }
+
+    #[test]
+    fn a_limb_of_two_segments_from_the_trunk_bends_at_its_middle_else_two_thirds_out() {
+        assert_eq!(starts(1, true), vec![0.0]);
+        assert_eq!(starts(2, true), vec![0.0, 0.5]);
+        let from_a_knee = starts(2, false);
+        assert!((from_a_knee[1] - 2.0 / 3.0).abs() < 1e-2, "{from_a_knee:?}");
+        // Longer limbs: the first segment two units of count + 1, at most half the limb,
+        // every segment present.
+        for count in 3..8 {
+            for from_trunk in [true, false] {
+                let starts = starts(count, from_trunk);
+                assert_eq!(starts.len(), count, "{count}: {starts:?}");
+                assert!((starts[1] - 2.0 / (count + 1) as f64).abs() < 1e-2);
+            }
+        }
+    }
 }
