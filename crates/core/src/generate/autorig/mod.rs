@@ -376,6 +376,26 @@ fn legs_band(mesh: &Mesh, mirror: Mirror, scores: &[f64; 3], cells: u32) -> Opti
         .max_by(|a, b| a.width.total_cmp(&b.width))
 }
 
+/// The parts of the cells within one cell of `point` (the cell it lies in and its 26
+/// neighbours).
+fn parts_around(grid: &Grid, parts: &Parts, point: DVec3) -> Vec<u32> {
+    let centre = grid.cell_at(point);
+    let mut around = Vec::new();
+    for dz in -1..=1 {
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let label = grid
+                    .index(centre + glam::IVec3::new(dx, dy, dz))
+                    .and_then(|i| parts.label.get(i).copied().flatten());
+                around.extend(label);
+            }
+        }
+    }
+    around.sort_unstable();
+    around.dedup();
+    around
+}
+
 /// Times the grid may be refined to give every cage one piece of surface, and by how much.
 const MAX_REFINEMENTS: u32 = 3;
 const REFINEMENT: f64 = 1.25;
@@ -558,20 +578,37 @@ fn rig_on_grid(
             check()?;
             continue;
         };
-        let named: Vec<u32> = problem
-            .elements(&decimated)
+        let elements = problem.elements(&decimated);
+        let named: Vec<u32> = elements
             .leaf_cages
             .into_iter()
             .map(|l| l as u32)
             .filter(|l| !frozen.contains(l))
             .collect();
         // With a band of thin cells, the named cages' triangles first keep off its planes,
-        // then every cage's (also where the problem names no cage: a mesh vertex left
-        // outside), and only then are the named cages frozen.
+        // then every cage's, and only then are the named cages frozen. Where the problem names
+        // no cage (a mesh vertex left outside), the parts of the cells around that vertex keep
+        // off first: every cage kept off the band kept Homer's grid steps across his body and
+        // head (358 cage vertices instead of 257), for one vertex at his crotch.
         let every_part: BTreeSet<u32> = (0..parts.roles.len() as u32).collect();
         let band = grid.band.is_some();
         if band && named.is_empty() && off_band != every_part {
-            off_band = every_part;
+            let points = mesh.welded_positions();
+            let around: BTreeSet<u32> = elements
+                .mesh_vertices
+                .iter()
+                .filter_map(|&v| points.get(v))
+                .flat_map(|&p| parts_around(&grid, &parts, p))
+                .filter(|l| !off_band.contains(l))
+                .collect();
+            if around.is_empty() {
+                off_band = every_part;
+            } else {
+                let around: Vec<u32> = around.into_iter().collect();
+                let images = partners(&parts, &around);
+                off_band.extend(around);
+                off_band.extend(images);
+            }
             check()?;
             continue;
         }
@@ -1120,5 +1157,40 @@ fn walk_piece(
                 stack.push(n);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_parts_around_a_point_are_those_of_its_cell_and_the_26_beside_it() {
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(1.0), 10, None, &[], None);
+        // Every cell its own part, numbered by cell.
+        let parts = Parts {
+            label: (0..grid.len() as u32).map(Some).collect(),
+            roles: vec![Role::Body { body: 0, slab: 0 }; grid.len()],
+            parent_limb: BTreeMap::new(),
+            heads: BTreeSet::new(),
+            crowns: BTreeSet::new(),
+            halved: BTreeMap::new(),
+        };
+        let point = DVec3::splat(0.5);
+        let centre = grid.cell_at(point);
+        let around = parts_around(&grid, &parts, point);
+        assert_eq!(around.len(), 27);
+        for label in &around {
+            let offset = grid.cell_of(*label as usize) - centre;
+            assert!(offset.abs().max_element() <= 1, "{offset}");
+        }
+        // Empty cells name no part.
+        let mut sparse = parts.clone();
+        for (i, l) in sparse.label.iter_mut().enumerate() {
+            if grid.cell_of(i).z != centre.z {
+                *l = None;
+            }
+        }
+        assert_eq!(parts_around(&grid, &sparse, point).len(), 9);
     }
 }
