@@ -589,7 +589,7 @@ fn rig_on_grid(
         // then every cage's, and only then are the named cages frozen. Where the problem names
         // no cage (a mesh vertex left outside), the parts of the cells around that vertex keep
         // off first: every cage kept off the band kept Homer's grid steps across his body and
-        // head (358 cage vertices instead of 257), for one vertex at his crotch.
+        // head for one vertex at his crotch (358 cage vertices, 287 with the parts around it).
         let every_part: BTreeSet<u32> = (0..parts.roles.len() as u32).collect();
         let band = grid.band.is_some();
         if band && named.is_empty() && off_band != every_part {

@@ -1072,7 +1072,6 @@ fn mean_depth(depth: &[f64], cells: &[usize]) -> f64 {
     (cells.iter().map(|&i| depth[i]).sum::<f64>() / cells.len() as f64).max(0.5)
 }
 
-/// How many pieces of about `piece` a length is cut into (at least one).
 /// The segment (0 at the body) of a limb cut into `count` segments at `along`, the share of
 /// its length from the body. The first segment is two segments long, a turn of the whole limb
 /// shearing it most, but never more than half of a limb that grows from the trunk
@@ -1090,6 +1089,7 @@ fn segment_at(along: f64, count: usize, from_trunk: bool) -> usize {
     segment.min(count.max(1) - 1)
 }
 
+/// How many pieces of about `piece` a length is cut into (at least one).
 fn slab_count(length: f64, piece: f64) -> usize {
     ((length / piece.max(1.0)).round() as usize).clamp(1, 64)
 }
