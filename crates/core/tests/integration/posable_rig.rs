@@ -28,14 +28,39 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 
 /// A standing biped facing −Y: torso, head, arms out to the sides, legs 0.3 apart (left on +X).
 pub(crate) fn biped() -> Mesh {
+    biped_on_legs(Legs {
+        apart: 0.6,
+        top: 0.1,
+        bottom: -1.7,
+        radius: 0.15,
+    })
+}
+
+/// Where a biped's two legs run: `apart` between their axes, from `top` down to `bottom`.
+struct Legs {
+    apart: f64,
+    top: f64,
+    bottom: f64,
+    radius: f64,
+}
+
+/// [`biped`]'s torso, head and arms on `legs`.
+fn biped_on_legs(legs: Legs) -> Mesh {
+    let Legs {
+        apart,
+        top,
+        bottom,
+        radius,
+    } = legs;
+    let x = 0.5 * apart;
     capsules(
         &[
             (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
             (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
             (v(-0.3, 0.0, 1.1), v(-1.6, 0.0, 0.9), 0.14),
             (v(0.3, 0.0, 1.1), v(1.6, 0.0, 0.9), 0.14),
-            (v(-0.3, 0.0, 0.1), v(-0.3, 0.0, -1.7), 0.15),
-            (v(0.3, 0.0, 0.1), v(0.3, 0.0, -1.7), 0.15),
+            (v(-x, 0.0, top), v(-x, 0.0, bottom), radius),
+            (v(x, 0.0, top), v(x, 0.0, bottom), radius),
         ],
         0.04,
     )
@@ -499,17 +524,12 @@ fn a_knee_and_an_elbow_bend_at_their_joints_keeping_volume_and_other_limbs() {
 /// A stocky biped facing −Y (left on +X): legs short and thick, so each is cut into two
 /// segments only.
 fn stocky_biped() -> Mesh {
-    capsules(
-        &[
-            (v(0.0, 0.0, 0.2), v(0.0, 0.0, 1.2), 0.45),
-            (v(0.0, 0.0, 1.8), v(0.0, 0.0, 1.85), 0.28),
-            (v(-0.3, 0.0, 1.1), v(-1.6, 0.0, 0.9), 0.14),
-            (v(0.3, 0.0, 1.1), v(1.6, 0.0, 0.9), 0.14),
-            (v(-0.27, 0.0, 0.0), v(-0.27, 0.0, -1.05), 0.21),
-            (v(0.27, 0.0, 0.0), v(0.27, 0.0, -1.05), 0.21),
-        ],
-        0.04,
-    )
+    biped_on_legs(Legs {
+        apart: 0.54,
+        top: 0.0,
+        bottom: -1.05,
+        radius: 0.21,
+    })
 }
 
 #[test]
