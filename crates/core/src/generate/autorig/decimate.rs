@@ -22,6 +22,8 @@ use glam::{DVec3, I64Vec3, IVec3};
 use super::symmetry::MirrorPlane;
 use super::voxels::Grid;
 
+mod respan;
+
 /// The labels on the two sides of a triangle (a part, or None outside).
 type Sides = (Option<u32>, Option<u32>);
 
@@ -52,6 +54,22 @@ const INNER_ERROR: f64 = 1.5;
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Sweep<'a> {
     pub refused: &'a BTreeSet<u32>,
+    /// Parts where a sheet spanned again from its rim left a piece of surface cut off all the
+    /// same (in the cages, where its check by cells did not see it): their sheets sweep no mesh
+    /// vertex in the next round.
+    pub respan_refused: &'a BTreeSet<u32>,
+    /// The mesh's surface by part, for the respans' check that each part keeps its pieces;
+    /// without it, a respan sweeps no mesh point.
+    pub surface: Option<SurfaceByPart<'a>>,
+}
+
+/// The mesh's surface with each point's part by its grid cell.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SurfaceByPart<'a> {
+    /// Per mesh point: the part of its cell.
+    pub label: &'a [Option<u32>],
+    /// Per mesh point: the points it shares an edge with.
+    pub neighbours: &'a [Vec<u32>],
 }
 
 impl Sweep<'_> {
@@ -99,6 +117,29 @@ struct Obstacles<'a> {
     off_band: &'a BTreeSet<u32>,
 }
 
+impl Obstacles<'_> {
+    /// Whether a triangle (corners in grid units) between these labels would cross a plane of
+    /// the band while one of them must keep off it.
+    fn crosses_band(&self, corners: [I64Vec3; 3], (front, back): Sides) -> bool {
+        let Some((axis, planes)) = self.band else {
+            return false;
+        };
+        if ![front, back]
+            .iter()
+            .flatten()
+            .any(|part| self.off_band.contains(part))
+        {
+            return false;
+        }
+        let along = corners.map(|c| c[axis]);
+        let (low, high) = (
+            along[0].min(along[1]).min(along[2]),
+            along[0].max(along[1]).max(along[2]),
+        );
+        planes.iter().any(|&plane| low < plane && plane < high)
+    }
+}
+
 /// The parts whose decimated cages did not validate, held back from the decimation.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Held<'a> {
@@ -116,7 +157,9 @@ pub(super) struct Held<'a> {
 /// from every triangle. The faces of the parts in `held.frozen` stay as they are (grid-stepped):
 /// the auto rig freezes a cage whose decimated surface did not validate (after keeping its
 /// triangles off the band's planes, `held.off_band`). `sweep` says where a
-/// collapse between two cages may move mesh points from one to the other.
+/// collapse between two cages may move mesh points from one to the other. Sheets between two
+/// cages that keep inner vertices after the collapses are spanned again from their rims
+/// ([`respan`]).
 pub(super) fn decimate(
     grid: &Grid,
     vertices: &[IVec3],
@@ -125,6 +168,39 @@ pub(super) fn decimate(
     held: Held<'_>,
     mirror: Option<&MirrorPlane>,
     sweep: Sweep<'_>,
+) -> Decimated {
+    decimate_with(
+        grid,
+        vertices,
+        faces,
+        mesh_points,
+        held,
+        mirror,
+        sweep,
+        Respan::Sheets,
+    )
+}
+
+/// Whether [`decimate`] spans sheets again from their rims (`Collapses`: only collapses, a
+/// test's control).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Respan {
+    Sheets,
+    #[cfg_attr(not(test), allow(dead_code))]
+    Collapses,
+}
+
+/// [`decimate`], with or without the respans.
+#[allow(clippy::too_many_arguments)] // decimate's seven and the control
+fn decimate_with(
+    grid: &Grid,
+    vertices: &[IVec3],
+    faces: &[(Vec<u32>, Option<u32>, Option<u32>)],
+    mesh_points: &[DVec3],
+    held: Held<'_>,
+    mirror: Option<&MirrorPlane>,
+    sweep: Sweep<'_>,
+    respan: Respan,
 ) -> Decimated {
     let Held { frozen, off_band } = held;
     let mut triangles: Vec<Triangle> = Vec::new();
@@ -187,80 +263,151 @@ pub(super) fn decimate(
     // Along the mirror axis: below the plane (-1), on it (0) or above (1).
     let side_of = |v: u32| mirror.map_or(-1, |m| (vertices[v as usize][m.axis] - m.half).signum());
     let mut removed = vec![false; vertices.len()];
+    // Each mesh point's part as the collapses and respans leave it (its cell's to begin with).
+    let mut label_now: Vec<Option<u32>> = sweep
+        .surface
+        .map_or_else(Vec::new, |surface| surface.label.to_vec());
     let mut swept = Swept {
         points: vec![false; mesh_points.len()],
         parts: BTreeSet::new(),
     };
-    for _round in 0..8 {
-        let mut changed = false;
-        for v in 0..vertices.len() as u32 {
-            if removed[v as usize] {
-                continue;
-            }
-            let touches_frozen = star[v as usize].iter().any(|&t| {
-                let t = &triangles[t];
-                t.alive
-                    && [t.front, t.back]
-                        .iter()
-                        .flatten()
-                        .any(|p| frozen.contains(p))
-            });
-            if touches_frozen {
-                continue;
-            }
-            // With a mirror, the low side and the plane lead; each collapse is made with its
-            // image or not at all, and a vertex on the plane stays on it.
-            if side_of(v) > 0 {
-                continue;
-            }
-            let Some(targets) = targets_of(v, &triangles, &star) else {
-                continue;
-            };
-            for u in targets {
-                if mirror.is_some() && (side_of(u) > 0 || (side_of(v) == 0 && side_of(u) != 0)) {
+    // Collapses, then the sheets that kept inner vertices spanned again from their rim, then
+    // collapses again (a rim vertex may go once the sheet inside it is flat).
+    for pass in 0..2 {
+        for _round in 0..8 {
+            let mut changed = false;
+            for v in 0..vertices.len() as u32 {
+                if removed[v as usize] {
                     continue;
                 }
-                let Some((undo, mut over)) =
-                    try_collapse(v, u, &mut triangles, &mut star, &at, &obstacles)
-                else {
+                let touches_frozen = star[v as usize].iter().any(|&t| {
+                    let t = &triangles[t];
+                    t.alive
+                        && [t.front, t.back]
+                            .iter()
+                            .flatten()
+                            .any(|p| frozen.contains(p))
+                });
+                if touches_frozen {
+                    continue;
+                }
+                // With a mirror, the low side and the plane lead; each collapse is made with its
+                // image or not at all, and a vertex on the plane stays on it.
+                if side_of(v) > 0 {
+                    continue;
+                }
+                let Some(targets) = targets_of(v, &triangles, &star) else {
                     continue;
                 };
-                let p = vertices[v as usize];
-                at.remove(&(p.x, p.y, p.z));
-                let image = match (mirror, image_of(v), image_of(u)) {
-                    (None, _, _) => Some(None),
-                    (Some(_), Some(mv), _) if mv == v => Some(None),
-                    (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => {
-                        try_collapse(mv, mu, &mut triangles, &mut star, &at, &obstacles).map(
-                            |(_, image_over)| {
-                                over.points.extend(image_over.points);
-                                over.parts.extend(image_over.parts);
-                                Some(mv)
-                            },
-                        )
+                for u in targets {
+                    if mirror.is_some() && (side_of(u) > 0 || (side_of(v) == 0 && side_of(u) != 0))
+                    {
+                        continue;
                     }
-                    _ => None,
-                };
-                let Some(image) = image else {
-                    undo.apply(&mut triangles, &mut star);
-                    at.insert((p.x, p.y, p.z), v);
-                    continue;
-                };
-                for i in over.points {
-                    if let Some(s) = swept.points.get_mut(i as usize) {
-                        *s = true;
+                    let Some((undo, mut over)) =
+                        try_collapse(v, u, &mut triangles, &mut star, &at, &obstacles)
+                    else {
+                        continue;
+                    };
+                    let p = vertices[v as usize];
+                    at.remove(&(p.x, p.y, p.z));
+                    let image = match (mirror, image_of(v), image_of(u)) {
+                        (None, _, _) => Some(None),
+                        (Some(_), Some(mv), _) if mv == v => Some(None),
+                        (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => {
+                            try_collapse(mv, mu, &mut triangles, &mut star, &at, &obstacles).map(
+                                |(_, image_over)| {
+                                    for (i, sheet) in image_over.points {
+                                        over.points.entry(i).or_insert(sheet);
+                                    }
+                                    over.parts.extend(image_over.parts);
+                                    Some(mv)
+                                },
+                            )
+                        }
+                        _ => None,
+                    };
+                    let Some(image) = image else {
+                        undo.apply(&mut triangles, &mut star);
+                        at.insert((p.x, p.y, p.z), v);
+                        continue;
+                    };
+                    over.record(&mut swept, &mut label_now);
+                    removed[v as usize] = true;
+                    if let Some(mv) = image {
+                        removed[mv as usize] = true;
+                        let q = vertices[mv as usize];
+                        at.remove(&(q.x, q.y, q.z));
                     }
+                    changed = true;
+                    break;
                 }
-                swept.parts.extend(over.parts);
-                removed[v as usize] = true;
-                if let Some(mv) = image {
-                    removed[mv as usize] = true;
-                    let q = vertices[mv as usize];
-                    at.remove(&(q.x, q.y, q.z));
-                }
-                changed = true;
+            }
+            if !changed {
                 break;
             }
+        }
+        if pass == 1 || respan == Respan::Collapses {
+            break;
+        }
+        let mut changed = false;
+        let sheets = respan::sheets_with_inner_vertices(&triangles, &star, frozen);
+        for sheet in &sheets {
+            // With a mirror, a sheet below the plane leads and its image follows.
+            if !sheet.alive(&triangles) || sheet.inner.iter().any(|&v| side_of(v) >= 0) {
+                continue;
+            }
+            let Some(new) = respan::respanned(sheet, &triangles, &star, &position) else {
+                continue;
+            };
+            let Some((undo, over)) = respan::try_respan(
+                sheet,
+                &new,
+                (&mut triangles, &mut star),
+                &at,
+                &obstacles,
+                &label_now,
+            ) else {
+                continue;
+            };
+            let mut gone = sheet.inner.clone();
+            let labels_before = label_now.clone();
+            over.flip(&mut label_now);
+            if mirror.is_some() {
+                let image_done = respan::image_sheet(sheet, &new, &sheets, image_of).and_then(
+                    |(image_sheet, mut mapped)| {
+                        let facing = respan::area_vector(mapped.iter().copied(), &position);
+                        if facing.dot(image_sheet.area_vector(&triangles, &position)) < 0.0 {
+                            for t in &mut mapped {
+                                t.swap(1, 2);
+                            }
+                        }
+                        respan::try_respan(
+                            image_sheet,
+                            &mapped,
+                            (&mut triangles, &mut star),
+                            &at,
+                            &obstacles,
+                            &label_now,
+                        )
+                        .map(|(_, image_over)| (image_sheet, image_over))
+                    },
+                );
+                let Some((image_sheet, image_over)) = image_done else {
+                    label_now = labels_before;
+                    undo.apply(&mut triangles, &mut star);
+                    continue;
+                };
+                image_over.record(&mut swept, &mut label_now);
+                gone.extend(&image_sheet.inner);
+            }
+            over.mark(&mut swept);
+            for v in gone {
+                removed[v as usize] = true;
+                let p = vertices[v as usize];
+                at.remove(&(p.x, p.y, p.z));
+            }
+            changed = true;
         }
         if !changed {
             break;
@@ -335,11 +482,46 @@ impl Undo {
     }
 }
 
-/// The mesh points one collapse swept over, and the parts either side of its faces there.
+/// The mesh points one collapse swept over (each with the labels either side of the first face
+/// that swept it: it changes from one to the other), and the parts either side of its faces
+/// there.
 #[derive(Debug, Default)]
 struct SweptOver {
-    points: Vec<u32>,
+    points: BTreeMap<u32, Sides>,
     parts: BTreeSet<u32>,
+}
+
+impl SweptOver {
+    /// Marks the points swept and moves each to the other side of the face that swept it.
+    fn record(self, swept: &mut Swept, label_now: &mut [Option<u32>]) {
+        self.flip(label_now);
+        self.mark(swept);
+    }
+
+    /// Moves each point to the other side of the face that swept it.
+    fn flip(&self, label_now: &mut [Option<u32>]) {
+        for (&i, &(a, b)) in &self.points {
+            if let Some(label) = label_now.get_mut(i as usize) {
+                *label = if *label == a {
+                    b
+                } else if *label == b {
+                    a
+                } else {
+                    *label
+                };
+            }
+        }
+    }
+
+    /// Marks the points swept.
+    fn mark(self, swept: &mut Swept) {
+        for i in self.points.into_keys() {
+            if let Some(s) = swept.points.get_mut(i as usize) {
+                *s = true;
+            }
+        }
+        swept.parts.extend(self.parts);
+    }
 }
 
 /// Collapses `v` into `u` if every check passes (see the module); returns how to take it back
@@ -356,8 +538,7 @@ fn try_collapse(
         position,
         points,
         sweep,
-        band,
-        off_band,
+        ..
     } = *obstacles;
     let around_v: Vec<usize> = star[v as usize]
         .iter()
@@ -412,20 +593,8 @@ fn try_collapse(
         if n_new == I64Vec3::ZERO || n_old.dot(n_new) <= 0 {
             return None;
         }
-        let (front, back) = triangles[t].sheet();
-        if let Some((axis, planes)) = band
-            && [front, back]
-                .iter()
-                .flatten()
-                .any(|part| off_band.contains(part))
-        {
-            let (low, high) = (
-                na[axis].min(nb[axis]).min(nc[axis]),
-                na[axis].max(nb[axis]).max(nc[axis]),
-            );
-            if planes.iter().any(|&plane| low < plane && plane < high) {
-                return None;
-            }
+        if obstacles.crosses_band([na, nb, nc], triangles[t].sheet()) {
+            return None;
         }
         // How far the surface moves from v: v's distance to the new triangle's plane.
         let distance = ((pv - na).dot(n_new) as f64).abs() / n_new.as_dvec3().length();
@@ -470,8 +639,8 @@ fn try_collapse(
                         }
                         match index {
                             Some(i) if may_sweep => {
-                                over.points.push(i);
                                 let sheet = triangles[t].sheet();
+                                over.points.entry(i).or_insert(sheet);
                                 over.parts.extend(sheet.0.into_iter().chain(sheet.1));
                             }
                             // An image only guards the mirror's collapse, made with its own.
@@ -735,6 +904,8 @@ mod tests {
             None,
             Sweep {
                 refused: &BTreeSet::new(),
+                respan_refused: &BTreeSet::new(),
+                surface: None,
             },
         )
         .triangles;
@@ -805,6 +976,8 @@ mod tests {
                 None,
                 Sweep {
                     refused: &BTreeSet::new(),
+                    respan_refused: &BTreeSet::new(),
+                    surface: None,
                 },
             )
             .triangles
@@ -866,7 +1039,11 @@ mod tests {
                     off_band: &BTreeSet::new(),
                 },
                 None,
-                Sweep { refused },
+                Sweep {
+                    refused,
+                    respan_refused: &BTreeSet::new(),
+                    surface: None,
+                },
             )
         };
         let apex_kept = |d: &Decimated| d.triangles.iter().any(|(c, _, _)| c.contains(&apex));
@@ -880,5 +1057,188 @@ mod tests {
             assert_eq!(kept.swept.points, vec![false]);
             assert!(kept.swept.parts.is_empty());
         }
+    }
+
+    /// A block of cells cut in two by a staircase that climbs along x and y (part 0 below,
+    /// part 1 above), as polycube faces over a unit grid, with a mesh point at each cell's
+    /// centre (its part by cell, linked to the points of the six cells beside it).
+    struct Staircase {
+        grid: Grid,
+        vertices: Vec<IVec3>,
+        faces: Vec<(Vec<u32>, Option<u32>, Option<u32>)>,
+        points: Vec<DVec3>,
+        label: Vec<Option<u32>>,
+        neighbours: Vec<Vec<u32>>,
+    }
+
+    fn staircase() -> Staircase {
+        use super::super::parts::{Parts, Role};
+        use super::super::polycube;
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(10.0), 10, None, &[], None);
+        let mut label = vec![None; grid.len()];
+        let inside = |c: IVec3| c.cmpge(IVec3::ONE).all() && c.cmplt(IVec3::splat(9)).all();
+        let mut point_of = BTreeMap::new();
+        let mut points = Vec::new();
+        let mut point_label = Vec::new();
+        for x in 1..9 {
+            for y in 1..9 {
+                for z in 1..9 {
+                    let part = Some(u32::from(z >= 2 + (x + y) / 3));
+                    let cell = IVec3::new(x, y, z);
+                    label[grid.index(cell).unwrap()] = part;
+                    point_of.insert((x, y, z), points.len() as u32);
+                    points.push(grid.origin + (cell.as_dvec3() + 0.5) * grid.cell);
+                    point_label.push(part);
+                }
+            }
+        }
+        let mut neighbours = vec![Vec::new(); points.len()];
+        for (&(x, y, z), &i) in &point_of {
+            for step in [
+                IVec3::X,
+                IVec3::Y,
+                IVec3::Z,
+                -IVec3::X,
+                -IVec3::Y,
+                -IVec3::Z,
+            ] {
+                let c = IVec3::new(x, y, z) + step;
+                if inside(c) {
+                    neighbours[i as usize].push(point_of[&(c.x, c.y, c.z)]);
+                }
+            }
+        }
+        let parts = Parts {
+            label,
+            roles: vec![
+                Role::Body { body: 0, slab: 0 },
+                Role::Body { body: 0, slab: 1 },
+            ],
+            parent_limb: BTreeMap::new(),
+            heads: BTreeSet::new(),
+            crowns: BTreeSet::new(),
+            halved: BTreeMap::new(),
+        };
+        let (vertices, faces) =
+            polycube::indexed_faces(&polycube::boundary_faces(&grid, &parts, None));
+        Staircase {
+            grid,
+            vertices,
+            faces,
+            points,
+            label: point_label,
+            neighbours,
+        }
+    }
+
+    /// The vertices of the faces between parts 0 and 1 that lie on no outer face.
+    fn inside_the_sheet(triangles: &[([u32; 3], Option<u32>, Option<u32>)]) -> BTreeSet<u32> {
+        let outer: BTreeSet<u32> = triangles
+            .iter()
+            .filter(|(_, f, b)| f.is_none() || b.is_none())
+            .flat_map(|(c, _, _)| *c)
+            .collect();
+        triangles
+            .iter()
+            .filter(|(_, f, b)| f.is_some() && b.is_some())
+            .flat_map(|(c, _, _)| *c)
+            .filter(|v| !outer.contains(v))
+            .collect()
+    }
+
+    /// Each part's triangles (turned to face out of it) close a surface: every edge is walked
+    /// once each way.
+    fn closed_per_part(triangles: &[([u32; 3], Option<u32>, Option<u32>)], part: u32) -> bool {
+        let mut edges: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+        for &([a, b, c], front, back) in triangles {
+            let corners = if front == Some(part) {
+                [a, b, c]
+            } else if back == Some(part) {
+                [a, c, b]
+            } else {
+                continue;
+            };
+            for k in 0..3 {
+                *edges.entry((corners[k], corners[(k + 1) % 3])).or_default() += 1;
+            }
+        }
+        edges
+            .iter()
+            .all(|(&(p, q), &n)| n == 1 && edges.get(&(q, p)) == Some(&1))
+    }
+
+    /// Mesh points fill a block cut by a staircase, and the collapses may sweep none (both
+    /// parts refused, as the rig refuses parts where a collapse cut a piece off): the
+    /// collapses leave vertices inside the sheet between the parts. The sheet spanned again
+    /// from its rim has none, each part's cage is still closed, and the points it swept keep
+    /// each part's in one piece.
+    #[test]
+    fn a_staircase_between_two_cages_is_spanned_again_from_its_rim_without_inner_vertices() {
+        let s = staircase();
+        let refused = BTreeSet::from([0, 1]);
+        let run = |respan: Respan, surface: Option<SurfaceByPart<'_>>| {
+            decimate_with(
+                &s.grid,
+                &s.vertices,
+                &s.faces,
+                &s.points,
+                Held {
+                    frozen: &BTreeSet::new(),
+                    off_band: &BTreeSet::new(),
+                },
+                None,
+                Sweep {
+                    refused: &refused,
+                    respan_refused: &BTreeSet::new(),
+                    surface,
+                },
+                respan,
+            )
+        };
+        let surface = SurfaceByPart {
+            label: &s.label,
+            neighbours: &s.neighbours,
+        };
+        let collapsed = run(Respan::Collapses, Some(surface)).triangles;
+        assert!(
+            !inside_the_sheet(&collapsed).is_empty(),
+            "the collapses alone leave vertices inside the staircase (the control)"
+        );
+        let respanned = run(Respan::Sheets, Some(surface));
+        assert_eq!(inside_the_sheet(&respanned.triangles), BTreeSet::new());
+        for part in [0, 1] {
+            assert!(closed_per_part(&collapsed, part), "part {part}, collapsed");
+            assert!(
+                closed_per_part(&respanned.triangles, part),
+                "part {part}, respanned"
+            );
+        }
+        let used = |t: &[([u32; 3], Option<u32>, Option<u32>)]| {
+            t.iter()
+                .flat_map(|(c, _, _)| *c)
+                .collect::<BTreeSet<u32>>()
+                .len()
+        };
+        assert!(used(&respanned.triangles) < used(&collapsed));
+        // The points swept changed part; each part's points are still one piece.
+        let swept: Vec<usize> = (0..s.points.len())
+            .filter(|&i| respanned.swept.points[i])
+            .collect();
+        assert!(!swept.is_empty(), "a staircase's corners are cut");
+        assert_eq!(respanned.swept.parts, BTreeSet::from([0, 1]));
+        let mut label = s.label.clone();
+        for &i in &swept {
+            label[i] = label[i].map(|l| 1 - l);
+        }
+        for part in [0, 1] {
+            assert_eq!(respan::pieces_of(Some(part), &label, &s.neighbours), 1);
+        }
+        // Without the surface to check pieces on, a respan sweeps no point: the staircase stays.
+        let kept = run(Respan::Sheets, None);
+        assert!(kept.swept.points.iter().all(|&p| !p));
+        assert_eq!(
+            inside_the_sheet(&kept.triangles),
+            inside_the_sheet(&collapsed)
+        );
     }
 }

@@ -50,7 +50,7 @@ use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{CELL_IN_GAP, gap_between_legs, sided_legs, stands_on_separate_feet};
-use decimate::{Held, Sweep};
+use decimate::{Held, SurfaceByPart, Sweep};
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
@@ -532,6 +532,9 @@ fn rig_on_grid(
     // Parts where a collapse between two cages swept a piece of surface away from the rest
     // of the cage's: their faces sweep no mesh vertex in the next round.
     let mut no_sweep: BTreeSet<u32> = BTreeSet::new();
+    // Parts left with a piece cut off where their collapses swept nothing: the sheets between
+    // them spanned again from their rims sweep no mesh vertex in the next round either.
+    let mut no_respan_sweep: BTreeSet<u32> = BTreeSet::new();
     let partners = |parts: &Parts, leaves: &[u32]| -> Vec<u32> {
         let partner = mirror.as_ref().map(|m| symmetry::partners(&grid, m, parts));
         leaves
@@ -551,6 +554,14 @@ fn rig_on_grid(
         };
         // Decimated cages first; a cage named by a problem is kept grid-stepped and the rest
         // decimated again; all grid-stepped where that does not validate either.
+        let label_by_cell: Vec<Option<u32>> = mesh
+            .welded_positions()
+            .iter()
+            .map(|&p| {
+                grid.index(grid.cell_at(p))
+                    .and_then(|c| parts.label.get(c).copied().flatten())
+            })
+            .collect();
         let (decimated, swept) = leaf_cages(
             &grid,
             &parts,
@@ -562,19 +573,32 @@ fn rig_on_grid(
                     frozen: &frozen,
                     off_band: &off_band,
                 },
-                Sweep { refused: &no_sweep },
+                Sweep {
+                    refused: &no_sweep,
+                    respan_refused: &no_respan_sweep,
+                    surface: Some(SurfaceByPart {
+                        label: &label_by_cell,
+                        neighbours: &surface.neighbours,
+                    }),
+                },
             )),
         );
         let Some(problem) = problem_of(&decimated) else {
             let cut_off = leaves_cut_by_sweeps(&decimated, &grid, &parts, surface, &swept);
             // Each round refuses more parts, so this ends (at the latest with every part
             // refused: no sweep at all).
-            if cut_off.iter().all(|l| no_sweep.contains(l)) {
+            if cut_off.iter().all(|l| no_respan_sweep.contains(l)) {
                 break decimated;
             }
-            let images = partners(&parts, &cut_off);
-            no_sweep.extend(cut_off);
-            no_sweep.extend(images);
+            // Collapses first; a part cut off again though they swept nothing in it was cut
+            // by a respan.
+            let (again, first): (Vec<u32>, Vec<u32>) =
+                cut_off.iter().partition(|l| no_sweep.contains(l));
+            for (refused, cut) in [(&mut no_respan_sweep, again), (&mut no_sweep, first)] {
+                let images = partners(&parts, &cut);
+                refused.extend(cut);
+                refused.extend(images);
+            }
             check()?;
             continue;
         };
@@ -663,6 +687,7 @@ fn rig_on_grid(
         frozen.clear();
         off_band.clear();
         no_sweep.clear();
+        no_respan_sweep.clear();
         check()?;
     };
     control.advance();

@@ -1,0 +1,825 @@
+//! Sheets between two cages spanned again from their rim. A grid staircase between two parts
+//! often keeps vertices inside it after the collapses: a half-edge collapse cannot flatten a
+//! step without folding a triangle on the way, the link condition refuses others, and in parts
+//! where a collapse's sweep once cut a piece of surface off (`Sweep::refused`) no collapse may
+//! move a mesh point. Every such vertex is a boundary vertex of both cages, with a join cage
+//! of its own that every blended point pays for in the bind (the paper's eqs. 6-10).
+//!
+//! Here a sheet that is a disk loses its inner vertices at once: its rim is triangulated afresh,
+//! by the triangulation of least area among those whose projection (along the sheet's normal,
+//! else a grid axis it faces) triangulates the rim's projection, each triangle meeting no other
+//! face (Barequet and Sharir's dynamic programme). It is kept under the collapses' checks and
+//! two more:
+//! - the surface moves at most [`RESPAN_ERROR`] from a removed vertex;
+//! - no triangle faces back, and no new triangle or edge meets another face;
+//! - no cage vertex lies between the old sheet and the new;
+//! - mesh points between them change part only where the surface is given
+//!   (`Sweep::surface`), neither part is in `Sweep::respan_refused`, and each part's mesh points
+//!   stay in one piece (the rig's own check after the decimation, `leaves_cut_by_sweeps`, asks
+//!   the same of every part a sweep touched);
+//! - both parts still bound a volume.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::{DVec2, DVec3, I64Vec3};
+
+use super::{Obstacles, SweptOver, Triangle, segment_meets_triangle};
+
+/// Largest distance (in cells) from a removed inner vertex to the sheet spanned again: a little
+/// more than one collapse may move a sheet (`INNER_ERROR`), since here many vertices go at once
+/// where a chain of collapses would have moved it as far.
+const RESPAN_ERROR: f64 = 2.0;
+
+/// Longest rim spanned again (the triangulation takes time cubic in its length).
+const LONGEST_RIM: usize = 240;
+
+/// One sheet: connected triangles between the same two parts.
+#[derive(Debug, Clone)]
+pub(super) struct Sheet {
+    /// Its triangles' indices.
+    triangles: Vec<usize>,
+    /// The lower and the higher label.
+    labels: (u32, u32),
+    /// Vertices on no other sheet (all go).
+    pub inner: Vec<u32>,
+    /// The boundary loop, in the direction the triangles run, seen from outside `labels.0`.
+    pub rim: Vec<u32>,
+}
+
+/// The triangle's corners counter-clockwise seen from outside the lower of its two labels.
+fn facing_out_of_lower(t: &Triangle) -> [u32; 3] {
+    let [a, b, c] = t.corners;
+    if t.front <= t.back {
+        [a, b, c]
+    } else {
+        [a, c, b]
+    }
+}
+
+/// The sheets between two parts (neither `frozen`) that are disks with vertices inside, each
+/// with its rim.
+pub(super) fn sheets_with_inner_vertices(
+    triangles: &[Triangle],
+    star: &[Vec<usize>],
+    frozen: &BTreeSet<u32>,
+) -> Vec<Sheet> {
+    let mut on_edge: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+    for (t, tri) in triangles.iter().enumerate().filter(|(_, t)| t.alive) {
+        for k in 0..3 {
+            let (a, b) = (tri.corners[k], tri.corners[(k + 1) % 3]);
+            on_edge.entry((a.min(b), a.max(b))).or_default().push(t);
+        }
+    }
+    let mut seen = vec![false; triangles.len()];
+    let mut sheets = Vec::new();
+    for (first, tri) in triangles.iter().enumerate() {
+        let (Some(lo), Some(hi)) = tri.sheet() else {
+            continue;
+        };
+        if !tri.alive || seen[first] || frozen.contains(&lo) || frozen.contains(&hi) {
+            continue;
+        }
+        let sides = tri.sheet();
+        seen[first] = true;
+        let mut members = vec![first];
+        let mut next = 0;
+        while let Some(&t) = members.get(next) {
+            next += 1;
+            for k in 0..3 {
+                let (a, b) = (triangles[t].corners[k], triangles[t].corners[(k + 1) % 3]);
+                for &u in on_edge.get(&(a.min(b), a.max(b))).into_iter().flatten() {
+                    if !seen[u] && triangles[u].sheet() == sides {
+                        seen[u] = true;
+                        members.push(u);
+                    }
+                }
+            }
+        }
+        if let Some(sheet) = as_disk(triangles, star, members, (lo, hi)) {
+            sheets.push(sheet);
+        }
+    }
+    sheets
+}
+
+/// The sheet of these triangles if it is a disk with vertices inside, its rim one loop, and
+/// every vertex off the rim on this sheet only.
+fn as_disk(
+    triangles: &[Triangle],
+    star: &[Vec<usize>],
+    members: Vec<usize>,
+    labels: (u32, u32),
+) -> Option<Sheet> {
+    let member: BTreeSet<usize> = members.iter().copied().collect();
+    let mut directed: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+    for &t in &members {
+        let [a, b, c] = facing_out_of_lower(&triangles[t]);
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            *directed.entry((p, q)).or_default() += 1;
+        }
+    }
+    if directed.values().any(|&n| n > 1) {
+        return None; // folded over itself
+    }
+    let mut next_on_rim: BTreeMap<u32, u32> = BTreeMap::new();
+    for &(p, q) in directed.keys() {
+        if !directed.contains_key(&(q, p)) && next_on_rim.insert(p, q).is_some() {
+            return None; // the rim passes twice through p
+        }
+    }
+    let &start = next_on_rim.keys().next()?;
+    let mut rim = vec![start];
+    let mut at = next_on_rim[&start];
+    while at != start {
+        if rim.len() > next_on_rim.len() {
+            return None;
+        }
+        rim.push(at);
+        at = *next_on_rim.get(&at)?;
+    }
+    if rim.len() != next_on_rim.len() || rim.len() < 3 {
+        return None; // more than one loop: not a disk
+    }
+    let vertices: BTreeSet<u32> = directed.keys().map(|&(p, _)| p).collect();
+    let edges = directed
+        .keys()
+        .filter(|&&(p, q)| p < q || !directed.contains_key(&(q, p)))
+        .count();
+    if vertices.len() + members.len() != edges + 1 {
+        return None; // Euler: a disk has V - E + F = 1
+    }
+    let on_rim: BTreeSet<u32> = rim.iter().copied().collect();
+    let inner: Vec<u32> = vertices.difference(&on_rim).copied().collect();
+    let only_here = |v: &u32| {
+        star[*v as usize]
+            .iter()
+            .all(|t| !triangles[*t].alive || member.contains(t))
+    };
+    if inner.is_empty() || !inner.iter().all(only_here) {
+        return None;
+    }
+    Some(Sheet {
+        triangles: members,
+        labels,
+        inner,
+        rim,
+    })
+}
+
+/// The least-area triangulation of the rim whose projection along `normal` triangulates the
+/// rim's projection, each triangle facing along `normal`; None where the projection is not a
+/// simple polygon turning counter-clockwise, or no such triangulation exists. `joined(i, j)`
+/// says rim vertices i and j are already joined by an edge off the sheet (a diagonal there would
+/// give that edge more than two faces). Triangles as rim indices.
+fn least_area_triangulation(
+    rim: &[I64Vec3],
+    normal: DVec3,
+    joined: &impl Fn(usize, usize) -> bool,
+    free: &impl Fn([usize; 3]) -> bool,
+) -> Option<Vec<[usize; 3]>> {
+    let n = rim.len();
+    if !(3..=LONGEST_RIM).contains(&n) || normal.length_squared() == 0.0 {
+        return None;
+    }
+    let axis = normal.normalize();
+    let across = axis.any_orthonormal_vector();
+    let up = axis.cross(across);
+    let flat: Vec<DVec2> = rim
+        .iter()
+        .map(|p| {
+            let p = p.as_dvec3();
+            DVec2::new(p.dot(across), p.dot(up))
+        })
+        .collect();
+    let cross = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    let twice_area: f64 = (0..n).map(|i| flat[i].perp_dot(flat[(i + 1) % n])).sum();
+    let scale = flat
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()))
+        .max(1.0);
+    let tolerance = 1e-9 * scale * scale;
+    if twice_area <= tolerance {
+        return None;
+    }
+    // Whether segments ab and cd meet (touching counts).
+    let meet = |a: DVec2, b: DVec2, c: DVec2, d: DVec2| {
+        let (d1, d2) = (cross(a, b, c), cross(a, b, d));
+        let (d3, d4) = (cross(c, d, a), cross(c, d, b));
+        let on = |o: DVec2, e: DVec2, p: DVec2, s: f64| {
+            s.abs() <= tolerance
+                && p.x >= o.x.min(e.x) - 1e-12 * scale
+                && p.x <= o.x.max(e.x) + 1e-12 * scale
+                && p.y >= o.y.min(e.y) - 1e-12 * scale
+                && p.y <= o.y.max(e.y) + 1e-12 * scale
+        };
+        (d1 * d2 < 0.0 && d3 * d4 < 0.0)
+            || on(a, b, c, d1)
+            || on(a, b, d, d2)
+            || on(c, d, a, d3)
+            || on(c, d, b, d4)
+    };
+    // A simple polygon: no two edges meet but neighbours at their shared corner.
+    for i in 0..n {
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            if meet(flat[i], flat[(i + 1) % n], flat[j], flat[(j + 1) % n]) {
+                return None;
+            }
+        }
+    }
+    // Diagonal i-j (i < j) inside the polygon: it leaves i into the polygon's inside, meets
+    // no edge away from its ends, and joins no two vertices joined elsewhere.
+    let inside_cone = |i: usize, j: usize| {
+        let (prev, here, next) = (flat[(i + n - 1) % n], flat[i], flat[(i + 1) % n]);
+        let to = flat[j];
+        if cross(prev, here, next) >= 0.0 {
+            cross(here, next, to) > tolerance && cross(prev, here, to) > tolerance
+        } else {
+            !(cross(here, next, to) <= tolerance && cross(prev, here, to) <= tolerance)
+        }
+    };
+    let mut diagonal = vec![false; n * n];
+    for i in 0..n {
+        diagonal[i * n + (i + 1) % n] = true;
+        diagonal[((i + 1) % n) * n + i] = true;
+    }
+    for i in 0..n {
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            let ok = inside_cone(i, j)
+                && inside_cone(j, i)
+                && !joined(i, j)
+                && (0..n).all(|k| {
+                    let l = (k + 1) % n;
+                    k == i
+                        || k == j
+                        || l == i
+                        || l == j
+                        || !meet(flat[i], flat[j], flat[k], flat[l])
+                });
+            diagonal[i * n + j] = ok;
+            diagonal[j * n + i] = ok;
+        }
+    }
+    // cost[i][j]: least area of a triangulation of rim[i..=j] closed by the diagonal ij.
+    let mut cost = vec![f64::INFINITY; n * n];
+    let mut best = vec![usize::MAX; n * n];
+    for i in 0..n - 1 {
+        cost[i * n + i + 1] = 0.0;
+    }
+    for span in 2..n {
+        for i in 0..n - span {
+            let j = i + span;
+            if !diagonal[i * n + j] {
+                continue;
+            }
+            for k in i + 1..j {
+                let sub = cost[i * n + k] + cost[k * n + j];
+                if !sub.is_finite() {
+                    continue;
+                }
+                let facing = (rim[k] - rim[i]).cross(rim[j] - rim[i]);
+                let along = facing.as_dvec3().dot(normal);
+                if facing == I64Vec3::ZERO || along <= 0.0 {
+                    continue;
+                }
+                let total = sub + 0.5 * facing.as_dvec3().length();
+                if total < cost[i * n + j] && free([i, k, j]) {
+                    cost[i * n + j] = total;
+                    best[i * n + j] = k;
+                }
+            }
+        }
+    }
+    if !cost[n - 1].is_finite() {
+        return None;
+    }
+    let mut out = Vec::with_capacity(n - 2);
+    let mut todo = vec![(0, n - 1)];
+    while let Some((i, j)) = todo.pop() {
+        if j <= i + 1 {
+            continue;
+        }
+        let k = best[i * n + j];
+        out.push([i, k, j]);
+        todo.push((i, k));
+        todo.push((k, j));
+    }
+    Some(out)
+}
+
+/// The sheet spanned again from its rim (triangles over the complex's vertex numbering, facing
+/// out of the lower label), or None where its rim does not allow it.
+pub(super) fn respanned(
+    sheet: &Sheet,
+    triangles: &[Triangle],
+    star: &[Vec<usize>],
+    position: &[I64Vec3],
+) -> Option<Vec<[u32; 3]>> {
+    let normal = sheet.area_vector(triangles, position);
+    let member: BTreeSet<usize> = sheet.triangles.iter().copied().collect();
+    let rim: Vec<I64Vec3> = sheet.rim.iter().map(|&v| position[v as usize]).collect();
+    let joined = |i: usize, j: usize| {
+        let (a, b) = (sheet.rim[i], sheet.rim[j]);
+        star[a as usize].iter().any(|&t| {
+            !member.contains(&t) && triangles[t].alive && triangles[t].corners.contains(&b)
+        })
+    };
+    // The faces off the sheet near it, and whether a triangle over rim vertices meets one.
+    let bounds = |c: [I64Vec3; 3]| (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+    let (low, high) = rim.iter().fold((I64Vec3::MAX, I64Vec3::MIN), |(l, h), p| {
+        (l.min(*p), h.max(*p))
+    });
+    let nearby: Vec<usize> = (0..triangles.len())
+        .filter(|&t| {
+            let (l, h) = bounds(triangles[t].corners.map(|i| position[i as usize]));
+            triangles[t].alive
+                && !member.contains(&t)
+                && !(l.cmpgt(high).any() || h.cmplt(low).any())
+        })
+        .collect();
+    let free = |[i, k, j]: [usize; 3]| {
+        let t = [sheet.rim[i], sheet.rim[k], sheet.rim[j]];
+        let rim_edge = |a: usize, b: usize| a.abs_diff(b) == 1 || a.abs_diff(b) == rim.len() - 1;
+        let diagonals: Vec<(u32, u32)> = [(i, k), (k, j), (i, j)]
+            .into_iter()
+            .filter(|&(a, b)| !rim_edge(a, b))
+            .map(|(a, b)| (sheet.rim[a], sheet.rim[b]))
+            .collect();
+        !nearby
+            .iter()
+            .any(|&o| meets(t, &diagonals, &triangles[o].corners, position))
+    };
+    // Along the sheet's normal, else along the grid axes it faces (a staircase's rim may fold
+    // over itself seen along the one and not the other): the least area found.
+    let axes = [DVec3::X, DVec3::Y, DVec3::Z]
+        .map(|axis| axis * normal.dot(axis).signum())
+        .into_iter()
+        .filter(|axis| axis.dot(normal) > 0.0);
+    let area = |t: &Vec<[usize; 3]>| -> f64 {
+        t.iter()
+            .map(|&[i, k, j]| (rim[k] - rim[i]).cross(rim[j] - rim[i]).as_dvec3().length())
+            .sum()
+    };
+    let spanned = std::iter::once(normal)
+        .chain(axes)
+        .filter_map(|along| least_area_triangulation(&rim, along, &joined, &free))
+        .min_by(|a, b| area(a).total_cmp(&area(b)))?;
+    Some(spanned.iter().map(|t| t.map(|k| sheet.rim[k])).collect())
+}
+
+/// Twice the area vector of these triangles (corners over the complex's numbering).
+pub(super) fn area_vector(
+    corners: impl IntoIterator<Item = [u32; 3]>,
+    position: &[I64Vec3],
+) -> DVec3 {
+    corners
+        .into_iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| position[i as usize]);
+            (b - a).cross(c - a).as_dvec3()
+        })
+        .sum()
+}
+
+impl Sheet {
+    /// Twice its area vector, facing out of its lower label.
+    pub(super) fn area_vector(&self, triangles: &[Triangle], position: &[I64Vec3]) -> DVec3 {
+        area_vector(
+            self.triangles
+                .iter()
+                .map(|&t| facing_out_of_lower(&triangles[t])),
+            position,
+        )
+    }
+
+    /// Whether its triangles are all still there.
+    pub(super) fn alive(&self, triangles: &[Triangle]) -> bool {
+        self.triangles.iter().all(|&t| triangles[t].alive)
+    }
+}
+
+/// Whether new triangle `t` (with these new edges, `diagonals`) meets triangle `other` of the
+/// complex: an edge of `other` through `t`, or a new edge through `other` (each where the two
+/// share no corner).
+fn meets(t: [u32; 3], diagonals: &[(u32, u32)], other: &[u32; 3], position: &[I64Vec3]) -> bool {
+    let at = |i: u32| position[i as usize];
+    let (c, oc) = (t.map(at), other.map(at));
+    let (low, high) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+    let (olow, ohigh) = (oc[0].min(oc[1]).min(oc[2]), oc[0].max(oc[1]).max(oc[2]));
+    if olow.cmpgt(high).any() || ohigh.cmplt(low).any() {
+        return false;
+    }
+    (0..3).any(|k| {
+        let (p, q) = (other[k], other[(k + 1) % 3]);
+        !t.contains(&p) && !t.contains(&q) && segment_meets_triangle(at(p), at(q), c)
+    }) || diagonals.iter().any(|&(p, q)| {
+        !other.contains(&p) && !other.contains(&q) && segment_meets_triangle(at(p), at(q), oc)
+    })
+}
+
+/// What a respan changed, to take it back.
+pub(super) struct RespanUndo {
+    old: Vec<usize>,
+    first_new: usize,
+    rim: Vec<u32>,
+}
+
+impl RespanUndo {
+    /// Takes the respan back.
+    pub(super) fn apply(self, triangles: &mut Vec<Triangle>, star: &mut [Vec<usize>]) {
+        for &t in &self.old {
+            triangles[t].alive = true;
+        }
+        triangles.truncate(self.first_new);
+        for &v in &self.rim {
+            star[v as usize].retain(|&t| t < self.first_new);
+        }
+    }
+}
+
+/// Replaces the sheet's triangles by `new` (over the complex's numbering, facing out of the
+/// lower label) if every check passes (see the module); returns how to take it back and the
+/// mesh points it swept over (where `obstacles.sweep` allowed it).
+pub(super) fn try_respan(
+    sheet: &Sheet,
+    new: &[[u32; 3]],
+    (triangles, star): (&mut Vec<Triangle>, &mut [Vec<usize>]),
+    at: &BTreeMap<(i32, i32, i32), u32>,
+    obstacles: &Obstacles<'_>,
+    label_now: &[Option<u32>],
+) -> Option<(RespanUndo, SweptOver)> {
+    let Obstacles {
+        position,
+        points,
+        sweep,
+        ..
+    } = *obstacles;
+    let (lo, hi) = sheet.labels;
+    let corners_of = |t: &[u32; 3]| t.map(|i| position[i as usize]);
+    // Off the band's planes, where either part must be.
+    let labels = (Some(lo), Some(hi));
+    if new
+        .iter()
+        .any(|t| obstacles.crosses_band(corners_of(t), labels))
+    {
+        return None;
+    }
+    // Close to every removed vertex.
+    let far = sheet.inner.iter().any(|&v| {
+        let p = position[v as usize].as_dvec3();
+        new.iter()
+            .map(|t| distance_to_triangle(p, corners_of(t).map(|c| c.as_dvec3())))
+            .fold(f64::INFINITY, f64::min)
+            > RESPAN_ERROR
+    });
+    if far {
+        return None;
+    }
+    // No new triangle meets another face: another triangle's edge through a new triangle, or
+    // a new diagonal through another triangle (sharing no corner with it).
+    let member: BTreeSet<usize> = sheet.triangles.iter().copied().collect();
+    let on_rim: BTreeSet<(u32, u32)> = (0..sheet.rim.len())
+        .map(|k| {
+            let (a, b) = (sheet.rim[k], sheet.rim[(k + 1) % sheet.rim.len()]);
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    for t in new {
+        let diagonals: Vec<(u32, u32)> = (0..3)
+            .map(|k| (t[k], t[(k + 1) % 3]))
+            .filter(|&(p, q)| !on_rim.contains(&(p.min(q), p.max(q))))
+            .collect();
+        let meets_one = triangles.iter().enumerate().any(|(o, other)| {
+            other.alive && !member.contains(&o) && meets(*t, &diagonals, &other.corners, position)
+        });
+        if meets_one {
+            return None;
+        }
+    }
+    // Neither part's cage flattens: each still bounds a volume (a small part whose other
+    // faces span the same rim would be left as two faces back to back).
+    for (part, sign) in [(lo, 1), (hi, -1)] {
+        let volume = |c: [I64Vec3; 3]| c[0].dot(c[1].cross(c[2]));
+        let kept: i64 = triangles
+            .iter()
+            .enumerate()
+            .filter(|(o, t)| t.alive && !member.contains(o))
+            .map(|(_, t)| {
+                let v = volume(corners_of(&t.corners));
+                if t.front == Some(part) {
+                    v
+                } else if t.back == Some(part) {
+                    -v
+                } else {
+                    0
+                }
+            })
+            .sum();
+        let spanned: i64 = new.iter().map(|t| sign * volume(corners_of(t))).sum();
+        if kept + spanned <= 0 {
+            return None;
+        }
+    }
+    // Between the old sheet and the new: no cage vertex, and mesh points only where both parts
+    // let them change cage. The old triangles and the new ones turned over close a surface;
+    // its winding number is not zero between them.
+    let mut closed: Vec<[DVec3; 3]> = sheet
+        .triangles
+        .iter()
+        .map(|&t| corners_of(&facing_out_of_lower(&triangles[t])).map(|c| c.as_dvec3()))
+        .collect();
+    closed.extend(new.iter().map(|t| {
+        let [a, b, c] = corners_of(t).map(|c| c.as_dvec3());
+        [a, c, b]
+    }));
+    let between = |q: DVec3| winding_number(q, &closed).abs() > 0.25;
+    let own: BTreeSet<u32> = sheet.rim.iter().chain(&sheet.inner).copied().collect();
+    let (low, high) = sheet
+        .rim
+        .iter()
+        .chain(&sheet.inner)
+        .map(|&v| position[v as usize])
+        .fold((I64Vec3::MAX, I64Vec3::MIN), |(l, h), p| {
+            (l.min(p), h.max(p))
+        });
+    for x in low.x..=high.x {
+        for y in low.y..=high.y {
+            for z in low.z..=high.z {
+                if let Some(v) = at.get(&(x as i32, y as i32, z as i32))
+                    && !own.contains(v)
+                    && between(I64Vec3::new(x, y, z).as_dvec3())
+                {
+                    return None;
+                }
+            }
+        }
+    }
+    let may_sweep = sweep.surface.is_some()
+        && !sweep.respan_refused.contains(&lo)
+        && !sweep.respan_refused.contains(&hi);
+    let mut over = SweptOver::default();
+    for x in low.x..high.x.max(low.x + 1) {
+        for y in low.y..high.y.max(low.y + 1) {
+            for z in low.z..high.z.max(low.z + 1) {
+                let Some(list) = points.get(&(x as i32, y as i32, z as i32)) else {
+                    continue;
+                };
+                for &(p, index) in list {
+                    if !between(p) {
+                        continue;
+                    }
+                    match index {
+                        Some(i) if may_sweep => {
+                            over.points.insert(i, (Some(lo), Some(hi)));
+                            over.parts.extend([lo, hi]);
+                        }
+                        None if may_sweep => {}
+                        _ => return None,
+                    }
+                }
+            }
+        }
+    }
+    // Each part keeps its surface in one piece (the points swept change side), as the rig's
+    // check after the decimation asks of every part a sweep touched.
+    if let Some(surface) = sweep.surface
+        && !over.points.is_empty()
+    {
+        let mut after = label_now.to_vec();
+        for &i in over.points.keys() {
+            let label = after.get_mut(i as usize)?;
+            *label = match *label {
+                l if l == Some(lo) => Some(hi),
+                l if l == Some(hi) => Some(lo),
+                _ => return None, // a third part's point between the two sheets
+            };
+        }
+        for part in [lo, hi] {
+            if pieces_of(Some(part), &after, surface.neighbours) > 1 {
+                return None;
+            }
+        }
+    }
+    let undo = RespanUndo {
+        old: sheet.triangles.clone(),
+        first_new: triangles.len(),
+        rim: sheet.rim.clone(),
+    };
+    for &t in &sheet.triangles {
+        triangles[t].alive = false;
+    }
+    for t in new {
+        let index = triangles.len();
+        triangles.push(Triangle {
+            corners: *t,
+            front: Some(lo),
+            back: Some(hi),
+            alive: true,
+        });
+        for &c in t {
+            star[c as usize].push(index);
+        }
+    }
+    Some((undo, over))
+}
+
+/// How many pieces (connected by the surface's edges) the points labelled `part` make.
+pub(super) fn pieces_of(
+    part: Option<u32>,
+    label: &[Option<u32>],
+    neighbours: &[Vec<u32>],
+) -> usize {
+    let mut seen = vec![false; label.len()];
+    let mut pieces = 0;
+    let mut todo = Vec::new();
+    for start in 0..label.len() {
+        if seen[start] || label[start] != part {
+            continue;
+        }
+        pieces += 1;
+        seen[start] = true;
+        todo.push(start);
+        while let Some(v) = todo.pop() {
+            for &u in neighbours.get(v).into_iter().flatten() {
+                let u = u as usize;
+                if label.get(u) == Some(&part) && !seen[u] {
+                    seen[u] = true;
+                    todo.push(u);
+                }
+            }
+        }
+    }
+    pieces
+}
+
+/// The sheet that is `sheet`'s mirror image, with `new` (its triangles spanned again) mirrored
+/// onto it; None where the image is not one of `sheets` or a rim vertex has none.
+pub(super) fn image_sheet<'s>(
+    sheet: &Sheet,
+    new: &[[u32; 3]],
+    sheets: &'s [Sheet],
+    image_of: impl Fn(u32) -> Option<u32>,
+) -> Option<(&'s Sheet, Vec<[u32; 3]>)> {
+    let images: BTreeSet<u32> = sheet
+        .inner
+        .iter()
+        .map(|&v| image_of(v))
+        .collect::<Option<_>>()?;
+    let image = sheets
+        .iter()
+        .find(|s| s.inner.len() == images.len() && s.inner.iter().all(|v| images.contains(v)))?;
+    // A reflection turns a triangle over; its corners swapped turn it back.
+    let mapped = new
+        .iter()
+        .map(|&[a, b, c]| Some([image_of(a)?, image_of(c)?, image_of(b)?]))
+        .collect::<Option<_>>()?;
+    Some((image, mapped))
+}
+
+/// The winding number of the closed triangle surface about `q` (the sum of the solid angles
+/// its triangles subtend, over 4π; Van Oosterom and Strackee's formula).
+fn winding_number(q: DVec3, closed: &[[DVec3; 3]]) -> f64 {
+    let total: f64 = closed
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|p| p - q);
+            let (la, lb, lc) = (a.length(), b.length(), c.length());
+            let numerator = a.dot(b.cross(c));
+            let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+            2.0 * numerator.atan2(denominator)
+        })
+        .sum();
+    total / (4.0 * std::f64::consts::PI)
+}
+
+/// The distance from `p` to the triangle (Ericson's closest point, *Real-Time Collision
+/// Detection* 5.1.5).
+fn distance_to_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> f64 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return p.distance(a);
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return p.distance(b);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return p.distance(a + ab * (d1 / (d1 - d3)));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return p.distance(c);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return p.distance(a + ac * (d2 / (d2 - d6)));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return p.distance(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    }
+    let denominator = va + vb + vc;
+    if denominator.abs() < f64::MIN_POSITIVE {
+        return p.distance(a);
+    }
+    let (v, w) = (vb / denominator, vc / denominator);
+    p.distance(a + ab * v + ac * w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: i64, y: i64, z: i64) -> I64Vec3 {
+        I64Vec3::new(x, y, z)
+    }
+
+    /// Twice the area of the triangles over `rim`.
+    fn twice_area(rim: &[I64Vec3], triangles: &[[usize; 3]]) -> f64 {
+        triangles
+            .iter()
+            .map(|&[i, k, j]| (rim[k] - rim[i]).cross(rim[j] - rim[i]).as_dvec3().length())
+            .sum()
+    }
+
+    #[test]
+    fn a_flat_l_shaped_rim_is_covered_exactly_by_diagonals_inside_it() {
+        // An L of area 3 on z = 0, counter-clockwise seen from +z; a diagonal from the outer
+        // corner (2, 2) would leave the L.
+        let rim = [
+            p(0, 0, 0),
+            p(2, 0, 0),
+            p(2, 1, 0),
+            p(1, 1, 0),
+            p(1, 2, 0),
+            p(0, 2, 0),
+        ];
+        let spanned = least_area_triangulation(&rim, DVec3::Z, &|_, _| false, &|_| true).unwrap();
+        assert_eq!(spanned.len(), rim.len() - 2);
+        assert!((twice_area(&rim, &spanned) - 6.0).abs() < 1e-9);
+        // Seen from below it turns clockwise: refused.
+        assert!(least_area_triangulation(&rim, -DVec3::Z, &|_, _| false, &|_| true).is_none());
+        // Every diagonal from the inner corner (1, 1) joined elsewhere: none (a reflex
+        // corner needs one); from the corner (2, 0), it goes without.
+        let from = |corner: usize| move |i: usize, j: usize| i == corner || j == corner;
+        assert!(least_area_triangulation(&rim, DVec3::Z, &from(3), &|_| true).is_none());
+        let spanned = least_area_triangulation(&rim, DVec3::Z, &from(1), &|_| true).unwrap();
+        assert!((twice_area(&rim, &spanned) - 6.0).abs() < 1e-9);
+        assert!(spanned.contains(&[0, 1, 2]), "{spanned:?}");
+        // No triangle allowed: none.
+        assert!(least_area_triangulation(&rim, DVec3::Z, &|_, _| false, &|_| false).is_none());
+    }
+
+    #[test]
+    fn a_saddle_rim_takes_the_lesser_of_its_two_diagonals() {
+        // A square with two opposite corners raised by different heights: either diagonal
+        // projects onto a triangulation of the square; the lesser area is taken.
+        let rim = [p(0, 0, 0), p(4, 0, 3), p(4, 4, 0), p(0, 4, 1)];
+        let spanned = least_area_triangulation(&rim, DVec3::Z, &|_, _| false, &|_| true).unwrap();
+        let other = |d: [usize; 2]| -> Vec<[usize; 3]> {
+            if d == [0, 2] {
+                vec![[0, 1, 2], [0, 2, 3]]
+            } else {
+                vec![[0, 1, 3], [1, 2, 3]]
+            }
+        };
+        let least = twice_area(&rim, &other([0, 2])).min(twice_area(&rim, &other([1, 3])));
+        assert!((twice_area(&rim, &spanned) - least).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_rim_that_crosses_itself_seen_along_the_normal_is_not_spanned() {
+        // A bow tie seen from +z.
+        let rim = [p(0, 0, 0), p(2, 2, 0), p(2, 0, 0), p(0, 2, 0)];
+        assert!(least_area_triangulation(&rim, DVec3::Z, &|_, _| false, &|_| true).is_none());
+    }
+
+    #[test]
+    fn the_winding_number_of_a_closed_surface_is_one_inside_and_zero_outside() {
+        // A tetrahedron, faces counter-clockwise seen from outside.
+        let [a, b, c, d] = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let closed = [[a, c, b], [a, b, d], [a, d, c], [b, c, d]];
+        let inside = DVec3::splat(0.2);
+        assert!((winding_number(inside, &closed) - 1.0).abs() < 1e-9);
+        assert!(winding_number(DVec3::splat(2.0), &closed).abs() < 1e-9);
+        assert!(winding_number(-DVec3::splat(0.1), &closed).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_distance_to_a_triangle_is_to_its_face_edge_or_corner() {
+        let t = [DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 2.0];
+        assert!((distance_to_triangle(DVec3::new(0.5, 0.5, 3.0), t) - 3.0).abs() < 1e-12);
+        assert!((distance_to_triangle(DVec3::new(-1.0, -1.0, 0.0), t) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((distance_to_triangle(DVec3::new(1.0, -2.0, 0.0), t) - 2.0).abs() < 1e-12);
+        assert!((distance_to_triangle(DVec3::new(2.0, 2.0, 0.0), t) - 2f64.sqrt()).abs() < 1e-12);
+    }
+}
