@@ -102,6 +102,38 @@ pub(super) fn sheets_with_inner_vertices(
     sheets
 }
 
+/// The stars of the vertices inside one sheet between two parts (neither `frozen`), each as
+/// a sheet of its own whose one inner vertex is the centre: a sheet that cannot be spanned
+/// again whole (its rim, seen along any direction tried, crosses itself) may still lose its
+/// vertices one by one, each star's hole triangulated afresh where a collapse (a fan from one
+/// neighbour) folded.
+pub(super) fn vertex_stars(
+    triangles: &[Triangle],
+    star: &[Vec<usize>],
+    frozen: &BTreeSet<u32>,
+) -> Vec<Sheet> {
+    (0..star.len() as u32)
+        .filter_map(|v| {
+            let members: Vec<usize> = star[v as usize]
+                .iter()
+                .copied()
+                .filter(|&t| triangles[t].alive)
+                .collect();
+            let &first = members.first()?;
+            let (Some(lo), Some(hi)) = triangles[first].sheet() else {
+                return None;
+            };
+            let one_sheet = members
+                .iter()
+                .all(|&t| triangles[t].sheet() == (Some(lo), Some(hi)));
+            if !one_sheet || frozen.contains(&lo) || frozen.contains(&hi) {
+                return None;
+            }
+            as_disk(triangles, star, members, (lo, hi)).filter(|s| s.inner == [v])
+        })
+        .collect()
+}
+
 /// The sheet of these triangles if it is a disk with vertices inside, its rim one loop, and
 /// every vertex off the rim on this sheet only.
 fn as_disk(
