@@ -557,10 +557,7 @@ fn rig_on_grid(
         let label_by_cell: Vec<Option<u32>> = mesh
             .welded_positions()
             .iter()
-            .map(|&p| {
-                grid.index(grid.cell_at(p))
-                    .and_then(|c| parts.label.get(c).copied().flatten())
-            })
+            .map(|&p| parts.part_at(&grid, p))
             .collect();
         let (decimated, swept) = leaf_cages(
             &grid,
@@ -1075,10 +1072,7 @@ fn leaves_cut_by_sweeps(
         if is_swept(v) {
             continue;
         }
-        let label = grid
-            .index(grid.cell_at(p))
-            .and_then(|c| parts.label.get(c).copied().flatten());
-        if let Some(label) = label.filter(|l| swept.parts.contains(l)) {
+        if let Some(label) = parts.part_at(grid, p).filter(|l| swept.parts.contains(l)) {
             held.entry(label).or_default().push(v);
         }
     }

@@ -7,7 +7,7 @@
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BTreeSet, BinaryHeap};
 
-use glam::IVec3;
+use glam::{DVec3, IVec3};
 
 use super::branches::branches;
 use super::saddles::split_at_saddles;
@@ -66,6 +66,12 @@ pub(super) struct Halved {
 }
 
 impl Parts {
+    /// The part of the grid cell holding point `p` (None outside the grid or in an empty cell).
+    pub fn part_at(&self, grid: &Grid, p: DVec3) -> Option<u32> {
+        grid.index(grid.cell_at(p))
+            .and_then(|c| self.label.get(c).copied().flatten())
+    }
+
     /// A limb number no part and no branch record uses, nor any above it.
     pub fn unused_limb(&self) -> usize {
         self.roles
