@@ -24,6 +24,8 @@ use super::voxels::Grid;
 
 mod respan;
 
+pub(super) use respan::in_largest_piece;
+
 /// The labels on the two sides of a triangle (a part, or None outside).
 type Sides = (Option<u32>, Option<u32>);
 

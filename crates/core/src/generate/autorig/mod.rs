@@ -1034,7 +1034,8 @@ pub fn surface_pieces_per_leaf(scene: &Scene) -> Vec<usize> {
 /// welded vertices a collapse moved into another cage, and the parts on either side of those
 /// collapses) may have left wrong: a touched cage holding more than one piece of surface (a
 /// sweep out of it cut its own surface, as at an ear's base, or swept most of a neighbour's
-/// piece out and left a sliver of it), or any cage holding a piece made only of vertices swept
+/// piece out and left a sliver of it) where its pieces off the largest are not slivers its
+/// cells held before any sweep, untouched by sweeps, or any cage holding a piece made only of vertices swept
 /// into it (the inner thigh of a leg close beside, cut off from the cage's own). No sliver
 /// allowance, unlike [`pieces_per_leaf`]: one such vertex would move with the wrong limb.
 ///
@@ -1068,11 +1069,12 @@ fn leaves_cut_by_sweeps(
             }
         }
     }
-    for (v, &p) in points.iter().enumerate() {
+    let by_cell: Vec<Option<u32>> = points.iter().map(|&p| parts.part_at(grid, p)).collect();
+    for (v, label) in by_cell.iter().enumerate() {
         if is_swept(v) {
             continue;
         }
-        if let Some(label) = parts.part_at(grid, p).filter(|l| swept.parts.contains(l)) {
+        if let Some(label) = label.filter(|l| swept.parts.contains(l)) {
             held.entry(label).or_default().push(v);
         }
     }
@@ -1083,23 +1085,37 @@ fn leaves_cut_by_sweeps(
         for &v in vertices {
             member[v] = true;
         }
-        let (mut pieces, mut swept_only) = (0, false);
+        let (mut pieces, mut swept_only) = (Vec::<Vec<usize>>::new(), false);
         for &start in vertices {
             if seen[start] {
                 continue;
             }
-            pieces += 1;
-            let mut all_swept = true;
+            let mut piece = Vec::new();
             walk_piece(start, &member, &mut seen, &surface.neighbours, |v| {
-                all_swept &= is_swept(v);
+                piece.push(v);
             });
-            swept_only |= all_swept;
+            swept_only |= piece.iter().all(|&v| is_swept(v));
+            pieces.push(piece);
         }
         for &v in vertices {
             member[v] = false;
             seen[v] = false;
         }
-        if (swept.parts.contains(&leaf) && pieces > 1) || swept_only {
+        // Off the largest piece, only slivers the part's cells already held (the rule the
+        // respans keep, `decimate::keeps_its_pieces`): no swept point, none of the largest
+        // piece by cell.
+        let cut = swept.parts.contains(&leaf) && pieces.len() > 1 && {
+            let largest = (0..pieces.len())
+                .max_by(|&a, &b| pieces[a].len().cmp(&pieces[b].len()).then(b.cmp(&a)));
+            let cell = decimate::in_largest_piece(Some(leaf), &by_cell, &surface.neighbours);
+            pieces
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| Some(*k) != largest)
+                .flat_map(|(_, piece)| piece)
+                .any(|&v| is_swept(v) || cell.get(v) != Some(&Some(false)))
+        };
+        if cut || swept_only {
             cut_off.push(leaf);
         }
     }

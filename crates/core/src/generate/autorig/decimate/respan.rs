@@ -15,8 +15,9 @@
 //! - no cage vertex lies between the old sheet and the new;
 //! - mesh points between them change part only where the surface is given
 //!   (`Sweep::surface`), neither part is in `Sweep::respan_refused`, and each part's mesh points
-//!   stay in one piece (the rig's own check after the decimation, `leaves_cut_by_sweeps`, asks
-//!   the same of every part a sweep touched);
+//!   stay in one piece but for the slivers its cells held (`keeps_its_pieces`; the rig's own
+//!   check after the decimation, `leaves_cut_by_sweeps`, asks the same of every part a sweep
+//!   touched);
 //! - both parts still bound a volume.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -632,7 +633,7 @@ pub(super) fn try_respan(
             };
         }
         for part in [lo, hi] {
-            if pieces_of(Some(part), &after, surface.neighbours) > 1 {
+            if !keeps_its_pieces(part, &after, surface.label, surface.neighbours) {
                 return None;
             }
         }
@@ -661,32 +662,84 @@ pub(super) fn try_respan(
 }
 
 /// How many pieces (connected by the surface's edges) the points labelled `part` make.
+#[cfg(test)]
 pub(super) fn pieces_of(
     part: Option<u32>,
     label: &[Option<u32>],
     neighbours: &[Vec<u32>],
 ) -> usize {
-    let mut seen = vec![false; label.len()];
+    piece_ids(part, label, neighbours).1
+}
+
+/// Each point's piece of `part` (None off it; connected by the surface's edges), and how many.
+fn piece_ids(
+    part: Option<u32>,
+    label: &[Option<u32>],
+    neighbours: &[Vec<u32>],
+) -> (Vec<Option<u32>>, usize) {
+    let mut piece: Vec<Option<u32>> = vec![None; label.len()];
     let mut pieces = 0;
     let mut todo = Vec::new();
     for start in 0..label.len() {
-        if seen[start] || label[start] != part {
+        if piece[start].is_some() || label[start] != part {
             continue;
         }
+        let id = Some(pieces as u32);
         pieces += 1;
-        seen[start] = true;
+        piece[start] = id;
         todo.push(start);
         while let Some(v) = todo.pop() {
             for &u in neighbours.get(v).into_iter().flatten() {
                 let u = u as usize;
-                if label.get(u) == Some(&part) && !seen[u] {
-                    seen[u] = true;
+                if label.get(u) == Some(&part) && piece.get(u) == Some(&None) {
+                    piece[u] = id;
                     todo.push(u);
                 }
             }
         }
     }
-    pieces
+    (piece, pieces)
+}
+
+/// Each point's piece of `part` as in [`piece_ids`], and whether it is the largest piece (the
+/// first found on a tie).
+pub(crate) fn in_largest_piece(
+    part: Option<u32>,
+    label: &[Option<u32>],
+    neighbours: &[Vec<u32>],
+) -> Vec<Option<bool>> {
+    let (piece, pieces) = piece_ids(part, label, neighbours);
+    let mut size = vec![0usize; pieces];
+    for p in piece.iter().flatten() {
+        size[*p as usize] += 1;
+    }
+    let largest = (0..pieces).max_by(|&a, &b| size[a].cmp(&size[b]).then(b.cmp(&a)));
+    piece
+        .iter()
+        .map(|p| p.map(|p| Some(p as usize) == largest))
+        .collect()
+}
+
+/// Whether the points labelled `part` in `after` make one piece of surface, but for slivers
+/// the part already held by cell (`by_cell`): every point of the part off its largest piece
+/// lies, by cell, in the part but off its largest piece there. A sweep may then move points
+/// into or out of a part whose cells hold a sliver of another side of the surface (five of the
+/// bunny's parts), but neither cut a part nor add to its slivers.
+pub(super) fn keeps_its_pieces(
+    part: u32,
+    after: &[Option<u32>],
+    by_cell: &[Option<u32>],
+    neighbours: &[Vec<u32>],
+) -> bool {
+    let now = in_largest_piece(Some(part), after, neighbours);
+    let mut cell: Option<Vec<Option<bool>>> = None;
+    now.iter().enumerate().all(|(v, largest)| {
+        *largest != Some(false) || {
+            let cell =
+                cell.get_or_insert_with(|| in_largest_piece(Some(part), by_cell, neighbours));
+            cell.get(v) == Some(&Some(false))
+        }
+    })
 }
 
 /// The sheet that is `sheet`'s mirror image, with `new` (its triangles spanned again) mirrored
@@ -773,6 +826,47 @@ mod tests {
 
     fn p(x: i64, y: i64, z: i64) -> I64Vec3 {
         I64Vec3::new(x, y, z)
+    }
+
+    /// A sweep may move points of a part whose cells hold a sliver (another piece of the
+    /// surface) as long as every point off its largest piece was off it by cell: points swept
+    /// into the largest piece, or out of the part, pass; a cut of the largest piece, a point
+    /// swept into the sliver, or the sliver swept out and the largest cut in two fail; a part
+    /// one piece by cell must stay one piece.
+    #[test]
+    fn a_sweep_keeps_a_part_s_pieces_but_for_the_slivers_its_cells_held() {
+        // Twelve points on a path 0 – 1 – … – 11.
+        let neighbours: Vec<Vec<u32>> = (0..12u32)
+            .map(|v| {
+                [v.checked_sub(1), (v < 11).then_some(v + 1)]
+                    .into_iter()
+                    .flatten()
+                    .collect()
+            })
+            .collect();
+        let labels = |s: &str| -> Vec<Option<u32>> { s.chars().map(|c| c.to_digit(10)).collect() };
+        // Part 0 by cell: a long piece 0–6 and a sliver 9–10.
+        let by_cell = labels("000000011001");
+        let keeps = |after: &str| keeps_its_pieces(0, &labels(after), &by_cell, &neighbours);
+        assert_eq!(pieces_of(Some(0), &by_cell, &neighbours), 2);
+        assert!(keeps("000000011001"), "as it was by cell");
+        assert!(
+            keeps("000000001001"),
+            "point 7 swept into the largest piece"
+        );
+        assert!(keeps("000001111001"), "points 5 and 6 swept out of it");
+        assert!(keeps("000000011101"), "the sliver shrunk");
+        assert!(!keeps("000100011001"), "the largest piece cut in two");
+        assert!(!keeps("000000010001"), "point 8 swept into the sliver");
+        assert!(
+            !keeps("000100011111"),
+            "the sliver swept out and the largest piece cut"
+        );
+        // Part 1 by cell is one piece (7–9): no second piece of it is allowed.
+        let one = labels("000000011100");
+        let keeps_one = |after: &str| keeps_its_pieces(1, &labels(after), &one, &neighbours);
+        assert!(keeps_one("000000111100"));
+        assert!(!keeps_one("100000011100"), "a point of it swept far away");
     }
 
     /// Twice the area of the triangles over `rim`.
