@@ -724,7 +724,8 @@ pub(crate) fn in_largest_piece(
 /// the part already held by cell (`by_cell`): every point of the part off its largest piece
 /// lies, by cell, in the part but off its largest piece there. A sweep may then move points
 /// into or out of a part whose cells hold a sliver of another side of the surface (five of the
-/// bunny's parts), but neither cut a part nor add to its slivers.
+/// bunny's parts), but neither cut a part nor add to its slivers, nor sweep its largest piece
+/// away whole.
 pub(super) fn keeps_its_pieces(
     part: u32,
     after: &[Option<u32>],
@@ -732,14 +733,19 @@ pub(super) fn keeps_its_pieces(
     neighbours: &[Vec<u32>],
 ) -> bool {
     let now = in_largest_piece(Some(part), after, neighbours);
-    let mut cell: Option<Vec<Option<bool>>> = None;
-    now.iter().enumerate().all(|(v, largest)| {
-        *largest != Some(false) || {
-            let cell =
-                cell.get_or_insert_with(|| in_largest_piece(Some(part), by_cell, neighbours));
-            cell.get(v) == Some(&Some(false))
-        }
-    })
+    let cell = in_largest_piece(Some(part), by_cell, neighbours);
+    // The largest piece by cell is still there, in the largest now (a part swept empty, or
+    // left with its sliver alone, holds none of its own surface) …
+    let kept = !cell.contains(&Some(true))
+        || now
+            .iter()
+            .zip(&cell)
+            .any(|(now, cell)| *now == Some(true) && *cell == Some(true));
+    // … and nothing off it but slivers the cells held.
+    kept && now
+        .iter()
+        .enumerate()
+        .all(|(v, largest)| *largest != Some(false) || cell.get(v) == Some(&Some(false)))
 }
 
 /// The sheet that is `sheet`'s mirror image, with `new` (its triangles spanned again) mirrored
@@ -862,6 +868,8 @@ mod tests {
             !keeps("000100011111"),
             "the sliver swept out and the largest piece cut"
         );
+        assert!(!keeps("111111111001"), "the largest piece swept away whole");
+        assert!(!keeps("111111111111"), "the part swept empty");
         // Part 1 by cell is one piece (7–9): no second piece of it is allowed.
         let one = labels("000000011100");
         let keeps_one = |after: &str| keeps_its_pieces(1, &labels(after), &one, &neighbours);
