@@ -11,6 +11,7 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use super::SLIVER_VERTICES;
 use super::parts::{Parts, Role, compact, contacts_of, split_disconnected};
+use super::repair::make_manifold;
 use super::surface::SurfaceMesh;
 use super::symmetry::MirrorPlane;
 use super::voxels::Grid;
@@ -206,6 +207,16 @@ impl<'a> Surface<'a> {
         pieces
     }
 
+    /// [`extra_pieces_total`].
+    fn extra_pieces_total(&self, parts: &Parts) -> usize {
+        let mut mark = vec![false; self.cell_of.len()];
+        let by_part = self.vertices_by_part(parts);
+        by_part
+            .keys()
+            .map(|&p| self.extra_pieces(parts, &by_part, &[p], &mut mark))
+            .sum()
+    }
+
     /// Pieces beyond the first among the mesh vertices of `members` (see
     /// [`Self::significant_pieces`]).
     fn extra_pieces(
@@ -328,13 +339,7 @@ impl<'a> Surface<'a> {
 /// The pieces of the surface beyond one per part, over all parts (slivers left out as in
 /// [`merge_inseparable_pieces`]): 0 when every part holds one piece.
 pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, surface: &SurfaceMesh) -> usize {
-    let surface = Surface::new(grid, surface);
-    let mut mark = vec![false; surface.cell_of.len()];
-    let by_part = surface.vertices_by_part(parts);
-    by_part
-        .keys()
-        .map(|&p| surface.extra_pieces(parts, &by_part, &[p], &mut mark))
-        .sum()
+    Surface::new(grid, surface).extra_pieces_total(parts)
 }
 
 /// Merges each part that still holds more than one piece of the surface (pieces sharing cells,
@@ -443,6 +448,24 @@ pub(super) fn merge_inseparable_pieces(
         let Some(members) = merge else {
             return merges;
         };
+        // A merge that would take a whole limb into a slab of the trunk, because the slab
+        // holds a sliver of the limb's surface (Cheburashka's bottom slab, of a foot), first
+        // tries that sliver's cells alone: the slab gives them to the limb. Not into a smaller
+        // body at a limb's end: that body grown is what it is (the horse's neck at detail 4
+        // merged into the body at its muzzle, named a head; ceding left the neck's chain
+        // holding the head, named `neck`). Not from the limb to the slab: that left the
+        // armadillo's shoulder top at detail 2 with an ear, as a crown named `head`.
+        let trunk = trunk_of(parts);
+        let of_trunk = |q: u32| matches!(parts.roles[q as usize], Role::Body { body, .. } if Some(body) == trunk);
+        if let [p, q] = members[..]
+            && of_trunk(p)
+            && erases_a_limb(parts, &members)
+            && let Some(ceded) = ceding(&surface, grid, parts, &by_part, (p, q), mirror, &mut mark)
+        {
+            *parts = ceded;
+            compact(parts);
+            continue;
+        }
         // The merged part keeps the role nearest the body (a body slab, or the lowest segment)
         // and the first member's label.
         let Some(role) = members.iter().map(|&q| parts.roles[q as usize]).min() else {
@@ -458,6 +481,78 @@ pub(super) fn merge_inseparable_pieces(
         compact(parts);
         merges += 1;
     }
+}
+
+/// The trunk: the body with most cells that is not a head.
+fn trunk_of(parts: &Parts) -> Option<usize> {
+    let mut cells: BTreeMap<usize, usize> = BTreeMap::new();
+    for l in parts.label.iter().flatten() {
+        if let Some(Role::Body { body, .. }) = parts.roles.get(*l as usize)
+            && !parts.heads.contains(body)
+        {
+            *cells.entry(*body).or_insert(0) += 1;
+        }
+    }
+    cells
+        .into_iter()
+        .max_by_key(|&(body, n)| (n, Reverse(body)))
+        .map(|(body, _)| body)
+}
+
+/// Whether merging `members` into one part takes a limb's root (a part of its first segment)
+/// into a part of another role: the merged part keeps one role, the nearest the body, and
+/// the limb loses that root's chain (a second root becomes a limb of its own later,
+/// [`super::parts::one_limb_per_root`]).
+fn erases_a_limb(parts: &Parts, members: &[u32]) -> bool {
+    let Some(kept) = members.iter().map(|&q| parts.roles[q as usize]).min() else {
+        return false;
+    };
+    let first_segment = |limb: usize| {
+        (parts.roles.iter())
+            .filter_map(|r| match r {
+                Role::Limb { limb: l, segment } if *l == limb => Some(*segment),
+                _ => None,
+            })
+            .min()
+    };
+    members.iter().any(|&q| match parts.roles[q as usize] {
+        role @ Role::Limb { limb, segment } => role != kept && first_segment(limb) == Some(segment),
+        Role::Body { .. } => false,
+    })
+}
+
+/// The parts with the cells of `p`'s pieces but its largest given to `q`
+/// ([`Surface::annexing_pieces`]), then repaired ([`make_manifold`]), where that gives `q` at
+/// most [`ANNEX_SHARE`] of its own cells, the repairs merge no parts and fewer extra pieces are
+/// left over all parts; None otherwise.
+fn ceding(
+    surface: &Surface,
+    grid: &Grid,
+    parts: &Parts,
+    by_part: &BTreeMap<u32, Vec<usize>>,
+    (p, q): (u32, u32),
+    mirror: Option<&MirrorPlane>,
+    mark: &mut [bool],
+) -> Option<Parts> {
+    let label = surface.annexing_pieces(grid, parts, by_part, (p, q), mirror, mark)?;
+    let own = parts.label.iter().filter(|&&l| l == Some(q)).count();
+    let taken = (label.iter().zip(&parts.label))
+        .filter(|(a, b)| a != b)
+        .count();
+    if taken == 0 || taken as f64 > ANNEX_SHARE * own as f64 {
+        return None;
+    }
+    // The repairs have run: a part pinched by the cells it gave or took is repaired here, by
+    // moving cells only (a pinched part makes a non-manifold cage; ManHead at detail 2 then had
+    // no valid rig).
+    let mut trial = Parts {
+        label,
+        ..parts.clone()
+    };
+    if make_manifold(grid, &mut trial) > 0 || trial.roles != parts.roles {
+        return None;
+    }
+    (surface.extra_pieces_total(&trial) < surface.extra_pieces_total(parts)).then_some(trial)
 }
 
 /// The most cells a head takes from other parts to be one piece, as a share of its own.
@@ -517,7 +612,7 @@ fn face_connected(grid: &Grid, label: &[Option<u32>], p: u32) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
+    use glam::{DVec3, IVec3};
 
     use super::*;
     use crate::mesh::Mesh;
@@ -606,5 +701,63 @@ mod tests {
             );
             assert_eq!(parts.roles, vec![Role::Body { body: 0, slab: 0 }]);
         }
+    }
+
+    #[test]
+    fn a_limb_takes_the_cells_of_its_surface_a_body_holds_instead_of_merging_into_it() {
+        // The body holds the U's left column, its bottom and the top of its right column (two
+        // cells, 30 mesh vertices, a piece of their own); the limb beside it the rest of the
+        // right column, which joins that top to the body's bottom (Cheburashka's bottom slab
+        // held a sliver of his foot, joined to the rest of the body through the foot).
+        let mesh = u_ribbon();
+        let surface = SurfaceMesh::new(&mesh);
+        let grid = Grid::around(DVec3::ZERO, DVec3::new(8.0, 1.0, 5.0), 8, None, &[], None);
+        let right = grid.cell_at(DVec3::new(2.5, 0.5, 3.5));
+        let bottom = grid.cell_at(DVec3::new(0.5, 0.5, 1.45)).z;
+        let top_of_right_column = |c: IVec3| c.x == right.x && c.z >= right.z;
+        let body_and_limb = |limb: Role| Parts {
+            label: (0..grid.len())
+                .map(|i| {
+                    let c = grid.cell_of(i);
+                    let body = c.x < right.x || c.z <= bottom || top_of_right_column(c);
+                    Some(u32::from(!body))
+                })
+                .collect(),
+            roles: vec![Role::Body { body: 0, slab: 0 }, limb],
+            parent_limb: BTreeMap::new(),
+            heads: BTreeSet::new(),
+            crowns: BTreeSet::new(),
+            halved: BTreeMap::new(),
+        };
+        let foot = Role::Limb {
+            limb: 0,
+            segment: 0,
+        };
+        let before = body_and_limb(foot);
+        assert_eq!(extra_pieces_total(&grid, &before, &surface), 1);
+        let mut parts = before.clone();
+        assert_eq!(
+            merge_inseparable_pieces(&grid, &mut parts, &surface, None),
+            0
+        );
+        assert_eq!(extra_pieces_total(&grid, &parts, &surface), 0);
+        assert_eq!(parts.roles, before.roles);
+        let moved: Vec<IVec3> = (0..grid.len())
+            .filter(|&i| parts.label[i] != before.label[i])
+            .map(|i| grid.cell_of(i))
+            .collect();
+        assert_eq!(moved, vec![right, right + IVec3::Z]);
+        assert!(
+            moved
+                .iter()
+                .all(|&c| parts.part_at(&grid, grid.centre(c)) == Some(1))
+        );
+        // Two body slabs merge as before: no limb is lost.
+        let mut slabs = body_and_limb(Role::Body { body: 0, slab: 1 });
+        assert_eq!(
+            merge_inseparable_pieces(&grid, &mut slabs, &surface, None),
+            1
+        );
+        assert_eq!(slabs.roles, vec![Role::Body { body: 0, slab: 0 }]);
     }
 }
