@@ -22,7 +22,10 @@ use glam::{DVec3, I64Vec3, IVec3};
 use super::symmetry::MirrorPlane;
 use super::voxels::Grid;
 
+mod buckets;
 mod respan;
+
+use buckets::TriangleBuckets;
 
 pub(super) use respan::in_largest_piece;
 
@@ -268,6 +271,7 @@ fn decimate_with(
     // Along the mirror axis: below the plane (-1), on it (0) or above (1).
     let side_of = |v: u32| mirror.map_or(-1, |m| (vertices[v as usize][m.axis] - m.half).signum());
     let mut removed = vec![false; vertices.len()];
+    let mut buckets = TriangleBuckets::new();
     // Each mesh point's part as the collapses and respans leave it (its cell's to begin with).
     let mut label_now: Vec<Option<u32>> = sweep
         .surface
@@ -285,6 +289,8 @@ fn decimate_with(
                 if removed[v as usize] {
                     continue;
                 }
+                // Here, where no collapse waits on its image's to be kept or taken back.
+                buckets.refresh(&triangles, &position);
                 let touches_frozen = star[v as usize].iter().any(|&t| {
                     let t = &triangles[t];
                     t.alive
@@ -309,9 +315,15 @@ fn decimate_with(
                     {
                         continue;
                     }
-                    let Some((undo, mut over)) =
-                        try_collapse(v, u, &mut triangles, &mut star, &at, &obstacles)
-                    else {
+                    let Some((undo, mut over)) = try_collapse(
+                        v,
+                        u,
+                        &mut triangles,
+                        &mut star,
+                        &at,
+                        &obstacles,
+                        &mut buckets,
+                    ) else {
                         continue;
                     };
                     let p = vertices[v as usize];
@@ -319,17 +331,22 @@ fn decimate_with(
                     let image = match (mirror, image_of(v), image_of(u)) {
                         (None, _, _) => Some(None),
                         (Some(_), Some(mv), _) if mv == v => Some(None),
-                        (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => {
-                            try_collapse(mv, mu, &mut triangles, &mut star, &at, &obstacles).map(
-                                |(_, image_over)| {
-                                    for (i, sheet) in image_over.points {
-                                        over.points.entry(i).or_insert(sheet);
-                                    }
-                                    over.parts.extend(image_over.parts);
-                                    Some(mv)
-                                },
-                            )
-                        }
+                        (Some(_), Some(mv), Some(mu)) if !removed[mv as usize] => try_collapse(
+                            mv,
+                            mu,
+                            &mut triangles,
+                            &mut star,
+                            &at,
+                            &obstacles,
+                            &mut buckets,
+                        )
+                        .map(|(_, image_over)| {
+                            for (i, sheet) in image_over.points {
+                                over.points.entry(i).or_insert(sheet);
+                            }
+                            over.parts.extend(image_over.parts);
+                            Some(mv)
+                        }),
                         _ => None,
                     };
                     let Some(image) = image else {
@@ -551,6 +568,7 @@ fn try_collapse(
     star: &mut [Vec<usize>],
     at: &BTreeMap<(i32, i32, i32), u32>,
     obstacles: &Obstacles<'_>,
+    buckets: &mut TriangleBuckets,
 ) -> Option<(Undo, SweptOver)> {
     let Obstacles {
         position,
@@ -678,7 +696,7 @@ fn try_collapse(
         .collect();
     if new_triangles
         .iter()
-        .any(|&tri| meets_other_edges(tri, v, triangles, position))
+        .any(|&tri| meets_other_edges(tri, v, triangles, position, buckets))
     {
         return None;
     }
@@ -716,6 +734,7 @@ fn try_collapse(
             }
         }
         star[u as usize].push(t);
+        buckets.moved(t);
     }
     star[v as usize].clear();
     Some((undo, over))
@@ -751,27 +770,32 @@ fn meets_other_edges(
     gone: u32,
     triangles: &[Triangle],
     position: &[I64Vec3],
+    buckets: &mut TriangleBuckets,
 ) -> bool {
     let [a, b, c] = tri.map(|i| position[i as usize]);
     let lo = a.min(b).min(c);
     let hi = a.max(b).max(c);
-    triangles.iter().filter(|t| t.alive).any(|t| {
-        if t.corners.contains(&gone) {
-            return false; // goes with the collapse
-        }
-        let ps = t.corners.map(|i| position[i as usize]);
-        let (tlo, thi) = (ps[0].min(ps[1]).min(ps[2]), ps[0].max(ps[1]).max(ps[2]));
-        if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
-            return false;
-        }
-        (0..3).any(|k| {
-            let (p, q) = (t.corners[k], t.corners[(k + 1) % 3]);
-            if tri.contains(&p) || tri.contains(&q) {
+    let near = buckets.near(lo, hi, triangles.len());
+    near.iter()
+        .map(|&t| &triangles[t])
+        .filter(|t| t.alive)
+        .any(|t| {
+            if t.corners.contains(&gone) {
+                return false; // goes with the collapse
+            }
+            let ps = t.corners.map(|i| position[i as usize]);
+            let (tlo, thi) = (ps[0].min(ps[1]).min(ps[2]), ps[0].max(ps[1]).max(ps[2]));
+            if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
                 return false;
             }
-            segment_meets_triangle(position[p as usize], position[q as usize], [a, b, c])
+            (0..3).any(|k| {
+                let (p, q) = (t.corners[k], t.corners[(k + 1) % 3]);
+                if tri.contains(&p) || tri.contains(&q) {
+                    return false;
+                }
+                segment_meets_triangle(position[p as usize], position[q as usize], [a, b, c])
+            })
         })
-    })
 }
 
 /// Whether segment pq touches triangle abc (exact; coplanar segments count when they touch).
