@@ -15,6 +15,7 @@
 //! limb's surface in another's cage. All positions stay on grid vertices, so the tests are
 //! exact in integers.
 
+use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
 
 use glam::{DVec3, I64Vec3, IVec3};
@@ -123,6 +124,10 @@ struct Obstacles<'a> {
     /// part in `Held::off_band` that would cross one is not made.
     band: Option<(usize, [i64; 2])>,
     off_band: &'a BTreeSet<u32>,
+    /// Per part a respan's sweep touched: each mesh point's place in the part's pieces by cell
+    /// (`respan::in_largest_piece` over `sweep.surface`'s labels, which do not change during a
+    /// decimation), found once.
+    pieces_by_cell: &'a RefCell<BTreeMap<u32, Vec<Option<bool>>>>,
 }
 
 impl Obstacles<'_> {
@@ -255,12 +260,14 @@ fn decimate_with(
     }
     let index_of = at.clone();
     // What a collapse must not break, besides the live vertices (`at`, which collapses change).
+    let pieces_by_cell = RefCell::new(BTreeMap::new());
     let obstacles = Obstacles {
         position: &position,
         points: &points,
         sweep,
         band,
         off_band,
+        pieces_by_cell: &pieces_by_cell,
     };
     // The image of each vertex (itself on the plane), where it is a vertex.
     let image_of = |v: u32| -> Option<u32> {

@@ -632,8 +632,12 @@ pub(super) fn try_respan(
                 _ => return None, // a third part's point between the two sheets
             };
         }
+        let mut pieces_by_cell = obstacles.pieces_by_cell.borrow_mut();
         for part in [lo, hi] {
-            if !keeps_its_pieces(part, &after, surface.label, surface.neighbours) {
+            let by_cell = pieces_by_cell
+                .entry(part)
+                .or_insert_with(|| in_largest_piece(Some(part), surface.label, surface.neighbours));
+            if !keeps_its_pieces(part, &after, by_cell, surface.neighbours) {
                 return None;
             }
         }
@@ -721,7 +725,8 @@ pub(crate) fn in_largest_piece(
 }
 
 /// Whether the points labelled `part` in `after` make one piece of surface, but for slivers
-/// the part already held by cell (`by_cell`): every point of the part off its largest piece
+/// the part already held by cell (`by_cell`: each point's place in the part's pieces by cell,
+/// [`in_largest_piece`]): every point of the part off its largest piece
 /// lies, by cell, in the part but off its largest piece there. A sweep may then move points
 /// into or out of a part whose cells hold a sliver of another side of the surface (five of the
 /// bunny's parts), but neither cut a part nor add to its slivers, nor sweep its largest piece
@@ -729,17 +734,16 @@ pub(crate) fn in_largest_piece(
 pub(super) fn keeps_its_pieces(
     part: u32,
     after: &[Option<u32>],
-    by_cell: &[Option<u32>],
+    cell: &[Option<bool>],
     neighbours: &[Vec<u32>],
 ) -> bool {
     let now = in_largest_piece(Some(part), after, neighbours);
-    let cell = in_largest_piece(Some(part), by_cell, neighbours);
     // The largest piece by cell is still there, in the largest now (a part swept empty, or
     // left with its sliver alone, holds none of its own surface) …
     let kept = !cell.contains(&Some(true))
         || now
             .iter()
-            .zip(&cell)
+            .zip(cell)
             .any(|(now, cell)| *now == Some(true) && *cell == Some(true));
     // … and nothing off it but slivers the cells held.
     kept && now
@@ -853,7 +857,8 @@ mod tests {
         let labels = |s: &str| -> Vec<Option<u32>> { s.chars().map(|c| c.to_digit(10)).collect() };
         // Part 0 by cell: a long piece 0–6 and a sliver 9–10.
         let by_cell = labels("000000011001");
-        let keeps = |after: &str| keeps_its_pieces(0, &labels(after), &by_cell, &neighbours);
+        let by_cell_pieces = in_largest_piece(Some(0), &by_cell, &neighbours);
+        let keeps = |after: &str| keeps_its_pieces(0, &labels(after), &by_cell_pieces, &neighbours);
         assert_eq!(pieces_of(Some(0), &by_cell, &neighbours), 2);
         assert!(keeps("000000011001"), "as it was by cell");
         assert!(
@@ -872,7 +877,8 @@ mod tests {
         assert!(!keeps("111111111111"), "the part swept empty");
         // Part 1 by cell is one piece (7–9): no second piece of it is allowed.
         let one = labels("000000011100");
-        let keeps_one = |after: &str| keeps_its_pieces(1, &labels(after), &one, &neighbours);
+        let one_pieces = in_largest_piece(Some(1), &one, &neighbours);
+        let keeps_one = |after: &str| keeps_its_pieces(1, &labels(after), &one_pieces, &neighbours);
         assert!(keeps_one("000000111100"));
         assert!(!keeps_one("100000011100"), "a point of it swept far away");
     }
