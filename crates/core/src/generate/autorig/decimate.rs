@@ -26,7 +26,7 @@ use super::voxels::Grid;
 mod buckets;
 mod respan;
 
-use buckets::TriangleBuckets;
+use buckets::{TriangleBuckets, bounds};
 
 pub(super) use respan::in_largest_piece;
 
@@ -779,9 +779,8 @@ fn meets_other_edges(
     position: &[I64Vec3],
     buckets: &mut TriangleBuckets,
 ) -> bool {
-    let [a, b, c] = tri.map(|i| position[i as usize]);
-    let lo = a.min(b).min(c);
-    let hi = a.max(b).max(c);
+    let corners = tri.map(|i| position[i as usize]);
+    let (lo, hi) = bounds(tri, position);
     let near = buckets.near(lo, hi, triangles.len());
     near.iter()
         .map(|&t| &triangles[t])
@@ -790,8 +789,7 @@ fn meets_other_edges(
             if t.corners.contains(&gone) {
                 return false; // goes with the collapse
             }
-            let ps = t.corners.map(|i| position[i as usize]);
-            let (tlo, thi) = (ps[0].min(ps[1]).min(ps[2]), ps[0].max(ps[1]).max(ps[2]));
+            let (tlo, thi) = bounds(t.corners, position);
             if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
                 return false;
             }
@@ -800,7 +798,7 @@ fn meets_other_edges(
                 if tri.contains(&p) || tri.contains(&q) {
                     return false;
                 }
-                segment_meets_triangle(position[p as usize], position[q as usize], [a, b, c])
+                segment_meets_triangle(position[p as usize], position[q as usize], corners)
             })
         })
 }

@@ -54,7 +54,7 @@ impl TriangleBuckets {
         self.blocks.clear();
         self.moved.clear();
         for (t, triangle) in triangles.iter().enumerate() {
-            let (lo, hi) = bounds(triangle, position);
+            let (lo, hi) = bounds(triangle.corners, position);
             for key in blocks_of(lo, hi) {
                 self.blocks.entry(key).or_default().push(t as u32);
             }
@@ -99,9 +99,9 @@ impl TriangleBuckets {
     }
 }
 
-/// A triangle's bounding box.
-pub(super) fn bounds(triangle: &Triangle, position: &[I64Vec3]) -> (I64Vec3, I64Vec3) {
-    let [a, b, c] = triangle.corners.map(|i| position[i as usize]);
+/// The bounding box of the triangle with these corners.
+pub(super) fn bounds(corners: [u32; 3], position: &[I64Vec3]) -> (I64Vec3, I64Vec3) {
+    let [a, b, c] = corners.map(|i| position[i as usize]);
     (a.min(b).min(c), a.max(b).max(c))
 }
 
