@@ -37,6 +37,8 @@ mod surface;
 mod symmetry;
 #[cfg(test)]
 mod test_cages;
+#[cfg(test)]
+mod test_mirror;
 mod union_find;
 mod voxels;
 
@@ -282,7 +284,21 @@ pub fn autorig(
                 &surface, settings, &facts, cells, refinement, choice, control,
             )
         };
-        let mut rig = match on_grid(cells, GridChoice::DETAIL) {
+        // Limbs apart at the mirror plane where that makes a valid rig, else as before (Homer's
+        // legs pressed together at detail 5: two limbs touching along the plane made a
+        // non-manifold cage where they meet the body).
+        let detail = on_grid(cells, GridChoice::DETAIL).or_else(|e| match e {
+            AutorigError::Cancelled => Err(e),
+            _ if settings.mirror == Mirror::None => Err(e),
+            _ => on_grid(
+                cells,
+                GridChoice {
+                    limbs_apart: false,
+                    ..GridChoice::DETAIL
+                },
+            ),
+        });
+        let mut rig = match detail {
             Ok(rig) => rig,
             Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
             Err(_) => continue,
@@ -314,6 +330,7 @@ pub fn autorig(
                 let choice = GridChoice {
                     centre_symmetry: settings.mirror == Mirror::None,
                     band: Some(band),
+                    limbs_apart: true,
                 };
                 match on_grid(cells, choice) {
                     Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
@@ -416,6 +433,9 @@ struct GridChoice {
     centre_symmetry: bool,
     /// Thin cells between legs closer than a cell ([`legs_band`]).
     band: Option<BandAt>,
+    /// Whether a mirrored rig mirrors limbs that touch their twins at the plane as limbs of
+    /// their own ([`limbs_apart_at_plane`]); off for the retry where that made no valid rig.
+    limbs_apart: bool,
 }
 
 impl GridChoice {
@@ -423,11 +443,13 @@ impl GridChoice {
     const DETAIL: Self = Self {
         centre_symmetry: false,
         band: None,
+        limbs_apart: true,
     };
     /// The detail's grid, centred on the planes of symmetry.
     const CENTRED: Self = Self {
         centre_symmetry: true,
         band: None,
+        limbs_apart: true,
     };
 }
 
@@ -445,6 +467,7 @@ fn rig_on_grid(
     let GridChoice {
         centre_symmetry,
         band,
+        limbs_apart,
     } = choice;
     let mesh = surface.mesh;
     let (lo, hi) = mesh.bounds();
@@ -518,7 +541,7 @@ fn rig_on_grid(
     merges += pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
     parts::one_limb_per_root(&grid, &mut parts);
     if let Some(m) = &mirror {
-        merges += make_symmetric(&grid, m, &mut parts, surface);
+        merges += make_symmetric(&grid, m, &mut parts, surface, limbs_apart);
     }
     control.advance();
     check()?;
@@ -679,7 +702,7 @@ fn rig_on_grid(
         parts::compact(&mut parts);
         merges += repair::make_manifold(&grid, &mut parts) + 1;
         if let Some(m) = &mirror {
-            merges += make_symmetric(&grid, m, &mut parts, surface);
+            merges += make_symmetric(&grid, m, &mut parts, surface, limbs_apart);
         }
         frozen.clear();
         off_band.clear();
@@ -888,11 +911,17 @@ fn make_symmetric(
     mirror: &MirrorPlane,
     parts: &mut Parts,
     surface: &SurfaceMesh,
+    limbs_apart: bool,
 ) -> usize {
     let mirror_and_repair = |parts: &mut Parts| {
         let mut merges = 0;
         for _ in 0..4 {
-            symmetry::mirror_parts(grid, mirror, parts);
+            let apart = if limbs_apart {
+                limbs_apart_at_plane(grid, mirror, parts, surface)
+            } else {
+                BTreeSet::new()
+            };
+            symmetry::mirror_parts(grid, mirror, parts, &apart);
             let before = parts.label.clone();
             merges += repair::make_manifold(grid, parts);
             if parts.label == before {
@@ -920,6 +949,40 @@ fn make_symmetric(
         merges += twins + repairs;
     }
     merges
+}
+
+/// The limb parts that reach the mirror plane without their surface crossing it
+/// ([`pieces::limbs_apart_at_plane`]) and that, mirrored as parts crossing the plane, would be
+/// merged away with their limb: a foot touching its twin becomes one part holding both feet,
+/// which the trunk joins into one piece (the mirrored Cheburashka had no legs). Limbs that
+/// survive that merge (Homer's legs at detail 5, pressed together along their length) are
+/// mirrored as before.
+fn limbs_apart_at_plane(
+    grid: &Grid,
+    mirror: &MirrorPlane,
+    parts: &Parts,
+    surface: &SurfaceMesh,
+) -> BTreeSet<u32> {
+    let candidates = pieces::limbs_apart_at_plane(grid, parts, surface, mirror);
+    if candidates.is_empty() {
+        return candidates;
+    }
+    let limbs_of = |parts: &Parts| -> BTreeSet<usize> {
+        (parts.roles.iter())
+            .filter_map(|r| match r {
+                Role::Limb { limb, .. } => Some(*limb),
+                Role::Body { .. } => None,
+            })
+            .collect()
+    };
+    let mut trial = parts.clone();
+    symmetry::mirror_parts(grid, mirror, &mut trial, &BTreeSet::new());
+    let before = limbs_of(&trial);
+    pieces::merge_inseparable_pieces(grid, &mut trial, surface, Some(mirror));
+    let erased: BTreeSet<usize> = before.difference(&limbs_of(&trial)).copied().collect();
+    (candidates.into_iter())
+        .filter(|&p| matches!(parts.roles[p as usize], Role::Limb { limb, .. } if erased.contains(&limb)))
+        .collect()
 }
 
 /// Adds every cell within `distance` of a mesh vertex to the solid.
@@ -1227,5 +1290,34 @@ mod tests {
             }
         }
         assert_eq!(parts_around(&grid, &sparse, point).len(), 9);
+    }
+
+    #[test]
+    fn feet_touching_at_the_mirror_plane_and_joined_only_through_the_body_are_two_limbs() {
+        // The body holds the layers from z = 3.2 up, the limb the low side's cells below them
+        // from x = 1 to the plane x = 2.
+        let (grid, plane, parts) = test_mirror::limb_at_the_plane(5.0, 3.2);
+        let apart_in = |polylines: &[&[DVec3]]| {
+            let mesh = test_mirror::ribbons(polylines);
+            limbs_apart_at_plane(&grid, &plane, &parts, &SurfaceMesh::new(&mesh))
+        };
+        let (left, right) = (1.8, 2.2);
+        // Two feet, one either side of the plane, joined only across the body (Cheburashka's):
+        // mirrored as one part across the plane, it held both and merged into the body.
+        let feet = [
+            DVec3::new(left, 0.35, 0.5),
+            DVec3::new(left, 0.35, 4.4),
+            DVec3::new(right, 0.35, 4.4),
+            DVec3::new(right, 0.35, 0.5),
+        ];
+        assert_eq!(apart_in(&[&feet]), BTreeSet::from([1]));
+        // Joined below the body too (one loop through the limb across the plane): it crosses.
+        let mut ring = feet.to_vec();
+        ring.push(feet[0]);
+        assert!(apart_in(&[&ring]).is_empty());
+        // Not joined at all: two pieces no merge makes one, so the limb is not merged away
+        // and is mirrored as before (Homer's legs pressed together at detail 5).
+        let apart = apart_in(&[&feet[..2], &feet[2..]]);
+        assert!(apart.is_empty(), "{apart:?}");
     }
 }

@@ -342,6 +342,64 @@ pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, surface: &SurfaceMe
     Surface::new(grid, surface).extra_pieces_total(parts)
 }
 
+/// The limb parts of the low side that reach the mirror plane while no piece of the surface in
+/// them continues across it: no mesh edge joins a vertex in one of their cells to a vertex in
+/// the image of one (a foot touching its twin at the plane: Cheburashka's feet). Mirrored as
+/// parts that cross the plane, the two feet would be one part holding two pieces of surface,
+/// and the merge that makes it one piece took both into the body.
+pub(super) fn limbs_apart_at_plane(
+    grid: &Grid,
+    parts: &Parts,
+    surface: &SurfaceMesh,
+    plane: &MirrorPlane,
+) -> BTreeSet<u32> {
+    let surface = Surface::new(grid, surface);
+    // Limb parts holding a piece of surface (not a sliver) that touches the plane: some of
+    // its vertices lie in the part's cells beside the plane.
+    let mut held: BTreeMap<u32, (usize, bool)> = BTreeMap::new();
+    for &c in surface.cell_of.iter().flatten() {
+        let cell = grid.cell_of(c);
+        if let Some(p) = parts.label[c]
+            && plane.is_low_cell(cell)
+            && matches!(parts.roles[p as usize], Role::Limb { .. })
+        {
+            let entry = held.entry(p).or_insert((0, false));
+            entry.0 += 1;
+            entry.1 |= cell[plane.axis] == plane.half - 1;
+        }
+    }
+    let reaches: BTreeSet<u32> = (held.into_iter())
+        .filter(|&(_, (count, touches))| touches && count >= SLIVER_VERTICES)
+        .map(|(p, _)| p)
+        .collect();
+    // The part a vertex lies in as seen from the low side: its cell's, or its cell's image's
+    // on the high side.
+    let low_part = |v: usize| {
+        let c = surface.cell_of[v]?;
+        let cell = grid.cell_of(c);
+        let low = if plane.is_low_cell(cell) {
+            c
+        } else {
+            grid.index(plane.cell(cell))?
+        };
+        Some((parts.label[low]?, plane.is_low_cell(cell)))
+    };
+    let mut crossing = BTreeSet::new();
+    for (v, next) in surface.neighbours.iter().enumerate() {
+        let Some((p, true)) = low_part(v) else {
+            continue;
+        };
+        if reaches.contains(&p)
+            && next
+                .iter()
+                .any(|&n| low_part(n as usize) == Some((p, false)))
+        {
+            crossing.insert(p);
+        }
+    }
+    reaches.difference(&crossing).copied().collect()
+}
+
 /// Merges each part that still holds more than one piece of the surface (pieces sharing cells,
 /// which [`split_by_surface_pieces`] cannot separate) with the neighbour part that removes most
 /// extra pieces or, where no one neighbour does (two fingers meeting only at the palm), with
@@ -614,6 +672,8 @@ fn face_connected(grid: &Grid, label: &[Option<u32>], p: u32) -> bool {
 mod tests {
     use glam::{DVec3, IVec3};
 
+    use super::super::symmetry::mirror_parts;
+    use super::super::test_mirror::{limb_at_the_plane, ribbons};
     use super::*;
     use crate::mesh::Mesh;
 
@@ -700,6 +760,34 @@ mod tests {
                 1
             );
             assert_eq!(parts.roles, vec![Role::Body { body: 0, slab: 0 }]);
+        }
+    }
+
+    #[test]
+    fn a_limb_reaching_the_mirror_plane_is_apart_only_where_its_surface_does_not_cross_it() {
+        // The grid mirrors across x = 2. The limb holds the low side's cells from x = 1 up to
+        // the plane, the body the rest.
+        let (grid, plane, parts) = limb_at_the_plane(2.0, 10.0);
+        let strip = |from: f64, to: f64| [DVec3::new(from, 0.3, 1.0), DVec3::new(to, 0.3, 1.0)];
+        // Two feet touching at the plane, each its own piece of surface: apart.
+        let feet = ribbons(&[&strip(1.0, 1.98), &strip(2.02, 3.0)]);
+        let apart = limbs_apart_at_plane(&grid, &parts, &SurfaceMesh::new(&feet), &plane);
+        assert_eq!(apart, BTreeSet::from([1]));
+        // One strip across the plane (a tail on the centre line): it crosses.
+        let tail = ribbons(&[&strip(1.0, 3.0)]);
+        let apart = limbs_apart_at_plane(&grid, &parts, &SurfaceMesh::new(&tail), &plane);
+        assert!(apart.is_empty(), "{apart:?}");
+        // Mirrored, the feet are two limbs; the tail stays one part across the plane.
+        for (apart, expected_limbs) in [(BTreeSet::from([1]), 2), (BTreeSet::new(), 1)] {
+            let mut mirrored = parts.clone();
+            mirror_parts(&grid, &plane, &mut mirrored, &apart);
+            let limbs: BTreeSet<usize> = (mirrored.roles.iter())
+                .filter_map(|r| match r {
+                    Role::Limb { limb, .. } => Some(*limb),
+                    Role::Body { .. } => None,
+                })
+                .collect();
+            assert_eq!(limbs.len(), expected_limbs, "{:?}", mirrored.roles);
         }
     }
 

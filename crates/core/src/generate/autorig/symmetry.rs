@@ -6,7 +6,7 @@
 //! cage faces and the decimation follow the low side too (`polycube`, `decimate`), so the
 //! leaf cages are mirror images of each other to rounding.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::IVec3;
 
@@ -118,8 +118,14 @@ pub(super) fn low_twins(grid: &Grid, plane: &MirrorPlane, parts: &Parts) -> Vec<
 
 /// Relabels the high side as the mirror image of the low side (see the module). Limbs of the
 /// low side that do not cross the plane get a new limb for their images, branching from the
-/// image of the limb they branch from.
-pub(super) fn mirror_parts(grid: &Grid, plane: &MirrorPlane, parts: &mut Parts) {
+/// image of the limb they branch from. Parts in `apart` reach the plane without crossing it
+/// (their surface does not: a foot touching its twin) and get partners too.
+pub(super) fn mirror_parts(
+    grid: &Grid,
+    plane: &MirrorPlane,
+    parts: &mut Parts,
+    apart: &BTreeSet<u32>,
+) {
     let count = parts.roles.len();
     let mut low = vec![false; count];
     let mut crosses = vec![false; count];
@@ -128,7 +134,7 @@ pub(super) fn mirror_parts(grid: &Grid, plane: &MirrorPlane, parts: &mut Parts) 
         let c = grid.cell_of(i);
         if plane.is_low_cell(c) {
             low[p as usize] = true;
-            if c[plane.axis] == plane.half - 1 {
+            if c[plane.axis] == plane.half - 1 && !apart.contains(&p) {
                 crosses[p as usize] = true;
             }
         }
