@@ -620,9 +620,11 @@ const ANNEX_SHARE: f64 = 0.25;
 /// piece.
 const ANNEX_ROUNDS: usize = 4;
 
-/// The labels with `cells` (and their images across `mirror`, so that a mirrored rig stays
-/// symmetric) given to `p`, where they belong to other parts and `p` and every part they come
-/// from stay one face-connected piece of cells. None where no cell moves or one would not.
+/// The labels with `cells` given to `p` and their images across `mirror` to `p`'s twin (so
+/// that a mirrored rig stays symmetric; until session 48 the images went to `p` too, which cut
+/// a part off the plane in two and refused every such taking), where they belong to other
+/// parts and `p`, its twin and every part they come from stay one face-connected piece of
+/// cells. None where no cell moves or one would not.
 fn give_cells(
     grid: &Grid,
     parts: &Parts,
@@ -630,22 +632,27 @@ fn give_cells(
     p: u32,
     mirror: Option<&MirrorPlane>,
 ) -> Option<Vec<Option<u32>>> {
-    let cells: BTreeSet<usize> = cells
-        .flat_map(|c| {
-            let image = mirror.and_then(|m| grid.index(m.cell(grid.cell_of(c))));
-            std::iter::once(c).chain(image)
-        })
-        .filter(|&c| parts.label[c].is_some_and(|q| q != p))
+    let image_of = |c: usize| mirror.and_then(|m| grid.index(m.cell(grid.cell_of(c))));
+    // The cells' images go to p's image: the part holding the images of p's cells (p itself
+    // where it crosses the plane; a foot's twin on the other side).
+    let p_image = (parts.label.iter().position(|&l| l == Some(p)))
+        .and_then(image_of)
+        .and_then(|c| parts.label[c])
+        .unwrap_or(p);
+    let cells: BTreeSet<(usize, u32)> = cells
+        .flat_map(|c| std::iter::once((c, p)).chain(image_of(c).map(|i| (i, p_image))))
+        .filter(|&(c, to)| parts.label[c].is_some_and(|q| q != to))
         .collect();
     if cells.is_empty() {
         return None;
     }
-    let donors: BTreeSet<u32> = cells.iter().filter_map(|&c| parts.label[c]).collect();
+    let donors: BTreeSet<u32> = cells.iter().filter_map(|&(c, _)| parts.label[c]).collect();
     let mut label = parts.label.clone();
-    for &c in &cells {
-        label[c] = Some(p);
+    for &(c, to) in &cells {
+        label[c] = Some(to);
     }
-    std::iter::once(p)
+    [p, p_image]
+        .into_iter()
         .chain(donors)
         .all(|q| face_connected(grid, &label, q))
         .then_some(label)
@@ -789,6 +796,29 @@ mod tests {
                 .collect();
             assert_eq!(limbs.len(), expected_limbs, "{:?}", mirrored.roles);
         }
+    }
+
+    #[test]
+    fn cells_given_to_a_part_off_the_mirror_plane_give_their_images_to_its_twin() {
+        // The limb beside the plane, mirrored apart: the high side holds its twin.
+        let (grid, plane, mut parts) = limb_at_the_plane(2.0, 10.0);
+        mirror_parts(&grid, &plane, &mut parts, &BTreeSet::from([1]));
+        let limb = parts.part_at(&grid, DVec3::new(1.5, 0.5, 1.0)).unwrap();
+        let twin = parts.part_at(&grid, DVec3::new(2.5, 0.5, 1.0)).unwrap();
+        assert_ne!(limb, twin);
+        // A body cell beside the limb, and its image beside the twin.
+        let cell = grid.cell_at(DVec3::new(1.0, 0.5, 1.0)) - IVec3::X;
+        let index = grid.index(cell).unwrap();
+        let image = grid.index(plane.cell(cell)).unwrap();
+        assert!(parts.label[index].is_some_and(|q| q != limb));
+        let label = give_cells(&grid, &parts, std::iter::once(index), limb, Some(&plane))
+            .expect("the limb and its twin each stay one piece");
+        assert_eq!(label[index], Some(limb));
+        assert_eq!(label[image], Some(twin));
+        let changed = (label.iter().zip(&parts.label))
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(changed, 2);
     }
 
     #[test]
