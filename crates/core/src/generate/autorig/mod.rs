@@ -952,7 +952,7 @@ fn make_symmetric(
 }
 
 /// The limb parts that reach the mirror plane without their surface crossing it
-/// ([`pieces::limbs_apart_at_plane`]) and that, mirrored as parts crossing the plane, would be
+/// ([`pieces::limbs_stopping_at_plane`]) and that, mirrored as parts crossing the plane, would be
 /// merged away with their limb: a foot touching its twin becomes one part holding both feet,
 /// which the trunk joins into one piece (the mirrored Cheburashka had no legs). Limbs that
 /// survive that merge (Homer's legs at detail 5, pressed together along their length) are
@@ -963,7 +963,7 @@ fn limbs_apart_at_plane(
     parts: &Parts,
     surface: &SurfaceMesh,
 ) -> BTreeSet<u32> {
-    let candidates = pieces::limbs_apart_at_plane(grid, parts, surface, mirror);
+    let candidates = pieces::limbs_stopping_at_plane(grid, parts, surface, mirror);
     if candidates.is_empty() {
         return candidates;
     }

@@ -347,7 +347,7 @@ pub(super) fn extra_pieces_total(grid: &Grid, parts: &Parts, surface: &SurfaceMe
 /// the image of one (a foot touching its twin at the plane: Cheburashka's feet). Mirrored as
 /// parts that cross the plane, the two feet would be one part holding two pieces of surface,
 /// and the merge that makes it one piece took both into the body.
-pub(super) fn limbs_apart_at_plane(
+pub(super) fn limbs_stopping_at_plane(
     grid: &Grid,
     parts: &Parts,
     surface: &SurfaceMesh,
@@ -778,11 +778,11 @@ mod tests {
         let strip = |from: f64, to: f64| [DVec3::new(from, 0.3, 1.0), DVec3::new(to, 0.3, 1.0)];
         // Two feet touching at the plane, each its own piece of surface: apart.
         let feet = ribbons(&[&strip(1.0, 1.98), &strip(2.02, 3.0)]);
-        let apart = limbs_apart_at_plane(&grid, &parts, &SurfaceMesh::new(&feet), &plane);
+        let apart = limbs_stopping_at_plane(&grid, &parts, &SurfaceMesh::new(&feet), &plane);
         assert_eq!(apart, BTreeSet::from([1]));
         // One strip across the plane (a tail on the centre line): it crosses.
         let tail = ribbons(&[&strip(1.0, 3.0)]);
-        let apart = limbs_apart_at_plane(&grid, &parts, &SurfaceMesh::new(&tail), &plane);
+        let apart = limbs_stopping_at_plane(&grid, &parts, &SurfaceMesh::new(&tail), &plane);
         assert!(apart.is_empty(), "{apart:?}");
         // Mirrored, the feet are two limbs; the tail stays one part across the plane.
         for (apart, expected_limbs) in [(BTreeSet::from([1]), 2), (BTreeSet::new(), 1)] {
