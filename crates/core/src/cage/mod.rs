@@ -197,16 +197,30 @@ impl Cage {
     /// `distance` (a point inside or outside a cage is rejected by every triangle at the cost of
     /// a few comparisons; placing points spends most of its time here).
     pub fn is_within(&self, p: DVec3, distance: f64) -> bool {
-        let margin = DVec3::splat(distance);
-        self.triangles.iter().any(|&[a, b, c]| {
-            let [a, b, c] = [a, b, c].map(|k| self.positions[k as usize]);
-            let (lo, hi) = (a.min(b).min(c) - margin, a.max(b).max(c) + margin);
-            if p.cmplt(lo).any() || p.cmpgt(hi).any() {
-                return false;
-            }
-            let (q, _) = crate::geometry::closest_point_on_triangle(p, a, b, c);
-            q.distance(p) <= distance
+        self.triangles
+            .iter()
+            .any(|&t| self.triangle_is_within(t, p, distance))
+    }
+
+    /// [`Cage::is_within`] over the triangles `triangles` (indices) only.
+    pub fn is_within_of(&self, p: DVec3, distance: f64, triangles: &[u32]) -> bool {
+        triangles.iter().any(|&t| {
+            self.triangles
+                .get(t as usize)
+                .is_some_and(|&t| self.triangle_is_within(t, p, distance))
         })
+    }
+
+    /// Whether `p` lies within `distance` of triangle `[a, b, c]` (its grown bounds first).
+    fn triangle_is_within(&self, [a, b, c]: [u32; 3], p: DVec3, distance: f64) -> bool {
+        let margin = DVec3::splat(distance);
+        let [a, b, c] = [a, b, c].map(|k| self.positions[k as usize]);
+        let (lo, hi) = (a.min(b).min(c) - margin, a.max(b).max(c) + margin);
+        if p.cmplt(lo).any() || p.cmpgt(hi).any() {
+            return false;
+        }
+        let (q, _) = crate::geometry::closest_point_on_triangle(p, a, b, c);
+        q.distance(p) <= distance
     }
 
     /// The smallest t > 0 where the ray `origin + t·direction` meets the cage surface

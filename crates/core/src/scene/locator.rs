@@ -40,6 +40,13 @@ pub struct CageLocator<'a> {
     /// Per cell: [`NEAR`] or the index of its region in `inside`.
     region: Vec<u32>,
     inside: Vec<bool>,
+    /// The marked cells (indices, increasing) and, per marked cell, the triangles that
+    /// marked it (`near_triangles[near_start[k]..near_start[k + 1]]`): every triangle within
+    /// the tolerance of a point in the cell is among them, so the distance test reads only
+    /// those (over every triangle it was most of placing a big mesh's vertices).
+    near_cells: Vec<u32>,
+    near_start: Vec<u32>,
+    near_triangles: Vec<u32>,
 }
 
 impl<'a> CageLocator<'a> {
@@ -60,6 +67,9 @@ impl<'a> CageLocator<'a> {
             dims,
             region: vec![0; (dims.x * dims.y * dims.z) as usize],
             inside: Vec::new(),
+            near_cells: Vec::new(),
+            near_start: Vec::new(),
+            near_triangles: Vec::new(),
         };
         locator.mark_near_cells();
         locator.label_regions();
@@ -82,13 +92,17 @@ impl<'a> CageLocator<'a> {
     }
 
     /// Marks every cell the surface, grown by the tolerance, may reach: the cells of each
-    /// triangle's grown bounds whose centre is within half a cell diagonal of its plane.
+    /// triangle's grown bounds whose centre is within half a cell diagonal of its plane. A
+    /// point within the tolerance of a triangle lies in its grown bounds and within half a cell
+    /// diagonal and the tolerance of its plane from its cell's centre: that cell is one it
+    /// marks, and lists it.
     fn mark_near_cells(&mut self) {
+        let mut marks: Vec<(u32, u32)> = Vec::new();
         let positions = self.cage.positions();
         // A little more than the tolerance, against rounding in the cell arithmetic.
         let reach = self.tolerance + 1e-9 * self.cell;
         let half_diagonal = 0.5 * self.cell * 3f64.sqrt();
-        for &[a, b, c] in self.cage.triangles() {
+        for (t, &[a, b, c]) in self.cage.triangles().iter().enumerate() {
             let [a, b, c] = [a, b, c].map(|k| positions[k as usize]);
             let grow = DVec3::splat(reach);
             let first = self.cell_of(a.min(b).min(c) - grow);
@@ -102,10 +116,33 @@ impl<'a> CageLocator<'a> {
                         if normal == DVec3::ZERO || off_plane <= half_diagonal + reach {
                             let index = self.index(cell);
                             self.region[index] = NEAR;
+                            marks.push((index as u32, t as u32));
                         }
                     }
                 }
             }
+        }
+        marks.sort_unstable();
+        self.near_start.push(0);
+        for (k, &(cell, triangle)) in marks.iter().enumerate() {
+            if k > 0 && marks[k - 1].0 != cell {
+                self.near_start.push(self.near_triangles.len() as u32);
+            }
+            if k == 0 || marks[k - 1].0 != cell {
+                self.near_cells.push(cell);
+            }
+            self.near_triangles.push(triangle);
+        }
+        self.near_start.push(self.near_triangles.len() as u32);
+    }
+
+    /// The triangles that marked cell `index` (none for an unmarked cell).
+    fn triangles_near(&self, index: usize) -> &[u32] {
+        match self.near_cells.binary_search(&(index as u32)) {
+            Ok(k) => {
+                &self.near_triangles[self.near_start[k] as usize..self.near_start[k + 1] as usize]
+            }
+            Err(_) => &[],
         }
     }
 
@@ -165,8 +202,20 @@ impl<'a> CageLocator<'a> {
         if p.cmplt(lo).any() || p.cmpgt(hi).any() || !p.is_finite() {
             return Location::Outside;
         }
-        match self.region[self.index(self.cell_of(p))] {
-            NEAR => exact(self.cage, p, self.tolerance),
+        let index = self.index(self.cell_of(p));
+        match self.region[index] {
+            NEAR => {
+                if self
+                    .cage
+                    .is_within_of(p, self.tolerance, self.triangles_near(index))
+                {
+                    Location::OnSurface
+                } else if self.cage.winding_number(p) > 0.5 {
+                    Location::Inside
+                } else {
+                    Location::Outside
+                }
+            }
             region if self.inside[region as usize] => Location::Inside,
             _ => Location::Outside,
         }
