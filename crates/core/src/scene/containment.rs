@@ -40,8 +40,14 @@ pub fn leaf_containment(cages: &[LocalCage], points: &[DVec3]) -> Vec<Containmen
     let locators: Vec<Option<CageLocator>> = cages
         .par_iter()
         .zip(&boxes)
-        .map(|(c, &(_, _, tol))| {
-            (points.len() >= 4 * c.cage.triangles().len()).then(|| CageLocator::new(&c.cage, tol))
+        .map(|(c, &(lo, hi, tol))| {
+            (points.len() >= 4 * c.cage.triangles().len()).then(|| {
+                let in_box = points
+                    .iter()
+                    .filter(|p| p.cmpge(lo).all() && p.cmple(hi).all())
+                    .count();
+                CageLocator::for_points(&c.cage, tol, in_box)
+            })
         })
         .collect();
     points
