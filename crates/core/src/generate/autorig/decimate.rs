@@ -128,6 +128,9 @@ struct Obstacles<'a> {
     /// (`respan::in_largest_piece` over `sweep.surface`'s labels, which do not change during a
     /// decimation), found once.
     pieces_by_cell: &'a RefCell<BTreeMap<u32, Vec<Option<bool>>>>,
+    /// Scratch of `respan::keeps_its_pieces_changed`: each mesh point's piece, unvisited
+    /// between calls (allocated once: one per call was most of a big mesh's decimation).
+    piece_scratch: &'a RefCell<Vec<u32>>,
 }
 
 impl Obstacles<'_> {
@@ -261,6 +264,7 @@ fn decimate_with(
     let index_of = at.clone();
     // What a collapse must not break, besides the live vertices (`at`, which collapses change).
     let pieces_by_cell = RefCell::new(BTreeMap::new());
+    let piece_scratch = RefCell::new(Vec::new());
     let obstacles = Obstacles {
         position: &position,
         points: &points,
@@ -268,6 +272,7 @@ fn decimate_with(
         band,
         off_band,
         pieces_by_cell: &pieces_by_cell,
+        piece_scratch: &piece_scratch,
     };
     // The image of each vertex (itself on the plane), where it is a vertex.
     let image_of = |v: u32| -> Option<u32> {
@@ -408,9 +413,10 @@ fn decimate_with(
                     continue;
                 };
                 let mut gone = sheet.inner.clone();
-                let labels_before = label_now.clone();
+                // Kept for the mirror image's respan to undo (a copy of every label).
+                let labels_before = mirror.is_some().then(|| label_now.clone());
                 over.flip(&mut label_now);
-                if mirror.is_some() {
+                if let Some(labels_before) = labels_before {
                     let image_done = respan::image_sheet(sheet, &new, &sheets, image_of).and_then(
                         |(image_sheet, mut mapped)| {
                             let facing = respan::area_vector(mapped.iter().copied(), &position);

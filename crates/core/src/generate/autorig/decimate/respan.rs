@@ -623,21 +623,30 @@ pub(super) fn try_respan(
     if let Some(surface) = sweep.surface
         && !over.points.is_empty()
     {
-        let mut after = label_now.to_vec();
+        // The labels after the sweep, as the changes to `label_now` (a copy of every label
+        // per attempt was most of a big mesh's decimation).
+        let mut changed = BTreeMap::new();
         for &i in over.points.keys() {
-            let label = after.get_mut(i as usize)?;
-            *label = match *label {
+            let label = match *label_now.get(i as usize)? {
                 l if l == Some(lo) => Some(hi),
                 l if l == Some(hi) => Some(lo),
                 _ => return None, // a third part's point between the two sheets
             };
+            changed.insert(i, label);
         }
         let mut pieces_by_cell = obstacles.pieces_by_cell.borrow_mut();
         for part in [lo, hi] {
             let by_cell = pieces_by_cell
                 .entry(part)
                 .or_insert_with(|| in_largest_piece(Some(part), surface.label, surface.neighbours));
-            if !keeps_its_pieces(part, &after, by_cell, surface.neighbours) {
+            let scratch = &mut obstacles.piece_scratch.borrow_mut();
+            if !keeps_its_pieces_changed(
+                part,
+                (label_now, &changed),
+                by_cell,
+                surface.neighbours,
+                scratch,
+            ) {
                 return None;
             }
         }
@@ -731,26 +740,103 @@ pub(crate) fn in_largest_piece(
 /// into or out of a part whose cells hold a sliver of another side of the surface (five of the
 /// bunny's parts), but neither cut a part nor add to its slivers, nor sweep its largest piece
 /// away whole.
-pub(super) fn keeps_its_pieces(
+#[cfg(test)]
+fn keeps_its_pieces(
     part: u32,
     after: &[Option<u32>],
     cell: &[Option<bool>],
     neighbours: &[Vec<u32>],
 ) -> bool {
-    let now = in_largest_piece(Some(part), after, neighbours);
+    let scratch = &mut Vec::new();
+    keeps_its_pieces_changed(part, (after, &BTreeMap::new()), cell, neighbours, scratch)
+}
+
+/// [`keeps_its_pieces`] with the labels after the sweep given as `label_now` with the labels
+/// of the points in `changed` replaced. Reads only the points labelled `part` after the sweep
+/// and their neighbours (and scans `label_now` and `cell` once), with the pieces numbered and
+/// the largest chosen as [`in_largest_piece`] does (in the points' order, the first on a tie).
+/// `scratch` holds each point's piece while it runs ([`UNVISITED`] before and after; piece
+/// numbers stay below [`LEAVES`], a part having fewer points than that).
+fn keeps_its_pieces_changed(
+    part: u32,
+    (label_now, changed): (&[Option<u32>], &BTreeMap<u32, Option<u32>>),
+    cell: &[Option<bool>],
+    neighbours: &[Vec<u32>],
+    scratch: &mut Vec<u32>,
+) -> bool {
+    if scratch.len() < label_now.len() {
+        scratch.resize(label_now.len(), UNVISITED);
+    }
+    // The points the sweep changed, marked as entering or leaving the part.
+    for (&i, &label) in changed {
+        if let Some(slot) = scratch.get_mut(i as usize) {
+            *slot = if label == Some(part) { ENTERS } else { LEAVES };
+        }
+    }
+    // A point not yet reached that is labelled `part` after the sweep.
+    let unreached_member = |u: usize, scratch: &[u32]| match scratch.get(u) {
+        Some(&ENTERS) => true,
+        Some(&UNVISITED) => label_now.get(u) == Some(&Some(part)),
+        _ => false,
+    };
+    let members: Vec<u32> = (0..label_now.len())
+        .filter(|&i| unreached_member(i, scratch))
+        .map(|i| i as u32)
+        .collect();
+    // Each member's piece (connected by the surface's edges among the members), numbered in
+    // the members' order.
+    let mut size: Vec<usize> = Vec::new();
+    let mut todo = Vec::new();
+    for &start in &members {
+        if !unreached_member(start as usize, scratch) {
+            continue;
+        }
+        let id = size.len() as u32;
+        size.push(1);
+        scratch[start as usize] = id;
+        todo.push(start);
+        while let Some(v) = todo.pop() {
+            for &u in neighbours.get(v as usize).into_iter().flatten() {
+                if unreached_member(u as usize, scratch) {
+                    scratch[u as usize] = id;
+                    size[id as usize] += 1;
+                    todo.push(u);
+                }
+            }
+        }
+    }
+    let largest = (0..size.len())
+        .max_by(|&a, &b| size[a].cmp(&size[b]).then(b.cmp(&a)))
+        .map(|p| p as u32);
+    let piece_of: Vec<u32> = members.iter().map(|&v| scratch[v as usize]).collect();
+    for &v in members.iter().chain(changed.keys()) {
+        if let Some(slot) = scratch.get_mut(v as usize) {
+            *slot = UNVISITED;
+        }
+    }
+    let in_largest = |k: usize| Some(piece_of[k]) == largest;
     // The largest piece by cell is still there, in the largest now (a part swept empty, or
     // left with its sliver alone, holds none of its own surface) …
     let kept = !cell.contains(&Some(true))
-        || now
+        || members
             .iter()
-            .zip(cell)
-            .any(|(now, cell)| *now == Some(true) && *cell == Some(true));
+            .enumerate()
+            .any(|(k, &v)| in_largest(k) && cell.get(v as usize) == Some(&Some(true)));
     // … and nothing off it but slivers the cells held.
-    kept && now
+    kept && members
         .iter()
         .enumerate()
-        .all(|(v, largest)| *largest != Some(false) || cell.get(v) == Some(&Some(false)))
+        .all(|(k, &v)| in_largest(k) || cell.get(v as usize) == Some(&Some(false)))
 }
+
+/// A point no piece has reached yet ([`keeps_its_pieces_changed`]'s scratch).
+const UNVISITED: u32 = u32::MAX;
+
+/// A point the sweep moves into the part, not yet reached ([`keeps_its_pieces_changed`]).
+const ENTERS: u32 = u32::MAX - 1;
+
+/// A point the sweep moves out of the part ([`keeps_its_pieces_changed`]).
+const LEAVES: u32 = u32::MAX - 2;
 
 /// The sheet that is `sheet`'s mirror image, with `new` (its triangles spanned again) mirrored
 /// onto it; None where the image is not one of `sheets` or a rim vertex has none.
@@ -881,6 +967,46 @@ mod tests {
         let keeps_one = |after: &str| keeps_its_pieces(1, &labels(after), &one_pieces, &neighbours);
         assert!(keeps_one("000000111100"));
         assert!(!keeps_one("100000011100"), "a point of it swept far away");
+    }
+
+    /// The sweep's labels given as changes to the labels before it decide as the labels after
+    /// it do, on every assignment of three parts to six points of a ring and every set of
+    /// points swept between parts 0 and 1, with one scratch for all calls (left clean).
+    #[test]
+    fn a_sweep_s_changes_decide_as_the_labels_after_it() {
+        let n = 6u32;
+        let neighbours: Vec<Vec<u32>> =
+            (0..n).map(|v| vec![(v + n - 1) % n, (v + 1) % n]).collect();
+        let mut scratch = Vec::new();
+        let mut compared = 0;
+        for code in 0..3u32.pow(n) {
+            let before: Vec<Option<u32>> = (0..n).map(|k| Some(code / 3u32.pow(k) % 3)).collect();
+            for swept in 0..1u32 << n {
+                let mut after = before.clone();
+                let mut changed = BTreeMap::new();
+                for k in 0..n as usize {
+                    if swept >> k & 1 == 1 && before[k] != Some(2) {
+                        after[k] = before[k].map(|l| 1 - l);
+                        changed.insert(k as u32, after[k]);
+                    }
+                }
+                for part in [0, 1] {
+                    let cell = in_largest_piece(Some(part), &before, &neighbours);
+                    let dense = keeps_its_pieces(part, &after, &cell, &neighbours);
+                    let sparse = keeps_its_pieces_changed(
+                        part,
+                        (&before, &changed),
+                        &cell,
+                        &neighbours,
+                        &mut scratch,
+                    );
+                    assert_eq!(dense, sparse, "{before:?} → {after:?}, part {part}");
+                    assert!(scratch.iter().all(|&x| x == UNVISITED));
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 3usize.pow(n) * (1 << n) * 2);
     }
 
     /// Twice the area of the triangles over `rim`.
