@@ -10,8 +10,13 @@ use super::{FileError, parse_finite};
 /// Checks every `v`, `vt`, `vn` and `f` line of `text` (read from `path`).
 pub(super) fn check_obj_text(path: &Path, text: &str) -> Result<(), FileError> {
     let mut counts = [0usize; 3]; // v, vt, vn defined so far
+    // One buffer for every line's tokens (one allocation per line was most of this pass on a
+    // big mesh).
+    let mut values: Vec<&str> = Vec::new();
     for (line_no, keyword, tokens) in super::obj_statements(text) {
-        let values: Vec<&str> = tokens.collect();
+        values.clear();
+        values.extend(tokens);
+        let values = &values;
         let err = |reason: String| FileError::parse(path, line_no, reason);
         let numbers = |names: &[&str], least: usize, most: usize, what: &str| {
             if values.len() < least || values.len() > most {
@@ -36,7 +41,7 @@ pub(super) fn check_obj_text(path: &Path, text: &str) -> Result<(), FileError> {
             "v" => numbers(&["x", "y", "z", "w", "g", "b"], 3, 6, "a vertex 'v x y z'")?,
             "vt" => numbers(&["u", "v", "w"], 1, 3, "a texture coordinate 'vt u v'")?,
             "vn" => numbers(&["x", "y", "z"], 3, 3, "a normal 'vn x y z'")?,
-            "f" => check_face(&values, &counts).map_err(err)?,
+            "f" => check_face(values, &counts).map_err(err)?,
             _ => {}
         }
         match keyword {
@@ -47,6 +52,20 @@ pub(super) fn check_obj_text(path: &Path, text: &str) -> Result<(), FileError> {
         }
     }
     Ok(())
+}
+
+/// Which of a corner's (up to three) parts are written.
+#[derive(Clone, Copy, PartialEq, Eq, Default)]
+struct WrittenParts([bool; 3]);
+
+impl FromIterator<bool> for WrittenParts {
+    fn from_iter<I: IntoIterator<Item = bool>>(iter: I) -> Self {
+        let mut written = [false; 3];
+        for (slot, x) in written.iter_mut().zip(iter) {
+            *slot = x;
+        }
+        Self(written)
+    }
 }
 
 /// A face's corners: at least three, all in one layout (`v`, `v/vt`, `v//vn` or `v/vt/vn`),
@@ -61,14 +80,31 @@ fn check_face(corners: &[&str], counts: &[usize; 3]) -> Result<(), String> {
     }
     let mut layout = None;
     for corner in corners {
-        let parts: Vec<&str> = corner.split('/').collect();
-        let this: Vec<bool> = parts.iter().map(|p| !p.is_empty()).collect();
-        if parts.len() > 3 || parts.first().is_none_or(|p| p.is_empty()) {
+        // Its parts (at most three; a fourth makes it malformed) and which are written.
+        let mut parts = [""; 3];
+        let mut count = 0;
+        for part in corner.split('/') {
+            if count == 3 {
+                count = 4;
+                break;
+            }
+            parts[count] = part;
+            count += 1;
+        }
+        if count > 3 || parts[0].is_empty() {
             return Err(format!(
                 "face corner '{corner}' is not v, v/vt, v//vn or v/vt/vn"
             ));
         }
-        if layout.get_or_insert_with(|| this.clone()) != &this {
+        let parts = &parts[..count];
+        let this = (
+            count,
+            parts
+                .iter()
+                .map(|p| !p.is_empty())
+                .collect::<WrittenParts>(),
+        );
+        if *layout.get_or_insert(this) != this {
             return Err(format!(
                 "face corner '{corner}' is written differently from the face's first corner; \
                  write every corner of a face the same way"
@@ -126,6 +162,9 @@ mod tests {
             ("f 1 2 0\n", 5, "names vertex 0"),
             ("f 1/2 2/1 3/1\n", 5, "texture coordinate 2"),
             ("f 1 2 x\n", 5, "not a whole number"),
+            ("f 1/1/1/1 2 3\n", 5, "is not v, v/vt, v//vn or v/vt/vn"),
+            ("f /1 2/1 3/1\n", 5, "is not v, v/vt, v//vn or v/vt/vn"),
+            ("f 1 2/1 3\n", 5, "written differently"),
             ("vt nan 0\n", 5, "not finite"),
             ("v 1e999 0 0\n", 5, "not finite"),
             ("v 1 2\n", 5, "cut short"),
