@@ -212,15 +212,30 @@ const STEPS: usize = 6;
 fn without_duplicate_triangles(mesh: &Mesh) -> std::borrow::Cow<'_, Mesh> {
     use std::borrow::Cow;
     let triangles = mesh.welded_triangles();
-    let mut seen = std::collections::HashSet::with_capacity(triangles.len());
+    // Each triangle as it reads from its least corner (the same triangle whichever corner it
+    // starts from), sorted with its index: copies lie side by side, the first in the file
+    // first. Sorted in parallel: a hash set of 1.25M triangles was 0.3 s of rigging a
+    // 625k-vertex mesh.
+    let mut keyed: Vec<([u32; 3], u32)> = triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let first = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+            ([t[first], t[(first + 1) % 3], t[(first + 2) % 3]], i as u32)
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    let mut copy = vec![false; triangles.len()];
+    for pair in keyed.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            copy[pair[1].1 as usize] = true;
+        }
+    }
     let unique: Vec<[u32; 3]> = triangles
         .iter()
-        .filter(|t| {
-            // The same triangle whichever corner it starts from.
-            let first = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
-            seen.insert([t[first], t[(first + 1) % 3], t[(first + 2) % 3]])
-        })
-        .copied()
+        .zip(&copy)
+        .filter(|(_, copy)| !**copy)
+        .map(|(t, _)| *t)
         .collect();
     if unique.len() == triangles.len() {
         return Cow::Borrowed(mesh);
