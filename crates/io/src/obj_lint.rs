@@ -54,20 +54,6 @@ pub(super) fn check_obj_text(path: &Path, text: &str) -> Result<(), FileError> {
     Ok(())
 }
 
-/// Which of a corner's (up to three) parts are written.
-#[derive(Clone, Copy, PartialEq, Eq, Default)]
-struct WrittenParts([bool; 3]);
-
-impl FromIterator<bool> for WrittenParts {
-    fn from_iter<I: IntoIterator<Item = bool>>(iter: I) -> Self {
-        let mut written = [false; 3];
-        for (slot, x) in written.iter_mut().zip(iter) {
-            *slot = x;
-        }
-        Self(written)
-    }
-}
-
 /// A face's corners: at least three, all in one layout (`v`, `v/vt`, `v//vn` or `v/vt/vn`),
 /// every index a non-zero integer naming an element defined above (negative: counted back).
 fn check_face(corners: &[&str], counts: &[usize; 3]) -> Result<(), String> {
@@ -96,14 +82,9 @@ fn check_face(corners: &[&str], counts: &[usize; 3]) -> Result<(), String> {
                 "face corner '{corner}' is not v, v/vt, v//vn or v/vt/vn"
             ));
         }
+        // The layout: how many parts, and which are written.
+        let this = (count, parts.map(|p| !p.is_empty()));
         let parts = &parts[..count];
-        let this = (
-            count,
-            parts
-                .iter()
-                .map(|p| !p.is_empty())
-                .collect::<WrittenParts>(),
-        );
         if *layout.get_or_insert(this) != this {
             return Err(format!(
                 "face corner '{corner}' is written differently from the face's first corner; \

@@ -136,13 +136,10 @@ impl<'a> CageLocator<'a> {
             }
         }
         marks.sort_unstable();
-        self.near_start.push(0);
         for (k, &(cell, triangle)) in marks.iter().enumerate() {
-            if k > 0 && marks[k - 1].0 != cell {
-                self.near_start.push(self.near_triangles.len() as u32);
-            }
             if k == 0 || marks[k - 1].0 != cell {
                 self.near_cells.push(cell);
+                self.near_start.push(self.near_triangles.len() as u32);
             }
             self.near_triangles.push(triangle);
         }
