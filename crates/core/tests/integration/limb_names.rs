@@ -757,3 +757,44 @@ fn a_head_column_over_a_low_belly_gets_its_own_control_above_the_arms() {
         );
     }
 }
+
+/// A hunched biped facing −Y (the armadillo's build): a thick torso whose top front carries a
+/// head jutting forward below its crown, with no narrower layer between (the torso tapers
+/// across every horizontal layer), two ears on the head, a snout forward and arms reaching
+/// forward beside the head.
+pub(crate) fn hunched_biped() -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.0), v(0.0, 0.1, 1.0), 0.45),
+        (v(0.0, -0.3, 0.95), v(0.0, -0.5, 1.0), 0.3),
+        (v(0.0, -0.75, 0.95), v(0.0, -1.15, 0.9), 0.1),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.15 * side, -0.5, 1.2), v(0.35 * side, -0.5, 1.75), 0.07));
+        parts.push((v(0.42 * side, 0.05, 0.5), v(0.75 * side, -0.35, 0.6), 0.11));
+        parts.push((v(0.75 * side, -0.35, 0.6), v(0.8 * side, -0.8, 0.95), 0.09));
+        parts.push((v(0.28 * side, 0.0, -0.2), v(0.3 * side, 0.0, -1.9), 0.14));
+    }
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn a_head_jutting_forward_from_a_hunched_body_carries_its_ears_and_snout() {
+    // The armadillo's build: its head sat in the top body slabs with no control, its ears and
+    // snout hanging from the root (no horizontal layer narrows under it).
+    let controls = controls_of(&hunched_biped());
+    let names: Vec<&String> = controls.keys().collect();
+    for limb in ["head.1", "arm.L.1", "arm.R.1", "leg.L.1", "leg.R.1"] {
+        assert!(controls.contains_key(limb), "no {limb} in {names:?}");
+    }
+    assert_eq!(parent(&controls, "head.1"), "root", "{names:?}");
+    for feature in ["ear.L.1", "ear.R.1", "limb.1.1"] {
+        assert_eq!(parent(&controls, feature), "head.1", "{names:?}");
+    }
+    // Its pivot is on the centre line at the back of the head's base, between the torso's
+    // axis and the snout.
+    let pivot = controls["head.1"].1;
+    assert!(
+        pivot.x.abs() < 0.1 && pivot.y < 0.0 && pivot.y > -0.6 && pivot.z > 0.4 && pivot.z < 1.3,
+        "{pivot}"
+    );
+}

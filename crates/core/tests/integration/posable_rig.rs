@@ -1078,6 +1078,18 @@ fn a_head_thicker_than_the_torso_turns_and_nods_with_its_ears_leaving_the_arms_s
 }
 
 #[test]
+fn a_head_jutting_forward_from_a_hunched_body_turns_leaving_its_arms_still() {
+    // The armadillo's build: the head, split from the front of the torso's top, turns 30°
+    // either way carrying its ears and snout, with no fold and its volume kept; the arms and
+    // legs stay still.
+    let scene = rigged(&crate::limb_names::hunched_biped());
+    let binding = StarBinding::bind_scene(&scene, &BindControl::default()).unwrap();
+    for edit in ["head.1: rotate 0 0 1 30", "head.1: rotate 0 0 1 -30"] {
+        bends_cleanly(&scene, &binding, edit, 30.0, &["head", "ear", "limb"]);
+    }
+}
+
+#[test]
 fn a_head_column_over_a_low_belly_turns_and_nods_leaving_the_arms_still() {
     // Homer's build: the head column, split off at the top of the shoulders, turns, nods and
     // tilts 30° with no triangle turned inside out and its volume kept; the arms and legs

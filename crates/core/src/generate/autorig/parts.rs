@@ -655,7 +655,9 @@ fn split_at_necks(grid: &Grid, body: &mut [bool]) -> Vec<bool> {
 /// reaches the ground itself, on a figure standing on separate feet (`on_separate_feet`:
 /// the grid held its feet in the body, Cheburashka's), is split at a waist between a thick
 /// head and chest instead ([`neck_between_thick_ends`]). The head's skin, the limb
-/// cells within [`HEAD_SKIN`] cells of it above that layer, joins its body. Returns which
+/// cells within [`HEAD_SKIN`] cells of it above that layer, joins its body. A standing body
+/// on legs that narrows in none of these ways may carry a head jutting forward from its top
+/// ([`head_in_front`]), which leaves it through a collar that holds no arm. Returns which
 /// cells are heads, and which of them crowns (a head of [`HEAD_LAYERS`]): each becomes one slab (halved, each half was under a fifth of a body
 /// slab and merged away, leaving the head no control).
 fn split_heads_above_shoulders(
@@ -743,46 +745,281 @@ fn split_heads_above_shoulders(
         } else {
             neck_between_thick_ends(&count).map(|k| (k, false))
         };
-        if let Some((k, crown)) = neck {
-            let mut head = Vec::new();
-            for &i in &cells {
-                if layer(i) == k {
-                    body[i] = false;
-                } else if layer(i) > k {
-                    head.push(i);
-                }
+        let split = match neck {
+            Some((k, crown)) => {
+                let cut = HeadCut {
+                    axis: 2,
+                    sign: 1,
+                    at: lo.z + k as i32,
+                    from_z: i32::MIN,
+                    crown,
+                };
+                Some(split_head(grid, occupied, body, &cells, &cut))
             }
-            // The head's skin: the thin shell of limb cells around its core, above the neck
-            // layer, within HEAD_SKIN cells of the core. Left a limb region, the shoulders'
-            // slab took it and wrapped the head, so the joint ring reached its crown.
-            let above = lo.z + k as i32;
-            let mut front = head.clone();
-            let mut seen: BTreeSet<usize> = head.iter().copied().collect();
-            for _ in 0..HEAD_SKIN {
-                let mut next = Vec::new();
-                for &i in &front {
-                    let c = grid.cell_of(i);
-                    for step in FACE_STEPS {
-                        let Some(n) = grid.index(c + step) else {
-                            continue;
-                        };
-                        if occupied[n] && !body[n] && grid.cell_of(n).z > above && seen.insert(n) {
-                            next.push(n);
-                        }
-                    }
-                }
-                front = next;
-                head.extend_from_slice(&front);
+            None if on_legs => {
+                // The upper half's thickest layer: the shoulders.
+                let shoulders = (layers / 2..layers)
+                    .max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))
+                    .unwrap_or(0);
+                head_in_front(grid, &cells, lo.z + shoulders as i32)
+                    .iter()
+                    .map(|cut| split_head(grid, occupied, body, &cells, cut))
+                    .find(|split| !split.collar_holds_a_limb_of_the_torso(grid, &limb_of, body))
             }
-            for i in head {
+            None => None,
+        };
+        if let Some(split) = split {
+            for &i in &split.neck {
+                body[i] = false;
+            }
+            for &i in &split.head {
                 body[i] = true;
                 heads[i] = true;
-                crowns[i] = crown;
+                crowns[i] = split.crown;
             }
         }
     }
     (heads, crowns)
 }
+
+/// A head split off a body: its cells (its core and skin), the cells leaving the body as its
+/// neck, and whether it is a crown.
+struct HeadSplit {
+    head: Vec<usize>,
+    neck: Vec<usize>,
+    crown: bool,
+}
+
+impl HeadSplit {
+    /// Whether a limb region (`limb_of`, before the split) touches both the neck and the rest
+    /// of the body: an arm rooted beside a head jutting forward would join the neck and hang
+    /// from it.
+    fn collar_holds_a_limb_of_the_torso(
+        &self,
+        grid: &Grid,
+        limb_of: &[Option<usize>],
+        body: &[bool],
+    ) -> bool {
+        let head: BTreeSet<usize> = self.head.iter().copied().collect();
+        let neck: BTreeSet<usize> = self.neck.iter().copied().collect();
+        let touching = |cells: &mut dyn Iterator<Item = usize>| -> BTreeSet<usize> {
+            cells
+                .flat_map(|i| grid.face_neighbours(i))
+                .filter(|n| !head.contains(n))
+                .filter_map(|n| limb_of[n])
+                .collect()
+        };
+        let at_neck = touching(&mut neck.iter().copied());
+        let mut torso =
+            (0..grid.len()).filter(|i| body[*i] && !head.contains(i) && !neck.contains(i));
+        let at_torso = touching(&mut torso);
+        at_neck.intersection(&at_torso).next().is_some()
+    }
+}
+
+/// The head, skin included, and neck of a body (`cells`) cut by `cut`, the body's cells as
+/// `body` marks them. The head's skin is the thin shell of limb cells around its core, past
+/// the neck, within [`HEAD_SKIN`] cells of the core: left a limb region, the shoulders' slab
+/// took it and wrapped the head, so the joint ring reached its crown. A head cut across a
+/// horizontal axis leaves the torso through its collar: the torso's cells touching the head
+/// or its skin.
+fn split_head(
+    grid: &Grid,
+    occupied: &[bool],
+    body: &[bool],
+    cells: &[usize],
+    cut: &HeadCut,
+) -> HeadSplit {
+    let (mut head, mut neck) = head_and_neck(grid, cells, cut);
+    // The lowest layer of the head: its skin stays above it.
+    let head_from_z = head
+        .iter()
+        .map(|&i| grid.cell_of(i).z)
+        .min()
+        .unwrap_or(i32::MAX);
+    let mut front = head.clone();
+    let mut seen: BTreeSet<usize> = head.iter().copied().collect();
+    for _ in 0..HEAD_SKIN {
+        let mut next = Vec::new();
+        for &i in &front {
+            let c = grid.cell_of(i);
+            for step in FACE_STEPS {
+                let Some(n) = grid.index(c + step) else {
+                    continue;
+                };
+                let c = grid.cell_of(n);
+                let past = c.z >= head_from_z && cut.past(c) > 0;
+                if occupied[n] && !body[n] && past && seen.insert(n) {
+                    next.push(n);
+                }
+            }
+        }
+        front = next;
+        head.extend_from_slice(&front);
+    }
+    if cut.axis != 2 {
+        let member: BTreeSet<usize> = cells.iter().copied().collect();
+        let collar: BTreeSet<usize> = head
+            .iter()
+            .flat_map(|&i| grid.face_neighbours(i))
+            .filter(|n| member.contains(n) && !seen.contains(n))
+            .collect();
+        neck.extend(collar);
+    }
+    HeadSplit {
+        head,
+        neck,
+        crown: cut.crown,
+    }
+}
+
+/// Where a head leaves its body: the body cells at or above layer `from_z` past the neck layer
+/// `at` across grid axis `axis`, on its side `sign` (+1 or -1); the neck layer's cells leave
+/// the body (the limb between head and torso).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct HeadCut {
+    axis: usize,
+    sign: i32,
+    at: i32,
+    from_z: i32,
+    /// A head of [`HEAD_LAYERS`] on a body that narrows nowhere lower.
+    crown: bool,
+}
+
+impl HeadCut {
+    /// How many layers past the neck's plane cell `c` lies (negative on the torso's side).
+    fn past(&self, c: IVec3) -> i32 {
+        self.sign * (c[self.axis] - self.at)
+    }
+}
+
+/// The head and neck of a body (`cells`) cut by `cut`. Across the vertical axis: the layers
+/// above the neck layer, and the neck layer. Across a horizontal one: the body cells past the
+/// plane that are face-connected, past it, to those at or above `from_z`, at most
+/// [`HEAD_UNDER_LAYERS`] below it (the torso's front further down is not the head: taken, a
+/// head turn moved the generated hunched figure's hips by 2 %), and no neck ([`split_head`]'s
+/// collar is).
+fn head_and_neck(grid: &Grid, cells: &[usize], cut: &HeadCut) -> (Vec<usize>, Vec<usize>) {
+    if cut.axis == 2 {
+        let head = cells
+            .iter()
+            .copied()
+            .filter(|&i| cut.past(grid.cell_of(i)) > 0);
+        let neck = cells
+            .iter()
+            .copied()
+            .filter(|&i| cut.past(grid.cell_of(i)) == 0);
+        return (head.collect(), neck.collect());
+    }
+    let member: BTreeSet<usize> = cells.iter().copied().collect();
+    let past = |i: usize| cut.past(grid.cell_of(i)) > 0;
+    let mut head: BTreeSet<usize> = cells
+        .iter()
+        .copied()
+        .filter(|&i| past(i) && grid.cell_of(i).z >= cut.from_z)
+        .collect();
+    let mut front: Vec<usize> = head.iter().copied().collect();
+    while let Some(i) = front.pop() {
+        for n in grid.face_neighbours(i) {
+            let low_enough = grid.cell_of(n).z >= cut.from_z - HEAD_UNDER_LAYERS;
+            if member.contains(&n) && past(n) && low_enough && head.insert(n) {
+                front.push(n);
+            }
+        }
+    }
+    (head.into_iter().collect(), Vec::new())
+}
+
+/// A standing figure's head jutting forward from the top of a hunched body that tapers into
+/// it with no narrower horizontal layer (the armadillo's: its shell's top holds 0.64 of the
+/// shoulders' layer one layer under the head, the head sitting in front of the shell). Of the
+/// body `cells` from `shoulders_z` (the upper half's thickest layer) up, the layers across
+/// either horizontal axis from either end: the tip, then layers of about one cross-section
+/// (within [`HEAD_GROWTH`] of the thinnest after the tip), each at most [`FRONT_HEAD_SHARE`]
+/// of the thickest, at least [`NECK_END_LAYERS`] of them and under [`FRONT_HEAD_EXTENT`] of
+/// the extent, are a head; the layer inside them is its neck. A round body's flanks keep
+/// widening and are no head. Returns the cuts to try in order: the ends whose heads hold the
+/// most cells first, each from its longest head to its shortest.
+fn head_in_front(grid: &Grid, cells: &[usize], shoulders_z: i32) -> Vec<HeadCut> {
+    let upper: Vec<IVec3> = cells
+        .iter()
+        .map(|&i| grid.cell_of(i))
+        .filter(|c| c.z >= shoulders_z)
+        .collect();
+    // Per end: its head's cells and its cuts.
+    let mut ends: Vec<(usize, Vec<HeadCut>)> = Vec::new();
+    for axis in 0..2 {
+        let (Some(lo), Some(hi)) = (
+            upper.iter().map(|c| c[axis]).min(),
+            upper.iter().map(|c| c[axis]).max(),
+        ) else {
+            continue;
+        };
+        let mut count = vec![0usize; (hi - lo + 1) as usize];
+        for c in &upper {
+            count[(c[axis] - lo) as usize] += 1;
+        }
+        let thickest = count.iter().copied().max().unwrap_or(0) as f64;
+        let longest = (FRONT_HEAD_EXTENT * count.len() as f64).ceil() as usize;
+        for sign in [1, -1] {
+            // Layers from the end on this side, outermost first.
+            let from_end: Vec<usize> = if sign > 0 {
+                count.iter().rev().copied().collect()
+            } else {
+                count.clone()
+            };
+            let mut least = usize::MAX;
+            let run = from_end
+                .iter()
+                .enumerate()
+                .take_while(|&(k, &n)| {
+                    if k > 0 {
+                        least = least.min(n);
+                    }
+                    n as f64 <= FRONT_HEAD_SHARE * thickest
+                        && (k == 0 || n as f64 <= HEAD_GROWTH * least as f64)
+                })
+                .count();
+            if run < NECK_END_LAYERS || run >= longest {
+                continue;
+            }
+            let cuts = (NECK_END_LAYERS..=run)
+                .rev()
+                .map(|layers| HeadCut {
+                    axis,
+                    sign,
+                    at: if sign > 0 {
+                        hi - layers as i32
+                    } else {
+                        lo + layers as i32
+                    },
+                    from_z: shoulders_z,
+                    crown: false,
+                })
+                .collect();
+            ends.push((from_end[..run].iter().sum(), cuts));
+        }
+    }
+    ends.sort_by_key(|end| Reverse(end.0));
+    ends.into_iter().flat_map(|(_, cuts)| cuts).collect()
+}
+
+/// The most body cells each layer of a head jutting in front of a hunched body's top holds,
+/// as a share of that top's thickest layer across the same axis (the armadillo's head:
+/// 34, 28, 25 and 5 cells against 76).
+const FRONT_HEAD_SHARE: f64 = 0.6;
+
+/// How many layers under the hunched body's shoulders a head jutting in front of it reaches
+/// (the armadillo's two; lower down, the torso's front is not the head).
+const HEAD_UNDER_LAYERS: i32 = 2;
+
+/// How much wider than its thinnest layer behind the tip a head jutting in front of a hunched
+/// body's top may grow (the armadillo's: 25, 28 and 34 cells; its flanks 21 then 38).
+const HEAD_GROWTH: f64 = 1.4;
+
+/// A head jutting in front of a hunched body's top is under this share of that top's extent
+/// along the axis it juts along.
+const FRONT_HEAD_EXTENT: f64 = 0.4;
 
 /// The neck of a standing body that reaches the ground on separate feet (the grid holds the
 /// feet in the body: Cheburashka's): [`narrowest_between_ends`] above its lowest third (a head
