@@ -15,7 +15,8 @@ trap 'rm -rf "$work"' EXIT
     --apply "leg.L.1: rotate 1 0 0 30" --apply "leg.L.2: rotate 1 0 0 -50" \
     --apply "leg.R.1: rotate 1 0 0 -20" --apply "arm.L.1: rotate 0 1 0 45" \
     --apply "arm.R.1: rotate 0 -1 0 45" --apply "arm.R.2: rotate 1 0 0 40" \
-    --apply "tail.1: rotate 0 0 1 20" --png docs/images/posed_armadillo.png >/dev/null
+    --apply "tail.1: rotate 0 0 1 20" --apply "head.1: rotate 0 0 1 -25" \
+    --png docs/images/posed_armadillo.png >/dev/null
 "$cli" autorig "$meshes/horse.obj" --out "$work/horse.json" >/dev/null
 "$cli" render "$work/horse.json" --no-cages --view side --size 480x480 \
     --apply "leg.front.L.1: rotate 1 0 0 35" --apply "leg.front.L.3: rotate 1 0 0 -80" \
