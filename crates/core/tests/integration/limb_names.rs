@@ -176,6 +176,11 @@ fn mirrored_twin_knees_are_two_legs_not_one_body() {
 /// it above, arms hanging a little out from the shoulders, legs of radius 0.13 `hip_x` either
 /// side of the centre at the hips (0.2: they touch) and `foot_x` at the feet.
 pub(crate) fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
+    capsules(&human_parts(hip_x, foot_x, neck_top), 0.035)
+}
+
+/// The capsules of [`human`].
+fn human_parts(hip_x: f64, foot_x: f64, neck_top: f64) -> Vec<(DVec3, DVec3, f64)> {
     let mut parts = vec![
         (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
         (v(0.0, 0.0, 1.3), v(0.0, 0.0, neck_top), 0.1),
@@ -194,7 +199,7 @@ pub(crate) fn human(hip_x: f64, foot_x: f64, neck_top: f64) -> Mesh {
             0.13,
         ));
     }
-    capsules(&parts, 0.035)
+    parts
 }
 
 /// [`human`] with its head set on its shoulders by a neck as thick as most of the head (no
@@ -796,5 +801,28 @@ fn a_head_jutting_forward_from_a_hunched_body_carries_its_ears_and_snout() {
     assert!(
         pivot.x.abs() < 0.1 && pivot.y < 0.0 && pivot.y > -0.6 && pivot.z > 0.4 && pivot.z < 1.3,
         "{pivot}"
+    );
+}
+
+/// [`human`] (legs 0.6 apart, a neck 0.5 long) with a backpack: a thick lump on its back,
+/// across the upper torso.
+fn human_with_backpack() -> Mesh {
+    let mut parts = human_parts(0.3, 0.32, 1.8);
+    parts.push((v(0.0, 0.35, 0.5), v(0.0, 0.35, 1.0), 0.25));
+    capsules(&parts, 0.035)
+}
+
+#[test]
+fn a_backpack_is_no_head_on_a_figure_with_one() {
+    // The backpack juts from the torso's upper back as a head juts from a hunched body's top
+    // front (the armadillo's); split off as one, it became a body named `hips`.
+    let controls = controls_of(&human_with_backpack());
+    let names: Vec<&String> = controls.keys().collect();
+    assert!(controls.contains_key("head.1"), "{names:?}");
+    assert!(
+        names
+            .iter()
+            .all(|n| !n.starts_with("hips") && !n.starts_with("head.001")),
+        "{names:?}"
     );
 }

@@ -756,7 +756,9 @@ fn split_heads_above_shoulders(
                 };
                 Some(split_head(grid, occupied, body, &cells, &cut))
             }
-            None if on_legs => {
+            // A body with another above it in its piece of the solid (a head on a neck) has
+            // its head: what juts from it is not one (a backpack became a `hips` body).
+            None if on_legs && !body_above(grid, body, &piece_of, cells[0], hi.z) => {
                 // The upper half's thickest layer: the shoulders.
                 let shoulders = (layers / 2..layers)
                     .max_by(|&a, &c| count[a].cmp(&count[c]).then(c.cmp(&a)))
@@ -780,6 +782,12 @@ fn split_heads_above_shoulders(
         }
     }
     (heads, crowns)
+}
+
+/// Whether a body cell of the piece of the solid holding cell `of` lies above layer `top`.
+fn body_above(grid: &Grid, body: &[bool], piece_of: &[Option<usize>], of: usize, top: i32) -> bool {
+    let piece = piece_of[of];
+    (0..grid.len()).any(|i| body[i] && piece_of[i] == piece && grid.cell_of(i).z > top)
 }
 
 /// A head split off a body: its cells (its core and skin), the cells leaving the body as its
