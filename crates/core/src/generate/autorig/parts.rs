@@ -216,6 +216,7 @@ fn cut_halving_crotches(
     // each cut into a chain of segments by geodesic distance from where it starts.
     let mut next_limb = 0;
     let mut parent_limb = BTreeMap::new();
+    let mut limb_cuts: Vec<LimbCut> = Vec::new();
     for l in 0..limbs {
         let cells: Vec<usize> = (0..grid.len()).filter(|&i| limb_of[i] == Some(l)).collect();
         let distance = geodesic_from_body(grid, &cells, &limb_of, l, &body);
@@ -250,21 +251,38 @@ fn cut_halving_crotches(
             let own: Vec<usize> = branch.cells.iter().map(|&(i, _)| i).collect();
             let longest = branch.cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
             let thickness = 2.0 * mean_depth(depth, &own);
-            let count = slab_count(longest, cutting.segment_length * thickness);
-            // Along a straight limb the joints are grid layers, where the layer's distance is
-            // within STRAIGHT_SLACK cells of the body's distance.
-            let straight = straightened(grid, &branch.cells);
-            for (k, &(i, d)) in branch.cells.iter().enumerate() {
-                let d = match straight.as_ref().and_then(|s| s.get(k)) {
-                    Some(&along) if (along - d).abs() <= STRAIGHT_SLACK => along,
-                    _ => d,
-                };
-                let segment = segment_at(d / longest.max(1e-9), count, from_trunk);
-                group[i] = Some(Role::Limb {
-                    limb,
-                    segment: segment.min(count - 1),
-                });
-            }
+            let root = branch
+                .cells
+                .iter()
+                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+                .map_or(IVec3::ZERO, |&(i, _)| grid.cell_of(i));
+            limb_cuts.push(LimbCut {
+                limb,
+                cells: branch.cells,
+                longest,
+                thickness,
+                from_trunk,
+                root,
+            });
+        }
+    }
+    for (cut, count) in limb_cuts
+        .iter()
+        .zip(paired_segment_counts(&limb_cuts, cutting))
+    {
+        // Along a straight limb the joints are grid layers, where the layer's distance is
+        // within STRAIGHT_SLACK cells of the body's distance.
+        let straight = straightened(grid, &cut.cells);
+        for (k, &(i, d)) in cut.cells.iter().enumerate() {
+            let d = match straight.as_ref().and_then(|s| s.get(k)) {
+                Some(&along) if (along - d).abs() <= STRAIGHT_SLACK => along,
+                _ => d,
+            };
+            let segment = segment_at(d / cut.longest.max(1e-9), count, cut.from_trunk);
+            group[i] = Some(Role::Limb {
+                limb: cut.limb,
+                segment: segment.min(count - 1),
+            });
         }
     }
     // Parts: face-connected cells of one group.
@@ -293,6 +311,68 @@ fn cut_halving_crotches(
     merge_small_parts(grid, &mut parts);
     parts
 }
+
+/// One limb branch to cut into segments: its cells with their distance from where it starts,
+/// its length and thickness in cells, whether it grows from the trunk, and its first cell.
+struct LimbCut {
+    limb: usize,
+    cells: Vec<(usize, f64)>,
+    longest: f64,
+    thickness: f64,
+    from_trunk: bool,
+    root: IVec3,
+}
+
+/// Each limb's segment count ([`slab_count`] of its length over `segment_length` of its
+/// thicknesses). Two limbs from the trunk that are a pair (rooted at the same height within
+/// [`PAIR_HEIGHT`] cells, their lengths within [`PAIR_LENGTH`] and their thicknesses within
+/// [`PAIR_THICKNESS`] of each other: two legs, two arms) get one count, from their mean length
+/// and thickness: the Ogre's legs, 5.6 and 7.0 cells long, had two segments and three, so
+/// `leg.R.2` was its knee and `leg.L.2` its shin.
+fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> Vec<usize> {
+    let own = |c: &LimbCut| slab_count(c.longest, cutting.segment_length * c.thickness);
+    let mut counts: Vec<usize> = cuts.iter().map(own).collect();
+    let alike = |a: &LimbCut, b: &LimbCut| {
+        let ratio = |x: f64, y: f64| x.max(y) / x.min(y).max(1e-9);
+        a.from_trunk
+            && b.from_trunk
+            && (a.root.z - b.root.z).abs() <= PAIR_HEIGHT
+            && ratio(a.longest, b.longest) <= PAIR_LENGTH
+            && ratio(a.thickness, b.thickness) <= PAIR_THICKNESS
+    };
+    let mut paired = vec![false; cuts.len()];
+    for a in 0..cuts.len() {
+        if paired[a] {
+            continue;
+        }
+        // Its likest partner: the nearest in length.
+        let partner = (a + 1..cuts.len())
+            .filter(|&b| !paired[b] && alike(&cuts[a], &cuts[b]))
+            .min_by(|&x, &y| {
+                let gap = |b: usize| (cuts[a].longest - cuts[b].longest).abs();
+                gap(x).total_cmp(&gap(y))
+            });
+        if let Some(b) = partner {
+            paired[a] = true;
+            paired[b] = true;
+            let longest = 0.5 * (cuts[a].longest + cuts[b].longest);
+            let thickness = 0.5 * (cuts[a].thickness + cuts[b].thickness);
+            let count = slab_count(longest, cutting.segment_length * thickness);
+            counts[a] = count;
+            counts[b] = count;
+        }
+    }
+    counts
+}
+
+/// How many cells apart in height two limbs' roots may be for them to be a pair.
+const PAIR_HEIGHT: i32 = 2;
+
+/// How many times longer than the other one of a pair of limbs may be.
+const PAIR_LENGTH: f64 = 1.3;
+
+/// How many times thicker than the other one of a pair of limbs may be.
+const PAIR_THICKNESS: f64 = 1.15;
 
 /// A limb region that reaches out from the body no further than it is thick ([`STUB_LENGTH`]
 /// thicknesses; its reach in cells is its cells' greatest geodesic `distance` from the body,
@@ -1347,7 +1427,7 @@ fn slab_count(length: f64, piece: f64) -> usize {
 
 #[cfg(test)]
 mod tests {
-    use super::segment_at;
+    use super::{Cutting, IVec3, LimbCut, paired_segment_counts, segment_at};
 
     /// Where each segment of a limb cut into `count` starts, as a share of its length.
     fn starts(count: usize, from_trunk: bool) -> Vec<f64> {
@@ -1383,5 +1463,55 @@ mod tests {
                 assert!((starts[1] - 2.0 / (count + 1) as f64).abs() < 1e-2);
             }
         }
+    }
+
+    fn limb(limb: usize, longest: f64, thickness: f64, root: IVec3) -> LimbCut {
+        LimbCut {
+            limb,
+            cells: Vec::new(),
+            longest,
+            thickness,
+            from_trunk: true,
+            root,
+        }
+    }
+
+    #[test]
+    fn a_pair_of_limbs_is_cut_into_as_many_segments_each() {
+        let cutting = Cutting {
+            body_fraction: 0.55,
+            segment_length: 1.3,
+            slab_length: 0.9,
+            on_separate_feet: false,
+        };
+        // The Ogre's legs: alone, 2 segments and 3.
+        let legs = [
+            limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
+            limb(1, 6.97, 2.14, IVec3::new(23, 4, 2)),
+        ];
+        let alone: Vec<usize> = legs
+            .iter()
+            .map(|l| super::slab_count(l.longest, cutting.segment_length * l.thickness))
+            .collect();
+        assert_eq!(alone, [2, 3]);
+        assert_eq!(paired_segment_counts(&legs, &cutting), [2, 2]);
+        // Rooted three cells apart in height, or one much longer, they are no pair.
+        let apart = [
+            limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
+            limb(1, 6.97, 2.14, IVec3::new(23, 4, 5)),
+        ];
+        assert_eq!(paired_segment_counts(&apart, &cutting), [2, 3]);
+        let longer = [
+            limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
+            limb(1, 9.0, 2.14, IVec3::new(23, 4, 2)),
+        ];
+        assert_eq!(paired_segment_counts(&longer, &cutting), [2, 3]);
+        // Of three alike, the two nearest in length pair; the third keeps its own count.
+        let three = [
+            limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
+            limb(1, 6.97, 2.14, IVec3::new(23, 4, 2)),
+            limb(2, 5.7, 2.17, IVec3::new(18, 9, 2)),
+        ];
+        assert_eq!(paired_segment_counts(&three, &cutting), [2, 3, 2]);
     }
 }
