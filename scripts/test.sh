@@ -82,7 +82,9 @@ bpy_venv=target/bpy-venv
 if ! "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
     rm -rf "$bpy_venv"
     if ! { "$python" -m venv "$bpy_venv" &&
-        timeout 600 "$bpy_venv/bin/python" -m pip install -q --disable-pip-version-check bpy; }; then
+        timeout 600 "$bpy_venv/bin/python" -m pip install -q --no-cache-dir --disable-pip-version-check bpy; }; then
+        # A half-installed venv (a full disk, a timeout) would take the space the rest needs.
+        rm -rf "$bpy_venv"
         echo "scripts/test.sh: the bpy package could not be installed for $("$python" --version): the Blender extension's tests are skipped" >&2
     fi
 fi
@@ -100,7 +102,7 @@ if "$bpy_venv/bin/python" -c 'import bpy' 2>/dev/null; then
         "$PWD/target/debug/starcages-cli" "$python_out" >"$python_out/blender.log" 2>&1 &
     blender_pid=$!
 fi
-trap 'kill $pytest_pid $blender_pid 2>/dev/null || true' EXIT
+trap 'kill $pytest_pid $blender_pid 2>/dev/null || true; rm -rf "$python_out"' EXIT
 
 if cargo nextest --version >/dev/null 2>&1; then
     cargo nextest run --workspace --locked --build-jobs "$jobs" "${python_module[@]}" "$@"
