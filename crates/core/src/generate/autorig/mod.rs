@@ -25,6 +25,7 @@
 mod branches;
 mod close_legs;
 mod controls;
+mod crumbs;
 mod decimate;
 mod limb_tree;
 mod naming;
@@ -556,6 +557,10 @@ fn rig_on_grid(
     merges += repair::make_manifold(&grid, &mut parts);
     merges += pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
     parts::one_limb_per_root(&grid, &mut parts);
+    let crumbs = crumbs::merge_crumb_segments(&grid, &mut parts, surface);
+    if crumbs > 0 {
+        merges += crumbs + repair::make_manifold(&grid, &mut parts);
+    }
     if let Some(m) = &mirror {
         merges += make_symmetric(&grid, m, &mut parts, surface, limbs_apart);
     }
