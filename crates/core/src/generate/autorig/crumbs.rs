@@ -19,9 +19,15 @@ use super::voxels::Grid;
 /// detail 4, five segments each, became three and four).
 const CRUMB_SHARE: f64 = 0.1;
 
+/// The fewest mesh vertices a limb's segments must hold on average for their counts to tell
+/// a crumb: the limbs of the default rigs of the regression meshes hold about 70 (the cow's legs) to
+/// 1,250 (the Ogre's arms) per segment; the tests' box arm, 8 in 6 segments.
+const DENSE_SEGMENT: f64 = 40.0;
+
 /// Merges every crumb segment's parts into the other segments of its limb (each part into the
-/// one its mesh vertices share the most surface edges with, else the most cell faces). Returns
-/// how many parts were merged.
+/// one its mesh vertices share the most surface edges with, else the most cell faces), in limbs
+/// whose segments hold [`DENSE_SEGMENT`] vertices or more on average. Returns how many parts
+/// were merged.
 pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &SurfaceMesh) -> usize {
     let points = surface.mesh.welded_positions();
     let label: Vec<Option<u32>> = points.iter().map(|&p| parts.part_at(grid, p)).collect();
@@ -46,7 +52,13 @@ pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &Sur
             continue;
         }
         let total: usize = segments.values().map(|(_, n)| n).sum();
-        let least = CRUMB_SHARE * total as f64 / segments.len() as f64;
+        let mean = total as f64 / segments.len() as f64;
+        // A coarse mesh's vertices say little of where its surface is (a box's arm has them at
+        // its ends only, its segments between hold none).
+        if mean < DENSE_SEGMENT {
+            continue;
+        }
+        let least = CRUMB_SHARE * mean;
         let is_crumb = |n: usize| (n as f64) < least;
         // The parts a crumb may join: those of the limb's other segments that are no crumbs.
         let kept: Vec<u32> = segments
@@ -114,12 +126,12 @@ mod tests {
     use super::*;
     use crate::mesh::Mesh;
 
-    /// A ribbon along x from 0.05 to `end`, one pair of vertices every 0.1.
-    fn ribbon(end: f64) -> Mesh {
-        let columns = ((end - 0.05) / 0.1).round() as u32 + 1;
+    /// A ribbon along x from 0.05 to `end`, one pair of vertices every `step`.
+    fn ribbon(end: f64, step: f64) -> Mesh {
+        let columns = ((end - 0.05) / step).round() as u32 + 1;
         let positions: Vec<DVec3> = (0..columns)
             .flat_map(|k| {
-                let x = 0.05 + 0.1 * f64::from(k);
+                let x = 0.05 + step * f64::from(k);
                 [DVec3::new(x, 0.3, 0.5), DVec3::new(x, 0.6, 0.5)]
             })
             .collect();
@@ -165,7 +177,7 @@ mod tests {
         let grid = Grid::around(DVec3::ZERO, DVec3::new(12.0, 1.0, 1.0), 12, None, &[], None);
         // The ribbon ends just past the last segment's first face: a pair or two of its
         // vertices there, against about 80 in each of the two segments before.
-        let mesh = ribbon(8.85);
+        let mesh = ribbon(8.85, 0.1);
         let before = body_and_limb(&grid);
         let tip = |parts: &Parts| {
             let points = mesh.welded_positions();
@@ -192,7 +204,7 @@ mod tests {
         let grid = Grid::around(DVec3::ZERO, DVec3::new(12.0, 1.0, 1.0), 12, None, &[], None);
         // The last segment holds about 20 columns of the ribbon (a quarter of the others'
         // mean: short, not a crumb); the body about 8, a tenth, but bodies are never crumbs.
-        let mesh = ribbon(11.0);
+        let mesh = ribbon(11.0, 0.1);
         let mut parts = body_and_limb(&grid);
         let before = parts.clone();
         assert_eq!(
@@ -201,5 +213,21 @@ mod tests {
         );
         assert_eq!(parts.label, before.label);
         assert_eq!(parts.roles, before.roles);
+    }
+
+    #[test]
+    fn on_a_coarse_mesh_a_segment_holding_no_vertex_is_no_crumb() {
+        let grid = Grid::around(DVec3::ZERO, DVec3::new(12.0, 1.0, 1.0), 12, None, &[], None);
+        // One pair of vertices every 1.3, the last at x = 7.85: six in each of the first two
+        // segments, none in the last. Counted so coarsely, vertices do not say where the
+        // surface is (the ribbon could be one long quad).
+        let mesh = ribbon(7.85, 1.3);
+        let mut parts = body_and_limb(&grid);
+        let before = parts.clone();
+        assert_eq!(
+            merge_crumb_segments(&grid, &mut parts, &SurfaceMesh::new(&mesh)),
+            0
+        );
+        assert_eq!(parts.label, before.label);
     }
 }
