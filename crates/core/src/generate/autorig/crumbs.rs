@@ -1,9 +1,9 @@
 //! Limb segments that hold almost none of the mesh: where a cut between two segments runs
 //! through a hand or a foot, the cells past it can be a piece or two that hold a handful of
-//! mesh vertices (the Ogre's `arm.L.3` turned 15 of its arm's 3,758; the beast's `arm.R.5`
-//! 88 of 4,542). Each would get a control that moves nothing an artist can see, and it
-//! shifts the numbering of the joints after it between a limb and its pair. Such a segment's
-//! parts join the segments of the same limb beside them.
+//! mesh vertices (the Ogre's `arm.L.3` turned 15 of its arm's 3,758). Each would get a
+//! control that moves nothing an artist can see, and it shifts the numbering of the joints
+//! after it between a limb and its pair. Such a segment's parts join the segments of the same
+//! limb beside them.
 
 use std::collections::BTreeMap;
 
@@ -20,8 +20,8 @@ use super::voxels::Grid;
 const CRUMB_SHARE: f64 = 0.1;
 
 /// The fewest mesh vertices a limb's segments must hold on average for their counts to tell
-/// a crumb: the limbs of the default rigs of the regression meshes hold about 70 (the cow's legs) to
-/// 1,250 (the Ogre's arms) per segment; the tests' box arm, 8 in 6 segments.
+/// a crumb: the limbs of the regression meshes' default rigs hold about 70 (the cow's legs)
+/// to 1,250 (the Ogre's arms) per segment; the tests' box arm, 8 in 6 segments.
 const DENSE_SEGMENT: f64 = 40.0;
 
 /// Merges every crumb segment's parts into the other segments of its limb (each part into the
