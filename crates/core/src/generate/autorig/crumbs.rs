@@ -8,6 +8,7 @@
 use std::collections::BTreeMap;
 
 use super::parts::{Parts, Role, compact, contacts_of};
+use super::pieces::Surface;
 use super::surface::SurfaceMesh;
 use super::voxels::Grid;
 
@@ -29,21 +30,16 @@ const DENSE_SEGMENT: f64 = 40.0;
 /// whose segments hold [`DENSE_SEGMENT`] vertices or more on average. Returns how many parts
 /// were merged.
 pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &SurfaceMesh) -> usize {
-    let points = surface.mesh.welded_positions();
-    let label: Vec<Option<u32>> = points.iter().map(|&p| parts.part_at(grid, p)).collect();
-    let mut held = vec![0usize; parts.roles.len()];
-    for &p in label.iter().flatten() {
-        if let Some(count) = held.get_mut(p as usize) {
-            *count += 1;
-        }
-    }
+    let cells = Surface::new(grid, surface);
+    let held = cells.vertices_by_part(parts);
+    let count = |p: u32| held.get(&p).map_or(0, Vec::len);
     // Per limb, per segment: its parts and the mesh vertices they hold.
     let mut limbs: BTreeMap<usize, BTreeMap<usize, (Vec<u32>, usize)>> = BTreeMap::new();
     for (p, role) in parts.roles.iter().enumerate() {
         if let Role::Limb { limb, segment } = *role {
             let entry = limbs.entry(limb).or_default().entry(segment).or_default();
             entry.0.push(p as u32);
-            entry.1 += held[p];
+            entry.1 += count(p as u32);
         }
     }
     let mut into: BTreeMap<u32, u32> = BTreeMap::new();
@@ -68,7 +64,8 @@ pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &Sur
             .collect();
         for (members, _) in segments.values().filter(|(_, n)| is_crumb(*n)) {
             for &p in members {
-                if let Some(target) = joining(grid, parts, surface, &label, p, &kept) {
+                let own = held.get(&p).map_or(&[][..], Vec::as_slice);
+                if let Some(target) = joining(grid, parts, &cells, own, p, &kept) {
                     into.insert(p, target);
                 }
             }
@@ -86,14 +83,14 @@ pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &Sur
     into.len()
 }
 
-/// The part of `kept` that part `p` joins: the one its mesh vertices share the most surface
-/// edges with (so the merged part's surface stays one piece), else the one it shares the most
-/// cell faces with; None where it touches none.
+/// The part of `kept` that part `p` (holding the mesh vertices `own`) joins: the one its
+/// vertices share the most surface edges with (so the merged part's surface stays one piece),
+/// else the one it shares the most cell faces with; None where it touches none.
 fn joining(
     grid: &Grid,
     parts: &Parts,
-    surface: &SurfaceMesh,
-    label: &[Option<u32>],
+    cells: &Surface,
+    own: &[usize],
     p: u32,
     kept: &[u32],
 ) -> Option<u32> {
@@ -104,13 +101,21 @@ fn joining(
             .max_by_key(|&(q, n)| (n, std::cmp::Reverse(q)))
             .map(|(q, _)| q)
     };
+    let part_of = |v: usize| {
+        cells
+            .cell_of
+            .get(v)
+            .copied()
+            .flatten()
+            .and_then(|c| parts.label[c])
+    };
     let mut edges: BTreeMap<u32, usize> = BTreeMap::new();
-    for (i, _) in label.iter().enumerate().filter(|(_, l)| **l == Some(p)) {
-        for &j in surface.neighbours.get(i).into_iter().flatten() {
-            if let Some(Some(q)) = label.get(j as usize)
-                && *q != p
+    for &i in own {
+        for &j in cells.neighbours.get(i).into_iter().flatten() {
+            if let Some(q) = part_of(j as usize)
+                && q != p
             {
-                *edges.entry(*q).or_insert(0) += 1;
+                *edges.entry(q).or_insert(0) += 1;
             }
         }
     }

@@ -125,16 +125,16 @@ pub(super) fn split_by_surface_pieces(
 }
 
 /// Mesh vertices by grid cell and mesh edges, for counting the pieces of surface of parts.
-struct Surface<'a> {
+pub(super) struct Surface<'a> {
     /// Cell (grid index) of each welded mesh vertex.
-    cell_of: Vec<Option<usize>>,
+    pub cell_of: Vec<Option<usize>>,
     /// Mesh edges at each welded vertex, and links where components cross
     /// ([`super::surface::surface_neighbours`]).
-    neighbours: &'a [Vec<u32>],
+    pub neighbours: &'a [Vec<u32>],
 }
 
 impl<'a> Surface<'a> {
-    fn new(grid: &Grid, surface: &'a SurfaceMesh) -> Self {
+    pub fn new(grid: &Grid, surface: &'a SurfaceMesh) -> Self {
         Self {
             cell_of: surface
                 .mesh
@@ -147,7 +147,7 @@ impl<'a> Surface<'a> {
     }
 
     /// The mesh vertices of each part.
-    fn vertices_by_part(&self, parts: &Parts) -> BTreeMap<u32, Vec<usize>> {
+    pub fn vertices_by_part(&self, parts: &Parts) -> BTreeMap<u32, Vec<usize>> {
         let mut by_part: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
         for (v, c) in self.cell_of.iter().enumerate() {
             if let Some(p) = c.and_then(|c| parts.label[c]) {
