@@ -174,6 +174,7 @@ mod tests {
             heads: BTreeSet::new(),
             crowns: BTreeSet::new(),
             halved: BTreeMap::new(),
+            pairs: Vec::new(),
         }
     }
 

@@ -1194,6 +1194,7 @@ mod tests {
             heads: BTreeSet::new(),
             crowns: BTreeSet::new(),
             halved: BTreeMap::new(),
+            pairs: Vec::new(),
         };
         let (vertices, faces) =
             polycube::indexed_faces(&polycube::boundary_faces(&grid, &parts, None));

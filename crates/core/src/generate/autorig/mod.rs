@@ -27,8 +27,10 @@ mod close_legs;
 mod controls;
 mod crumbs;
 mod decimate;
+mod joint_bodies;
 mod limb_tree;
 mod naming;
+mod pair_segments;
 mod parts;
 mod pieces;
 mod polycube;
@@ -549,6 +551,11 @@ fn rig_on_grid(
         on_separate_feet: facts.on_separate_feet,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
+    let cut_roles: Vec<Option<Role>> = parts
+        .label
+        .iter()
+        .map(|l| l.and_then(|l| parts.roles.get(l as usize).copied()))
+        .collect();
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
     let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
     control.advance();
@@ -560,6 +567,13 @@ fn rig_on_grid(
     let crumbs = crumbs::merge_crumb_segments(&grid, &mut parts, surface);
     if crumbs > 0 {
         merges += crumbs + repair::make_manifold(&grid, &mut parts);
+    }
+    // A mirrored rig's pairs are mirror images (below); another's are made equal here.
+    if mirror.is_none() {
+        let equalised = pair_segments::equal_pair_segments(&grid, &mut parts, &cut_roles);
+        if equalised > 0 {
+            merges += equalised + repair::make_manifold(&grid, &mut parts);
+        }
     }
     if let Some(m) = &mirror {
         merges += make_symmetric(&grid, m, &mut parts, surface, limbs_apart);
@@ -1304,6 +1318,7 @@ mod tests {
             heads: BTreeSet::new(),
             crowns: BTreeSet::new(),
             halved: BTreeMap::new(),
+            pairs: Vec::new(),
         };
         let point = DVec3::splat(0.5);
         let centre = grid.cell_at(point);

@@ -10,6 +10,7 @@ use std::collections::{BTreeMap, BTreeSet, BinaryHeap};
 use glam::{DVec3, IVec3};
 
 use super::branches::branches;
+use super::joint_bodies::fold_joint_bodies;
 use super::saddles::split_at_saddles;
 use super::voxels::{FACE_STEPS, Grid, component_cells, components};
 
@@ -51,6 +52,8 @@ pub(super) struct Parts {
     /// Body slabs halved between two legs, by the low half's role (below the plane across the
     /// legs).
     pub halved: BTreeMap<Role, Halved>,
+    /// Limbs cut as a pair into as many segments ([`paired_segment_counts`]), by limb number.
+    pub pairs: Vec<(usize, usize)>,
 }
 
 /// A body slab halved between two legs ([`Parts::halved`]).
@@ -143,6 +146,8 @@ fn cut_halving_crotches(
     for (h, e) in heads.iter_mut().zip(ends) {
         *h |= e;
     }
+    // A knee or a shoulder thick enough to be a body rejoins its limb.
+    fold_joint_bodies(grid, occupied, &mut body, &heads);
     // Bodies: face-connected pieces of body cells; limbs: of the rest.
     let (body_of, bodies) = components(grid, |i| body[i]);
     let (limb_of, limbs) = components(grid, |i| occupied[i] && !body[i]);
@@ -266,10 +271,12 @@ fn cut_halving_crotches(
             });
         }
     }
-    for (cut, count) in limb_cuts
+    let (counts, paired) = paired_segment_counts(&limb_cuts, cutting);
+    let pairs = paired
         .iter()
-        .zip(paired_segment_counts(&limb_cuts, cutting))
-    {
+        .map(|&(a, b)| (limb_cuts[a].limb, limb_cuts[b].limb))
+        .collect();
+    for (cut, count) in limb_cuts.iter().zip(counts) {
         // Along a straight limb the joints are grid layers, where the layer's distance is
         // within STRAIGHT_SLACK cells of the body's distance.
         let straight = straightened(grid, &cut.cells);
@@ -307,6 +314,7 @@ fn cut_halving_crotches(
             .filter_map(|i| body_of[i])
             .collect(),
         halved,
+        pairs,
     };
     merge_small_parts(grid, &mut parts);
     parts
@@ -328,8 +336,9 @@ struct LimbCut {
 /// [`PAIR_HEIGHT`] cells, their lengths within [`PAIR_LENGTH`] and their thicknesses within
 /// [`PAIR_THICKNESS`] of each other: two legs, two arms) get one count, from their mean length
 /// and thickness: the Ogre's legs, 5.6 and 7.0 cells long, had two segments and three, so
-/// `leg.R.2` was its knee and `leg.L.2` its shin.
-fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> Vec<usize> {
+/// `leg.R.2` was its knee and `leg.L.2` its shin. Returns the counts and the pairs (indices
+/// into `cuts`).
+fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> (Vec<usize>, Vec<(usize, usize)>) {
     let own = |c: &LimbCut| slab_count(c.longest, cutting.segment_length * c.thickness);
     let mut counts: Vec<usize> = cuts.iter().map(own).collect();
     let alike = |a: &LimbCut, b: &LimbCut| {
@@ -341,6 +350,7 @@ fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> Vec<usize> {
             && ratio(a.thickness, b.thickness) <= PAIR_THICKNESS
     };
     let mut paired = vec![false; cuts.len()];
+    let mut pairs = Vec::new();
     for a in 0..cuts.len() {
         if paired[a] {
             continue;
@@ -360,9 +370,10 @@ fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> Vec<usize> {
             let count = slab_count(longest, cutting.segment_length * thickness);
             counts[a] = count;
             counts[b] = count;
+            pairs.push((a, b));
         }
     }
-    counts
+    (counts, pairs)
 }
 
 /// How many cells apart in height two limbs' roots may be for them to be a pair.
@@ -1494,24 +1505,24 @@ mod tests {
             .map(|l| super::slab_count(l.longest, cutting.segment_length * l.thickness))
             .collect();
         assert_eq!(alone, [2, 3]);
-        assert_eq!(paired_segment_counts(&legs, &cutting), [2, 2]);
+        assert_eq!(paired_segment_counts(&legs, &cutting).0, [2, 2]);
         // Rooted three cells apart in height, or one much longer, they are no pair.
         let apart = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 6.97, 2.14, IVec3::new(23, 4, 5)),
         ];
-        assert_eq!(paired_segment_counts(&apart, &cutting), [2, 3]);
+        assert_eq!(paired_segment_counts(&apart, &cutting).0, [2, 3]);
         let longer = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 9.0, 2.14, IVec3::new(23, 4, 2)),
         ];
-        assert_eq!(paired_segment_counts(&longer, &cutting), [2, 3]);
+        assert_eq!(paired_segment_counts(&longer, &cutting).0, [2, 3]);
         // Of three alike, the two nearest in length pair; the third keeps its own count.
         let three = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 6.97, 2.14, IVec3::new(23, 4, 2)),
             limb(2, 5.7, 2.17, IVec3::new(18, 9, 2)),
         ];
-        assert_eq!(paired_segment_counts(&three, &cutting), [2, 3, 2]);
+        assert_eq!(paired_segment_counts(&three, &cutting).0, [2, 3, 2]);
     }
 }

@@ -725,6 +725,7 @@ mod tests {
             heads,
             crowns: BTreeSet::new(),
             halved: BTreeMap::new(),
+            pairs: Vec::new(),
         }
     }
 
@@ -846,6 +847,7 @@ mod tests {
             heads: BTreeSet::new(),
             crowns: BTreeSet::new(),
             halved: BTreeMap::new(),
+            pairs: Vec::new(),
         };
         let foot = Role::Limb {
             limb: 0,

@@ -230,6 +230,7 @@ mod tests {
             heads: Default::default(),
             crowns: Default::default(),
             halved: Default::default(),
+            pairs: Vec::new(),
         };
         assert!(pinches(&grid, &parts.label, v) > 0);
         merge_block(&grid, &mut parts, v);

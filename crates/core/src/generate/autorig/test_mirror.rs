@@ -72,6 +72,7 @@ pub(super) fn limb_at_the_plane(height: f64, body_from: f64) -> (Grid, MirrorPla
         heads: BTreeSet::new(),
         crowns: BTreeSet::new(),
         halved: BTreeMap::new(),
+        pairs: Vec::new(),
     };
     (grid, plane, parts)
 }
