@@ -23,7 +23,7 @@ trap 'rm -rf "$work"' EXIT
     --apply "neck.1: rotate 1 0 0 -30" --png docs/images/posed_horse.png >/dev/null
 "$cli" autorig "$meshes/beast.obj" --out "$work/beast.json" >/dev/null
 "$cli" render "$work/beast.json" --no-cages --view side --size 480x480 \
-    --apply "leg.L.1: rotate 1 0 0 -35" --apply "leg.L.3: rotate 1 0 0 55" \
+    --apply "leg.L.1: rotate 1 0 0 -35" --apply "leg.L.2: rotate 1 0 0 55" \
     --apply "leg.R.1: rotate 1 0 0 20" --apply "arm.L.1: rotate 1 0 0 25" \
     --apply "arm.R.1: rotate 1 0 0 -25" --apply "arm.R.3: rotate 1 0 0 -40" \
     --apply "head.1: rotate 0 0 1 -25" --apply "head.1: rotate 1 0 0 15" \
