@@ -919,9 +919,10 @@ impl HeadSplit {
 /// The head, skin included, and neck of a body (`cells`) cut by `cut`, the body's cells as
 /// `body` marks them. The head's skin is the thin shell of limb cells around its core, past
 /// the neck, within [`HEAD_SKIN`] cells of the core: left a limb region, the shoulders' slab
-/// took it and wrapped the head, so the joint ring reached its crown. A head cut across a
-/// horizontal axis leaves the torso through its collar: the torso's cells touching the head
-/// or its skin.
+/// took it and wrapped the head, so the joint ring reached its crown. The neck, decided here
+/// only: a head cut across the vertical axis leaves the torso through the neck layer (the
+/// body's cells in the cut's plane); one cut across a horizontal axis through its collar (the
+/// torso's cells touching the head or its skin).
 fn split_head(
     grid: &Grid,
     occupied: &[bool],
@@ -929,7 +930,7 @@ fn split_head(
     cells: &[usize],
     cut: &HeadCut,
 ) -> HeadSplit {
-    let (mut head, mut neck) = head_and_neck(grid, cells, cut);
+    let mut head = head_core(grid, cells, cut);
     // The lowest layer of the head: its skin stays above it.
     let head_from_z = head
         .iter()
@@ -956,15 +957,19 @@ fn split_head(
         front = next;
         head.extend_from_slice(&front);
     }
-    if cut.axis != 2 {
+    let neck = if cut.axis == 2 {
+        (cells.iter().copied())
+            .filter(|&i| cut.past(grid.cell_of(i)) == 0)
+            .collect()
+    } else {
         let member: BTreeSet<usize> = cells.iter().copied().collect();
         let collar: BTreeSet<usize> = head
             .iter()
             .flat_map(|&i| grid.face_neighbours(i))
             .filter(|n| member.contains(n) && !seen.contains(n))
             .collect();
-        neck.extend(collar);
-    }
+        collar.into_iter().collect()
+    };
     HeadSplit {
         head,
         neck,
@@ -992,23 +997,17 @@ impl HeadCut {
     }
 }
 
-/// The head and neck of a body (`cells`) cut by `cut`. Across the vertical axis: the layers
-/// above the neck layer, and the neck layer. Across a horizontal one: the body cells past the
-/// plane that are face-connected, past it, to those at or above `from_z`, at most
-/// [`HEAD_UNDER_LAYERS`] below it (the torso's front further down is not the head: taken, a
-/// head turn moved the generated hunched figure's hips by 2 %), and no neck ([`split_head`]'s
-/// collar is).
-fn head_and_neck(grid: &Grid, cells: &[usize], cut: &HeadCut) -> (Vec<usize>, Vec<usize>) {
+/// The core of the head of a body (`cells`) cut by `cut`, before its skin ([`split_head`],
+/// which also decides its neck). Across the vertical axis: the layers above the neck layer.
+/// Across a horizontal one: the body cells past the plane that are face-connected, past it, to
+/// those at or above `from_z`, at most [`HEAD_UNDER_LAYERS`] below it (the torso's front
+/// further down is not the head: taken, a head turn moved the generated hunched figure's hips
+/// by 2 %).
+fn head_core(grid: &Grid, cells: &[usize], cut: &HeadCut) -> Vec<usize> {
     if cut.axis == 2 {
-        let head = cells
-            .iter()
-            .copied()
-            .filter(|&i| cut.past(grid.cell_of(i)) > 0);
-        let neck = cells
-            .iter()
-            .copied()
-            .filter(|&i| cut.past(grid.cell_of(i)) == 0);
-        return (head.collect(), neck.collect());
+        return (cells.iter().copied())
+            .filter(|&i| cut.past(grid.cell_of(i)) > 0)
+            .collect();
     }
     let member: BTreeSet<usize> = cells.iter().copied().collect();
     let past = |i: usize| cut.past(grid.cell_of(i)) > 0;
@@ -1026,7 +1025,7 @@ fn head_and_neck(grid: &Grid, cells: &[usize], cut: &HeadCut) -> (Vec<usize>, Ve
             }
         }
     }
-    (head.into_iter().collect(), Vec::new())
+    head.into_iter().collect()
 }
 
 /// A standing figure's head jutting forward from the top of a hunched body that tapers into
