@@ -4,7 +4,8 @@
 //! holds two pieces of surface its cut cannot part, so it joins the shin, while the left foot
 //! stays a segment of its own. The left leg then has a control more than the right, and
 //! `leg.L.4` is a foot where `leg.R.4` is a shin. Here the other limb's segment that was merged
-//! joins the same neighbour, so both legs bend at the same joints.
+//! joins the same neighbour, or a body where the first one's joined one (the horse's right
+//! thigh, its haunch, at detail 2), so both legs bend at the same joints.
 
 use std::collections::BTreeMap;
 
@@ -14,8 +15,9 @@ use super::voxels::Grid;
 /// For each pair of limbs (`parts.pairs`) whose segment counts differ, merges into each other
 /// the longer limb's segments whose counterparts in the shorter limb were merged since the
 /// cut: the cells of segment k of the shorter limb (by `cut_roles`, each cell's role when it
-/// was cut) now mostly in its segment j, the longer limb's segment k joins its segment j, part
-/// by part into the one it shares most faces with. Returns how many parts were merged.
+/// was cut) now mostly in its segment j (or in a body), the longer limb's segment k joins its
+/// segment j (or the body part it touches), part by part into the one it shares most faces
+/// with. Returns how many parts were merged.
 pub(super) fn equal_pair_segments(
     grid: &Grid,
     parts: &mut Parts,
