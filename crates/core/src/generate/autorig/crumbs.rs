@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use super::parts::{Parts, Role, compact, contacts_of};
+use super::parts::{Parts, contacts_of};
 use super::pieces::Surface;
 use super::surface::SurfaceMesh;
 use super::voxels::Grid;
@@ -34,16 +34,18 @@ pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &Sur
     let held = cells.vertices_by_part(parts);
     let count = |p: u32| held.get(&p).map_or(0, Vec::len);
     // Per limb, per segment: its parts and the mesh vertices they hold.
-    let mut limbs: BTreeMap<usize, BTreeMap<usize, (Vec<u32>, usize)>> = BTreeMap::new();
-    for (p, role) in parts.roles.iter().enumerate() {
-        if let Role::Limb { limb, segment } = *role {
-            let entry = limbs.entry(limb).or_default().entry(segment).or_default();
-            entry.0.push(p as u32);
-            entry.1 += count(p as u32);
-        }
-    }
+    let limbs: Vec<BTreeMap<usize, (Vec<u32>, usize)>> = (parts.limb_segments().into_values())
+        .map(|segments| {
+            (segments.into_iter())
+                .map(|(segment, members)| {
+                    let held = members.iter().map(|&p| count(p)).sum();
+                    (segment, (members, held))
+                })
+                .collect()
+        })
+        .collect();
     let mut into: BTreeMap<u32, u32> = BTreeMap::new();
-    for segments in limbs.values() {
+    for segments in &limbs {
         if segments.len() < 2 {
             continue;
         }
@@ -74,12 +76,7 @@ pub(super) fn merge_crumb_segments(grid: &Grid, parts: &mut Parts, surface: &Sur
     if into.is_empty() {
         return 0;
     }
-    for l in parts.label.iter_mut().flatten() {
-        if let Some(&target) = into.get(l) {
-            *l = target;
-        }
-    }
-    compact(parts);
+    parts.merge_into(&into);
     into.len()
 }
 
@@ -128,6 +125,7 @@ mod tests {
 
     use glam::DVec3;
 
+    use super::super::parts::Role;
     use super::*;
     use crate::mesh::Mesh;
 

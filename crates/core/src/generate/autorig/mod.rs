@@ -551,11 +551,7 @@ fn rig_on_grid(
         on_separate_feet: facts.on_separate_feet,
     };
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
-    let cut_roles: Vec<Option<Role>> = parts
-        .label
-        .iter()
-        .map(|l| l.and_then(|l| parts.roles.get(l as usize).copied()))
-        .collect();
+    let cut_roles = parts.roles_by_cell();
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
     let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
     control.advance();

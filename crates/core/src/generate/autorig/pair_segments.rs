@@ -9,7 +9,7 @@
 
 use std::collections::BTreeMap;
 
-use super::parts::{Parts, Role, compact, contacts_of};
+use super::parts::{Parts, Role, contacts_of};
 use super::voxels::Grid;
 
 /// For each pair of limbs (`parts.pairs`) whose segment counts differ, merges into each other
@@ -23,20 +23,11 @@ pub(super) fn equal_pair_segments(
     parts: &mut Parts,
     cut_roles: &[Option<Role>],
 ) -> usize {
-    let segments = |parts: &Parts, limb: usize| -> BTreeMap<usize, Vec<u32>> {
-        let mut by_segment: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
-        for (p, role) in parts.roles.iter().enumerate() {
-            if let Role::Limb { limb: l, segment } = *role
-                && l == limb
-            {
-                by_segment.entry(segment).or_default().push(p as u32);
-            }
-        }
-        by_segment
-    };
     let mut merges = 0;
     for &(a, b) in &parts.pairs.clone() {
-        let (now_a, now_b) = (segments(parts, a), segments(parts, b));
+        let mut by_limb = parts.limb_segments();
+        let mut segments_of = |limb| by_limb.remove(&limb).unwrap_or_default();
+        let (now_a, now_b) = (segments_of(a), segments_of(b));
         let (short, now_short, now_long) = match now_a.len().cmp(&now_b.len()) {
             std::cmp::Ordering::Less => (a, now_a, now_b),
             std::cmp::Ordering::Greater => (b, now_b, now_a),
@@ -103,13 +94,8 @@ pub(super) fn equal_pair_segments(
         if into.is_empty() {
             continue;
         }
-        for l in parts.label.iter_mut().flatten() {
-            if let Some(&target) = into.get(l) {
-                *l = target;
-            }
-        }
         merges += into.len();
-        compact(parts);
+        parts.merge_into(&into);
     }
     merges
 }
@@ -129,6 +115,7 @@ mod tests {
 
     use glam::DVec3;
 
+    use super::super::parts::compact;
     use super::*;
 
     /// Two limbs of three segments each, three cells per segment, on either side of a body

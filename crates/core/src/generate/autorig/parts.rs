@@ -87,6 +87,35 @@ impl Parts {
             .max()
             .unwrap_or(0)
     }
+
+    /// The limb parts, per limb and per segment, in label order.
+    pub fn limb_segments(&self) -> BTreeMap<usize, BTreeMap<usize, Vec<u32>>> {
+        let mut by_limb: BTreeMap<usize, BTreeMap<usize, Vec<u32>>> = BTreeMap::new();
+        for (p, role) in self.roles.iter().enumerate() {
+            if let Role::Limb { limb, segment } = *role {
+                (by_limb.entry(limb).or_default().entry(segment).or_default()).push(p as u32);
+            }
+        }
+        by_limb
+    }
+
+    /// Each cell's role (None where it is empty): what a later step compares its parts with.
+    pub fn roles_by_cell(&self) -> Vec<Option<Role>> {
+        (self.label.iter())
+            .map(|l| l.and_then(|l| self.roles.get(l as usize).copied()))
+            .collect()
+    }
+
+    /// Merges each part of `into`'s keys into the part it names (which keeps its role), then
+    /// renumbers the parts ([`compact`]).
+    pub fn merge_into(&mut self, into: &BTreeMap<u32, u32>) {
+        for l in self.label.iter_mut().flatten() {
+            if let Some(&target) = into.get(l) {
+                *l = target;
+            }
+        }
+        compact(self);
+    }
 }
 
 /// How parts are cut.
@@ -1272,18 +1301,7 @@ fn merge_small_parts(grid: &Grid, parts: &mut Parts) {
 pub(super) fn one_limb_per_root(grid: &Grid, parts: &mut Parts) {
     let count = parts.roles.len();
     let mut next_limb = parts.unused_limb();
-    // Limb parts by (limb, segment), in label order.
-    let mut by_limb: BTreeMap<usize, BTreeMap<usize, Vec<u32>>> = BTreeMap::new();
-    for (p, role) in parts.roles.iter().enumerate() {
-        if let Role::Limb { limb, segment } = *role {
-            by_limb
-                .entry(limb)
-                .or_default()
-                .entry(segment)
-                .or_default()
-                .push(p as u32);
-        }
-    }
+    let by_limb = parts.limb_segments();
     let mut new_limb: Vec<Option<usize>> = vec![None; count];
     for (limb, segments) in &by_limb {
         let Some(first) = segments.keys().next().copied() else {
