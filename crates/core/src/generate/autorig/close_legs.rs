@@ -16,14 +16,29 @@ use std::collections::BTreeSet;
 /// How many limbs of `rig` are legs with a side (`leg.L`, `leg.front.R` …), by its leaf
 /// cages' names.
 pub(super) fn sided_legs(rig: &Autorig) -> usize {
+    leg_limbs(rig)
+        .filter(|limb| limb.ends_with(".L") || limb.ends_with(".R"))
+        .count()
+}
+
+/// How many limbs of `rig` are legs without a side (`leg`, `leg.front`): two legs the grid
+/// joined along the symmetry plane (the camel's front legs, a cell apart) are one such limb.
+pub(super) fn unsided_legs(rig: &Autorig) -> usize {
+    leg_limbs(rig)
+        .filter(|limb| *limb == "leg" || *limb == "leg.front" || *limb == "leg.back")
+        .count()
+}
+
+/// The names of the limbs of `rig` that are legs, once each, by its leaf cages' names.
+fn leg_limbs(rig: &Autorig) -> impl Iterator<Item = &str> {
     let limbs: BTreeSet<&str> = rig
         .cages
         .leaves
         .iter()
         .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
-        .filter(|limb| limb.starts_with("leg.") && (limb.ends_with(".L") || limb.ends_with(".R")))
+        .filter(|limb| *limb == "leg" || limb.starts_with("leg."))
         .collect();
-    limbs.len()
+    limbs.into_iter()
 }
 
 /// Whether the figure stands on separate feet: the welded mesh vertices in its lowest

@@ -29,6 +29,7 @@ mod crumbs;
 mod decimate;
 mod joint_bodies;
 mod limb_tree;
+mod name_defects;
 mod naming;
 mod pair_segments;
 mod parts;
@@ -55,8 +56,11 @@ use crate::check::validate_scene;
 use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
-use close_legs::{CELL_IN_GAP, gap_between_legs, sided_legs, stands_on_separate_feet};
+use close_legs::{
+    CELL_IN_GAP, gap_between_legs, sided_legs, stands_on_separate_feet, unsided_legs,
+};
 use decimate::{Held, SurfaceByPart, Sweep};
+use name_defects::{name_defects, names_better};
 use parts::{Parts, Role};
 use surface::SurfaceMesh;
 use symmetry::MirrorPlane;
@@ -178,6 +182,8 @@ pub struct AutorigReport {
     /// ([`surface_pieces_per_leaf`]): separate components that stay closer than a cell on the
     /// finest grid tried, or set into one another without crossing (teeth in a mouth).
     pub shared_cages: Vec<usize>,
+    /// Each limb's name and the name of the limb it grows from (None: from a body).
+    pub limb_parents: Vec<(String, Option<String>)>,
 }
 
 /// The rig and its report.
@@ -298,64 +304,28 @@ pub fn autorig(
     let mut best: Option<Autorig> = None;
     for refinement in 0..=MAX_REFINEMENTS {
         let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
-        let on_grid = |cells: u32, choice: GridChoice| {
-            rig_on_grid(
-                &surface, settings, &facts, cells, refinement, choice, control,
-            )
-        };
-        // Limbs apart at the mirror plane where that makes a valid rig, else as before (Homer's
-        // legs pressed together at detail 5: two limbs touching along the plane made a
-        // non-manifold cage where they meet the body).
-        let detail = on_grid(cells, GridChoice::DETAIL).or_else(|e| match e {
-            AutorigError::Cancelled => Err(e),
-            _ if settings.mirror == Mirror::None => Err(e),
-            _ => on_grid(
-                cells,
-                GridChoice {
-                    limbs_apart: false,
-                    ..GridChoice::DETAIL
-                },
-            ),
-        });
+        let detail = rig_with_legs_apart(&surface, settings, &facts, cells, refinement, control);
         let mut rig = match detail {
             Ok(rig) => rig,
             Err(e) if best.is_none() || matches!(e, AutorigError::Cancelled) => return Err(e),
             Err(_) => continue,
         };
-        // Legs closer than two cells share the cells between them, which join them into one
-        // solid as thick as the body: one leg, or none, is found. A figure symmetric across a
-        // horizontal plane standing on separate feet is rigged again on a grid with that plane
-        // through the middle of a column of cells, which stays empty between legs more than a
-        // cell apart, then with that column thinner than the gap between them; the grid that
-        // finds more legs with a side is kept.
-        let legs = sided_legs(&rig);
-        if legs < 2 && facts.on_separate_feet {
-            if settings.mirror == Mirror::None
-                && symmetric_across_a_horizontal_plane(&facts.symmetry)
-            {
-                match on_grid(cells, GridChoice::CENTRED) {
-                    Ok(centred) if sided_legs(&centred) > legs => rig = centred,
-                    Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
-                    _ => {}
-                }
-            }
-            // Legs closer than a cell: two columns of cells thin enough to fit between them,
-            // one either side of a grid plane (the mirror's, with a mirror), every other cell
-            // the detail's. No finer grid is needed, so the rig costs what the detail's does
-            // (a grid twice as fine made eight times the cells).
-            if sided_legs(&rig) < 2
-                && let Some(band) = legs_band(mesh, settings.mirror, &facts.symmetry, cells)
-            {
-                let choice = GridChoice {
-                    centre_symmetry: settings.mirror == Mirror::None,
-                    band: Some(band),
-                    limbs_apart: true,
-                };
-                match on_grid(cells, choice) {
-                    Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
-                    Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
-                    _ => {}
-                }
+        // Limbs the grid joined or confused (two legs as one, legs hanging from their joined
+        // thighs, a second arm on one side) on a figure clearly symmetric across a horizontal
+        // axis: rigged again mirrored across it, whose parts are alike on both sides (the
+        // camel's legs, the elephant's ears and head), kept where its names show fewer.
+        if settings.mirror == Mirror::None
+            && let Some(axis) = horizontal_symmetry_axis(&facts.symmetry)
+            && name_defects(&rig.report) > 0
+        {
+            let mirrored = AutorigSettings {
+                mirror: Mirror::Axis(axis),
+                ..settings.clone()
+            };
+            match rig_with_legs_apart(&surface, &mirrored, &facts, cells, refinement, control) {
+                Ok(m) if names_better(&m.report, &rig.report) => rig = m,
+                Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
+                _ => {}
             }
         }
         let scene = Scene::new(
@@ -379,6 +349,75 @@ pub fn autorig(
         }
     }
     best.ok_or(AutorigError::Cancelled)
+}
+
+/// The rig on the detail's grid of `cells` (limbs apart at a mirror's plane where that makes
+/// a valid rig), then, where it found fewer than two legs with a side or a leg without one on a
+/// figure standing on separate feet, on the grids that part legs close together, keeping the
+/// one with more legs with a side. An error only where the detail's grid makes no rig (or the
+/// job is cancelled).
+fn rig_with_legs_apart(
+    surface: &SurfaceMesh,
+    settings: &AutorigSettings,
+    facts: &MeshFacts,
+    cells: u32,
+    refinement: u32,
+    control: &BindControl,
+) -> Result<Autorig, AutorigError> {
+    let mesh = surface.mesh;
+    let on_grid = |cells: u32, choice: GridChoice| {
+        rig_on_grid(surface, settings, facts, cells, refinement, choice, control)
+    };
+    // Limbs apart at the mirror plane where that makes a valid rig, else as before (Homer's
+    // legs pressed together at detail 5: two limbs touching along the plane made a
+    // non-manifold cage where they meet the body).
+    let detail = on_grid(cells, GridChoice::DETAIL).or_else(|e| match e {
+        AutorigError::Cancelled => Err(e),
+        _ if settings.mirror == Mirror::None => Err(e),
+        _ => on_grid(
+            cells,
+            GridChoice {
+                limbs_apart: false,
+                ..GridChoice::DETAIL
+            },
+        ),
+    });
+    let mut rig = detail?;
+    // Legs closer than two cells share the cells between them, which join them into one
+    // solid as thick as the body: one leg, or none, is found. A figure symmetric across a
+    // horizontal plane standing on separate feet is rigged again on a grid with that plane
+    // through the middle of a column of cells, which stays empty between legs more than a
+    // cell apart, then with that column thinner than the gap between them; the grid that
+    // finds more legs with a side is kept.
+    let legs = sided_legs(&rig);
+    if (legs < 2 || unsided_legs(&rig) > 0) && facts.on_separate_feet {
+        if settings.mirror == Mirror::None && symmetric_across_a_horizontal_plane(&facts.symmetry) {
+            match on_grid(cells, GridChoice::CENTRED) {
+                Ok(centred) if sided_legs(&centred) > legs => rig = centred,
+                Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
+                _ => {}
+            }
+        }
+        // Legs closer than a cell: two columns of cells thin enough to fit between them,
+        // one either side of a grid plane (the mirror's, with a mirror), every other cell
+        // the detail's. No finer grid is needed, so the rig costs what the detail's does
+        // (a grid twice as fine made eight times the cells).
+        if (sided_legs(&rig) < 2 || unsided_legs(&rig) > 0)
+            && let Some(band) = legs_band(mesh, settings.mirror, &facts.symmetry, cells)
+        {
+            let choice = GridChoice {
+                centre_symmetry: settings.mirror == Mirror::None,
+                band: Some(band),
+                limbs_apart: true,
+            };
+            match on_grid(cells, choice) {
+                Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
+                Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
+                _ => {}
+            }
+        }
+    }
+    Ok(rig)
 }
 
 /// Thin cells between legs closer than a cell of the detail's grid (`cells` along the longest
@@ -793,6 +832,13 @@ fn rig_on_grid(
         mirror_axis,
         refinements: refinement,
         shared_cages: Vec::new(),
+        limb_parents: names
+            .iter()
+            .map(|(limb, name)| {
+                let parent = parent_limb.get(limb).and_then(|p| names.get(p)).cloned();
+                (name.clone(), parent)
+            })
+            .collect(),
     };
     control.advance();
     Ok(Autorig { cages, report })

@@ -245,6 +245,20 @@ pub(super) fn limb_names(
     // A bust: a standing figure with no limb off its centre line (no arm, leg or ear pair);
     // the one limb it rests on is its neck, not a leg.
     let bust = frame.forward.is_none() && shapes.values().all(|s| side_of(s) == 0.0);
+    // A limb from which a pair of legs grows, one either side of the plane.
+    let carries_leg_pair = |limb: usize| {
+        let legs: Vec<&Shape> = limbs
+            .iter()
+            .filter(|(l, record)| record.parent == Some(limb) && !bodies.contains(l))
+            .filter_map(|(l, _)| shapes.get(l))
+            .filter(|c| is_leg(c))
+            .collect();
+        legs.iter().enumerate().any(|(i, a)| {
+            legs[i + 1..]
+                .iter()
+                .any(|b| mirror_each_other(a.middle, b.middle, lateral, centre))
+        })
+    };
     let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
     for (&limb, s) in &shapes {
         // A thick region of its own (a head, hips) is on the centre line when its middle is
@@ -349,6 +363,14 @@ pub(super) fn limb_names(
             // A centre limb on a head of its own (spot's crown between its ears at detail 5)
             // is no neck.
             "limb"
+        } else if side == 0.0 && carries_leg_pair(limb) {
+            // Two legs joined along the plane from the body down to where they part (the
+            // camel's, touching under its chest): their common stem, which turns both.
+            match frame.forward {
+                Some(_) if headwards => "leg.front",
+                Some(_) => "leg.back",
+                None => "leg",
+            }
         } else if side == 0.0 {
             centre_role(s.root, s.tip, &frame)
         } else if frame.forward.is_none() {
@@ -610,14 +632,9 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn a_leg_whose_first_segment_reaches_up_the_flank_is_a_leg() {
-        // A quadruped facing +Y (its neck rises at the front) whose legs' first segments also
-        // hold a piece of the flank above the hip, reaching farther from the hip than the
-        // hoof does, as spot's back leg at detail 4: the leg's tip was on the flank, above
-        // its root, and the leg was `limb.1`.
-        let legs = [(0.25, 0.7), (-0.25, 0.7), (0.25, -0.7), (-0.25, -0.7)];
-        let mut body: Vec<DVec3> = Vec::new();
+    /// The eight corners of a lying body 0.8 wide, 2 long (along Y) and 0.8 tall.
+    fn lying_body() -> Vec<DVec3> {
+        let mut body = Vec::new();
         for x in [-0.4, 0.4] {
             for y in [-1.0, 1.0] {
                 for z in [0.0, 0.8] {
@@ -625,6 +642,17 @@ mod tests {
                 }
             }
         }
+        body
+    }
+
+    #[test]
+    fn a_leg_whose_first_segment_reaches_up_the_flank_is_a_leg() {
+        // A quadruped facing +Y (its neck rises at the front) whose legs' first segments also
+        // hold a piece of the flank above the hip, reaching farther from the hip than the
+        // hoof does, as spot's back leg at detail 4: the leg's tip was on the flank, above
+        // its root, and the leg was `limb.1`.
+        let legs = [(0.25, 0.7), (-0.25, 0.7), (0.25, -0.7), (-0.25, -0.7)];
+        let mut body = lying_body();
         let mut cages = Vec::new();
         for &(x, y) in &legs {
             body.extend(ring(x, y, 0.0, 0.08));
@@ -669,5 +697,70 @@ mod tests {
         let expected: BTreeSet<&str> =
             BTreeSet::from(["leg.front.L", "leg.front.R", "leg.back.L", "leg.back.R"]);
         assert_eq!(legs, expected, "{names:?}");
+    }
+
+    #[test]
+    fn legs_joined_down_to_where_they_part_grow_from_their_stem() {
+        // A quadruped facing +Y whose front legs touch from the chest down to where they part
+        // (the camel's): one centre limb from the body, carrying the two legs. The stem was a
+        // `head` (a centre limb at the front end not rising above the body) carrying
+        // `leg.front.L` and `leg.front.R`.
+        let mut body = lying_body();
+        let mut cages = Vec::new();
+        for x in [0.25, -0.25] {
+            body.extend(ring(x, -0.7, 0.0, 0.08));
+            let mut thigh = ring(x, -0.7, 0.0, 0.08);
+            thigh.extend(ring(x, -0.7, -0.25, 0.08));
+            let mut shin = ring(x, -0.7, -0.25, 0.08);
+            shin.extend(ring(x, -0.7, -0.5, 0.08));
+            cages.push(thigh);
+            cages.push(shin);
+        }
+        body.extend(ring(0.0, 0.7, 0.0, 0.15));
+        let mut stem = ring(0.0, 0.7, 0.0, 0.15);
+        for x in [0.08, -0.08] {
+            stem.extend(ring(x, 0.7, -0.2, 0.06));
+            let mut leg = ring(x, 0.7, -0.2, 0.06);
+            leg.extend(ring(x, 0.7, -0.5, 0.06));
+            cages.push(leg);
+        }
+        cages.insert(4, stem);
+        body.extend(ring(0.0, 0.9, 0.6, 0.1));
+        let mut neck = ring(0.0, 0.9, 0.6, 0.1);
+        neck.extend(ring(0.0, 1.3, 1.4, 0.1));
+        cages.push(neck);
+        cages.push(body);
+        // Back legs 0 and 1 (two segments each), the stem 2, front legs 3 and 4, the neck 5.
+        let mut roles: Vec<Role> = (0..2)
+            .flat_map(|limb| (0..2).map(move |segment| Role::Limb { limb, segment }))
+            .collect();
+        roles.extend((2..6).map(|limb| Role::Limb { limb, segment: 0 }));
+        roles.push(Role::Body { body: 0, slab: 0 });
+        let cages = point_cages(&cages);
+        let parents = BTreeMap::from([(3, 2), (4, 2)]);
+        let names = limb_names(
+            &cages,
+            &roles,
+            &parents,
+            &BTreeSet::new(),
+            None,
+            None,
+            &BTreeSet::new(),
+        );
+        let name = |limb: usize| names.get(&limb).map(String::as_str);
+        assert_eq!(name(2), Some("leg.front"), "{names:?}");
+        let front: BTreeSet<_> = [name(3), name(4)].into_iter().flatten().collect();
+        assert_eq!(
+            front,
+            BTreeSet::from(["leg.front.L", "leg.front.R"]),
+            "{names:?}"
+        );
+        let back: BTreeSet<_> = [name(0), name(1)].into_iter().flatten().collect();
+        assert_eq!(
+            back,
+            BTreeSet::from(["leg.back.L", "leg.back.R"]),
+            "{names:?}"
+        );
+        assert_eq!(name(5), Some("neck"), "{names:?}");
     }
 }
