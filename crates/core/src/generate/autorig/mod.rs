@@ -31,6 +31,7 @@ mod joint_bodies;
 mod limb_tree;
 mod name_defects;
 mod naming;
+mod neck_head;
 mod pair_segments;
 mod parts;
 mod pieces;
@@ -788,14 +789,14 @@ fn rig_on_grid(
     let lateral = plane
         .map(|(a, _)| a)
         .or_else(|| horizontal_symmetry_axis(&facts.symmetry));
-    let (roles, parent_limb, bodies) = limb_tree::bodies_as_limbs(
+    let (mut roles, mut parent_limb, bodies) = limb_tree::bodies_as_limbs(
         &cages,
         &parts_of_leaves(&parts, &cages),
         &parts.parent_limb,
         lateral.filter(|&a| a < 2),
         &parts.heads,
     );
-    let names = naming::limb_names(
+    let mut names = naming::limb_names(
         &cages,
         &roles,
         &parent_limb,
@@ -804,6 +805,7 @@ fn rig_on_grid(
         lateral,
         &parts.heads,
     );
+    neck_head::head_off_neck(&cages, &mut roles, &mut parent_limb, &mut names);
     naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
         controls::add_controls(&mut cages, &roles, &parent_limb, &names);

@@ -1,0 +1,249 @@
+//! A head at the end of a neck that the cut did not find as a thick region of its own: the
+//! camel's head is hardly thicker than its neck, so it was the neck's last segment, and the
+//! rig had no `head` control. The segments from where the neck stops rising and runs level
+//! (a head held forward on a raised neck) become a limb of their own, `head`, hanging from the
+//! neck, whose control nods the head alone.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::DVec3;
+
+use super::controls::{centroid, limbs_of, vertices_of};
+use super::parts::Role;
+use crate::scene::CageSet;
+
+/// Splits the head off the rig's `neck` (see the module) where no limb is a head yet: the
+/// neck must rise (its tip above its root by more than 0.3 of their distance: a bust's neck,
+/// hanging to its cut, does not) and keep at least one segment. Updates the leaves' roles, the
+/// limbs' parents (a branch rooted on the head hangs from it) and the names.
+pub(super) fn head_off_neck(
+    cages: &CageSet,
+    roles: &mut [Role],
+    parent_limb: &mut BTreeMap<usize, usize>,
+    names: &mut BTreeMap<usize, String>,
+) {
+    if names
+        .values()
+        .any(|n| n == "head" || n.starts_with("head."))
+    {
+        return;
+    }
+    let Some(neck) = names
+        .iter()
+        .find(|(_, n)| n.as_str() == "neck")
+        .map(|(&l, _)| l)
+    else {
+        return;
+    };
+    let limbs = limbs_of(roles, parent_limb);
+    let Some(record) = limbs.get(&neck) else {
+        return;
+    };
+    let segment_vertices: Vec<BTreeSet<u32>> = record
+        .segments
+        .iter()
+        .map(|leaves| {
+            leaves
+                .iter()
+                .flat_map(|&l| vertices_of(&cages.leaves[l]))
+                .collect()
+        })
+        .collect();
+    let Some(first_level) = first_level_segment(cages, roles, neck, &segment_vertices) else {
+        return;
+    };
+    let head = roles
+        .iter()
+        .filter_map(|r| match r {
+            Role::Limb { limb, .. } => Some(*limb),
+            Role::Body { .. } => None,
+        })
+        .chain(parent_limb.iter().flat_map(|(&c, &p)| [c, p]))
+        .chain(names.keys().copied())
+        .max()
+        .map_or(0, |l| l + 1);
+    let head_vertices: BTreeSet<u32> = segment_vertices[first_level..]
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let neck_vertices: BTreeSet<u32> = segment_vertices[..first_level]
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    // The neck's segment numbers in order (merges may have left gaps): `record.segments`' order.
+    let numbers: Vec<usize> = roles
+        .iter()
+        .filter_map(|r| match *r {
+            Role::Limb { limb, segment } if limb == neck => Some(segment),
+            _ => None,
+        })
+        .collect::<BTreeSet<usize>>()
+        .into_iter()
+        .collect();
+    for role in roles.iter_mut() {
+        if let Role::Limb { limb, segment } = *role
+            && limb == neck
+            && let Ok(index) = numbers.binary_search(&segment)
+            && index >= first_level
+        {
+            *role = Role::Limb {
+                limb: head,
+                segment: index - first_level,
+            };
+        }
+    }
+    // Branches rooted on the head (ears, horns) hang from it.
+    for (&child, child_record) in &limbs {
+        if parent_limb.get(&child) != Some(&neck) {
+            continue;
+        }
+        let Some(first) = child_record.segments.first() else {
+            continue;
+        };
+        let root: BTreeSet<u32> = first
+            .iter()
+            .flat_map(|&l| vertices_of(&cages.leaves[l]))
+            .collect();
+        if root.intersection(&head_vertices).count() > root.intersection(&neck_vertices).count() {
+            parent_limb.insert(child, head);
+        }
+    }
+    parent_limb.insert(head, neck);
+    names.insert(head, "head".to_owned());
+}
+
+/// The first segment after the neck's first whose direction (its pivot to the next one's, the
+/// last to its tip) is within 45° of level, where the neck as a whole rises; None where the
+/// neck does not rise, has one segment, or never runs level.
+fn first_level_segment(
+    cages: &CageSet,
+    roles: &[Role],
+    neck: usize,
+    segment_vertices: &[BTreeSet<u32>],
+) -> Option<usize> {
+    if segment_vertices.len() < 2 {
+        return None;
+    }
+    let point = |v: &u32| cages.vertices[*v as usize];
+    let outside: BTreeSet<u32> = cages
+        .leaves
+        .iter()
+        .zip(roles)
+        .filter(|(_, r)| !matches!(r, Role::Limb { limb, .. } if *limb == neck))
+        .flat_map(|(leaf, _)| vertices_of(leaf))
+        .collect();
+    // Each segment's pivot: the centroid of the ring it shares with what comes before it.
+    let mut pivots: Vec<DVec3> = Vec::with_capacity(segment_vertices.len());
+    for (k, vertices) in segment_vertices.iter().enumerate() {
+        let before = if k == 0 {
+            &outside
+        } else {
+            &segment_vertices[k - 1]
+        };
+        pivots.push(centroid(vertices.intersection(before).map(point))?);
+    }
+    let last = *pivots.last()?;
+    let tip = segment_vertices
+        .last()?
+        .iter()
+        .map(point)
+        .max_by(|a, b| (*a - last).length().total_cmp(&(*b - last).length()))?;
+    let rise = tip - pivots[0];
+    if rise.z <= 0.3 * rise.length() {
+        return None;
+    }
+    let level = |d: DVec3| d.z.abs() < d.truncate().length();
+    (1..pivots.len()).find(|&k| {
+        let next = pivots.get(k + 1).copied().unwrap_or(tip);
+        level(next - pivots[k])
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_cages::point_cages;
+    use super::*;
+
+    /// Four corners of a square of half side 0.1 around `centre`, level.
+    fn ring(centre: DVec3) -> Vec<DVec3> {
+        [(-0.1, -0.1), (0.1, -0.1), (0.1, 0.1), (-0.1, 0.1)]
+            .iter()
+            .map(|&(dx, dy)| centre + DVec3::new(dx, dy, 0.0))
+            .collect()
+    }
+
+    /// A body and a neck of three segments through `joints` (the body's ring first, the tip
+    /// last): the leaves' roles, the neck limb 0 and the body last.
+    fn neck_rig(joints: &[DVec3]) -> (CageSet, Vec<Role>) {
+        let mut body = vec![
+            DVec3::new(-0.4, -1.0, 0.0),
+            DVec3::new(0.4, -1.0, 0.0),
+            DVec3::new(0.4, 1.0, 0.8),
+            DVec3::new(-0.4, 1.0, 0.8),
+        ];
+        body.extend(ring(joints[0]));
+        let mut cages: Vec<Vec<DVec3>> = joints
+            .windows(2)
+            .map(|pair| [ring(pair[0]), ring(pair[1])].concat())
+            .collect();
+        cages.push(body);
+        let mut roles: Vec<Role> = (0..joints.len() - 1)
+            .map(|segment| Role::Limb { limb: 0, segment })
+            .collect();
+        roles.push(Role::Body { body: 0, slab: 0 });
+        (point_cages(&cages), roles)
+    }
+
+    fn split(
+        cages: &CageSet,
+        roles: &[Role],
+        name: &str,
+    ) -> (Vec<Role>, BTreeMap<usize, usize>, BTreeMap<usize, String>) {
+        let mut roles = roles.to_vec();
+        let mut parents = BTreeMap::new();
+        let mut names = BTreeMap::from([(0, name.to_owned())]);
+        head_off_neck(cages, &mut roles, &mut parents, &mut names);
+        (roles, parents, names)
+    }
+
+    /// A neck that rises from the body's front and then runs level (the camel's head held
+    /// forward) gives its level segment to a `head` hanging from it; a neck rising straight
+    /// up to its tip, one hanging down (a bust's), and a rig that has a head keep theirs.
+    #[test]
+    fn the_level_end_of_a_raised_neck_is_its_head() {
+        // Joints on the centre plane, as (y, z).
+        let joints = |yz: &[(f64, f64)]| -> Vec<DVec3> {
+            yz.iter().map(|&(y, z)| DVec3::new(0.0, y, z)).collect()
+        };
+        let raised = joints(&[(0.9, 0.6), (1.1, 1.2), (1.2, 1.6), (1.7, 1.7)]);
+        let (cages, roles) = neck_rig(&raised);
+        let (after, parents, names) = split(&cages, &roles, "neck");
+        let limb_segments: Vec<(usize, usize)> = after
+            .iter()
+            .filter_map(|r| match *r {
+                Role::Limb { limb, segment } => Some((limb, segment)),
+                Role::Body { .. } => None,
+            })
+            .collect();
+        assert_eq!(limb_segments, [(0, 0), (0, 1), (1, 0)], "{after:?}");
+        assert_eq!(parents.get(&1), Some(&0));
+        assert_eq!(names.get(&1).map(String::as_str), Some("head"));
+
+        let straight_up = joints(&[(0.9, 0.6), (1.0, 1.2), (1.1, 1.6), (1.2, 2.0)]);
+        let (cages, roles) = neck_rig(&straight_up);
+        assert_eq!(split(&cages, &roles, "neck").0, roles);
+
+        let hanging: Vec<DVec3> = raised.iter().map(|p| DVec3::new(p.x, p.y, -p.z)).collect();
+        let (cages, roles) = neck_rig(&hanging);
+        assert_eq!(split(&cages, &roles, "neck").0, roles);
+
+        let (cages, roles) = neck_rig(&raised);
+        let mut roles_with_head = roles.clone();
+        let mut parents = BTreeMap::new();
+        let mut names = BTreeMap::from([(0, "neck".to_owned()), (5, "head".to_owned())]);
+        head_off_neck(&cages, &mut roles_with_head, &mut parents, &mut names);
+        assert_eq!(roles_with_head, roles);
+    }
+}
