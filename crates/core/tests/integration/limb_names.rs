@@ -826,3 +826,40 @@ fn a_backpack_is_no_head_on_a_figure_with_one() {
         "{names:?}"
     );
 }
+
+/// A camel-like quadruped (issue 41, libigl's camel): its front and hind legs touch from the
+/// body down to where they part, and its head is held level at the top of a raised neck no
+/// thinner than it. Each pair of legs hangs from its stem `leg.front` / `leg.back` (before, a
+/// `head` and a `tail` carried them, or they were one unsided `leg`), and the head has a
+/// control of its own at the end of the neck (it was the neck's last segment).
+#[test]
+fn a_camel_s_touching_legs_hang_from_their_stem_and_its_level_head_is_a_head() {
+    // Facing −Y: the body along y, the neck rising from its front, the head level on top.
+    let mut parts = vec![
+        (v(0.0, -1.0, 1.3), v(0.0, 1.0, 1.3), 0.42),
+        (v(0.0, -1.1, 1.4), v(0.0, -1.5, 2.4), 0.13),
+        (v(0.0, -1.5, 2.4), v(0.0, -2.0, 2.45), 0.14),
+    ];
+    // Legs touching at the top, apart below.
+    parts.extend(
+        [(-0.75, -1.0), (-0.75, 1.0), (0.75, -1.0), (0.75, 1.0)]
+            .map(|(y, side)| (v(0.05 * side, y, 1.0), v(0.32 * side, y, 0.0), 0.11)),
+    );
+    let controls = controls_of(&capsules(&parts, 0.035));
+    for end in ["front", "back"] {
+        for side in ["L", "R"] {
+            let leg = format!("leg.{end}.{side}.1");
+            assert!(
+                parent(&controls, &leg).starts_with(&format!("leg.{end}.")),
+                "{leg} hangs from {}: {:?}",
+                parent(&controls, &leg),
+                controls.keys()
+            );
+        }
+    }
+    assert!(
+        parent(&controls, "head.1").starts_with("neck."),
+        "{:?}",
+        controls.keys()
+    );
+}
