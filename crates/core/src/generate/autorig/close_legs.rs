@@ -9,6 +9,7 @@
 //! cell as the detail's.
 
 use super::Autorig;
+use super::name_defects::{is_leg, is_leg_without_side};
 use super::surface::SurfaceMesh;
 use crate::mesh::Mesh;
 use std::collections::BTreeSet;
@@ -25,7 +26,7 @@ pub(super) fn sided_legs(rig: &Autorig) -> usize {
 /// joined along the symmetry plane (the camel's front legs, a cell apart) are one such limb.
 pub(super) fn unsided_legs(rig: &Autorig) -> usize {
     leg_limbs(rig)
-        .filter(|limb| *limb == "leg" || *limb == "leg.front" || *limb == "leg.back")
+        .filter(|limb| is_leg_without_side(limb))
         .count()
 }
 
@@ -36,7 +37,7 @@ fn leg_limbs(rig: &Autorig) -> impl Iterator<Item = &str> {
         .leaves
         .iter()
         .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
-        .filter(|limb| *limb == "leg" || limb.starts_with("leg."))
+        .filter(|limb| is_leg(limb))
         .collect();
     limbs.into_iter()
 }

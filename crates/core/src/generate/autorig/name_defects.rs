@@ -48,11 +48,13 @@ fn is_second_of_its_kind(name: &str) -> bool {
         .is_some_and(|(_, last)| last.len() == 3 && last.bytes().all(|b| b.is_ascii_digit()))
 }
 
-fn is_leg(name: &str) -> bool {
+/// Whether a limb's name is a leg's (`leg`, `leg.L`, `leg.front.R` …).
+pub(super) fn is_leg(name: &str) -> bool {
     name == "leg" || name.starts_with("leg.")
 }
 
-fn is_leg_without_side(name: &str) -> bool {
+/// Whether a limb's name is a leg's without a side.
+pub(super) fn is_leg_without_side(name: &str) -> bool {
     matches!(name, "leg" | "leg.front" | "leg.back")
 }
 
