@@ -863,3 +863,74 @@ fn a_camel_s_touching_legs_hang_from_their_stem_and_its_level_head_is_a_head() {
         controls.keys()
     );
 }
+
+/// A cartoon elephant (libigl's `elephant.obj`, an unseen mesh): a head larger than the torso
+/// it sits on through a short neck, ears out from the head, a trunk hanging from its front
+/// (−Y) down to `trunk_end_z`, arms straight out from the torso and legs under it.
+fn elephant(trunk_end_z: f64) -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.42), v(0.0, 0.0, 0.56), 0.24),
+        (v(0.0, 0.0, 0.72), v(0.0, 0.0, 0.8), 0.14),
+        (v(0.0, 0.0, 1.08), v(0.0, 0.0, 1.1), 0.3),
+        (v(0.0, -0.28, 1.0), v(0.0, -0.44, trunk_end_z), 0.06),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.25 * side, 0.05, 1.15), v(0.5 * side, 0.08, 1.05), 0.1));
+        parts.push((v(0.15 * side, 0.0, 0.58), v(0.45 * side, 0.0, 0.55), 0.07));
+        parts.push((v(0.1 * side, 0.0, 0.35), v(0.1 * side, 0.0, 0.0), 0.08));
+    }
+    capsules(&parts, 0.02)
+}
+
+#[test]
+fn an_elephant_s_head_larger_than_its_torso_carries_its_ears_and_trunk() {
+    // The head was the main body and the torso a limb `head` carrying the legs and the arms
+    // (`horn.L`, `ear.R`); the legs' body is the torso. Two trunks: one down to the arms, and
+    // one longer than the head, which made the head a `neck` (a thick neck base carrying a
+    // centre limb longer than itself).
+    for trunk_end_z in [0.62, 0.3] {
+        let controls = controls_of(&elephant(trunk_end_z));
+        let names: Vec<&String> = controls.keys().collect();
+        for limb in [
+            "head.1", "ear.L.1", "ear.R.1", "arm.L.1", "arm.R.1", "leg.L.1", "leg.R.1",
+        ] {
+            assert!(
+                controls.contains_key(limb),
+                "trunk to {trunk_end_z}: no {limb} in {names:?}"
+            );
+        }
+        for limb in ["head.1", "arm.L.1", "arm.R.1", "leg.L.1", "leg.R.1"] {
+            assert_eq!(parent(&controls, limb), "root", "{limb}: {names:?}");
+        }
+        assert!(controls["ear.L.1"].1.x > 0.0 && controls["arm.L.1"].1.x > 0.0);
+        // The head turns at its neck, and carries whatever grows from it: its ears, the trunk
+        // hanging in front (no `neck`: the trunk hangs, it does not rise from the head) and the
+        // crown above.
+        let neck = controls["head.1"].1;
+        assert!(neck.z > 0.6 && neck.z < 0.9, "head.1's pivot {neck}");
+        let on_head: Vec<&String> = names
+            .iter()
+            .copied()
+            .filter(|n| n.ends_with(".1") && controls[*n].1.z > 0.85)
+            .collect();
+        assert!(
+            on_head.iter().all(|n| parent(&controls, n) == "head.1"),
+            "{on_head:?}: {names:?}"
+        );
+        let trunk: Vec<&String> = names
+            .iter()
+            .copied()
+            .filter(|n| n.ends_with(".1") && controls[*n].1.y < -0.2)
+            .collect();
+        assert!(
+            trunk.len() == 1 && parent(&controls, trunk[0]) == "head.1",
+            "{trunk:?}: {names:?}"
+        );
+        assert!(
+            names
+                .iter()
+                .all(|n| !n.contains(".001") && !n.starts_with("neck")),
+            "{names:?}"
+        );
+    }
+}

@@ -291,6 +291,21 @@ fn attach_bodies(
         {
             parents.insert(pseudo(body), limb);
             on_limb.insert(body);
+            continue;
+        }
+        // A body touching neither the main body nor a limb grows from the body it shares most
+        // with (a crown on a head larger than the torso, `head_over_legs`).
+        let on_body = body_vertices
+            .iter()
+            .filter(|(b, _)| **b != main && **b != body)
+            .map(|(&b, v)| (shared(vertices, v), std::cmp::Reverse(b)))
+            .max()
+            .filter(|(n, _)| *n > 0);
+        if with_main == 0
+            && best.is_none_or(|(n, _)| n == 0)
+            && let Some((_, std::cmp::Reverse(other))) = on_body
+        {
+            parents.insert(pseudo(body), pseudo(other));
         }
     }
     // A root limb rooted on another body grows from that body (legs on hips, a shin under a

@@ -27,6 +27,7 @@ mod close_legs;
 mod controls;
 mod crumbs;
 mod decimate;
+mod head_over_legs;
 mod joint_bodies;
 mod limb_tree;
 mod name_defects;
@@ -789,12 +790,15 @@ fn rig_on_grid(
     let lateral = plane
         .map(|(a, _)| a)
         .or_else(|| horizontal_symmetry_axis(&facts.symmetry));
+    let leaf_roles = parts_of_leaves(&parts, &cages);
+    let heads =
+        head_over_legs::heads_over_legs(&cages, &leaf_roles, &parts.parent_limb, &parts.heads);
     let (mut roles, mut parent_limb, bodies) = limb_tree::bodies_as_limbs(
         &cages,
-        &parts_of_leaves(&parts, &cages),
+        &leaf_roles,
         &parts.parent_limb,
         lateral.filter(|&a| a < 2),
-        &parts.heads,
+        &heads,
     );
     let mut names = naming::limb_names(
         &cages,
@@ -803,7 +807,7 @@ fn rig_on_grid(
         &bodies,
         plane,
         lateral,
-        &parts.heads,
+        &heads,
     );
     neck_head::head_off_neck(&cages, &mut roles, &mut parent_limb, &mut names);
     naming::rename_limb_cages(&mut cages, &roles, &names);

@@ -323,13 +323,15 @@ pub(super) fn limb_names(
         let body_height = frame.body_hi.z - frame.body_lo.z;
         let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
         let headwards = headwards_of(s);
-        // A centre limb longer than itself grows from it (a thick neck base carrying the
+        // A centre limb longer than itself rises from it (a thick neck base carrying the
         // neck and head; not a head's crown between its ears, spot's at detail 5, which made
-        // its head `neck`).
+        // its head `neck`, nor an elephant's trunk hanging from its head).
         let carries_centre_limb = limbs.iter().any(|(l, record)| {
             record.parent == Some(limb)
                 && shapes.get(l).is_some_and(|c| {
-                    (c.middle[lateral] - centre).abs() <= 0.25 * c.width && length(c) > length(s)
+                    (c.middle[lateral] - centre).abs() <= 0.25 * c.width
+                        && length(c) > length(s)
+                        && c.tip.z > c.root.z
                 })
         });
         // Ears and horns rise from where they grow (a muzzle, a leg do not).
@@ -337,7 +339,13 @@ pub(super) fn limb_names(
         // On a head, ears may stand out sideways and a little down (spot's fall 15°); a side
         // limb hanging from it more steeply than 30° is not one.
         let droops = s.root.z - s.tip.z > 0.5 * length(s);
-        let role = if head_on_neck {
+        // A thick region on another that is not the main body (a crown on a head larger
+        // than the torso, `head_over_legs`) is part of it, as a crown on a head is.
+        let on_body =
+            bodies.contains(&limb) && limbs[&limb].parent.is_some_and(|p| bodies.contains(&p));
+        let role = if on_body {
+            "limb"
+        } else if head_on_neck {
             "head"
         } else if carries_head {
             "neck"
