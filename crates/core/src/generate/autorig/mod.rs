@@ -45,6 +45,7 @@ mod symmetry;
 mod test_cages;
 #[cfg(test)]
 mod test_mirror;
+mod twin_limbs;
 mod union_find;
 mod voxels;
 
@@ -810,6 +811,7 @@ fn rig_on_grid(
         &heads,
     );
     neck_head::head_off_neck(&cages, &mut roles, &mut parent_limb, &mut names);
+    twin_limbs::merge_twin_limbs(&cages, &mut roles, &mut parent_limb, &mut names);
     naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
         controls::add_controls(&mut cages, &roles, &parent_limb, &names);
