@@ -934,3 +934,54 @@ fn an_elephant_s_head_larger_than_its_torso_carries_its_ears_and_trunk() {
         );
     }
 }
+
+/// A cat (TOSCA's, an unseen mesh) facing −Y: its head grows from the chest through a neck
+/// nearly as thick as both, so the body narrows nowhere; ears on the head, a thin tail.
+fn cat() -> Mesh {
+    let mut parts = vec![
+        (v(0.0, -0.8, 1.0), v(0.0, 0.8, 1.0), 0.3),
+        (v(0.0, -0.8, 1.0), v(0.0, -1.45, 1.25), 0.27),
+        (v(0.0, 0.9, 1.05), v(0.0, 2.0, 1.35), 0.05),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.13 * side, -1.4, 1.4), v(0.2 * side, -1.4, 1.8), 0.07));
+        for y in [-0.6, 0.6] {
+            parts.push((v(0.18 * side, y, 0.9), v(0.18 * side, y, 0.0), 0.09));
+        }
+    }
+    capsules(&parts, 0.03)
+}
+
+#[test]
+fn a_cat_s_head_on_a_thick_neck_is_a_head_carrying_its_ears() {
+    // The body narrowed nowhere, so the head and neck were body slabs: no head control, the
+    // ears on the root. The slabs well in front of the front legs are the head.
+    let controls = controls_of(&cat());
+    let names: Vec<&String> = controls.keys().collect();
+    for limb in [
+        "head.1",
+        "ear.L.1",
+        "ear.R.1",
+        "leg.front.L.1",
+        "leg.front.R.1",
+        "leg.back.L.1",
+        "leg.back.R.1",
+        "tail.1",
+    ] {
+        assert!(controls.contains_key(limb), "no {limb} in {names:?}");
+    }
+    assert_eq!(parent(&controls, "head.1"), "root");
+    for ear in ["ear.L.1", "ear.R.1"] {
+        assert!(
+            parent(&controls, ear).starts_with("head."),
+            "{ear} hangs from {}",
+            parent(&controls, ear)
+        );
+    }
+    // The head turns in front of the shoulders, behind its ears.
+    let neck = controls["head.1"].1;
+    assert!(neck.y < -0.6 && neck.y > -1.3, "head.1's pivot {neck}");
+    for leg in ["leg.front.L.1", "leg.back.L.1", "tail.1"] {
+        assert_eq!(parent(&controls, leg), "root", "{leg}");
+    }
+}

@@ -87,6 +87,24 @@ pub(super) fn main_body(
         .map(|(b, _)| *b)
 }
 
+/// A limb number no leaf, parent link or name uses yet (for a limb split off another).
+pub(super) fn new_limb_id(
+    roles: &[Role],
+    parent_limb: &BTreeMap<usize, usize>,
+    names: &BTreeMap<usize, String>,
+) -> usize {
+    roles
+        .iter()
+        .filter_map(|r| match r {
+            Role::Limb { limb, .. } => Some(*limb),
+            Role::Body { .. } => None,
+        })
+        .chain(parent_limb.iter().flat_map(|(&c, &p)| [c, p]))
+        .chain(names.keys().copied())
+        .max()
+        .map_or(0, |l| l + 1)
+}
+
 /// The cage vertices a leaf cage's faces use.
 pub(super) fn vertices_of(leaf: &LeafCage) -> BTreeSet<u32> {
     leaf.faces.iter().flatten().copied().collect()

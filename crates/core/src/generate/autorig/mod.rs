@@ -27,6 +27,7 @@ mod close_legs;
 mod controls;
 mod crumbs;
 mod decimate;
+mod head_in_body;
 mod head_over_legs;
 mod joint_bodies;
 mod limb_tree;
@@ -812,6 +813,7 @@ fn rig_on_grid(
     );
     neck_head::head_off_neck(&cages, &mut roles, &mut parent_limb, &mut names);
     twin_limbs::merge_twin_limbs(&cages, &mut roles, &mut parent_limb, &mut names);
+    head_in_body::head_out_of_body(&cages, &mut roles, &mut parent_limb, &mut names);
     naming::rename_limb_cages(&mut cages, &roles, &names);
     if settings.controls {
         controls::add_controls(&mut cages, &roles, &parent_limb, &names);

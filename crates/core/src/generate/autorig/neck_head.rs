@@ -8,7 +8,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 
-use super::controls::{centroid, limbs_of, vertices_of};
+use super::controls::{centroid, limbs_of, new_limb_id, vertices_of};
 use super::parts::Role;
 use crate::scene::CageSet;
 
@@ -52,16 +52,7 @@ pub(super) fn head_off_neck(
     let Some(first_level) = first_level_segment(cages, roles, neck, &segment_vertices) else {
         return;
     };
-    let head = roles
-        .iter()
-        .filter_map(|r| match r {
-            Role::Limb { limb, .. } => Some(*limb),
-            Role::Body { .. } => None,
-        })
-        .chain(parent_limb.iter().flat_map(|(&c, &p)| [c, p]))
-        .chain(names.keys().copied())
-        .max()
-        .map_or(0, |l| l + 1);
+    let head = new_limb_id(roles, parent_limb, names);
     let head_vertices: BTreeSet<u32> = segment_vertices[first_level..]
         .iter()
         .flatten()
