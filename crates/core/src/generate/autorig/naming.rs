@@ -459,6 +459,43 @@ pub(super) fn limb_names(
             base.insert(limb, ("horn".to_owned(), letter));
         }
     }
+    // Four legs under a lying body: the front two and the back two are pairs, and a pair whose
+    // legs stand side by side has one on each side, told apart by which lies further left,
+    // where the plane through the body's middle left one or both without a side (TOSCA's
+    // wolf, its head and body turned: its left legs were `leg` and `leg.001`).
+    if let Some((axis, sign)) = frame.forward {
+        let mut legs: Vec<usize> = base
+            .iter()
+            .filter(|(l, (r, _))| r == "leg" && shapes.contains_key(l))
+            .map(|(&l, _)| l)
+            .collect();
+        if legs.len() == 4 {
+            legs.sort_by(|a, b| {
+                let along = |l: &usize| -sign * shapes[l].root[axis];
+                along(a).total_cmp(&along(b))
+            });
+            for pair in legs.chunks(2) {
+                let [a, b] = pair[..] else { continue };
+                let sides = (base[&a].1, base[&b].1);
+                if sides.0.is_some() && sides.1.is_some() && sides.0 != sides.1 {
+                    continue;
+                }
+                let (sa, sb) = (&shapes[&a], &shapes[&b]);
+                let apart = (sa.middle[lateral] - sb.middle[lateral]).abs();
+                // Side by side: further apart than a quarter of their mean width.
+                if apart <= 0.25 * (sa.width + sb.width) {
+                    continue;
+                }
+                let a_left = (sa.middle[lateral] - sb.middle[lateral]) * frame.left_sign > 0.0;
+                let (left, right) = if a_left { (a, b) } else { (b, a) };
+                for (limb, letter) in [(left, 'L'), (right, 'R')] {
+                    if let Some(entry) = base.get_mut(&limb) {
+                        entry.1 = Some(letter);
+                    }
+                }
+            }
+        }
+    }
     // Quadrupeds: legs on a side in order along the body, front first.
     let mut names: BTreeMap<usize, String> = BTreeMap::new();
     for letter in [Some('L'), Some('R')] {
@@ -653,31 +690,31 @@ mod tests {
         body
     }
 
-    #[test]
-    fn a_leg_whose_first_segment_reaches_up_the_flank_is_a_leg() {
-        // A quadruped facing +Y (its neck rises at the front) whose legs' first segments also
-        // hold a piece of the flank above the hip, reaching farther from the hip than the
-        // hoof does, as spot's back leg at detail 4: the leg's tip was on the flank, above
-        // its root, and the leg was `limb.1`.
+    /// The names of a quadruped facing +Y: `body`'s corners, four legs of two segments at
+    /// (±0.25, ±0.7) (limbs 0–3: front right, front left, back right, back left), their
+    /// thighs also holding a piece of the flank above the hip where `flank`, and a neck
+    /// rising from the front at x = `neck_x` (limb 4).
+    fn quadruped_names(mut body: Vec<DVec3>, flank: bool, neck_x: f64) -> BTreeMap<usize, String> {
         let legs = [(0.25, 0.7), (-0.25, 0.7), (0.25, -0.7), (-0.25, -0.7)];
-        let mut body = lying_body();
         let mut cages = Vec::new();
         for &(x, y) in &legs {
             body.extend(ring(x, y, 0.0, 0.08));
             let mut thigh = ring(x, y, 0.0, 0.08);
             thigh.extend(ring(x, y, -0.25, 0.08));
-            thigh.extend([
-                DVec3::new(x - 0.08, y + 0.3, 0.7),
-                DVec3::new(x + 0.08, y + 0.3, 0.7),
-            ]);
+            if flank {
+                thigh.extend([
+                    DVec3::new(x - 0.08, y + 0.3, 0.7),
+                    DVec3::new(x + 0.08, y + 0.3, 0.7),
+                ]);
+            }
             let mut shin = ring(x, y, -0.25, 0.08);
             shin.extend(ring(x, y, -0.5, 0.08));
             cages.push(thigh);
             cages.push(shin);
         }
-        body.extend(ring(0.0, 0.9, 0.6, 0.1));
-        let mut neck = ring(0.0, 0.9, 0.6, 0.1);
-        neck.extend(ring(0.0, 1.3, 1.4, 0.1));
+        body.extend(ring(neck_x, 0.9, 0.6, 0.1));
+        let mut neck = ring(neck_x, 0.9, 0.6, 0.1);
+        neck.extend(ring(neck_x, 1.3, 1.4, 0.1));
         cages.push(neck);
         cages.push(body);
         let mut roles: Vec<Role> = (0..legs.len())
@@ -689,7 +726,7 @@ mod tests {
         });
         roles.push(Role::Body { body: 0, slab: 0 });
         let cages = point_cages(&cages);
-        let names = limb_names(
+        limb_names(
             &cages,
             &roles,
             &BTreeMap::new(),
@@ -697,14 +734,51 @@ mod tests {
             None,
             None,
             &BTreeSet::new(),
-        );
-        let legs: BTreeSet<&str> = (0..legs.len())
+        )
+    }
+
+    #[test]
+    fn a_leg_whose_first_segment_reaches_up_the_flank_is_a_leg() {
+        // A quadruped facing +Y (its neck rises at the front) whose legs' first segments also
+        // hold a piece of the flank above the hip, reaching farther from the hip than the
+        // hoof does, as spot's back leg at detail 4: the leg's tip was on the flank, above
+        // its root, and the leg was `limb.1`.
+        let names = quadruped_names(lying_body(), true, 0.0);
+        let legs: BTreeSet<&str> = (0..4)
             .filter_map(|limb| names.get(&limb).map(String::as_str))
             .collect();
         // Facing +Y, the left side is −X.
         let expected: BTreeSet<&str> =
             BTreeSet::from(["leg.front.L", "leg.front.R", "leg.back.L", "leg.back.R"]);
         assert_eq!(legs, expected, "{names:?}");
+    }
+
+    #[test]
+    fn four_legs_under_a_lying_body_are_two_pairs_of_sides() {
+        // A quadruped facing +Y whose body reaches far out to its left (a wolf's body and
+        // head turned): the plane through the body's middle runs through its left legs,
+        // which had no side (`leg`, `leg.001`).
+        let mut body = Vec::new();
+        for x in [-0.9, 0.4] {
+            for y in [-1.0, 1.0] {
+                for z in [0.0, 0.8] {
+                    body.push(DVec3::new(x, y, z));
+                }
+            }
+        }
+        let names = quadruped_names(body, false, -0.25);
+        // Facing +Y, the left side is −X.
+        let name = |limb: usize| names.get(&limb).map(String::as_str);
+        assert_eq!(
+            [name(0), name(1), name(2), name(3)],
+            [
+                Some("leg.front.R"),
+                Some("leg.front.L"),
+                Some("leg.back.R"),
+                Some("leg.back.L")
+            ],
+            "{names:?}"
+        );
     }
 
     #[test]
