@@ -985,3 +985,105 @@ fn a_cat_s_head_on_a_thick_neck_is_a_head_carrying_its_ears() {
         assert_eq!(parent(&controls, leg), "root", "{leg}");
     }
 }
+
+/// A woman standing in a T-pose, facing −Y, her thighs pressed together (0.04 apart, under a
+/// third of a cell of the default detail) and nearly as thick as her waist (0.21 against
+/// 0.25), narrowing to thin shins and ankles (TOSCA's Victoria), arms straight out from the
+/// shoulders.
+fn woman_with_thighs_together() -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.25),
+        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.5), 0.09),
+        (v(0.0, -0.03, 1.72), v(0.0, 0.0, 1.82), 0.19),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.3 * side, 0.0, 1.12), v(1.5 * side, 0.0, 1.12), 0.08));
+        parts.push((v(0.23 * side, 0.0, 0.0), v(0.23 * side, 0.0, -0.9), 0.21));
+        parts.push((v(0.23 * side, 0.0, -0.9), v(0.17 * side, 0.0, -1.7), 0.11));
+        parts.push((
+            v(0.17 * side, 0.0, -1.7),
+            v(0.17 * side, -0.25, -1.88),
+            0.06,
+        ));
+    }
+    capsules(&parts, 0.03)
+}
+
+#[test]
+fn thighs_pressed_together_over_thin_ankles_are_legs_up_to_the_hip() {
+    // The grid joined the thighs; below them the shins parted, so the feet alone were
+    // `leg.L` and `leg.R` (a tenth of the height), the legs above them body slabs, and the
+    // retry that parts legs closer than a cell was not tried: two sided legs were found.
+    let controls = controls_of(&woman_with_thighs_together());
+    let names: Vec<&String> = controls.keys().collect();
+    for control in [
+        "leg.L.1", "leg.L.2", "leg.R.1", "leg.R.2", "arm.L.1", "arm.R.1", "head.1",
+    ] {
+        assert!(controls.contains_key(control), "no {control} in {names:?}");
+    }
+    // The hips turn at the crotch, far above the ankles.
+    for hip in ["leg.L.1", "leg.R.1"] {
+        let pivot = controls[hip].1;
+        assert!(pivot.z > -0.5 && pivot.z < 0.3, "{hip}'s pivot {pivot}");
+    }
+    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+}
+
+#[test]
+fn arms_raised_above_the_head_are_arms() {
+    // A figure facing −Y with both arms raised above its head (TOSCA's gorilla): arms rooted
+    // in the body's top fifth and reaching above it were ears, though a head rises from the
+    // body well above their roots.
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.38),
+        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.5), 0.1),
+        (v(0.0, -0.03, 1.75), v(0.0, 0.0, 1.85), 0.24),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.35 * side, 0.0, 1.1), v(0.8 * side, 0.0, 1.75), 0.1));
+        parts.push((v(0.8 * side, 0.0, 1.75), v(1.0 * side, 0.0, 2.4), 0.08));
+        parts.push((v(0.22 * side, 0.0, -0.1), v(0.25 * side, 0.0, -1.9), 0.13));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let names: Vec<&String> = controls.keys().collect();
+    for control in ["arm.L.1", "arm.R.1", "head.1", "leg.L.1", "leg.R.1"] {
+        assert!(controls.contains_key(control), "no {control} in {names:?}");
+    }
+    assert!(!names.iter().any(|n| n.starts_with("ear")), "{names:?}");
+    assert!(controls["arm.L.1"].1.x > 0.0 && controls["arm.R.1"].1.x < 0.0);
+}
+
+#[test]
+fn a_centaur_s_arms_are_arms() {
+    // A horse's body facing −Y with a man's torso rising from its front, arms out sideways
+    // from his shoulders (TOSCA's centaur): side limbs out from a lying body's upper front
+    // were ears, a cow's; these are a third of the figure's height long.
+    let mut parts = vec![
+        (v(0.0, -0.8, 1.0), v(0.0, 0.8, 1.0), 0.35),
+        (v(0.0, -0.8, 1.2), v(0.0, -0.8, 2.0), 0.22),
+        (v(0.0, -0.8, 2.1), v(0.0, -0.8, 2.2), 0.08),
+        (v(0.0, -0.82, 2.4), v(0.0, -0.8, 2.45), 0.15),
+        (v(0.0, 0.9, 1.1), v(0.0, 1.3, 0.4), 0.07),
+    ];
+    for side in [-1.0, 1.0] {
+        parts.push((v(0.22 * side, -0.8, 1.92), v(1.0 * side, -0.8, 1.75), 0.07));
+        for y in [-0.6, 0.6] {
+            parts.push((v(0.2 * side, y, 0.8), v(0.2 * side, y, -0.2), 0.1));
+        }
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let names: Vec<&String> = controls.keys().collect();
+    for control in [
+        "arm.L.1",
+        "arm.R.1",
+        "leg.front.L.1",
+        "leg.front.R.1",
+        "leg.back.L.1",
+        "leg.back.R.1",
+    ] {
+        assert!(controls.contains_key(control), "no {control} in {names:?}");
+    }
+    assert!(!names.iter().any(|n| n.starts_with("ear")), "{names:?}");
+    // Facing −Y, left is +X.
+    assert!(controls["arm.L.1"].1.x > 0.0 && controls["arm.R.1"].1.x < 0.0);
+}

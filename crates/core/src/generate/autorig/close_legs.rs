@@ -6,7 +6,8 @@
 //! feet and is symmetric across a horizontal plane again, on a grid with that plane through the
 //! middle of a column of cells; where the gap is narrower than a cell, on a grid whose column
 //! there is thinner than the gap ([`gap_between_legs`], [`super::voxels::Band`]), every other
-//! cell as the detail's.
+//! cell as the detail's. It does so too where the legs it found reach little of the height
+//! ([`leg_reach`]): thighs pressed together over thinner shins leave only the feet as legs.
 
 use super::Autorig;
 use super::name_defects::{is_leg, is_leg_without_side};
@@ -29,6 +30,50 @@ pub(super) fn unsided_legs(rig: &Autorig) -> usize {
         .filter(|limb| is_leg_without_side(limb))
         .count()
 }
+
+/// How high the legs of `rig` reach: the top of their leaf cages (sided legs and the stems
+/// carrying them) above the lowest cage vertex, as a share of the cages' height (0 with no
+/// leg). Legs a cell apart that the grid joined above the ankles leave only the feet as legs
+/// (TOSCA's Victoria at the default detail: two feet under body slabs holding both legs,
+/// 0.08).
+pub(super) fn leg_reach(rig: &Autorig) -> f64 {
+    let cages = &rig.cages;
+    let (lo, hi) = crate::cage::bounds_of(&cages.vertices);
+    let height = hi.z - lo.z;
+    let top = (cages.leaves.iter())
+        .filter(|leaf| {
+            leaf.name
+                .split_once('_')
+                .is_some_and(|(limb, _)| is_leg(limb))
+        })
+        .flat_map(|leaf| leaf.faces.iter().flatten())
+        .filter_map(|&v| cages.vertices.get(v as usize))
+        .map(|p| p.z)
+        .max_by(f64::total_cmp);
+    match top {
+        Some(top) if height > 0.0 => ((top - lo.z) / height).clamp(0.0, 1.0),
+        _ => 0.0,
+    }
+}
+
+/// How many limbs of `rig` other than legs have a side (arms, ears …), by its leaf cages'
+/// names: a retry that parts the legs must keep them.
+pub(super) fn sided_other_limbs(rig: &Autorig) -> usize {
+    let limbs: BTreeSet<&str> = (rig.cages.leaves.iter())
+        .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
+        .filter(|limb| !is_leg(limb) && (limb.ends_with(".L") || limb.ends_with(".R")))
+        .collect();
+    limbs.len()
+}
+
+/// Legs reaching less than this share of the figure's height ([`leg_reach`]) are
+/// feet the grid parted under legs it joined: a person's legs reach about half of it, a
+/// quadruped's a third or more.
+pub(super) const SHORT_LEG_REACH: f64 = 0.3;
+
+/// How much higher a retry's legs must reach to be kept over the detail's rig with as many
+/// sided legs.
+pub(super) const BETTER_LEG_REACH: f64 = 0.05;
 
 /// The names of the limbs of `rig` that are legs, once each, by its leaf cages' names.
 fn leg_limbs(rig: &Autorig) -> impl Iterator<Item = &str> {

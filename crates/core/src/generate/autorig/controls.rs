@@ -105,6 +105,24 @@ pub(super) fn new_limb_id(
         .map_or(0, |l| l + 1)
 }
 
+/// Each limb's cage vertices: the union of the cages of all its segments (indices past the
+/// leaves are skipped).
+pub(super) fn limb_vertex_sets(
+    cages: &CageSet,
+    limbs: &BTreeMap<usize, Limb>,
+) -> BTreeMap<usize, BTreeSet<u32>> {
+    limbs
+        .iter()
+        .map(|(&limb, record)| {
+            let all = (record.segments.iter().flatten())
+                .filter_map(|&l| cages.leaves.get(l))
+                .flat_map(vertices_of)
+                .collect();
+            (limb, all)
+        })
+        .collect()
+}
+
 /// The cage vertices a leaf cage's faces use.
 pub(super) fn vertices_of(leaf: &LeafCage) -> BTreeSet<u32> {
     leaf.faces.iter().flatten().copied().collect()
@@ -169,18 +187,7 @@ pub(super) fn add_controls(
         }
         chain
     };
-    let limb_vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
-        .iter()
-        .map(|(&limb, record)| {
-            let vertices = record
-                .segments
-                .iter()
-                .flatten()
-                .flat_map(|&l| vertices_of(&cages.leaves[l]))
-                .collect();
-            (limb, vertices)
-        })
-        .collect();
+    let limb_vertices = limb_vertex_sets(cages, &limbs);
     let mut segments: BTreeMap<(usize, usize), Segment> = BTreeMap::new();
     for &limb in &order {
         let ancestors = ancestors_of(limb);

@@ -10,7 +10,9 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 
-use super::controls::{body_vertices, centroid, limbs_of, main_body, vertices_of};
+use super::controls::{
+    body_vertices, centroid, limb_vertex_sets, limbs_of, main_body, vertices_of,
+};
 use super::parts::Role;
 use crate::scene::CageSet;
 
@@ -37,12 +39,17 @@ pub(super) fn heads_over_legs(
     let point = |v: &u32| cages.vertices.get(*v as usize).copied();
     let (mesh_lo, mesh_hi) = crate::cage::bounds_of(&cages.vertices);
     let ground = mesh_lo.z + LEG_BOTTOM_SHARE * (mesh_hi.z - mesh_lo.z);
-    let vertices_of_leaves = |leaves: &mut dyn Iterator<Item = &usize>| -> BTreeSet<u32> {
-        leaves
-            .filter_map(|&l| cages.leaves.get(l))
-            .flat_map(vertices_of)
-            .collect()
-    };
+    let limb_vertices = limb_vertex_sets(cages, &limbs);
+    let first_segment_vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
+        .iter()
+        .map(|(&limb, record)| {
+            let first = (record.segments.iter().take(1).flatten())
+                .filter_map(|&l| cages.leaves.get(l))
+                .flat_map(vertices_of)
+                .collect();
+            (limb, first)
+        })
+        .collect();
     // Whether a limb, or one growing from it (legs on a stem), reaches the lowest tenth.
     let reaches_ground = |root: usize| {
         let mut stack = vec![root];
@@ -51,10 +58,9 @@ pub(super) fn heads_over_legs(
             if !seen.insert(limb) {
                 continue;
             }
-            let Some(record) = limbs.get(&limb) else {
+            let Some(vertices) = limb_vertices.get(&limb) else {
                 continue;
             };
-            let vertices = vertices_of_leaves(&mut record.segments.iter().flatten());
             if vertices.iter().filter_map(point).any(|p| p.z < ground) {
                 return true;
             }
@@ -69,8 +75,11 @@ pub(super) fn heads_over_legs(
     };
     let carries_leg = |body: &BTreeSet<u32>| {
         limbs.iter().any(|(&limb, record)| {
-            let first = vertices_of_leaves(&mut record.segments.iter().take(1).flatten());
-            record.parent.is_none() && !first.is_disjoint(body) && reaches_ground(limb)
+            record.parent.is_none()
+                && first_segment_vertices
+                    .get(&limb)
+                    .is_some_and(|first| !first.is_disjoint(body))
+                && reaches_ground(limb)
         })
     };
     // A body the legs grow from is the torso, never a head (a torso whose top the cut took

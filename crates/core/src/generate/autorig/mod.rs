@@ -61,7 +61,8 @@ use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{
-    CELL_IN_GAP, gap_between_legs, sided_legs, stands_on_separate_feet, unsided_legs,
+    BETTER_LEG_REACH, CELL_IN_GAP, SHORT_LEG_REACH, gap_between_legs, leg_reach, sided_legs,
+    sided_other_limbs, stands_on_separate_feet, unsided_legs,
 };
 use decimate::{Held, SurfaceByPart, Sweep};
 use name_defects::{name_defects, names_better};
@@ -356,9 +357,10 @@ pub fn autorig(
 }
 
 /// The rig on the detail's grid of `cells` (limbs apart at a mirror's plane where that makes
-/// a valid rig), then, where it found fewer than two legs with a side or a leg without one on a
-/// figure standing on separate feet, on the grids that part legs close together, keeping the
-/// one with more legs with a side. An error only where the detail's grid makes no rig (or the
+/// a valid rig), then, where it found fewer than two legs with a side, a leg without one, or
+/// legs reaching little of the height (feet under legs it joined) on a figure standing on
+/// separate feet, on the grids that part legs close together, keeping the better rig (more
+/// legs with a side, or, for short legs alone, legs reaching higher with no limb lost). An error only where the detail's grid makes no rig (or the
 /// job is cancelled).
 fn rig_with_legs_apart(
     surface: &SurfaceMesh,
@@ -393,11 +395,33 @@ fn rig_with_legs_apart(
     // through the middle of a column of cells, which stays empty between legs more than a
     // cell apart, then with that column thinner than the gap between them; the grid that
     // finds more legs with a side is kept.
-    let legs = sided_legs(&rig);
-    if (legs < 2 || unsided_legs(&rig) > 0) && facts.on_separate_feet {
+    // Also where the legs are feet under legs the grid joined (they reach little of the
+    // height). Where that alone asks for the retry (two sided legs, none without a side), the
+    // retry must keep every sided limb and leg, and find more sided legs or legs reaching
+    // higher; else it must find more sided legs, or as many, fewer unsided, reaching higher.
+    let better = |retry: &Autorig, rig: &Autorig| {
+        let (sided, rig_sided) = (sided_legs(retry), sided_legs(rig));
+        let keeps_limbs_reaching_higher = sided == rig_sided
+            && sided_other_limbs(retry) >= sided_other_limbs(rig)
+            && leg_reach(retry) > leg_reach(rig) + BETTER_LEG_REACH;
+        if rig_sided >= 2 && unsided_legs(rig) == 0 {
+            unsided_legs(retry) == 0
+                && ((sided > rig_sided && sided_other_limbs(retry) >= sided_other_limbs(rig))
+                    || keeps_limbs_reaching_higher)
+        } else {
+            // Or as many with fewer unsided (the knight's centre `leg` on the ground between
+            // its feet, mirrored at detail 3).
+            sided > rig_sided
+                || (keeps_limbs_reaching_higher && unsided_legs(retry) < unsided_legs(rig))
+        }
+    };
+    let wants_retry = |rig: &Autorig| {
+        sided_legs(rig) < 2 || unsided_legs(rig) > 0 || leg_reach(rig) < SHORT_LEG_REACH
+    };
+    if wants_retry(&rig) && facts.on_separate_feet {
         if settings.mirror == Mirror::None && symmetric_across_a_horizontal_plane(&facts.symmetry) {
             match on_grid(cells, GridChoice::CENTRED) {
-                Ok(centred) if sided_legs(&centred) > legs => rig = centred,
+                Ok(centred) if better(&centred, &rig) => rig = centred,
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                 _ => {}
             }
@@ -406,7 +430,7 @@ fn rig_with_legs_apart(
         // one either side of a grid plane (the mirror's, with a mirror), every other cell
         // the detail's. No finer grid is needed, so the rig costs what the detail's does
         // (a grid twice as fine made eight times the cells).
-        if (sided_legs(&rig) < 2 || unsided_legs(&rig) > 0)
+        if wants_retry(&rig)
             && let Some(band) = legs_band(mesh, settings.mirror, &facts.symmetry, cells)
         {
             let choice = GridChoice {
@@ -415,7 +439,7 @@ fn rig_with_legs_apart(
                 limbs_apart: true,
             };
             match on_grid(cells, choice) {
-                Ok(parted) if sided_legs(&parted) > sided_legs(&rig) => rig = parted,
+                Ok(parted) if better(&parted, &rig) => rig = parted,
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                 _ => {}
             }

@@ -6,7 +6,9 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 
-use super::controls::{body_vertices, centroid, limbs_of, main_body, vertices_of};
+use super::controls::{
+    body_vertices, centroid, limb_vertex_sets, limbs_of, main_body, vertices_of,
+};
 use super::parts::Role;
 use crate::scene::CageSet;
 
@@ -80,18 +82,7 @@ pub(super) fn limb_names(
     let mesh_extent = mesh_hi - mesh_lo;
     // Each limb's leaf vertices, and their middle for the pairs that say which axis is left to
     // right.
-    let limb_vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
-        .iter()
-        .map(|(&limb, record)| {
-            let all = record
-                .segments
-                .iter()
-                .flatten()
-                .flat_map(|&l| vertices_of(&cages.leaves[l]))
-                .collect();
-            (limb, all)
-        })
-        .collect();
+    let limb_vertices = limb_vertex_sets(cages, &limbs);
     let middles: Vec<DVec3> = limb_vertices
         .values()
         .filter_map(|all| centroid(all.iter().map(point)))
@@ -321,7 +312,23 @@ pub(super) fn limb_names(
         // Ears (horns) stand on top: a side limb rooted in the body's top fifth (or on a
         // head) that reaches above it.
         let body_height = frame.body_hi.z - frame.body_lo.z;
-        let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height && s.tip.z > frame.body_hi.z;
+        // Not where a centre limb rising from the body (a head, a neck) starts well above
+        // the limb's root: the body's top is then a neck's base, and a side limb from below
+        // it is an arm raised (TOSCA's gorilla: its left arm, rooted a fifth of the body's
+        // height below its head, was `ear.L` beside `arm.R`).
+        let below_a_head = limbs.iter().any(|(&l, record)| {
+            l != limb
+                && record.parent.is_none()
+                && shapes.get(&l).is_some_and(|c| {
+                    side_of(c) == 0.0
+                        && !is_leg(c)
+                        && c.tip.z >= c.root.z
+                        && c.root.z > s.root.z + HEAD_ABOVE_ARM_SHARE * body_height
+                })
+        });
+        let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height
+            && s.tip.z > frame.body_hi.z
+            && !below_a_head;
         let headwards = headwards_of(s);
         // A centre limb longer than itself rises from it (a thick neck base carrying the
         // neck and head; not a head's crown between its ears, spot's at detail 5, which made
@@ -383,11 +390,17 @@ pub(super) fn limb_names(
             centre_role(s.root, s.tip, &frame)
         } else if frame.forward.is_none() {
             "arm"
-        } else if (rises && s.tip.z > frame.body_hi.z)
-            || (headwards && s.root.z > body_centre.z && limbs[&limb].parent.is_none())
-        {
-            // On a lying body: rising above it, or out from the upper front (a cow's ears).
+        } else if rises && s.tip.z > frame.body_hi.z {
+            // On a lying body: rising above it.
             "ear"
+        } else if headwards && s.root.z > body_centre.z && limbs[&limb].parent.is_none() {
+            // Out from the upper front: a cow's ears (an eighth of its height), a centaur's
+            // arms (a third).
+            if length(s) < LONGEST_EAR_SHARE * height {
+                "ear"
+            } else {
+                "arm"
+            }
         } else {
             "limb"
         };
@@ -558,6 +571,14 @@ pub(super) fn limb_names(
     }
     result
 }
+
+/// How far above a side limb's root a centre limb rising from the body must start, as a share
+/// of the body's height, for the side limb to be an arm below a head, not an ear on top.
+const HEAD_ABOVE_ARM_SHARE: f64 = 0.1;
+
+/// The longest ear out from a lying body's upper front, root to tip, as a share of the
+/// figure's height: spot's and the cow's ears reach 0.08-0.2, a centaur's arms 0.34-0.40.
+const LONGEST_EAR_SHARE: f64 = 0.25;
 
 /// Whether two limbs' middles are mirror images across the plane through `centre` across
 /// `axis` (on opposite sides at about the same distance, level with each other): a pair of

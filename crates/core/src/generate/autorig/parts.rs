@@ -589,18 +589,27 @@ fn body_cells(
 /// them.
 fn legs_leave_the_body(grid: &Grid, piece_of: &[Option<usize>], pieces: usize, body: &mut [bool]) {
     let mut piece_bottom = vec![i32::MAX; pieces];
+    let mut piece_top = vec![i32::MIN; pieces];
     for (i, p) in piece_of.iter().enumerate() {
         if let Some(p) = *p {
             piece_bottom[p] = piece_bottom[p].min(grid.cell_of(i).z);
+            piece_top[p] = piece_top[p].max(grid.cell_of(i).z);
         }
     }
     for cells in component_cells(grid, |i| body[i]) {
         let (lo, hi) = cell_bounds(grid, &cells);
         let extent = hi - lo + IVec3::ONE;
-        let on_ground = cells
-            .first()
-            .and_then(|&i| piece_of[i])
-            .is_some_and(|p| lo.z <= piece_bottom[p] + 1);
+        // On the ground; on a grid parting legs closer than a cell (thighs pressed together),
+        // or on shins thinner than the thighs (they are not body cells): its bottom in the
+        // piece's lowest layers. Legs further apart keep the rule (the beast's default rig lost
+        // its head when its hips left the body).
+        let on_ground = cells.first().and_then(|&i| piece_of[i]).is_some_and(|p| {
+            let shins = match grid.band {
+                Some(_) => SHINS_IN_PIECE_SHARE * f64::from(piece_top[p] - piece_bottom[p]),
+                None => 0.0,
+            };
+            lo.z <= piece_bottom[p] + (shins as i32).max(1)
+        });
         if longest_axis(extent) != 2 || !on_ground {
             continue;
         }
@@ -725,6 +734,12 @@ fn layer_pieces(grid: &Grid, layer: &BTreeSet<usize>) -> Vec<Vec<usize>> {
 /// The least share of a standing body's height its legs ([`legs_leave_the_body`]) reach.
 const LEGS_IN_BODY_SHARE: f64 = 0.15;
 
+/// On a grid parting legs closer than a cell, a standing body's bottom lies in this share of
+/// its piece's height from the piece's bottom ([`legs_leave_the_body`]): the shins and feet
+/// under thick thighs pressed together are thinner than the body cells above them (TOSCA's
+/// Victoria: her thighs' body cells begin at the knee, 27 % up).
+const SHINS_IN_PIECE_SHARE: f64 = 0.35;
+
 /// The least size of a leg's piece of a layer, as a share of the layer's largest piece.
 const LEG_PIECE_SHARE: f64 = 0.25;
 
@@ -799,9 +814,11 @@ fn split_heads_above_shoulders(
         }
     }
     let mut piece_bottom = vec![i32::MAX; pieces];
+    let mut piece_top = vec![i32::MIN; pieces];
     for (i, p) in piece_of.iter().enumerate() {
         if let Some(p) = *p {
             piece_bottom[p] = piece_bottom[p].min(grid.cell_of(i).z);
+            piece_top[p] = piece_top[p].max(grid.cell_of(i).z);
         }
     }
     for cells in members {

@@ -6,9 +6,9 @@
 //! side: `arm.L` and `arm.L.001`), growing from the same place, carrying nothing and touching
 //! it along a good share of its cages, joins that limb's first segment.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
-use super::controls::{limbs_of, vertices_of};
+use super::controls::{limb_vertex_sets, limbs_of};
 use super::parts::Role;
 use crate::scene::CageSet;
 
@@ -75,16 +75,7 @@ fn next_twin(
     names: &BTreeMap<usize, String>,
 ) -> Option<(usize, usize)> {
     let limbs = limbs_of(roles, parent_limb);
-    let vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
-        .iter()
-        .map(|(&limb, record)| {
-            let all = (record.segments.iter().flatten())
-                .filter_map(|&l| cages.leaves.get(l))
-                .flat_map(vertices_of)
-                .collect();
-            (limb, all)
-        })
-        .collect();
+    let vertices = limb_vertex_sets(cages, &limbs);
     let carries = |limb: usize| limbs.values().any(|r| r.parent == Some(limb));
     for (&twin, record) in &limbs {
         let Some(twin_name) = names.get(&twin) else {
