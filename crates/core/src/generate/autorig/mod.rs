@@ -360,8 +360,8 @@ pub fn autorig(
 /// a valid rig), then, where it found fewer than two legs with a side, a leg without one, or
 /// legs reaching little of the height (feet under legs it joined) on a figure standing on
 /// separate feet, on the grids that part legs close together, keeping the better rig (more
-/// legs with a side, or, for short legs alone, legs reaching higher with no limb lost). An error only where the detail's grid makes no rig (or the
-/// job is cancelled).
+/// legs with a side, or, for short legs alone, legs reaching higher with no limb lost). An
+/// error only where the detail's grid makes no rig (or the job is cancelled).
 fn rig_with_legs_apart(
     surface: &SurfaceMesh,
     settings: &AutorigSettings,
