@@ -1086,4 +1086,8 @@ fn a_centaur_s_arms_are_arms() {
     assert!(!names.iter().any(|n| n.starts_with("ear")), "{names:?}");
     // Facing −Y, left is +X.
     assert!(controls["arm.L.1"].1.x > 0.0 && controls["arm.R.1"].1.x < 0.0);
+    // The man's head on his torso, a sixth of the figure's height, is a head, not a neck
+    // carrying one (it was `neck`).
+    assert!(controls.contains_key("head.1"), "no head.1 in {names:?}");
+    assert!(!names.iter().any(|n| n.starts_with("neck")), "{names:?}");
 }

@@ -580,6 +580,12 @@ const HEAD_ABOVE_ARM_SHARE: f64 = 0.1;
 /// figure's height: spot's and the cow's ears reach 0.08-0.2, a centaur's arms 0.34-0.40.
 const LONGEST_EAR_SHARE: f64 = 0.25;
 
+/// The shortest neck rising above a lying body's front, root to tip, as a share of the
+/// figure's height: a neck carrying its head there is long (the camel's: 0.37-0.42); a
+/// shorter centre limb rising above the body is a head on it (TOSCA's centaur: the man's
+/// head on his torso, 0.16, was `neck`).
+const SHORTEST_NECK_SHARE: f64 = 0.25;
+
 /// Whether two limbs' middles are mirror images across the plane through `centre` across
 /// `axis` (on opposite sides at about the same distance, level with each other): a pair of
 /// legs, arms or ears, which a mesh symmetric across that axis has when the axis runs from
@@ -617,8 +623,9 @@ fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
 }
 
 /// The role of a limb on the centre line: above a standing body a head (a neck with its head),
-/// from its lower half a tail (when a fifth of the height long); at a lying body's front end a head (a neck where it rises above
-/// the body), at its back end a tail; else an unnamed limb.
+/// from its lower half a tail (when a fifth of the height long); at a lying body's front end a
+/// head (a neck where it rises above the body and is long enough to carry one), at its back
+/// end a tail; else an unnamed limb.
 fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
     let height = (frame.mesh_hi.z - frame.mesh_lo.z).max(1e-12);
     match frame.forward {
@@ -635,7 +642,8 @@ fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
         Some((axis, sign)) => {
             let body_mid = 0.5 * (frame.body_lo[axis] + frame.body_hi[axis]);
             if (root[axis] - body_mid) * sign > 0.0 {
-                if tip.z > frame.body_hi.z {
+                if tip.z > frame.body_hi.z && (tip - root).length() >= SHORTEST_NECK_SHARE * height
+                {
                     "neck"
                 } else {
                     "head"
