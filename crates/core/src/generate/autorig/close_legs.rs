@@ -59,11 +59,10 @@ pub(super) fn leg_reach(rig: &Autorig) -> f64 {
 /// How many limbs of `rig` other than legs have a side (arms, ears …), by its leaf cages'
 /// names: a retry that parts the legs must keep them.
 pub(super) fn sided_other_limbs(rig: &Autorig) -> usize {
-    let limbs: BTreeSet<&str> = (rig.cages.leaves.iter())
-        .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
+    limbs_of_rig(rig)
+        .into_iter()
         .filter(|limb| !is_leg(limb) && (limb.ends_with(".L") || limb.ends_with(".R")))
-        .collect();
-    limbs.len()
+        .count()
 }
 
 /// Legs reaching less than this share of the figure's height ([`leg_reach`]) are
@@ -77,14 +76,15 @@ pub(super) const BETTER_LEG_REACH: f64 = 0.05;
 
 /// The names of the limbs of `rig` that are legs, once each, by its leaf cages' names.
 fn leg_limbs(rig: &Autorig) -> impl Iterator<Item = &str> {
-    let limbs: BTreeSet<&str> = rig
-        .cages
-        .leaves
-        .iter()
+    limbs_of_rig(rig).into_iter().filter(|limb| is_leg(limb))
+}
+
+/// The names of the limbs of `rig`, once each: its limb leaf cages are named
+/// `<limb>_<segment>` (body cages `body_<slab>`, which this lists as `body`).
+fn limbs_of_rig(rig: &Autorig) -> BTreeSet<&str> {
+    (rig.cages.leaves.iter())
         .filter_map(|leaf| leaf.name.split_once('_').map(|(limb, _)| limb))
-        .filter(|limb| is_leg(limb))
-        .collect();
-    limbs.into_iter()
+        .collect()
 }
 
 /// Whether the figure stands on separate feet: the welded mesh vertices in its lowest

@@ -111,14 +111,24 @@ pub(super) fn limb_vertex_sets(
     cages: &CageSet,
     limbs: &BTreeMap<usize, Limb>,
 ) -> BTreeMap<usize, BTreeSet<u32>> {
+    segment_vertex_sets(cages, limbs, usize::MAX)
+}
+
+/// Each limb's cage vertices in its first `segments` segments (all of them for `usize::MAX`),
+/// as [`limb_vertex_sets`].
+pub(super) fn segment_vertex_sets(
+    cages: &CageSet,
+    limbs: &BTreeMap<usize, Limb>,
+    segments: usize,
+) -> BTreeMap<usize, BTreeSet<u32>> {
     limbs
         .iter()
         .map(|(&limb, record)| {
-            let all = (record.segments.iter().flatten())
+            let vertices = (record.segments.iter().take(segments).flatten())
                 .filter_map(|&l| cages.leaves.get(l))
                 .flat_map(vertices_of)
                 .collect();
-            (limb, all)
+            (limb, vertices)
         })
         .collect()
 }

@@ -11,7 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use super::controls::{
-    body_vertices, centroid, limb_vertex_sets, limbs_of, main_body, vertices_of,
+    body_vertices, centroid, limb_vertex_sets, limbs_of, main_body, segment_vertex_sets,
 };
 use super::parts::Role;
 use crate::scene::CageSet;
@@ -40,16 +40,7 @@ pub(super) fn heads_over_legs(
     let (mesh_lo, mesh_hi) = crate::cage::bounds_of(&cages.vertices);
     let ground = mesh_lo.z + LEG_BOTTOM_SHARE * (mesh_hi.z - mesh_lo.z);
     let limb_vertices = limb_vertex_sets(cages, &limbs);
-    let first_segment_vertices: BTreeMap<usize, BTreeSet<u32>> = limbs
-        .iter()
-        .map(|(&limb, record)| {
-            let first = (record.segments.iter().take(1).flatten())
-                .filter_map(|&l| cages.leaves.get(l))
-                .flat_map(vertices_of)
-                .collect();
-            (limb, first)
-        })
-        .collect();
+    let first_segment_vertices = segment_vertex_sets(cages, &limbs, 1);
     // Whether a limb, or one growing from it (legs on a stem), reaches the lowest tenth.
     let reaches_ground = |root: usize| {
         let mut stack = vec![root];

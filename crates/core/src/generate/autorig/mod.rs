@@ -399,38 +399,43 @@ fn rig_with_legs_apart(
     // height). Where that alone asks for the retry (two sided legs, none without a side), the
     // retry must keep every sided limb and leg, and find more sided legs or legs reaching
     // higher; else it must find more sided legs, or as many, fewer unsided, reaching higher.
-    let better = |retry: &Autorig, rig: &Autorig| {
-        let (sided, rig_sided) = (sided_legs(retry), sided_legs(rig));
-        let keeps_limbs_reaching_higher = sided == rig_sided
-            && sided_other_limbs(retry) >= sided_other_limbs(rig)
-            && leg_reach(retry) > leg_reach(rig) + BETTER_LEG_REACH;
-        if rig_sided >= 2 && unsided_legs(rig) == 0 {
-            unsided_legs(retry) == 0
-                && ((sided > rig_sided && sided_other_limbs(retry) >= sided_other_limbs(rig))
+    let better = |retry: &LegCounts, rig: &LegCounts| {
+        let keeps_limbs_reaching_higher = retry.sided_legs == rig.sided_legs
+            && retry.sided_other_limbs >= rig.sided_other_limbs
+            && retry.reach > rig.reach + BETTER_LEG_REACH;
+        if rig.sided_legs >= 2 && rig.unsided_legs == 0 {
+            retry.unsided_legs == 0
+                && ((retry.sided_legs > rig.sided_legs
+                    && retry.sided_other_limbs >= rig.sided_other_limbs)
                     || keeps_limbs_reaching_higher)
         } else {
             // Or as many with fewer unsided (the knight's centre `leg` on the ground between
             // its feet, mirrored at detail 3).
-            sided > rig_sided
-                || (keeps_limbs_reaching_higher && unsided_legs(retry) < unsided_legs(rig))
+            retry.sided_legs > rig.sided_legs
+                || (keeps_limbs_reaching_higher && retry.unsided_legs < rig.unsided_legs)
         }
     };
-    let wants_retry = |rig: &Autorig| {
-        sided_legs(rig) < 2 || unsided_legs(rig) > 0 || leg_reach(rig) < SHORT_LEG_REACH
-    };
-    if wants_retry(&rig) && facts.on_separate_feet {
+    let wants_retry =
+        |rig: &LegCounts| rig.sided_legs < 2 || rig.unsided_legs > 0 || rig.reach < SHORT_LEG_REACH;
+    let mut counts = LegCounts::of(&rig);
+    if wants_retry(&counts) && facts.on_separate_feet {
         if settings.mirror == Mirror::None && symmetric_across_a_horizontal_plane(&facts.symmetry) {
             match on_grid(cells, GridChoice::CENTRED) {
-                Ok(centred) if better(&centred, &rig) => rig = centred,
+                Ok(centred) => {
+                    let centred_counts = LegCounts::of(&centred);
+                    if better(&centred_counts, &counts) {
+                        (rig, counts) = (centred, centred_counts);
+                    }
+                }
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
-                _ => {}
+                Err(_) => {}
             }
         }
         // Legs closer than a cell: two columns of cells thin enough to fit between them,
         // one either side of a grid plane (the mirror's, with a mirror), every other cell
         // the detail's. No finer grid is needed, so the rig costs what the detail's does
         // (a grid twice as fine made eight times the cells).
-        if wants_retry(&rig)
+        if wants_retry(&counts)
             && let Some(band) = legs_band(mesh, settings.mirror, &facts.symmetry, cells)
         {
             let choice = GridChoice {
@@ -439,13 +444,33 @@ fn rig_with_legs_apart(
                 limbs_apart: true,
             };
             match on_grid(cells, choice) {
-                Ok(parted) if better(&parted, &rig) => rig = parted,
+                Ok(parted) if better(&LegCounts::of(&parted), &counts) => rig = parted,
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                 _ => {}
             }
         }
     }
     Ok(rig)
+}
+
+/// What `rig_with_legs_apart` weighs a rig by, counted once per rig from its leaf names.
+struct LegCounts {
+    sided_legs: usize,
+    unsided_legs: usize,
+    sided_other_limbs: usize,
+    /// [`leg_reach`]: the top of its legs as a share of the figure's height.
+    reach: f64,
+}
+
+impl LegCounts {
+    fn of(rig: &Autorig) -> Self {
+        Self {
+            sided_legs: sided_legs(rig),
+            unsided_legs: unsided_legs(rig),
+            sided_other_limbs: sided_other_limbs(rig),
+            reach: leg_reach(rig),
+        }
+    }
 }
 
 /// Thin cells between legs closer than a cell of the detail's grid (`cells` along the longest
