@@ -15,6 +15,7 @@ mod layout;
 mod limb_names;
 mod live;
 mod mean_value;
+mod narrow_joints;
 mod posable_rig;
 mod posing;
 mod rig_edit;

@@ -33,6 +33,7 @@ mod joint_bodies;
 mod limb_tree;
 mod name_defects;
 mod naming;
+mod narrowings;
 mod neck_head;
 mod pair_segments;
 mod parts;
@@ -642,7 +643,9 @@ fn rig_on_grid(
         slab_length: BODY_SLAB_SHARE * segment_length,
         on_separate_feet: facts.on_separate_feet,
     };
-    let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting);
+    // Where the mesh narrows along a limb (a knee, an elbow), its joints move there.
+    let samples = narrowings::samples_by_cell(&grid, mesh.welded_positions());
+    let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting, &samples);
     let cut_roles = parts.roles_by_cell();
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
     let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());

@@ -11,6 +11,7 @@ use glam::{DVec3, IVec3};
 
 use super::branches::branches;
 use super::joint_bodies::fold_joint_bodies;
+use super::narrowings::{self, SamplesByCell};
 use super::saddles::split_at_saddles;
 use super::voxels::{FACE_STEPS, Grid, component_cells, components};
 
@@ -139,8 +140,9 @@ pub(super) fn cut_into_parts(
     occupied: &[bool],
     depth: &[f64],
     cutting: &Cutting,
+    samples: &SamplesByCell,
 ) -> Parts {
-    let parts = cut_halving_crotches(grid, occupied, depth, cutting, true);
+    let parts = cut_halving_crotches(grid, occupied, depth, cutting, samples, true);
     // A halved slab whose half was a sliver merged into a neighbour (a leg's first segment,
     // whose ring then moved up into the body): cut again with the slab whole.
     let halves_kept = parts
@@ -150,7 +152,7 @@ pub(super) fn cut_into_parts(
     if halves_kept {
         parts
     } else {
-        cut_halving_crotches(grid, occupied, depth, cutting, false)
+        cut_halving_crotches(grid, occupied, depth, cutting, samples, false)
     }
 }
 
@@ -160,6 +162,7 @@ fn cut_halving_crotches(
     occupied: &[bool],
     depth: &[f64],
     cutting: &Cutting,
+    samples: &SamplesByCell,
     halve: bool,
 ) -> Parts {
     let (piece_of, pieces) = components(grid, |i| occupied[i]);
@@ -301,11 +304,12 @@ fn cut_halving_crotches(
         }
     }
     let (counts, paired) = paired_segment_counts(&limb_cuts, cutting);
+    let joints = narrowings::narrowed_joints(grid, &limb_cuts, &counts, &paired, samples);
     let pairs = paired
         .iter()
         .map(|&(a, b)| (limb_cuts[a].limb, limb_cuts[b].limb))
         .collect();
-    for (cut, count) in limb_cuts.iter().zip(counts) {
+    for ((cut, count), joints) in limb_cuts.iter().zip(counts).zip(&joints) {
         // Along a straight limb the joints are grid layers, where the layer's distance is
         // within STRAIGHT_SLACK cells of the body's distance.
         let straight = straightened(grid, &cut.cells);
@@ -314,7 +318,10 @@ fn cut_halving_crotches(
                 Some(&along) if (along - d).abs() <= STRAIGHT_SLACK => along,
                 _ => d,
             };
-            let segment = segment_at(d / cut.longest.max(1e-9), count, cut.from_trunk);
+            let segment = match joints {
+                Some(joints) => joints.iter().filter(|&&joint| d >= joint).count(),
+                None => segment_at(d / cut.longest.max(1e-9), count, cut.from_trunk),
+            };
             group[i] = Some(Role::Limb {
                 limb: cut.limb,
                 segment: segment.min(count - 1),
@@ -351,12 +358,12 @@ fn cut_halving_crotches(
 
 /// One limb branch to cut into segments: its cells with their distance from where it starts,
 /// its length and thickness in cells, whether it grows from the trunk, and its first cell.
-struct LimbCut {
+pub(super) struct LimbCut {
     limb: usize,
-    cells: Vec<(usize, f64)>,
-    longest: f64,
+    pub(super) cells: Vec<(usize, f64)>,
+    pub(super) longest: f64,
     thickness: f64,
-    from_trunk: bool,
+    pub(super) from_trunk: bool,
     root: IVec3,
 }
 
@@ -452,6 +459,34 @@ fn stub_body(
 /// layers and each joint between its segments one flat face rather than a front stepped over
 /// several layers. The smallest equals the smallest geodesic distance.
 fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
+    let (axis, sign) = straight_axis(grid, cells)?;
+    let along = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
+    let start = cells
+        .iter()
+        .map(|&(i, _)| along(i))
+        .fold(f64::INFINITY, f64::min);
+    let first = cells.iter().map(|&(_, d)| d).fold(f64::INFINITY, f64::min);
+    Some(
+        cells
+            .iter()
+            .map(|&(i, _)| first + along(i) - start)
+            .collect(),
+    )
+}
+
+/// The grid axis a branch runs along and its direction (away from where it starts), as
+/// [`straightened`] finds it.
+pub(super) fn straight_axis(grid: &Grid, cells: &[(usize, f64)]) -> Option<(usize, f64)> {
+    let g = distance_gradient(grid, cells)?;
+    let axis = (0..3)
+        .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
+        .unwrap_or(2);
+    (g[axis].abs() >= STRAIGHT_COS * g.length()).then(|| (axis, g[axis].signum()))
+}
+
+/// The gradient of the best affine fit of a branch's geodesic distances over its cells'
+/// coordinates (None for fewer than 8 cells, cells in one plane, or no gradient).
+fn distance_gradient(grid: &Grid, cells: &[(usize, f64)]) -> Option<glam::DVec3> {
     let n = cells.len() as f64;
     if cells.len() < 8 {
         return None;
@@ -470,29 +505,11 @@ fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
         return None;
     }
     let g = cov.inverse() * cross;
-    let axis = (0..3)
-        .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
-        .unwrap_or(2);
-    if g.length() < 1e-9 || g[axis].abs() < STRAIGHT_COS * g.length() {
-        return None;
-    }
-    let sign = g[axis].signum();
-    let along = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
-    let start = cells
-        .iter()
-        .map(|&(i, _)| along(i))
-        .fold(f64::INFINITY, f64::min);
-    let first = cells.iter().map(|&(_, d)| d).fold(f64::INFINITY, f64::min);
-    Some(
-        cells
-            .iter()
-            .map(|&(i, _)| first + along(i) - start)
-            .collect(),
-    )
+    (g.length() >= 1e-9).then_some(g)
 }
 
 /// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
-const STRAIGHT_SLACK: f64 = 2.0;
+pub(super) const STRAIGHT_SLACK: f64 = 2.0;
 
 /// How close to a grid axis a branch's direction must be to be cut in grid layers (the cosine
 /// of about 25°: a leg whose distance from the body also grows sideways at the hip).

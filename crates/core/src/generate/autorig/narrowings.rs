@@ -1,0 +1,380 @@
+//! Joints where a limb narrows. A limb is cut into segments of equal length (the first twice
+//! as long), wherever its knee or elbow is: TOSCA's David's elbows fell a cell past the
+//! narrowing between his biceps and forearm, his wrists a cell before the one above his hand.
+//! The mesh's own cross-sections say where a knee, an ankle, an elbow or a wrist is: a
+//! narrowing between two wider stretches (the thigh and the calf). Along a limb that runs
+//! along a grid axis, whose joints are grid layers, each joint moves to the layer boundary
+//! where the surface is narrowest within half a segment (at least a cell) of where equal
+//! lengths put it, when the surface is wider within a cell on both sides of it by
+//! [`NARROWING`].
+//! A pair of limbs (two legs, two arms) is measured as one, so both get the same joints;
+//! where only one of the two runs along a grid axis, neither moves.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::parts::{LimbCut, STRAIGHT_SLACK, straight_axis};
+use super::voxels::Grid;
+
+/// The mesh's vertices in each cell that holds one.
+pub(super) type SamplesByCell = BTreeMap<usize, Vec<DVec3>>;
+
+/// [`SamplesByCell`] of the mesh vertices `positions`.
+pub(super) fn samples_by_cell(grid: &Grid, positions: &[DVec3]) -> SamplesByCell {
+    let mut samples = SamplesByCell::new();
+    for &p in positions {
+        if let Some(cell) = grid.index(grid.units_of(p).floor().as_ivec3()) {
+            samples.entry(cell).or_default().push(p);
+        }
+    }
+    samples
+}
+
+/// Where a mesh vertex in a limb's cell lies along the limb, in cells from its first layer's
+/// start: `layer`, the cell's layer counted from the limb's first (0), and `units`, the
+/// vertex's grid coordinate along the limb's grid axis (cell `c` spanning `c` to `c + 1`),
+/// which runs the limb's way where `sign` is positive.
+pub(super) fn along_limb(layer: f64, units: f64, sign: f64) -> f64 {
+    // The cell's centre lies at its layer's middle; the vertex's offset from it.
+    layer + 0.5 + sign * (units - (units.floor() + 0.5))
+}
+
+/// A limb's surface across its length: per half-cell bin along it (from its first layer's
+/// start), the sum of the surface's extents along the two grid axes across it, where the bin
+/// holds [`MIN_SAMPLES`] mesh vertices or more.
+pub(super) struct Profile {
+    widths: Vec<Option<f64>>,
+}
+
+/// Bins per cell along a limb.
+const BINS_PER_CELL: f64 = 2.0;
+
+/// The fewest mesh vertices a bin needs to measure the surface's width there.
+const MIN_SAMPLES: usize = 4;
+
+/// How much wider the surface must be on both sides of a joint (within a cell of it) than at
+/// it for the joint to be a narrowing: a human knee is about 15 % narrower than the
+/// thigh above it and the calf below it, measured across and front to back together.
+const NARROWING: f64 = 0.1;
+
+impl Profile {
+    /// The profile of mesh vertices, each as its distance along the limb ([`along_limb`])
+    /// and its two coordinates across it.
+    pub(super) fn of(samples: &[(f64, [f64; 2])]) -> Self {
+        let mut bins: BTreeMap<usize, (usize, [f64; 2], [f64; 2])> = BTreeMap::new();
+        for &(along, across) in samples {
+            if !along.is_finite() || along < 0.0 || !across.iter().all(|a| a.is_finite()) {
+                continue;
+            }
+            let bin = (along * BINS_PER_CELL) as usize;
+            let entry = bins
+                .entry(bin)
+                .or_insert((0, [f64::INFINITY; 2], [f64::NEG_INFINITY; 2]));
+            entry.0 += 1;
+            for (k, &a) in across.iter().enumerate() {
+                entry.1[k] = entry.1[k].min(a);
+                entry.2[k] = entry.2[k].max(a);
+            }
+        }
+        let len = bins.keys().next_back().map_or(0, |&b| b + 1);
+        let mut widths = vec![None; len];
+        for (bin, (n, lo, hi)) in bins {
+            if n >= MIN_SAMPLES {
+                widths[bin] = Some((hi[0] - lo[0]) + (hi[1] - lo[1]));
+            }
+        }
+        Self { widths }
+    }
+
+    /// Two limbs' profiles as one: the sum of their widths where both are measured.
+    pub(super) fn paired(&self, other: &Self) -> Self {
+        let widths = (self.widths.iter().zip(&other.widths))
+            .map(|(a, b)| Some((*a)? + (*b)?))
+            .collect();
+        Self { widths }
+    }
+
+    /// The width across a layer boundary `boundary` (from the limb's first layer's start):
+    /// the mean of the bins either side of it.
+    fn width_at(&self, boundary: f64) -> Option<f64> {
+        let bin = (boundary * BINS_PER_CELL).round() as usize;
+        let before = *self.widths.get(bin.checked_sub(1)?)?;
+        let after = *self.widths.get(bin)?;
+        Some(0.5 * (before? + after?))
+    }
+
+    /// The widest bin within `from..to` (along the limb, in cells).
+    fn widest_within(&self, from: f64, to: f64) -> Option<f64> {
+        let first = (from.max(0.0) * BINS_PER_CELL).floor() as usize;
+        let last = (to.max(0.0) * BINS_PER_CELL).ceil() as usize;
+        (first..last.min(self.widths.len()))
+            .filter_map(|b| self.widths[b])
+            .max_by(f64::total_cmp)
+    }
+}
+
+/// The joints of a limb cut at `defaults` (layer boundaries, from its first layer's start,
+/// increasing; the limb ends at `end`), each moved to the layer boundary within `reach` cells
+/// of it where the profile is narrowest, when that is a narrowing (see the module). None where
+/// no joint moves. Every segment keeps half its length by `defaults` or more, and a layer: a
+/// shorter one is a sliver the cut's later steps merge into a neighbour, taking its control.
+pub(super) fn moved_to_narrowings(
+    profile: &Profile,
+    defaults: &[f64],
+    end: f64,
+    reach: f64,
+) -> Option<Vec<f64>> {
+    let mut joints = defaults.to_vec();
+    let mut moved = false;
+    // Each segment's shortest: half its length by `defaults`, at least a layer.
+    let ends: Vec<f64> = std::iter::once(0.0)
+        .chain(defaults.iter().copied())
+        .chain(std::iter::once(
+            end.max(defaults.last().copied().unwrap_or(0.0)),
+        ))
+        .collect();
+    let shortest: Vec<f64> = ends
+        .windows(2)
+        .map(|w| (0.5 * (w[1] - w[0])).ceil().max(1.0))
+        .collect();
+    for k in 0..joints.len() {
+        let default = defaults[k];
+        let previous = if k == 0 { 0.0 } else { joints[k - 1] };
+        let next = ends[k + 2];
+        // Layer boundaries lie at whole distances.
+        let lowest = (default - reach).ceil().max(previous + shortest[k]);
+        let highest = (default + reach).floor().min(next - shortest[k + 1]);
+        if lowest > highest {
+            continue;
+        }
+        let narrowest = (lowest as i64..=highest as i64)
+            .map(|b| b as f64)
+            .filter_map(|b| Some((b, profile.width_at(b)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.total_cmp(&b.0)));
+        let Some((boundary, width)) = narrowest else {
+            continue;
+        };
+        let wider = |w: Option<f64>| w.is_some_and(|w| w >= (1.0 + NARROWING) * width);
+        // Within a cell either side: a knee or an elbow narrows between muscles close by; a
+        // horse's cannon is narrow for several cells between the hock and the fetlock, which
+        // are knobs, and its narrowest point there is no joint.
+        let before = profile.widest_within(boundary - 1.5, boundary - 0.5);
+        let after = profile.widest_within(boundary + 0.5, boundary + 1.5);
+        if wider(before) && wider(after) && (boundary - default).abs() > 1e-9 {
+            joints[k] = boundary;
+            moved = true;
+        }
+    }
+    moved.then_some(joints)
+}
+
+/// Each limb cut's joints where they move to narrowings of the mesh (see the module), as
+/// distances from the body (a cell at distance `d` lies past every joint `<= d`), None where
+/// none moves and `parts::segment_at`'s equal lengths stand. Only a limb along a grid axis is
+/// measured (its joints are grid layers); a pair is measured as one and gets the same joints,
+/// and neither moves where one of the two does not run along an axis.
+pub(super) fn narrowed_joints(
+    grid: &Grid,
+    cuts: &[LimbCut],
+    counts: &[usize],
+    paired: &[(usize, usize)],
+    samples: &SamplesByCell,
+) -> Vec<Option<Vec<f64>>> {
+    // Per cut: its profile, its first distance, and its joints by equal lengths as layer
+    // boundaries counted from its first layer.
+    let measured: Vec<Option<Measured>> = (cuts.iter().zip(counts))
+        .map(|(cut, &count)| {
+            if count < 2 {
+                return None;
+            }
+            let (axis, sign) = straight_axis(grid, &cut.cells)?;
+            let layer_of = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
+            let start = cut
+                .cells
+                .iter()
+                .map(|&(i, _)| layer_of(i))
+                .fold(f64::INFINITY, f64::min);
+            let first = cut
+                .cells
+                .iter()
+                .map(|&(_, d)| d)
+                .fold(f64::INFINITY, f64::min);
+            // Along the limb in cells, across it in the mesh's units (a band's thin cells
+            // would make a leg beside it look wider).
+            let across = [(axis + 1) % 3, (axis + 2) % 3];
+            let mut points = Vec::new();
+            for &(i, d) in &cut.cells {
+                let layer = layer_of(i) - start;
+                if (first + layer - d).abs() <= STRAIGHT_SLACK {
+                    let within = samples.get(&i).into_iter().flatten();
+                    points.extend(within.map(|&p| {
+                        let along = along_limb(layer, grid.units_along(axis, p[axis]), sign);
+                        (along, [p[across[0]], p[across[1]]])
+                    }));
+                }
+            }
+            let longest = cut.longest.max(1e-9);
+            let defaults = (1..count)
+                .map(|k| {
+                    let share = if count == 2 && cut.from_trunk {
+                        0.5
+                    } else {
+                        (k + 1) as f64 / (count + 1) as f64
+                    };
+                    (share * longest - first).ceil()
+                })
+                .collect();
+            Some(Measured {
+                profile: Profile::of(&points),
+                first,
+                defaults,
+                end: (longest - first).ceil() + 1.0,
+            })
+        })
+        .collect();
+    let reach = |cut: &LimbCut, count: usize| (0.5 * cut.longest / (count + 1) as f64).max(1.0);
+    let as_distances = |joints: &[f64], first: f64| -> Vec<f64> {
+        joints.iter().map(|b| first + b - 0.5).collect()
+    };
+    let mut joints: Vec<Option<Vec<f64>>> = vec![None; cuts.len()];
+    let mut in_pair = vec![false; cuts.len()];
+    for &(a, b) in paired {
+        in_pair[a] = true;
+        in_pair[b] = true;
+        let reach = reach(&cuts[a], counts[a]).min(reach(&cuts[b], counts[b]));
+        // Where one of the two does not run along a grid axis (a leg turned out at the hip),
+        // the other's profile and joints serve both.
+        // Where one of the two does not run along a grid axis, neither moves: it keeps its
+        // cut by distance from the body, and the other moved alone made the pair unequal
+        // (TOSCA's Michael's right elbow a cell out from his left; cut in layers along its
+        // twin's axis instead, Homer's right arm at detail 3, 30° off the axis, lost its
+        // forearm's segment).
+        let (Some(ma), Some(mb)) = (&measured[a], &measured[b]) else {
+            continue;
+        };
+        if ma.defaults.len() != mb.defaults.len() {
+            continue;
+        }
+        let defaults: Vec<f64> = (ma.defaults.iter().zip(&mb.defaults))
+            .map(|(x, y)| (0.5 * (x + y)).round())
+            .collect();
+        let profile = ma.profile.paired(&mb.profile);
+        let end = ma.end.min(mb.end);
+        if let Some(moved) = moved_to_narrowings(&profile, &defaults, end, reach) {
+            joints[a] = Some(as_distances(&moved, ma.first));
+            joints[b] = Some(as_distances(&moved, mb.first));
+        }
+    }
+    for (k, cut) in cuts.iter().enumerate() {
+        if in_pair[k] {
+            continue;
+        }
+        if let Some(m) = &measured[k] {
+            let moved = moved_to_narrowings(&m.profile, &m.defaults, m.end, reach(cut, counts[k]));
+            joints[k] = moved.map(|moved| as_distances(&moved, m.first));
+        }
+    }
+    joints
+}
+
+/// A limb cut measured along the grid axis it runs along ([`narrowed_joints`]).
+struct Measured {
+    profile: Profile,
+    /// The smallest distance from the body among its cells.
+    first: f64,
+    /// Its joints by equal lengths, as layer boundaries from its first layer's start.
+    defaults: Vec<f64>,
+    /// Where it ends, as such a boundary.
+    end: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A limb along +Z, one layer per cell from 0, whose radius is `radius(z)`: samples on
+    /// circles every tenth of a cell.
+    fn limb(layers: usize, radius: impl Fn(f64) -> f64) -> Profile {
+        let mut samples = Vec::new();
+        for step in 0..layers * 10 {
+            let z = (step as f64 + 0.5) / 10.0;
+            let r = radius(z);
+            for k in 0..12 {
+                let a = k as f64 * std::f64::consts::TAU / 12.0;
+                let across = [5.0 + r * a.cos(), 5.0 + r * a.sin()];
+                samples.push((along_limb(z.floor(), z, 1.0), across));
+            }
+        }
+        Profile::of(&samples)
+    }
+
+    /// A leg narrowing at 4.4 cells (a knee) between a thigh and a calf moves the joint there
+    /// from 3 (equal lengths) to the boundary nearest the narrowing; a limb of one width keeps
+    /// its joints.
+    #[test]
+    fn a_joint_moves_to_the_narrowing_and_only_there() {
+        let knee = |z: f64| 1.0 - 0.4 * (-(z - 4.4) * (z - 4.4)).exp();
+        let profile = limb(10, knee);
+        assert_eq!(
+            moved_to_narrowings(&profile, &[3.0, 7.0], 10.0, 1.5),
+            Some(vec![4.0, 7.0])
+        );
+        // Out of reach: it stays.
+        assert_eq!(moved_to_narrowings(&profile, &[2.0, 7.0], 10.0, 1.5), None);
+        // A narrowing near the tip takes the joint only where the last segment keeps half
+        // its length: of 3 layers (the limb ends at 10) it would keep 1, a sliver; of 5
+        // (the limb ends at 12), 3.
+        let near_tip = limb(12, |z: f64| 1.0 - 0.4 * (-(z - 9.2) * (z - 9.2)).exp());
+        assert_eq!(moved_to_narrowings(&near_tip, &[3.0, 7.0], 10.0, 2.5), None);
+        assert_eq!(
+            moved_to_narrowings(&near_tip, &[3.0, 7.0], 12.0, 2.5),
+            Some(vec![3.0, 9.0])
+        );
+        // A long narrow stretch between two knobs (a horse's cannon between its hock and
+        // its fetlock) is no narrowing, though its narrowest point is 20 % under the knobs.
+        let cannon = |z: f64| {
+            if (3.5..7.0).contains(&z) {
+                0.8 - 0.01 * (-(z - 6.0) * (z - 6.0)).exp()
+            } else {
+                1.0
+            }
+        };
+        assert_eq!(
+            moved_to_narrowings(&limb(12, cannon), &[5.0, 10.0], 12.0, 1.5),
+            None
+        );
+        // A uniform limb (negative control) and a steadily tapering one keep theirs.
+        assert_eq!(
+            moved_to_narrowings(&limb(10, |_| 1.0), &[3.0, 7.0], 10.0, 1.5),
+            None
+        );
+        let taper = |z: f64| 1.2 - 0.08 * z;
+        assert_eq!(
+            moved_to_narrowings(&limb(10, taper), &[3.0, 7.0], 10.0, 1.5),
+            None
+        );
+    }
+
+    /// Along −Z the offsets within a cell run the other way.
+    #[test]
+    fn a_limb_running_down_measures_from_its_top() {
+        let mut samples = Vec::new();
+        for step in 0..100 {
+            // Layer 0 is the top cell (z from 9 to 10).
+            let z = 10.0 - (step as f64 + 0.5) / 10.0;
+            let along = 10.0 - z;
+            let r = 1.0 - 0.4 * (-(along - 6.3) * (along - 6.3)).exp();
+            for k in 0..12 {
+                let a = k as f64 * std::f64::consts::TAU / 12.0;
+                let layer = 9.0 - z.floor();
+                samples.push((along_limb(layer, z, -1.0), [r * a.cos(), r * a.sin()]));
+            }
+        }
+        let profile = Profile::of(&samples);
+        assert_eq!(
+            moved_to_narrowings(&profile, &[5.0, 8.0], 10.0, 1.5),
+            Some(vec![6.0, 8.0])
+        );
+    }
+}
