@@ -41,6 +41,7 @@ mod pieces;
 mod polycube;
 mod repair;
 mod saddles;
+mod straight;
 mod surface;
 mod symmetry;
 #[cfg(test)]

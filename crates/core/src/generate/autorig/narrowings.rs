@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::parts::{LimbCut, STRAIGHT_SLACK, straight_axis};
+use super::straight::{STRAIGHT_SLACK, straight_axis};
 use super::voxels::Grid;
 
 /// The mesh's vertices in each cell that holds one.
@@ -176,7 +176,7 @@ pub(super) fn moved_to_narrowings(
 /// and neither moves where one of the two does not run along an axis.
 pub(super) fn narrowed_joints(
     grid: &Grid,
-    cuts: &[LimbCut],
+    cuts: &[Branch],
     counts: &[usize],
     paired: &[(usize, usize)],
     samples: &SamplesByCell,
@@ -188,7 +188,7 @@ pub(super) fn narrowed_joints(
             if count < 2 {
                 return None;
             }
-            let (axis, sign) = straight_axis(grid, &cut.cells)?;
+            let (axis, sign) = straight_axis(grid, cut.cells)?;
             let layer_of = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
             let start = cut
                 .cells
@@ -204,7 +204,7 @@ pub(super) fn narrowed_joints(
             // would make a leg beside it look wider).
             let across = [(axis + 1) % 3, (axis + 2) % 3];
             let mut points = Vec::new();
-            for &(i, d) in &cut.cells {
+            for &(i, d) in cut.cells {
                 let layer = layer_of(i) - start;
                 if (first + layer - d).abs() <= STRAIGHT_SLACK {
                     let within = samples.get(&i).into_iter().flatten();
@@ -233,7 +233,7 @@ pub(super) fn narrowed_joints(
             })
         })
         .collect();
-    let reach = |cut: &LimbCut, count: usize| (0.5 * cut.longest / (count + 1) as f64).max(1.0);
+    let reach = |cut: &Branch, count: usize| (0.5 * cut.longest / (count + 1) as f64).max(1.0);
     let as_distances = |joints: &[f64], first: f64| -> Vec<f64> {
         joints.iter().map(|b| first + b - 0.5).collect()
     };
@@ -276,6 +276,14 @@ pub(super) fn narrowed_joints(
         }
     }
     joints
+}
+
+/// A limb branch as `parts` cuts it: its cells with their distance from where it starts, its
+/// length in cells and whether it grows from the trunk.
+pub(super) struct Branch<'a> {
+    pub cells: &'a [(usize, f64)],
+    pub longest: f64,
+    pub from_trunk: bool,
 }
 
 /// A limb cut measured along the grid axis it runs along ([`narrowed_joints`]).

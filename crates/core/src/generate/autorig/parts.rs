@@ -13,6 +13,7 @@ use super::branches::branches;
 use super::joint_bodies::fold_joint_bodies;
 use super::narrowings::{self, SamplesByCell};
 use super::saddles::split_at_saddles;
+use super::straight::{STRAIGHT_SLACK, straight_axis};
 use super::voxels::{FACE_STEPS, Grid, component_cells, components};
 
 /// What a part is, for its name and for the internal cages.
@@ -304,7 +305,14 @@ fn cut_halving_crotches(
         }
     }
     let (counts, paired) = paired_segment_counts(&limb_cuts, cutting);
-    let joints = narrowings::narrowed_joints(grid, &limb_cuts, &counts, &paired, samples);
+    let branches: Vec<narrowings::Branch> = (limb_cuts.iter())
+        .map(|c| narrowings::Branch {
+            cells: &c.cells,
+            longest: c.longest,
+            from_trunk: c.from_trunk,
+        })
+        .collect();
+    let joints = narrowings::narrowed_joints(grid, &branches, &counts, &paired, samples);
     let pairs = paired
         .iter()
         .map(|&(a, b)| (limb_cuts[a].limb, limb_cuts[b].limb))
@@ -358,12 +366,12 @@ fn cut_halving_crotches(
 
 /// One limb branch to cut into segments: its cells with their distance from where it starts,
 /// its length and thickness in cells, whether it grows from the trunk, and its first cell.
-pub(super) struct LimbCut {
+struct LimbCut {
     limb: usize,
-    pub(super) cells: Vec<(usize, f64)>,
-    pub(super) longest: f64,
+    cells: Vec<(usize, f64)>,
+    longest: f64,
     thickness: f64,
-    pub(super) from_trunk: bool,
+    from_trunk: bool,
     root: IVec3,
 }
 
@@ -455,7 +463,7 @@ fn stub_body(
 
 /// A branch's distances along a grid axis, cell by cell, where it runs along one (None where
 /// it does not): the geodesic distances' best affine fit over the cells' coordinates has a
-/// gradient within [`STRAIGHT_COS`] of a grid axis, so the branch's cross-sections are grid
+/// gradient within `straight::STRAIGHT_COS` of a grid axis, so the branch's cross-sections are grid
 /// layers and each joint between its segments one flat face rather than a front stepped over
 /// several layers. The smallest equals the smallest geodesic distance.
 fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
@@ -473,47 +481,6 @@ fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
             .collect(),
     )
 }
-
-/// The grid axis a branch runs along and its direction (away from where it starts), as
-/// [`straightened`] finds it.
-pub(super) fn straight_axis(grid: &Grid, cells: &[(usize, f64)]) -> Option<(usize, f64)> {
-    let g = distance_gradient(grid, cells)?;
-    let axis = (0..3)
-        .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
-        .unwrap_or(2);
-    (g[axis].abs() >= STRAIGHT_COS * g.length()).then(|| (axis, g[axis].signum()))
-}
-
-/// The gradient of the best affine fit of a branch's geodesic distances over its cells'
-/// coordinates (None for fewer than 8 cells, cells in one plane, or no gradient).
-fn distance_gradient(grid: &Grid, cells: &[(usize, f64)]) -> Option<glam::DVec3> {
-    let n = cells.len() as f64;
-    if cells.len() < 8 {
-        return None;
-    }
-    let p = |i: usize| grid.cell_of(i).as_dvec3();
-    let mean_p = cells.iter().map(|&(i, _)| p(i)).sum::<glam::DVec3>() / n;
-    let mean_d = cells.iter().map(|&(_, d)| d).sum::<f64>() / n;
-    let mut cov = glam::DMat3::ZERO;
-    let mut cross = glam::DVec3::ZERO;
-    for &(i, d) in cells {
-        let x = p(i) - mean_p;
-        cov += glam::DMat3::from_cols(x * x.x, x * x.y, x * x.z);
-        cross += x * (d - mean_d);
-    }
-    if cov.determinant().abs() < 1e-9 {
-        return None;
-    }
-    let g = cov.inverse() * cross;
-    (g.length() >= 1e-9).then_some(g)
-}
-
-/// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
-pub(super) const STRAIGHT_SLACK: f64 = 2.0;
-
-/// How close to a grid axis a branch's direction must be to be cut in grid layers (the cosine
-/// of about 25°: a leg whose distance from the body also grows sideways at the hip).
-const STRAIGHT_COS: f64 = 0.9;
 
 /// Longest reach of a limb region that is a bump of the body, in thicknesses of the region.
 const STUB_LENGTH: f64 = 1.0;

@@ -1,0 +1,46 @@
+//! Whether a limb branch runs along a grid axis: its cells' distances from the body grow
+//! along one, so its joints can be flat grid layers (`parts::straightened`) and its
+//! cross-sections measured layer by layer (`narrowings`).
+
+use super::voxels::Grid;
+
+/// The grid axis a branch runs along and its direction (away from where it starts), as
+/// `parts::straightened` finds it.
+pub(super) fn straight_axis(grid: &Grid, cells: &[(usize, f64)]) -> Option<(usize, f64)> {
+    let g = distance_gradient(grid, cells)?;
+    let axis = (0..3)
+        .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
+        .unwrap_or(2);
+    (g[axis].abs() >= STRAIGHT_COS * g.length()).then(|| (axis, g[axis].signum()))
+}
+
+/// The gradient of the best affine fit of a branch's geodesic distances over its cells'
+/// coordinates (None for fewer than 8 cells, cells in one plane, or no gradient).
+fn distance_gradient(grid: &Grid, cells: &[(usize, f64)]) -> Option<glam::DVec3> {
+    let n = cells.len() as f64;
+    if cells.len() < 8 {
+        return None;
+    }
+    let p = |i: usize| grid.cell_of(i).as_dvec3();
+    let mean_p = cells.iter().map(|&(i, _)| p(i)).sum::<glam::DVec3>() / n;
+    let mean_d = cells.iter().map(|&(_, d)| d).sum::<f64>() / n;
+    let mut cov = glam::DMat3::ZERO;
+    let mut cross = glam::DVec3::ZERO;
+    for &(i, d) in cells {
+        let x = p(i) - mean_p;
+        cov += glam::DMat3::from_cols(x * x.x, x * x.y, x * x.z);
+        cross += x * (d - mean_d);
+    }
+    if cov.determinant().abs() < 1e-9 {
+        return None;
+    }
+    let g = cov.inverse() * cross;
+    (g.length() >= 1e-9).then_some(g)
+}
+
+/// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
+pub(super) const STRAIGHT_SLACK: f64 = 2.0;
+
+/// How close to a grid axis a branch's direction must be to be cut in grid layers (the cosine
+/// of about 25°: a leg whose distance from the body also grows sideways at the hip).
+pub(super) const STRAIGHT_COS: f64 = 0.9;
