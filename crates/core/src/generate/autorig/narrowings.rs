@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::straight::{STRAIGHT_SLACK, straight_axis};
+use super::straight::{Layers, STRAIGHT_SLACK};
 use super::voxels::Grid;
 
 /// The mesh's vertices in each cell that holds one.
@@ -188,24 +188,14 @@ pub(super) fn narrowed_joints(
             if count < 2 {
                 return None;
             }
-            let (axis, sign) = straight_axis(grid, cut.cells)?;
-            let layer_of = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
-            let start = cut
-                .cells
-                .iter()
-                .map(|&(i, _)| layer_of(i))
-                .fold(f64::INFINITY, f64::min);
-            let first = cut
-                .cells
-                .iter()
-                .map(|&(_, d)| d)
-                .fold(f64::INFINITY, f64::min);
+            let layers = Layers::of(grid, cut.cells)?;
+            let (axis, sign, first) = (layers.axis, layers.sign, layers.first);
             // Along the limb in cells, across it in the mesh's units (a band's thin cells
             // would make a leg beside it look wider).
             let across = [(axis + 1) % 3, (axis + 2) % 3];
             let mut points = Vec::new();
             for &(i, d) in cut.cells {
-                let layer = layer_of(i) - start;
+                let layer = layers.layer_of(grid, i);
                 if (first + layer - d).abs() <= STRAIGHT_SLACK {
                     let within = samples.get(&i).into_iter().flatten();
                     points.extend(within.map(|&p| {
@@ -243,8 +233,6 @@ pub(super) fn narrowed_joints(
         in_pair[a] = true;
         in_pair[b] = true;
         let reach = reach(&cuts[a], counts[a]).min(reach(&cuts[b], counts[b]));
-        // Where one of the two does not run along a grid axis (a leg turned out at the hip),
-        // the other's profile and joints serve both.
         // Where one of the two does not run along a grid axis, neither moves: it keeps its
         // cut by distance from the body, and the other moved alone made the pair unequal
         // (TOSCA's Michael's right elbow a cell out from his left; cut in layers along its
@@ -253,15 +241,10 @@ pub(super) fn narrowed_joints(
         let (Some(ma), Some(mb)) = (&measured[a], &measured[b]) else {
             continue;
         };
-        if ma.defaults.len() != mb.defaults.len() {
+        let Some(pair) = ma.paired(mb) else {
             continue;
-        }
-        let defaults: Vec<f64> = (ma.defaults.iter().zip(&mb.defaults))
-            .map(|(x, y)| (0.5 * (x + y)).round())
-            .collect();
-        let profile = ma.profile.paired(&mb.profile);
-        let end = ma.end.min(mb.end);
-        if let Some(moved) = moved_to_narrowings(&profile, &defaults, end, reach) {
+        };
+        if let Some(moved) = moved_to_narrowings(&pair.profile, &pair.defaults, pair.end, reach) {
             joints[a] = Some(as_distances(&moved, ma.first));
             joints[b] = Some(as_distances(&moved, mb.first));
         }
@@ -295,6 +278,22 @@ struct Measured {
     defaults: Vec<f64>,
     /// Where it ends, as such a boundary.
     end: f64,
+}
+
+impl Measured {
+    /// A pair of limbs measured as one: widths summed layer by layer, joints by equal lengths
+    /// the mean of the two, the shorter's end (None where their joint counts differ). Its
+    /// `first` is this one's: each twin's joints are placed from its own.
+    fn paired(&self, twin: &Measured) -> Option<Measured> {
+        (self.defaults.len() == twin.defaults.len()).then(|| Measured {
+            profile: self.profile.paired(&twin.profile),
+            first: self.first,
+            defaults: (self.defaults.iter().zip(&twin.defaults))
+                .map(|(x, y)| (0.5 * (x + y)).round())
+                .collect(),
+            end: self.end.min(twin.end),
+        })
+    }
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use super::branches::branches;
 use super::joint_bodies::fold_joint_bodies;
 use super::narrowings::{self, SamplesByCell};
 use super::saddles::split_at_saddles;
-use super::straight::{STRAIGHT_SLACK, straight_axis};
+use super::straight::{Layers, STRAIGHT_SLACK};
 use super::voxels::{FACE_STEPS, Grid, component_cells, components};
 
 /// What a part is, for its name and for the internal cages.
@@ -467,17 +467,11 @@ fn stub_body(
 /// layers and each joint between its segments one flat face rather than a front stepped over
 /// several layers. The smallest equals the smallest geodesic distance.
 fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
-    let (axis, sign) = straight_axis(grid, cells)?;
-    let along = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
-    let start = cells
-        .iter()
-        .map(|&(i, _)| along(i))
-        .fold(f64::INFINITY, f64::min);
-    let first = cells.iter().map(|&(_, d)| d).fold(f64::INFINITY, f64::min);
+    let layers = Layers::of(grid, cells)?;
     Some(
         cells
             .iter()
-            .map(|&(i, _)| first + along(i) - start)
+            .map(|&(i, _)| layers.first + layers.layer_of(grid, i))
             .collect(),
     )
 }

@@ -14,6 +14,42 @@ pub(super) fn straight_axis(grid: &Grid, cells: &[(usize, f64)]) -> Option<(usiz
     (g[axis].abs() >= STRAIGHT_COS * g.length()).then(|| (axis, g[axis].signum()))
 }
 
+/// A straight branch's grid layers: each cell's layer counted from the branch's first, and the
+/// branch's smallest distance from where it starts, so that a cell in layer `l` is at about
+/// `first + l` from there.
+pub(super) struct Layers {
+    pub axis: usize,
+    /// +1 or −1: the direction along `axis` away from where the branch starts.
+    pub sign: f64,
+    start: f64,
+    pub first: f64,
+}
+
+impl Layers {
+    /// The layers of a branch (cells with their distance from where it starts), None where it
+    /// does not run along a grid axis ([`straight_axis`]).
+    pub(super) fn of(grid: &Grid, cells: &[(usize, f64)]) -> Option<Self> {
+        let (axis, sign) = straight_axis(grid, cells)?;
+        let along = |i: usize| sign * f64::from(grid.cell_of(i)[axis]);
+        let start = cells
+            .iter()
+            .map(|&(i, _)| along(i))
+            .fold(f64::INFINITY, f64::min);
+        let first = cells.iter().map(|&(_, d)| d).fold(f64::INFINITY, f64::min);
+        Some(Self {
+            axis,
+            sign,
+            start,
+            first,
+        })
+    }
+
+    /// Cell `i`'s layer, 0 for the branch's first.
+    pub(super) fn layer_of(&self, grid: &Grid, i: usize) -> f64 {
+        self.sign * f64::from(grid.cell_of(i)[self.axis]) - self.start
+    }
+}
+
 /// The gradient of the best affine fit of a branch's geodesic distances over its cells'
 /// coordinates (None for fewer than 8 cells, cells in one plane, or no gradient).
 fn distance_gradient(grid: &Grid, cells: &[(usize, f64)]) -> Option<glam::DVec3> {
