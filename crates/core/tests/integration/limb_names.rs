@@ -1091,3 +1091,72 @@ fn a_centaur_s_arms_are_arms() {
     assert!(controls.contains_key("head.1"), "no head.1 in {names:?}");
     assert!(!names.iter().any(|n| n.starts_with("neck")), "{names:?}");
 }
+
+/// The names of `controls` that are not `root` nor a `limb.N`'s.
+fn figure_names(controls: &BTreeMap<String, (Option<String>, DVec3)>) -> Vec<&String> {
+    controls
+        .keys()
+        .filter(|n| *n != "root" && !n.starts_with("limb."))
+        .collect()
+}
+
+#[test]
+fn a_hand_s_fingers_are_limbs_not_a_figure_s_arms_and_head() {
+    // An open hand standing on its wrist: four fingers up from the palm, fanned out (libigl's
+    // hand.mesh) or side by side, the thumb out to a side. Named as a figure, its fingers were
+    // `arm.L`, `arm.L.001`, `arm.R`, `ear.R` and `head`, or ears and horns.
+    for fan in [0.0, 0.3] {
+        let mut parts = vec![
+            (v(0.0, 0.0, -0.6), v(0.0, 0.0, 0.2), 0.3),
+            (v(-0.4, 0.0, 0.6), v(0.4, 0.0, 0.6), 0.4),
+        ];
+        for (x, length) in [(-0.6, 1.3), (-0.2, 1.6), (0.2, 1.5), (0.6, 1.2)] {
+            let direction = v(x * fan, 0.0, 1.0).normalize();
+            let root = v(x, 0.0, 0.9);
+            parts.push((root, root + length * direction, 0.1));
+        }
+        parts.push((v(-0.7, 0.0, 0.3), v(-1.5, 0.0, 1.0), 0.11));
+        let controls = controls_of(&capsules(&parts, 0.03));
+        let limbs = controls.keys().filter(|n| n.ends_with(".1")).count();
+        assert!(limbs >= 5, "fan {fan}: {:?}", controls.keys());
+        assert!(
+            figure_names(&controls).is_empty(),
+            "fan {fan}: {:?}",
+            controls.keys()
+        );
+    }
+}
+
+#[test]
+fn an_octopus_s_arms_are_limbs_and_a_quadruped_keeps_its_names() {
+    // A mantle with eight arms spread around it, each at its own height, some curling up
+    // (libigl's octopus-low.mesh): as a figure, its arms were three heads, a neck, a tail, a
+    // leg and two ears.
+    let mut parts = vec![(v(0.0, 0.0, 1.0), v(0.0, 0.2, 2.0), 0.5)];
+    let tips = [0.0, 0.5, 0.2, 1.2, 0.0, 0.4, 0.8, 0.1];
+    for (k, tip_z) in tips.into_iter().enumerate() {
+        let angle = std::f64::consts::TAU * (k as f64 + 0.5) / 8.0;
+        let out = v(angle.cos(), angle.sin(), 0.0);
+        parts.push((
+            0.4 * out + v(0.0, 0.0, 0.8),
+            1.3 * out + v(0.0, 0.0, 0.4),
+            0.1,
+        ));
+        parts.push((
+            1.3 * out + v(0.0, 0.0, 0.4),
+            2.1 * out + v(0.0, 0.0, tip_z),
+            0.08,
+        ));
+    }
+    let controls = controls_of(&capsules(&parts, 0.035));
+    let limbs = controls.keys().filter(|n| n.ends_with(".1")).count();
+    assert!(limbs >= 8, "{:?}", controls.keys());
+    assert!(figure_names(&controls).is_empty(), "{:?}", controls.keys());
+    // Negative control: a figure's limbs keep their roles.
+    let cow = controls_of(&capsules(&cow_parts(), 0.035));
+    assert!(
+        cow.contains_key("leg.front.L.1") && cow.contains_key("head.1"),
+        "{:?}",
+        cow.keys()
+    );
+}

@@ -35,6 +35,7 @@ mod name_defects;
 mod naming;
 mod narrowings;
 mod neck_head;
+mod not_a_figure;
 mod pair_segments;
 mod parts;
 mod pieces;
@@ -309,6 +310,10 @@ pub fn autorig(
         on_separate_feet: stands_on_separate_feet(&surface),
     };
     let mut best: Option<Autorig> = None;
+    let chosen = |mut rig: Autorig| {
+        not_a_figure::limbs_unless_a_figure(&mut rig);
+        Ok(rig)
+    };
     for refinement in 0..=MAX_REFINEMENTS {
         let cells = (f64::from(cells) * REFINEMENT.powi(refinement as i32)).round() as u32;
         let detail = rig_with_legs_apart(&surface, settings, &facts, cells, refinement, control);
@@ -348,14 +353,14 @@ pub fn autorig(
             .map(|(leaf, _)| leaf)
             .collect();
         if rig.report.shared_cages.is_empty() {
-            return Ok(rig);
+            return chosen(rig);
         }
         let fewer = |best: &Autorig| rig.report.shared_cages.len() < best.report.shared_cages.len();
         if best.as_ref().is_none_or(fewer) {
             best = Some(rig);
         }
     }
-    best.ok_or(AutorigError::Cancelled)
+    best.map_or(Err(AutorigError::Cancelled), chosen)
 }
 
 /// The rig on the detail's grid of `cells` (limbs apart at a mirror's plane where that makes
