@@ -43,7 +43,7 @@ fn is_defect(name: &str, parent: Option<&str>) -> bool {
 }
 
 /// `arm.L.001`: a name the namer numbered because the plain one was taken.
-fn is_second_of_its_kind(name: &str) -> bool {
+pub(super) fn is_second_of_its_kind(name: &str) -> bool {
     name.rsplit_once('.')
         .is_some_and(|(_, last)| last.len() == 3 && last.bytes().all(|b| b.is_ascii_digit()))
 }

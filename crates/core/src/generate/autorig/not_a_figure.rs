@@ -1,6 +1,6 @@
-//! Plain `limb.N` names for a shape that is no figure: where naming by role gave more limbs
-//! one role and side than any figure has, and no pair of legs stands under it, the shape is a
-//! hand's fingers or an octopus's arms, not a figure's head, arms and ears.
+//! Plain `limb.N` names for a shape that is no figure: where naming by role gave two limbs
+//! alike in reach one role and side that a figure has one of, the shape is a hand's fingers
+//! or an octopus's arms, not a figure's head, arms and ears.
 //!
 //! It reads the rig [`super::autorig`] chose, not each grid's: the rigs of one mesh are
 //! compared by how their names look (`name_defects`), and a rig renamed here would always
@@ -12,6 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use super::Autorig;
+use super::name_defects::is_second_of_its_kind;
 
 /// The roles a figure has one of (on the centre line) or one of a side: a head, a neck, a
 /// tail, hips; an arm, an ear, a horn, a shoulder, a hip. Legs are not among them: a
@@ -79,7 +80,6 @@ pub(super) fn limbs_unless_a_figure(rig: &mut Autorig) {
     };
     if no_figure {
         let names: Vec<String> = limbs.iter().map(|(name, _)| name.clone()).collect();
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         rename(rig, &names);
     }
 }
@@ -144,9 +144,9 @@ fn limb_reaches(rig: &Autorig) -> BTreeMap<&str, f64> {
 
 /// Renames each of `limbs` `limb.N`, N its place among them, in the report, its leaf cages
 /// and its controls.
-fn rename(rig: &mut Autorig, limbs: &[&str]) {
-    let new_names: BTreeMap<String, String> = (limbs.iter().enumerate())
-        .map(|(k, name)| ((*name).to_owned(), format!("limb.{}", k + 1)))
+fn rename(rig: &mut Autorig, limbs: &[String]) {
+    let new_names: BTreeMap<&str, String> = (limbs.iter().enumerate())
+        .map(|(k, name)| (name.as_str(), format!("limb.{}", k + 1)))
         .collect();
     let renamed = |name: &str| new_names.get(name).cloned();
     for (name, parent) in &mut rig.report.limb_parents {
@@ -177,15 +177,12 @@ fn rename(rig: &mut Autorig, limbs: &[&str]) {
 /// A limb's role and side from its name: `leg.front.L.001` is `("leg", Some("L"))`, `tail`
 /// is `("tail", None)`.
 fn role_and_side(name: &str) -> (&str, Option<&str>) {
-    let mut parts: Vec<&str> = name.split('.').collect();
-    // Blender's numbered copy of a name taken twice.
-    if parts.len() > 1
-        && parts
-            .last()
-            .is_some_and(|p| p.len() == 3 && p.bytes().all(|b| b.is_ascii_digit()))
-    {
-        parts.pop();
-    }
+    // Blender's numbered copy of a name taken twice is the name's.
+    let name = match name.rsplit_once('.') {
+        Some((first, _)) if is_second_of_its_kind(name) => first,
+        _ => name,
+    };
+    let parts: Vec<&str> = name.split('.').collect();
     let role = parts.first().copied().unwrap_or("");
     let side = parts
         .last()
