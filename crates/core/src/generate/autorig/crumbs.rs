@@ -121,7 +121,6 @@ fn joining(
 
 #[cfg(test)]
 mod tests {
-    use std::collections::{BTreeMap, BTreeSet};
 
     use glam::DVec3;
 
@@ -153,8 +152,8 @@ mod tests {
     fn body_and_limb(grid: &Grid) -> Parts {
         let column = |x: f64| grid.cell_at(DVec3::new(x, 0.5, 0.5)).x;
         let (one, five, nine) = (column(1.0), column(5.0), column(9.0));
-        Parts {
-            label: (0..grid.len())
+        Parts::of_roles(
+            (0..grid.len())
                 .map(|i| {
                     let x = grid.cell_of(i).x;
                     Some(match () {
@@ -165,15 +164,10 @@ mod tests {
                     })
                 })
                 .collect(),
-            roles: std::iter::once(Role::Body { body: 0, slab: 0 })
+            std::iter::once(Role::Body { body: 0, slab: 0 })
                 .chain((0..3).map(|segment| Role::Limb { limb: 0, segment }))
                 .collect(),
-            parent_limb: BTreeMap::new(),
-            heads: BTreeSet::new(),
-            crowns: BTreeSet::new(),
-            halved: BTreeMap::new(),
-            pairs: Vec::new(),
-        }
+        )
     }
 
     #[test]

@@ -1184,18 +1184,13 @@ mod tests {
                 }
             }
         }
-        let parts = Parts {
+        let parts = Parts::of_roles(
             label,
-            roles: vec![
+            vec![
                 Role::Body { body: 0, slab: 0 },
                 Role::Body { body: 0, slab: 1 },
             ],
-            parent_limb: BTreeMap::new(),
-            heads: BTreeSet::new(),
-            crowns: BTreeSet::new(),
-            halved: BTreeMap::new(),
-            pairs: Vec::new(),
-        };
+        );
         let (vertices, faces) =
             polycube::indexed_faces(&polycube::boundary_faces(&grid, &parts, None));
         Staircase {

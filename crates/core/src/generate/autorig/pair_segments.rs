@@ -111,7 +111,6 @@ enum Destination {
 
 #[cfg(test)]
 mod tests {
-    use std::collections::BTreeSet;
 
     use glam::DVec3;
 
@@ -156,13 +155,8 @@ mod tests {
             }
         }
         let mut parts = Parts {
-            label,
-            roles,
-            parent_limb: BTreeMap::new(),
-            heads: BTreeSet::new(),
-            crowns: BTreeSet::new(),
-            halved: BTreeMap::new(),
             pairs: vec![(0, 1)],
+            ..Parts::of_roles(label, roles)
         };
         compact(&mut parts);
         (grid, parts, cut_roles, at)

@@ -71,6 +71,21 @@ pub(super) struct Halved {
 }
 
 impl Parts {
+    /// Parts labelled `label` with roles `roles`, no branches, heads, halved slabs or pairs (a
+    /// test's hand-made parts).
+    #[cfg(test)]
+    pub fn of_roles(label: Vec<Option<u32>>, roles: Vec<Role>) -> Self {
+        Self {
+            label,
+            roles,
+            parent_limb: BTreeMap::new(),
+            heads: BTreeSet::new(),
+            crowns: BTreeSet::new(),
+            halved: BTreeMap::new(),
+            pairs: Vec::new(),
+        }
+    }
+
     /// The part of the grid cell holding point `p` (None outside the grid or in an empty cell).
     pub fn part_at(&self, grid: &Grid, p: DVec3) -> Option<u32> {
         grid.index(grid.cell_at(p))

@@ -834,20 +834,17 @@ mod tests {
         let right = grid.cell_at(DVec3::new(2.5, 0.5, 3.5));
         let bottom = grid.cell_at(DVec3::new(0.5, 0.5, 1.45)).z;
         let top_of_right_column = |c: IVec3| c.x == right.x && c.z >= right.z;
-        let body_and_limb = |limb: Role| Parts {
-            label: (0..grid.len())
-                .map(|i| {
-                    let c = grid.cell_of(i);
-                    let body = c.x < right.x || c.z <= bottom || top_of_right_column(c);
-                    Some(u32::from(!body))
-                })
-                .collect(),
-            roles: vec![Role::Body { body: 0, slab: 0 }, limb],
-            parent_limb: BTreeMap::new(),
-            heads: BTreeSet::new(),
-            crowns: BTreeSet::new(),
-            halved: BTreeMap::new(),
-            pairs: Vec::new(),
+        let body_and_limb = |limb: Role| {
+            Parts::of_roles(
+                (0..grid.len())
+                    .map(|i| {
+                        let c = grid.cell_of(i);
+                        let body = c.x < right.x || c.z <= bottom || top_of_right_column(c);
+                        Some(u32::from(!body))
+                    })
+                    .collect(),
+                vec![Role::Body { body: 0, slab: 0 }, limb],
+            )
         };
         let foot = Role::Limb {
             limb: 0,

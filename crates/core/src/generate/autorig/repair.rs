@@ -217,21 +217,16 @@ mod tests {
         }
         let limb_cell = grid.index(corner(0)).unwrap();
         label[limb_cell] = Some(0);
-        let mut parts = Parts {
+        let mut parts = Parts::of_roles(
             label,
-            roles: vec![
+            vec![
                 Role::Limb {
                     limb: 0,
                     segment: 0,
                 },
                 Role::Body { body: 0, slab: 2 },
             ],
-            parent_limb: BTreeMap::new(),
-            heads: Default::default(),
-            crowns: Default::default(),
-            halved: Default::default(),
-            pairs: Vec::new(),
-        };
+        );
         assert!(pinches(&grid, &parts.label, v) > 0);
         merge_block(&grid, &mut parts, v);
         assert_eq!(parts.label[limb_cell], Some(1));

@@ -1,8 +1,6 @@
 //! Shapes for unit tests of the mirrored rig: ribbons of mesh near a mirror plane and a limb
 //! part reaching that plane.
 
-use std::collections::{BTreeMap, BTreeSet};
-
 use glam::DVec3;
 
 use super::parts::{Parts, Role};
@@ -53,26 +51,21 @@ pub(super) fn limb_at_the_plane(height: f64, body_from: f64) -> (Grid, MirrorPla
     let plane = MirrorPlane::of(&grid, 0);
     let body_from = grid.cell_at(DVec3::new(2.0, 0.5, body_from)).z;
     let limb_from = grid.cell_at(DVec3::new(1.0, 0.5, 1.0)).x;
-    let parts = Parts {
-        label: (0..grid.len())
+    let parts = Parts::of_roles(
+        (0..grid.len())
             .map(|i| {
                 let c = grid.cell_of(i);
                 let limb = c.z < body_from && c.x >= limb_from && plane.is_low_cell(c);
                 Some(u32::from(limb))
             })
             .collect(),
-        roles: vec![
+        vec![
             Role::Body { body: 0, slab: 0 },
             Role::Limb {
                 limb: 0,
                 segment: 0,
             },
         ],
-        parent_limb: BTreeMap::new(),
-        heads: BTreeSet::new(),
-        crowns: BTreeSet::new(),
-        halved: BTreeMap::new(),
-        pairs: Vec::new(),
-    };
+    );
     (grid, plane, parts)
 }
