@@ -31,6 +31,7 @@ mod head_in_body;
 mod head_over_legs;
 mod joint_bodies;
 mod limb_tree;
+mod mirror_twins;
 mod name_defects;
 mod naming;
 mod narrowings;
@@ -652,6 +653,13 @@ fn rig_on_grid(
     // Where the mesh narrows along a limb (a knee, an elbow), its joints move there.
     let samples = narrowings::samples_by_cell(&grid, mesh.welded_positions());
     let mut parts = parts::cut_into_parts(&grid, &occupied, &depth, &cutting, &samples);
+    // A mirrored grid cuts a limb's twin as its mirror image (below); another may leave it
+    // inside a larger limb.
+    if mirror.is_none()
+        && let Some(axis) = horizontal_symmetry_axis(&facts.symmetry)
+    {
+        mirror_twins::carve_missing_twins(&grid, &mut parts, axis, 0.5 * (lo[axis] + hi[axis]));
+    }
     let cut_roles = parts.roles_by_cell();
     pieces::split_by_surface_pieces(&grid, &mut parts, surface);
     let mut merges = pieces::merge_inseparable_pieces(&grid, &mut parts, surface, mirror.as_ref());
@@ -1421,15 +1429,10 @@ mod tests {
     fn the_parts_around_a_point_are_those_of_its_cell_and_the_26_beside_it() {
         let grid = Grid::around(DVec3::ZERO, DVec3::splat(1.0), 10, None, &[], None);
         // Every cell its own part, numbered by cell.
-        let parts = Parts {
-            label: (0..grid.len() as u32).map(Some).collect(),
-            roles: vec![Role::Body { body: 0, slab: 0 }; grid.len()],
-            parent_limb: BTreeMap::new(),
-            heads: BTreeSet::new(),
-            crowns: BTreeSet::new(),
-            halved: BTreeMap::new(),
-            pairs: Vec::new(),
-        };
+        let parts = Parts::of_roles(
+            (0..grid.len() as u32).map(Some).collect(),
+            vec![Role::Body { body: 0, slab: 0 }; grid.len()],
+        );
         let point = DVec3::splat(0.5);
         let centre = grid.cell_at(point);
         let around = parts_around(&grid, &parts, point);
