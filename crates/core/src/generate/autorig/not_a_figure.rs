@@ -21,8 +21,8 @@ const ONE_EACH: [&str; 9] = [
     "head", "neck", "tail", "hips", "arm", "ear", "horn", "shoulder", "hip",
 ];
 
-/// Renames every limb of `rig` `limb.N` (N counting limbs in the report's order: its leaf
-/// cages `limb.N_K`, its controls `limb.N.K`) where its names are no figure's. Without a pair
+/// Renames every limb of `rig` `limb.N` (N counting limbs by place, [`in_order_of_place`]:
+/// its leaf cages `limb.N_K`, its controls `limb.N.K`) where its names are no figure's. Without a pair
 /// of legs under it, one either side, a shape is none where two limbs alike in reach take one
 /// role and side ([`alike_twice`]: `arm.L` and `arm.L.001`, a hand's fingers) or a side has an
 /// ear and a horn that grow from no head (two fingers on top of a palm). On a pair of legs,
@@ -80,8 +80,161 @@ pub(super) fn limbs_unless_a_figure(rig: &mut Autorig) {
     };
     if no_figure {
         let names: Vec<String> = limbs.iter().map(|(name, _)| name.clone()).collect();
+        let names = in_order_of_place(rig, names);
         rename(rig, &names);
     }
+}
+
+/// `limbs` in the order of where they grow from (so that `limb.1` … `limb.N` run across a
+/// hand from one side to the other, or round an octopus): by their roots' place along the
+/// roots' longest spread where they lie near a line, by their angle round the roots' middle in
+/// the plane of their two longest spreads, starting after the widest gap, where they lie round
+/// it. A limb's root is the middle of its first segment's leaf cages. The spreads' directions
+/// point each to where its largest coordinate grows, so the order is the same wherever the
+/// shape lies. Limbs whose roots are unknown keep their order, after the others.
+fn in_order_of_place(rig: &Autorig, limbs: Vec<String>) -> Vec<String> {
+    let roots: Vec<Option<DVec3>> = limbs.iter().map(|l| limb_root(rig, l)).collect();
+    let known: Vec<DVec3> = roots.iter().flatten().copied().collect();
+    let Some(spreads) = Spreads::of(&known) else {
+        return limbs;
+    };
+    let key = |root: DVec3| -> f64 {
+        let d = root - spreads.middle;
+        if spreads.second < LINE_SPREAD * spreads.first {
+            d.dot(spreads.longest)
+        } else {
+            d.dot(spreads.next).atan2(d.dot(spreads.longest))
+        }
+    };
+    let mut keyed: Vec<(f64, String)> = Vec::new();
+    let mut unknown: Vec<String> = Vec::new();
+    for (limb, root) in limbs.into_iter().zip(roots) {
+        match root {
+            Some(root) => keyed.push((key(root), limb)),
+            None => unknown.push(limb),
+        }
+    }
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if spreads.second >= LINE_SPREAD * spreads.first && keyed.len() > 1 {
+        // Round the middle: start after the widest gap between neighbouring angles.
+        let n = keyed.len();
+        let gap = |k: usize| {
+            let next = keyed[(k + 1) % n].0
+                + if k + 1 == n {
+                    std::f64::consts::TAU
+                } else {
+                    0.0
+                };
+            next - keyed[k].0
+        };
+        let widest = (0..n)
+            .max_by(|&a, &b| gap(a).total_cmp(&gap(b)))
+            .unwrap_or(n - 1);
+        keyed.rotate_left((widest + 1) % n);
+    }
+    keyed
+        .into_iter()
+        .map(|(_, limb)| limb)
+        .chain(unknown)
+        .collect()
+}
+
+/// How much smaller the roots' second spread (variance) must be than their first for them to
+/// lie along a line rather than round a middle: a hand's four fingers and thumb lie along its
+/// knuckles, an octopus's arms round its mantle.
+const LINE_SPREAD: f64 = 0.25;
+
+/// The middle of a limb's first segment: its leaf cages `<limb>_<K>…` of the lowest K.
+fn limb_root(rig: &Autorig, limb: &str) -> Option<DVec3> {
+    let segment_of = |name: &str| -> Option<u32> {
+        let (of, rest) = name.rsplit_once('_')?;
+        let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        (of == limb).then(|| digits.parse().ok()).flatten()
+    };
+    let first = rig
+        .cages
+        .leaves
+        .iter()
+        .filter_map(|l| segment_of(&l.name))
+        .min()?;
+    let vertices: BTreeSet<u32> = (rig.cages.leaves.iter())
+        .filter(|l| segment_of(&l.name) == Some(first))
+        .flat_map(|l| l.faces.iter().flatten().copied())
+        .collect();
+    let points: Vec<DVec3> = (vertices.iter())
+        .filter_map(|&v| rig.cages.vertices.get(v as usize).copied())
+        .collect();
+    (!points.is_empty()).then(|| points.iter().sum::<DVec3>() / points.len() as f64)
+}
+
+/// Points' middle and their two longest spreads: the directions and variances of their
+/// covariance's two largest eigenvalues.
+struct Spreads {
+    middle: DVec3,
+    longest: DVec3,
+    first: f64,
+    next: DVec3,
+    second: f64,
+}
+
+impl Spreads {
+    /// None for fewer than two points or points all in one place.
+    fn of(points: &[DVec3]) -> Option<Self> {
+        if points.len() < 2 {
+            return None;
+        }
+        let middle = points.iter().sum::<DVec3>() / points.len() as f64;
+        let mut covariance = glam::DMat3::ZERO;
+        for p in points {
+            let d = *p - middle;
+            covariance += glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+        }
+        let (longest, first) = dominant(covariance)?;
+        let rest = covariance
+            - glam::DMat3::from_cols(
+                longest * longest.x,
+                longest * longest.y,
+                longest * longest.z,
+            ) * first;
+        let (next, second) = dominant(rest).unwrap_or((longest.any_orthonormal_vector(), 0.0));
+        Some(Self {
+            middle,
+            longest,
+            first,
+            next,
+            second,
+        })
+    }
+}
+
+/// The eigenvector of the symmetric positive semi-definite `m` with the largest eigenvalue
+/// (by power iteration from its longest column), pointing to where its largest coordinate
+/// grows, and that eigenvalue; None where `m` is (nearly) zero.
+fn dominant(m: glam::DMat3) -> Option<(DVec3, f64)> {
+    let columns = [m.x_axis, m.y_axis, m.z_axis];
+    let scale = columns.iter().map(|c| c.length()).fold(0.0, f64::max);
+    if !scale.is_finite() || scale <= 1e-12 {
+        return None;
+    }
+    let mut v = columns
+        .into_iter()
+        .max_by(|a, b| a.length().total_cmp(&b.length()))?
+        .normalize_or_zero();
+    for _ in 0..100 {
+        let next = (m * v).normalize_or_zero();
+        if next == DVec3::ZERO {
+            return None;
+        }
+        v = next;
+    }
+    let largest = (0..3)
+        .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
+        .unwrap_or(0);
+    if v[largest] < 0.0 {
+        v = -v;
+    }
+    let value = v.dot(m * v);
+    (value > 1e-12 * scale).then_some((v, value))
 }
 
 /// Whether two of `limbs` (role and side, reach) alike in reach (the shorter at least
@@ -237,6 +390,87 @@ mod tests {
             ..AutorigReport::default()
         };
         Autorig { cages, report }
+    }
+
+    /// A rig of limbs `names`, none on another, each one leaf cage: a triangle at `roots[k]`,
+    /// pointing up, and its second segment's above it.
+    fn rig_with_roots(names: &[&str], roots: &[DVec3]) -> Autorig {
+        let triangle = |at: DVec3| vec![at, at + DVec3::X * 0.1, at + DVec3::Z * 0.1];
+        let leaves: Vec<Vec<DVec3>> = (roots.iter())
+            .flat_map(|&root| [triangle(root + DVec3::Z), triangle(root)])
+            .collect();
+        let mut cages = point_cages(&leaves);
+        for (k, name) in names.iter().enumerate() {
+            cages.leaves[2 * k].name = format!("{name}_2");
+            cages.leaves[2 * k + 1].name = format!("{name}_1b");
+        }
+        let report = AutorigReport {
+            limb_parents: names.iter().map(|n| ((*n).to_owned(), None)).collect(),
+            ..AutorigReport::default()
+        };
+        Autorig { cages, report }
+    }
+
+    /// The number `limb.N` each of `rig`'s leaf cages named `<limb>_1b` took, in the rig's order.
+    fn numbers_of_first_segments(rig: &Autorig) -> Vec<usize> {
+        (rig.cages.leaves.iter())
+            .filter_map(|l| {
+                l.name
+                    .strip_suffix("_1b")?
+                    .strip_prefix("limb.")?
+                    .parse()
+                    .ok()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fingers_are_numbered_across_the_hand_and_arms_round_the_octopus() {
+        // A hand's four fingers along its knuckles (X) and a thumb below the first, listed out
+        // of order, as the rig's order of limbs can be.
+        let names = ["arm.L", "arm.L.001", "arm.R", "ear.R", "head"];
+        let roots = [
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(-0.3, 0.0, -1.0),
+            DVec3::new(3.0, 0.0, 0.1),
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.1),
+        ];
+        let mut hand = rig_with_roots(&names, &roots);
+        limbs_unless_a_figure(&mut hand);
+        // Along the knuckles, the way X grows: the thumb first here, last in the mirror image.
+        assert_eq!(numbers_of_first_segments(&hand), [4, 1, 5, 2, 3]);
+        let mut mirrored = rig_with_roots(&names, &roots.map(|r| DVec3::new(-r.x, r.y, r.z)));
+        limbs_unless_a_figure(&mut mirrored);
+        assert_eq!(numbers_of_first_segments(&mirrored), [2, 5, 1, 4, 3]);
+        // Eight arms round a mantle, listed out of order: numbered round it, each next to the
+        // one before.
+        let names = [
+            "head", "head.001", "neck", "tail", "leg.R", "ear.L", "ear.R", "head.002",
+        ];
+        let angles = [0, 3, 6, 1, 4, 7, 2, 5];
+        let roots: Vec<DVec3> = (angles.iter())
+            .map(|&k| {
+                let a = k as f64 * std::f64::consts::TAU / 8.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let mut octopus = rig_with_roots(&names, &roots);
+        limbs_unless_a_figure(&mut octopus);
+        let numbers = numbers_of_first_segments(&octopus);
+        let mut by_number = [0usize; 8];
+        for (k, &n) in numbers.iter().enumerate() {
+            by_number[n - 1] = angles[k];
+        }
+        for n in 0..8 {
+            let step = (by_number[(n + 1) % 8] + 8 - by_number[n]) % 8;
+            assert!(
+                step == 1 || step == 7,
+                "arms {by_number:?} out of order round the mantle"
+            );
+        }
+        // Every leaf and limb renamed alike.
+        assert!(leaf_names(&octopus).iter().all(|n| n.starts_with("limb.")));
     }
 
     fn leaf_names(rig: &Autorig) -> Vec<&str> {
