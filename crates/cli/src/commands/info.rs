@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 use starcages_core::coords::CoordinateKind;
-use starcages_core::scene::{MeshSource, Scene};
+use starcages_core::scene::{MeshSource, Scene, rig_names};
 
 /// Arguments of `info`.
 #[derive(Debug, Args)]
@@ -71,17 +71,14 @@ struct Info {
 /// The limb and side a control's name says: `leg.L.2` is segment 2 of limb `leg.L`, on the
 /// left.
 fn limb_and_side(name: &str) -> (Option<String>, Option<&'static str>) {
-    let Some((limb, number)) = name.rsplit_once('.') else {
+    let Some(limb) = rig_names::limb_of_control(name) else {
         return (None, None);
     };
-    if number.parse::<u32>().is_err() {
-        return (None, None);
-    }
-    let side = limb.split('.').find_map(|w| match w {
-        "L" => Some("L"),
-        "R" => Some("R"),
+    let side = match rig_names::role_and_side(limb).1 {
+        Some("L") => Some("L"),
+        Some("R") => Some("R"),
         _ => None,
-    });
+    };
     (Some(limb.to_owned()), side)
 }
 

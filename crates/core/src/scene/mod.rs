@@ -8,6 +8,7 @@ mod containment;
 mod locator;
 mod pose_state;
 mod pretty_json;
+pub mod rig_names;
 mod settings;
 mod up_axis;
 mod validate;

@@ -13,6 +13,7 @@
 //!   that is their two thighs joined).
 
 use super::AutorigReport;
+use crate::scene::rig_names::is_numbered_copy;
 
 /// How many limbs of the rig `report` describes show one of the signs above.
 pub(super) fn name_defects(report: &AutorigReport) -> usize {
@@ -37,15 +38,9 @@ pub(super) fn names_better(report: &AutorigReport, than: &AutorigReport) -> bool
 }
 
 fn is_defect(name: &str, parent: Option<&str>) -> bool {
-    is_second_of_its_kind(name)
+    is_numbered_copy(name)
         || is_leg_without_side(name)
         || (is_leg(name) && parent.is_some_and(|p| !is_leg(p)))
-}
-
-/// `arm.L.001`: a name the namer numbered because the plain one was taken.
-pub(super) fn is_second_of_its_kind(name: &str) -> bool {
-    name.rsplit_once('.')
-        .is_some_and(|(_, last)| last.len() == 3 && last.bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// Whether a limb's name is a leg's (`leg`, `leg.L`, `leg.front.R` …).

@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use super::Autorig;
-use super::name_defects::is_second_of_its_kind;
+use crate::scene::rig_names::{limb_of_control, limb_of_leaf, role_and_side, segment_of_leaf};
 
 /// The roles a figure has one of (on the centre line) or one of a side: a head, a neck, a
 /// tail, hips; an arm, an ear, a horn, a shoulder, a hip. Legs are not among them: a
@@ -146,11 +146,8 @@ const LINE_SPREAD: f64 = 0.25;
 
 /// The middle of a limb's first segment: its leaf cages `<limb>_<K>…` of the lowest K.
 fn limb_root(rig: &Autorig, limb: &str) -> Option<DVec3> {
-    let segment_of = |name: &str| -> Option<u32> {
-        let (of, rest) = name.rsplit_once('_')?;
-        let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-        (of == limb).then(|| digits.parse().ok()).flatten()
-    };
+    let segment_of =
+        |name: &str| segment_of_leaf(name).filter(|_| limb_of_leaf(name) == Some(limb));
     let first = rig
         .cages
         .leaves
@@ -259,19 +256,6 @@ fn alike_twice<'a>(limbs: impl Iterator<Item = ((&'a str, Option<&'a str>), f64)
 /// the armadillo's left hip, `arm.L.001` beside its left arm at detail 5, 0.69.
 const ALIKE: f64 = 0.75;
 
-/// The limb a leaf cage belongs to, from its name (`leg.L_2b` is `leg.L`'s; `body_3` is a
-/// body's, which no limb is named).
-fn limb_of_leaf(name: &str) -> Option<&str> {
-    name.rsplit_once('_').map(|(limb, _)| limb)
-}
-
-/// The limb a control turns, from its name (`leg.L.2` turns `leg.L`; `root` none).
-fn limb_of_control(name: &str) -> Option<&str> {
-    name.rsplit_once('.')
-        .filter(|(_, n)| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-        .map(|(limb, _)| limb)
-}
-
 /// How far each limb reaches, by name: the diagonal of its leaf cages' vertices' box.
 fn limb_reaches(rig: &Autorig) -> BTreeMap<&str, f64> {
     let mut vertices: BTreeMap<&str, BTreeSet<u32>> = BTreeMap::new();
@@ -325,23 +309,6 @@ fn rename(rig: &mut Autorig, limbs: &[String]) {
             control.name = format!("{new}.{segment}");
         }
     }
-}
-
-/// A limb's role and side from its name: `leg.front.L.001` is `("leg", Some("L"))`, `tail`
-/// is `("tail", None)`.
-fn role_and_side(name: &str) -> (&str, Option<&str>) {
-    // Blender's numbered copy of a name taken twice is the name's.
-    let name = match name.rsplit_once('.') {
-        Some((first, _)) if is_second_of_its_kind(name) => first,
-        _ => name,
-    };
-    let parts: Vec<&str> = name.split('.').collect();
-    let role = parts.first().copied().unwrap_or("");
-    let side = parts
-        .last()
-        .copied()
-        .filter(|s| parts.len() > 1 && (*s == "L" || *s == "R"));
-    (role, side)
 }
 
 #[cfg(test)]
@@ -475,21 +442,6 @@ mod tests {
 
     fn leaf_names(rig: &Autorig) -> Vec<&str> {
         rig.cages.leaves.iter().map(|l| l.name.as_str()).collect()
-    }
-
-    #[test]
-    fn roles_and_sides_are_read_from_blender_names() {
-        assert_eq!(role_and_side("leg.front.L.001"), ("leg", Some("L")));
-        assert_eq!(role_and_side("arm.R"), ("arm", Some("R")));
-        assert_eq!(role_and_side("head.002"), ("head", None));
-        assert_eq!(role_and_side("tail"), ("tail", None));
-        assert_eq!(role_and_side("limb.12"), ("limb", None));
-        assert_eq!(
-            limb_of_control("leg.front.L.001.3"),
-            Some("leg.front.L.001")
-        );
-        assert_eq!(limb_of_control("root"), None);
-        assert_eq!(limb_of_leaf("ear.L_2b"), Some("ear.L"));
     }
 
     #[test]

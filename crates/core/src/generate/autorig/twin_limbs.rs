@@ -11,21 +11,12 @@ use std::collections::BTreeMap;
 use super::controls::{limb_vertex_sets, limbs_of};
 use super::parts::Role;
 use crate::scene::CageSet;
+use crate::scene::rig_names::without_copy_number;
 
 /// The least share of the one-segment limb's cage vertices the two limbs share: the
 /// elephant's shoulder piece shares 10 of its 25 with its arm; two legs touching at a crotch
 /// (the Ogre's at detail 1, `leg` and `leg.001`) share a few.
 const TWIN_SHARE: f64 = 0.25;
-
-/// A name without the `.001` … a second limb of its role and side gets.
-fn base_name(name: &str) -> &str {
-    match name.rsplit_once('.') {
-        Some((base, number)) if number.len() == 3 && number.bytes().all(|b| b.is_ascii_digit()) => {
-            base
-        }
-        _ => name,
-    }
-}
 
 /// Merges each one-segment twin into its limb (see the module): its leaves become part of the
 /// limb's first segment, its name goes, and the limb takes the plain name where the twin had
@@ -58,7 +49,7 @@ pub(super) fn merge_twin_limbs(
         parent_limb.remove(&twin);
         if let Some(twin_name) = names.remove(&twin)
             && let Some(name) = names.get_mut(&into)
-            && twin_name == base_name(name)
+            && twin_name == without_copy_number(name)
         {
             *name = twin_name;
         }
@@ -92,7 +83,7 @@ fn next_twin(
                     && other_record.parent == record.parent
                     && names
                         .get(&other)
-                        .is_some_and(|n| base_name(n) == base_name(twin_name))
+                        .is_some_and(|n| without_copy_number(n) == without_copy_number(twin_name))
             })
             .map(|(&other, other_record)| {
                 let shared = twin_vertices.intersection(&vertices[&other]).count();
@@ -225,14 +216,5 @@ mod tests {
             0
         );
         assert_eq!(names.len(), 3);
-    }
-
-    #[test]
-    fn a_base_name_drops_only_a_three_digit_number() {
-        assert_eq!(base_name("arm.L.001"), "arm.L");
-        assert_eq!(base_name("arm.L"), "arm.L");
-        assert_eq!(base_name("limb.1"), "limb.1");
-        assert_eq!(base_name("leg.front.012"), "leg.front");
-        assert_eq!(base_name("tail.0a1"), "tail.0a1");
     }
 }
