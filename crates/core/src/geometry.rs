@@ -1,6 +1,6 @@
 //! Small geometric primitives shared by the coordinate systems and the cage checks.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// Signed solid angle of triangle `(a, b, c)` seen from the origin (the three arguments are
 /// positions relative to the viewpoint), Van Oosterom & Strackee (1983):
@@ -108,9 +108,30 @@ pub(crate) fn block_face_connected(mask: u8) -> bool {
     seen == mask
 }
 
+/// The scatter of `points` about `centre`: the sum of the outer products `d dᵀ` of their
+/// offsets `d` (their covariance times their count). Its eigenvectors are the points' spreads:
+/// the largest along their longest, the least across their best-fitting plane.
+pub fn scatter_about(points: impl IntoIterator<Item = DVec3>, centre: DVec3) -> DMat3 {
+    points.into_iter().fold(DMat3::ZERO, |sum, p| {
+        let d = p - centre;
+        sum + DMat3::from_cols(d * d.x, d * d.y, d * d.z)
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_scatter_of_points_on_a_line_spreads_along_it_only() {
+        let on_x = [-2.0, 0.0, 2.0].map(|x| DVec3::new(x, 1.0, 3.0));
+        let scatter = scatter_about(on_x, DVec3::new(0.0, 1.0, 3.0));
+        assert_eq!(scatter.x_axis, DVec3::new(8.0, 0.0, 0.0));
+        assert_eq!(scatter.y_axis, DVec3::ZERO);
+        assert_eq!(scatter.z_axis, DVec3::ZERO);
+        // About another centre the offsets' products across the line appear.
+        assert!(scatter_about(on_x, DVec3::ZERO).y_axis.y > 0.0);
+    }
 
     #[test]
     fn closest_point_regions() {

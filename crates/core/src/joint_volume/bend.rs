@@ -3,6 +3,7 @@
 
 use glam::{DAffine3, DVec3};
 
+use crate::geometry::scatter_about;
 use crate::hierarchy::affine_fit;
 
 /// The swing (radians) from which a widening is on the outer side only; below it, blended
@@ -88,11 +89,7 @@ impl Bend {
 /// inverse iteration from `guess`): a ring laid across the limb at a slant is scaled in its
 /// own plane. `guess` where the ring is a line or a point.
 fn ring_normal(ring: &[DVec3], centre: DVec3, guess: DVec3) -> DVec3 {
-    let mut spread = glam::DMat3::ZERO;
-    for &p in ring {
-        let d = p - centre;
-        spread += glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
-    }
+    let spread = scatter_about(ring.iter().copied(), centre);
     let trace = spread.x_axis.x + spread.y_axis.y + spread.z_axis.z;
     let shifted = spread + glam::DMat3::from_diagonal(DVec3::splat(1e-9 * trace));
     if trace.is_nan() || trace <= 0.0 || shifted.determinant().abs() <= f64::MIN_POSITIVE {

@@ -68,7 +68,8 @@ pub(super) fn carve_missing_twins(
         for &(i, segment) in cells {
             let mut p = grid.centre(grid.cell_of(i));
             p[axis] = 2.0 * plane - p[axis];
-            match grid.index(grid.cell_at(p)) {
+            // Not `cell_at`, which clamps a point beyond the grid into it.
+            match grid.index(grid.units_of(p).floor().as_ivec3()) {
                 Some(m) => {
                     let entry = mirrored.entry(m).or_insert(segment);
                     *entry = (*entry).min(segment);

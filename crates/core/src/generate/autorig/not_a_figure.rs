@@ -12,6 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use super::Autorig;
+use crate::geometry::scatter_about;
 use crate::scene::rig_names::{limb_of_control, limb_of_leaf, role_and_side, segment_of_leaf};
 
 /// The roles a figure has one of (on the centre line) or one of a side: a head, a neck, a
@@ -98,9 +99,10 @@ fn in_order_of_place(rig: &Autorig, limbs: Vec<String>) -> Vec<String> {
     let Some(spreads) = Spreads::of(&known) else {
         return limbs;
     };
+    let along_a_line = spreads.second < LINE_SPREAD * spreads.first;
     let key = |root: DVec3| -> f64 {
         let d = root - spreads.middle;
-        if spreads.second < LINE_SPREAD * spreads.first {
+        if along_a_line {
             d.dot(spreads.longest)
         } else {
             d.dot(spreads.next).atan2(d.dot(spreads.longest))
@@ -115,7 +117,7 @@ fn in_order_of_place(rig: &Autorig, limbs: Vec<String>) -> Vec<String> {
         }
     }
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
-    if spreads.second >= LINE_SPREAD * spreads.first && keyed.len() > 1 {
+    if !along_a_line && keyed.len() > 1 {
         // Round the middle: start after the widest gap between neighbouring angles.
         let n = keyed.len();
         let gap = |k: usize| {
@@ -164,8 +166,8 @@ fn limb_root(rig: &Autorig, limb: &str) -> Option<DVec3> {
     (!points.is_empty()).then(|| points.iter().sum::<DVec3>() / points.len() as f64)
 }
 
-/// Points' middle and their two longest spreads: the directions and variances of their
-/// covariance's two largest eigenvalues.
+/// Points' middle and their two longest spreads: the directions and sizes of their scatter's
+/// ([`scatter_about`]) two largest eigenvalues.
 struct Spreads {
     middle: DVec3,
     longest: DVec3,
@@ -181,13 +183,9 @@ impl Spreads {
             return None;
         }
         let middle = points.iter().sum::<DVec3>() / points.len() as f64;
-        let mut covariance = glam::DMat3::ZERO;
-        for p in points {
-            let d = *p - middle;
-            covariance += glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
-        }
-        let (longest, first) = dominant(covariance)?;
-        let rest = covariance
+        let scatter = scatter_about(points.iter().copied(), middle);
+        let (longest, first) = dominant(scatter)?;
+        let rest = scatter
             - glam::DMat3::from_cols(
                 longest * longest.x,
                 longest * longest.y,
