@@ -2,19 +2,19 @@
 //! as long), wherever its knee or elbow is: TOSCA's David's elbows fell a cell past the
 //! narrowing between his biceps and forearm, his wrists a cell before the one above his hand.
 //! The mesh's own cross-sections say where a knee, an ankle, an elbow or a wrist is: a
-//! narrowing between two wider stretches (the thigh and the calf). Along a limb that runs
-//! along a grid axis, whose joints are grid layers, each joint moves to the layer boundary
-//! where the surface is narrowest within half a segment (at least a cell) of where equal
-//! lengths put it, when the surface is wider within a cell on both sides of it by
-//! [`NARROWING`].
-//! A pair of limbs (two legs, two arms) is measured as one, so both get the same joints;
-//! where only one of the two runs along a grid axis, neither moves.
+//! narrowing between two wider stretches (the thigh and the calf). Each joint moves to where
+//! the surface is narrowest within half a segment (at least a cell) of where equal lengths put
+//! it, when the surface is wider within a cell on both sides of it by [`NARROWING`]. Along a
+//! limb that runs along a grid axis the joints are grid layers, measured layer by layer; along
+//! any other they are distances from where the limb starts, measured along and across the
+//! direction its distances grow.
+//! A pair of limbs (two legs, two arms) is measured as one, so both get the same joints.
 
 use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::straight::{Layers, STRAIGHT_SLACK};
+use super::straight::{DistanceFit, Layers, STRAIGHT_SLACK};
 use super::voxels::Grid;
 
 /// The mesh's vertices in each cell that holds one.
@@ -124,10 +124,15 @@ pub(super) fn moved_to_narrowings(
     defaults: &[f64],
     end: f64,
     reach: f64,
+    steps: JointSteps,
 ) -> Option<Vec<f64>> {
+    let JointSteps {
+        step,
+        shortest_segment,
+    } = steps;
     let mut joints = defaults.to_vec();
     let mut moved = false;
-    // Each segment's shortest: half its length by `defaults`, at least a layer.
+    // Each segment's shortest: half its length by `defaults`, at least `shortest_segment`.
     let ends: Vec<f64> = std::iter::once(0.0)
         .chain(defaults.iter().copied())
         .chain(std::iter::once(
@@ -136,20 +141,23 @@ pub(super) fn moved_to_narrowings(
         .collect();
     let shortest: Vec<f64> = ends
         .windows(2)
-        .map(|w| (0.5 * (w[1] - w[0])).ceil().max(1.0))
+        .map(|w| (0.5 * (w[1] - w[0])).ceil().max(shortest_segment))
         .collect();
     for k in 0..joints.len() {
         let default = defaults[k];
         let previous = if k == 0 { 0.0 } else { joints[k - 1] };
         let next = ends[k + 2];
-        // Layer boundaries lie at whole distances.
-        let lowest = (default - reach).ceil().max(previous + shortest[k]);
-        let highest = (default + reach).floor().min(next - shortest[k + 1]);
+        // Candidates every `step` (layer boundaries lie at whole distances).
+        let lowest = ((default - reach) / step).ceil() * step;
+        let lowest = lowest.max(previous + shortest[k]);
+        let highest = ((default + reach) / step).floor() * step;
+        let highest = highest.min(next - shortest[k + 1]);
         if lowest > highest {
             continue;
         }
-        let narrowest = (lowest as i64..=highest as i64)
-            .map(|b| b as f64)
+        let candidates = ((highest - lowest) / step + 1e-9).floor() as usize;
+        let narrowest = (0..=candidates)
+            .map(|n| lowest + n as f64 * step)
             .filter_map(|b| Some((b, profile.width_at(b)?)))
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.total_cmp(&b.0)));
         let Some((boundary, width)) = narrowest else {
@@ -161,7 +169,7 @@ pub(super) fn moved_to_narrowings(
         // are knobs, and its narrowest point there is no joint.
         let before = profile.widest_within(boundary - 1.5, boundary - 0.5);
         let after = profile.widest_within(boundary + 0.5, boundary + 1.5);
-        if wider(before) && wider(after) && (boundary - default).abs() > 1e-9 {
+        if wider(before) && wider(after) && (boundary - default).abs() >= 0.5 * step {
             joints[k] = boundary;
             moved = true;
         }
@@ -171,9 +179,9 @@ pub(super) fn moved_to_narrowings(
 
 /// Each limb cut's joints where they move to narrowings of the mesh (see the module), as
 /// distances from the body (a cell at distance `d` lies past every joint `<= d`), None where
-/// none moves and `parts::segment_at`'s equal lengths stand. Only a limb along a grid axis is
-/// measured (its joints are grid layers); a pair is measured as one and gets the same joints,
-/// and neither moves where one of the two does not run along an axis.
+/// none moves and `parts::segment_at`'s equal lengths stand. A limb along a grid axis is
+/// measured in grid layers, any other along its distances; a pair is measured as one and gets
+/// the same joints.
 pub(super) fn narrowed_joints(
     grid: &Grid,
     cuts: &[Branch],
@@ -181,47 +189,8 @@ pub(super) fn narrowed_joints(
     paired: &[(usize, usize)],
     samples: &SamplesByCell,
 ) -> Vec<Option<Vec<f64>>> {
-    // Per cut: its profile, its first distance, and its joints by equal lengths as layer
-    // boundaries counted from its first layer.
     let measured: Vec<Option<Measured>> = (cuts.iter().zip(counts))
-        .map(|(cut, &count)| {
-            if count < 2 {
-                return None;
-            }
-            let layers = Layers::of(grid, cut.cells)?;
-            let (axis, sign, first) = (layers.axis, layers.sign, layers.first);
-            // Along the limb in cells, across it in the mesh's units (a band's thin cells
-            // would make a leg beside it look wider).
-            let across = [(axis + 1) % 3, (axis + 2) % 3];
-            let mut points = Vec::new();
-            for &(i, d) in cut.cells {
-                let layer = layers.layer_of(grid, i);
-                if (first + layer - d).abs() <= STRAIGHT_SLACK {
-                    let within = samples.get(&i).into_iter().flatten();
-                    points.extend(within.map(|&p| {
-                        let along = along_limb(layer, grid.units_along(axis, p[axis]), sign);
-                        (along, [p[across[0]], p[across[1]]])
-                    }));
-                }
-            }
-            let longest = cut.longest.max(1e-9);
-            let defaults = (1..count)
-                .map(|k| {
-                    let share = if count == 2 && cut.from_trunk {
-                        0.5
-                    } else {
-                        (k + 1) as f64 / (count + 1) as f64
-                    };
-                    (share * longest - first).ceil()
-                })
-                .collect();
-            Some(Measured {
-                profile: Profile::of(&points),
-                first,
-                defaults,
-                end: (longest - first).ceil() + 1.0,
-            })
-        })
+        .map(|(cut, &count)| Measured::of(grid, cut, count, samples))
         .collect();
     let reach = |cut: &Branch, count: usize| (0.5 * cut.longest / (count + 1) as f64).max(1.0);
     let as_distances = |joints: &[f64], first: f64| -> Vec<f64> {
@@ -233,20 +202,28 @@ pub(super) fn narrowed_joints(
         in_pair[a] = true;
         in_pair[b] = true;
         let reach = reach(&cuts[a], counts[a]).min(reach(&cuts[b], counts[b]));
-        // Where one of the two does not run along a grid axis, neither moves: it keeps its
-        // cut by distance from the body, and the other moved alone made the pair unequal
-        // (TOSCA's Michael's right elbow a cell out from his left; cut in layers along its
-        // twin's axis instead, Homer's right arm at detail 3, 30° off the axis, lost its
-        // forearm's segment).
+        // Both are measured, each its own way, and moved alike: one moved alone made the
+        // pair unequal (TOSCA's Michael's right elbow a cell out from his left; cut in layers
+        // along its twin's axis instead, Homer's right arm at detail 3, 30° off the axis,
+        // lost its forearm's segment).
         let (Some(ma), Some(mb)) = (&measured[a], &measured[b]) else {
             continue;
         };
         let Some(pair) = ma.paired(mb) else {
             continue;
         };
-        if let Some(moved) = moved_to_narrowings(&pair.profile, &pair.defaults, pair.end, reach) {
-            joints[a] = Some(as_distances(&moved, ma.first));
-            joints[b] = Some(as_distances(&moved, mb.first));
+        let moved = moved_to_narrowings(&pair.profile, &pair.defaults, pair.end, reach, pair.steps);
+        if let Some(moved) = moved {
+            // A joint that does not move stays where each twin's own lengths put it: the
+            // pair's mean put the last joint of the shorter of TOSCA's David's legs (10.4 and
+            // 11.8 cells) a cell from its tip, a sliver merged away with its control.
+            let own = |m: &Measured| -> Vec<f64> {
+                (moved.iter().zip(&pair.defaults).zip(&m.defaults))
+                    .map(|((&joint, &mean), &own)| if joint == mean { own } else { joint })
+                    .collect()
+            };
+            joints[a] = Some(as_distances(&own(ma), ma.first));
+            joints[b] = Some(as_distances(&own(mb), mb.first));
         }
     }
     for (k, cut) in cuts.iter().enumerate() {
@@ -254,7 +231,13 @@ pub(super) fn narrowed_joints(
             continue;
         }
         if let Some(m) = &measured[k] {
-            let moved = moved_to_narrowings(&m.profile, &m.defaults, m.end, reach(cut, counts[k]));
+            let moved = moved_to_narrowings(
+                &m.profile,
+                &m.defaults,
+                m.end,
+                reach(cut, counts[k]),
+                m.steps,
+            );
             joints[k] = moved.map(|moved| as_distances(&moved, m.first));
         }
     }
@@ -269,6 +252,31 @@ pub(super) struct Branch<'a> {
     pub from_trunk: bool,
 }
 
+/// Where a limb's joints may move to, in cells along it: every `step`, leaving no segment
+/// shorter than `shortest_segment`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct JointSteps {
+    pub step: f64,
+    pub shortest_segment: f64,
+}
+
+impl JointSteps {
+    /// A limb cut in grid layers: its joints are layer boundaries.
+    pub(super) const IN_LAYERS: Self = Self {
+        step: 1.0,
+        shortest_segment: 1.0,
+    };
+
+    /// A limb cut by distance: its joints every half cell (a profile's bin), its segments at
+    /// least two cells long. A band of distances a cell wide is stepped and broken where the
+    /// limb runs at a slant, a sliver the cut's later steps merge into a neighbour (TOSCA's
+    /// sitting Dobermann's hind legs lost their third segment of four).
+    pub(super) const BY_DISTANCE: Self = Self {
+        step: 0.5,
+        shortest_segment: 2.0,
+    };
+}
+
 /// A limb cut measured along the grid axis it runs along ([`narrowed_joints`]).
 struct Measured {
     profile: Profile,
@@ -278,20 +286,142 @@ struct Measured {
     defaults: Vec<f64>,
     /// Where it ends, as such a boundary.
     end: f64,
+    /// Where its joints may move to.
+    steps: JointSteps,
 }
 
 impl Measured {
+    /// A limb cut into `count` segments (None for one): along its grid layers where it runs
+    /// along a grid axis ([`Layers`]), else along its distances from where it starts.
+    fn of(grid: &Grid, cut: &Branch, count: usize, samples: &SamplesByCell) -> Option<Self> {
+        if count < 2 {
+            return None;
+        }
+        match Layers::of(grid, cut.cells) {
+            Some(layers) => Some(Self::in_layers(grid, cut, count, samples, &layers)),
+            None => Self::by_distance(grid, cut, count, samples),
+        }
+    }
+
+    /// The share of a limb's length from where it starts at which equal lengths put joint
+    /// `k` (1 to `count − 1`), as `parts::segment_at` cuts it.
+    fn share(cut: &Branch, count: usize, k: usize) -> f64 {
+        if count == 2 && cut.from_trunk {
+            0.5
+        } else {
+            (k + 1) as f64 / (count + 1) as f64
+        }
+    }
+
+    /// A limb along a grid axis: its joints are layer boundaries.
+    fn in_layers(
+        grid: &Grid,
+        cut: &Branch,
+        count: usize,
+        samples: &SamplesByCell,
+        layers: &Layers,
+    ) -> Self {
+        let (axis, sign, first) = (layers.axis, layers.sign, layers.first);
+        // Along the limb in cells, across it in the mesh's units (a band's thin cells
+        // would make a leg beside it look wider).
+        let across = [(axis + 1) % 3, (axis + 2) % 3];
+        let mut points = Vec::new();
+        for &(i, d) in cut.cells {
+            let layer = layers.layer_of(grid, i);
+            if (first + layer - d).abs() <= STRAIGHT_SLACK {
+                let within = samples.get(&i).into_iter().flatten();
+                points.extend(within.map(|&p| {
+                    let along = along_limb(layer, grid.units_along(axis, p[axis]), sign);
+                    (along, [p[across[0]], p[across[1]]])
+                }));
+            }
+        }
+        let longest = cut.longest.max(1e-9);
+        let defaults = (1..count)
+            .map(|k| (Self::share(cut, count, k) * longest - first).ceil())
+            .collect();
+        Self {
+            profile: Profile::of(&points),
+            first,
+            defaults,
+            end: (longest - first).ceil() + 1.0,
+            steps: JointSteps::IN_LAYERS,
+        }
+    }
+
+    /// A limb at a slant to the grid (an arm held down at 45°, a leg whose distances from a
+    /// rounded pelvis tilt off the vertical): its joints are distances from where it starts.
+    /// A mesh vertex lies along it at its cell's distance plus the fitted gradient times its
+    /// offset from the cell's centre, and across it on the two directions square to that
+    /// gradient. Only cells whose distance is within [`STRAIGHT_SLACK`] of the fit are
+    /// measured (a ragged top where it leaves the body is not); None where the distances
+    /// have no fit ([`DistanceFit`]).
+    fn by_distance(
+        grid: &Grid,
+        cut: &Branch,
+        count: usize,
+        samples: &SamplesByCell,
+    ) -> Option<Self> {
+        let fit = DistanceFit::of(grid, cut.cells)?;
+        let (across_1, across_2) = fit.gradient.normalize().any_orthonormal_pair();
+        let first = cut
+            .cells
+            .iter()
+            .map(|&(_, d)| d)
+            .fold(f64::INFINITY, f64::min);
+        let mut points = Vec::new();
+        for &(i, d) in cut.cells {
+            let corner = grid.cell_of(i).as_dvec3();
+            if (fit.at(corner) - d).abs() > STRAIGHT_SLACK {
+                continue;
+            }
+            let centre = corner + DVec3::splat(0.5);
+            let within = samples.get(&i).into_iter().flatten();
+            points.extend(within.map(|&p| {
+                // As in layers: the cell at the first distance spans 0 to 1.
+                let along = d - first + 0.5 + fit.gradient.dot(grid.units_of(p) - centre);
+                (along, [p.dot(across_1), p.dot(across_2)])
+            }));
+        }
+        let longest = cut.longest.max(1e-9);
+        // Where a joint does not move it stays where `segment_at` puts it: a cell at
+        // distance d is past the boundary b where d ≥ first + b − 0.5.
+        let defaults = (1..count)
+            .map(|k| Self::share(cut, count, k) * longest - first + 0.5)
+            .collect();
+        Some(Self {
+            profile: Profile::of(&points),
+            first,
+            defaults,
+            end: longest - first + 1.0,
+            steps: JointSteps::BY_DISTANCE,
+        })
+    }
+
     /// A pair of limbs measured as one: widths summed layer by layer, joints by equal lengths
-    /// the mean of the two, the shorter's end (None where their joint counts differ). Its
-    /// `first` is this one's: each twin's joints are placed from its own.
+    /// the mean of the two (rounded to a layer boundary where both are one), the shorter's end
+    /// (None where their joint counts differ). Its `first` is this one's: each twin's joints
+    /// are placed from its own.
     fn paired(&self, twin: &Measured) -> Option<Measured> {
         (self.defaults.len() == twin.defaults.len()).then(|| Measured {
             profile: self.profile.paired(&twin.profile),
             first: self.first,
             defaults: (self.defaults.iter().zip(&twin.defaults))
-                .map(|(x, y)| (0.5 * (x + y)).round())
+                .map(|(x, y)| {
+                    // Layer boundaries stay whole.
+                    let mean = 0.5 * (x + y);
+                    if x.fract() == 0.0 && y.fract() == 0.0 {
+                        mean.round()
+                    } else {
+                        mean
+                    }
+                })
                 .collect(),
             end: self.end.min(twin.end),
+            steps: JointSteps {
+                step: self.steps.step.min(twin.steps.step),
+                shortest_segment: (self.steps.shortest_segment).max(twin.steps.shortest_segment),
+            },
         })
     }
 }
@@ -324,18 +454,24 @@ mod tests {
         let knee = |z: f64| 1.0 - 0.4 * (-(z - 4.4) * (z - 4.4)).exp();
         let profile = limb(10, knee);
         assert_eq!(
-            moved_to_narrowings(&profile, &[3.0, 7.0], 10.0, 1.5),
+            moved_to_narrowings(&profile, &[3.0, 7.0], 10.0, 1.5, JointSteps::IN_LAYERS),
             Some(vec![4.0, 7.0])
         );
         // Out of reach: it stays.
-        assert_eq!(moved_to_narrowings(&profile, &[2.0, 7.0], 10.0, 1.5), None);
+        assert_eq!(
+            moved_to_narrowings(&profile, &[2.0, 7.0], 10.0, 1.5, JointSteps::IN_LAYERS),
+            None
+        );
         // A narrowing near the tip takes the joint only where the last segment keeps half
         // its length: of 3 layers (the limb ends at 10) it would keep 1, a sliver; of 5
         // (the limb ends at 12), 3.
         let near_tip = limb(12, |z: f64| 1.0 - 0.4 * (-(z - 9.2) * (z - 9.2)).exp());
-        assert_eq!(moved_to_narrowings(&near_tip, &[3.0, 7.0], 10.0, 2.5), None);
         assert_eq!(
-            moved_to_narrowings(&near_tip, &[3.0, 7.0], 12.0, 2.5),
+            moved_to_narrowings(&near_tip, &[3.0, 7.0], 10.0, 2.5, JointSteps::IN_LAYERS),
+            None
+        );
+        assert_eq!(
+            moved_to_narrowings(&near_tip, &[3.0, 7.0], 12.0, 2.5, JointSteps::IN_LAYERS),
             Some(vec![3.0, 9.0])
         );
         // A long narrow stretch between two knobs (a horse's cannon between its hock and
@@ -348,17 +484,35 @@ mod tests {
             }
         };
         assert_eq!(
-            moved_to_narrowings(&limb(12, cannon), &[5.0, 10.0], 12.0, 1.5),
+            moved_to_narrowings(
+                &limb(12, cannon),
+                &[5.0, 10.0],
+                12.0,
+                1.5,
+                JointSteps::IN_LAYERS
+            ),
             None
         );
         // A uniform limb (negative control) and a steadily tapering one keep theirs.
         assert_eq!(
-            moved_to_narrowings(&limb(10, |_| 1.0), &[3.0, 7.0], 10.0, 1.5),
+            moved_to_narrowings(
+                &limb(10, |_| 1.0),
+                &[3.0, 7.0],
+                10.0,
+                1.5,
+                JointSteps::IN_LAYERS
+            ),
             None
         );
         let taper = |z: f64| 1.2 - 0.08 * z;
         assert_eq!(
-            moved_to_narrowings(&limb(10, taper), &[3.0, 7.0], 10.0, 1.5),
+            moved_to_narrowings(
+                &limb(10, taper),
+                &[3.0, 7.0],
+                10.0,
+                1.5,
+                JointSteps::IN_LAYERS
+            ),
             None
         );
     }
@@ -380,8 +534,74 @@ mod tests {
         }
         let profile = Profile::of(&samples);
         assert_eq!(
-            moved_to_narrowings(&profile, &[5.0, 8.0], 10.0, 1.5),
+            moved_to_narrowings(&profile, &[5.0, 8.0], 10.0, 1.5, JointSteps::IN_LAYERS),
             Some(vec![6.0, 8.0])
         );
+    }
+
+    /// A limb at 45° to the grid, starting at (3, 10, 3) and 15 cells long, whose radius is
+    /// `radius(t)` at `t` along it: its cells (distance from its start: their centre's
+    /// projection on its axis) and mesh vertices on its surface.
+    fn slanted_limb(
+        grid: &Grid,
+        radius: impl Fn(f64) -> f64,
+    ) -> (Vec<(usize, f64)>, SamplesByCell) {
+        let start = DVec3::new(3.0, 10.0, 3.0);
+        let along = DVec3::new(1.0, 0.0, 1.0).normalize();
+        let (across_1, across_2) = along.any_orthonormal_pair();
+        let length = 15.0;
+        let mut cells = Vec::new();
+        for i in 0..grid.len() {
+            let centre = grid.centre(grid.cell_of(i));
+            let t = (centre - start).dot(along);
+            let off = (centre - start - along * t).length();
+            if (0.0..=length).contains(&t) && off <= radius(t) + 0.3 {
+                cells.push((i, t));
+            }
+        }
+        let mut points = Vec::new();
+        for step in 0..=(length * 20.0) as usize {
+            let t = step as f64 / 20.0;
+            for k in 0..16 {
+                let a = k as f64 * std::f64::consts::TAU / 16.0;
+                let r = radius(t);
+                points.push(start + along * t + (across_1 * a.cos() + across_2 * a.sin()) * r);
+            }
+        }
+        (cells, samples_by_cell(grid, &points))
+    }
+
+    /// A limb at a slant is measured along its distances: its joint moves to where it
+    /// narrows, 1.5 cells before or after where equal lengths put it; one of a single width keeps its
+    /// joint (the negative control).
+    #[test]
+    fn a_slanted_limb_s_joint_moves_to_its_narrowing() {
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(20.0), 20, None, &[], None);
+        let joint_of = |radius: &dyn Fn(f64) -> f64| {
+            let (cells, samples) = slanted_limb(&grid, radius);
+            assert!(
+                Layers::of(&grid, &cells).is_none(),
+                "at 45° it runs along no axis"
+            );
+            let longest = cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
+            let branch = Branch {
+                cells: &cells,
+                longest,
+                from_trunk: true,
+            };
+            let joints = narrowed_joints(&grid, &[branch], &[2], &[], &samples);
+            (longest, joints.into_iter().next().flatten())
+        };
+        let (longest, uniform) = joint_of(&|_| 2.0);
+        assert_eq!(uniform, None);
+        for knee in [0.5 * longest - 1.5, 0.5 * longest + 1.5] {
+            let narrowing = move |t: f64| 2.0 - 0.8 * (-(t - knee) * (t - knee)).exp();
+            let (_, moved) = joint_of(&narrowing);
+            let moved = moved.expect("the joint moves");
+            assert!(
+                moved.len() == 1 && (moved[0] - knee).abs() <= 0.75,
+                "joint at {moved:?}, the narrowing at {knee:.2}"
+            );
+        }
     }
 }

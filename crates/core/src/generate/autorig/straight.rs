@@ -2,12 +2,15 @@
 //! along one, so its joints can be flat grid layers (`parts::straightened`) and its
 //! cross-sections measured layer by layer (`narrowings`).
 
+use glam::DVec3;
+
 use super::voxels::Grid;
+use crate::geometry::scatter_about;
 
 /// The grid axis a branch runs along and its direction (away from where it starts), as
 /// `parts::straightened` finds it.
 pub(super) fn straight_axis(grid: &Grid, cells: &[(usize, f64)]) -> Option<(usize, f64)> {
-    let g = distance_gradient(grid, cells)?;
+    let g = DistanceFit::of(grid, cells)?.gradient;
     let axis = (0..3)
         .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
         .unwrap_or(2);
@@ -50,28 +53,44 @@ impl Layers {
     }
 }
 
-/// The gradient of the best affine fit of a branch's geodesic distances over its cells'
-/// coordinates (None for fewer than 8 cells, cells in one plane, or no gradient).
-fn distance_gradient(grid: &Grid, cells: &[(usize, f64)]) -> Option<glam::DVec3> {
-    let n = cells.len() as f64;
-    if cells.len() < 8 {
-        return None;
+/// The best affine fit of a branch's geodesic distances over its cells' grid coordinates (a
+/// cell's lowest corner): `distance ≈ mean_distance + gradient · (cell − mean_cell)`.
+pub(super) struct DistanceFit {
+    mean_cell: DVec3,
+    mean_distance: f64,
+    /// Distance gained per grid unit; its direction is the branch's, away from where it starts.
+    pub gradient: DVec3,
+}
+
+impl DistanceFit {
+    /// None for fewer than 8 cells, cells in one plane, or no gradient.
+    pub(super) fn of(grid: &Grid, cells: &[(usize, f64)]) -> Option<Self> {
+        let n = cells.len() as f64;
+        if cells.len() < 8 {
+            return None;
+        }
+        let p = |i: usize| grid.cell_of(i).as_dvec3();
+        let mean_cell = cells.iter().map(|&(i, _)| p(i)).sum::<DVec3>() / n;
+        let mean_distance = cells.iter().map(|&(_, d)| d).sum::<f64>() / n;
+        let cov = scatter_about(cells.iter().map(|&(i, _)| p(i)), mean_cell);
+        let cross = (cells.iter())
+            .map(|&(i, d)| (p(i) - mean_cell) * (d - mean_distance))
+            .sum::<DVec3>();
+        if cov.determinant().abs() < 1e-9 {
+            return None;
+        }
+        let gradient = cov.inverse() * cross;
+        (gradient.length() >= 1e-9).then_some(Self {
+            mean_cell,
+            mean_distance,
+            gradient,
+        })
     }
-    let p = |i: usize| grid.cell_of(i).as_dvec3();
-    let mean_p = cells.iter().map(|&(i, _)| p(i)).sum::<glam::DVec3>() / n;
-    let mean_d = cells.iter().map(|&(_, d)| d).sum::<f64>() / n;
-    let mut cov = glam::DMat3::ZERO;
-    let mut cross = glam::DVec3::ZERO;
-    for &(i, d) in cells {
-        let x = p(i) - mean_p;
-        cov += glam::DMat3::from_cols(x * x.x, x * x.y, x * x.z);
-        cross += x * (d - mean_d);
+
+    /// The fitted distance at a cell's lowest corner `cell` (grid coordinates).
+    pub(super) fn at(&self, cell: DVec3) -> f64 {
+        self.mean_distance + self.gradient.dot(cell - self.mean_cell)
     }
-    if cov.determinant().abs() < 1e-9 {
-        return None;
-    }
-    let g = cov.inverse() * cross;
-    (g.length() >= 1e-9).then_some(g)
 }
 
 /// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
