@@ -546,10 +546,18 @@ mod tests {
         grid: &Grid,
         radius: impl Fn(f64) -> f64,
     ) -> (Vec<(usize, f64)>, SamplesByCell) {
-        let start = DVec3::new(3.0, 10.0, 3.0);
+        slanted_limb_at(grid, DVec3::new(3.0, 10.0, 3.0), 15.0, radius)
+    }
+
+    /// [`slanted_limb`] starting at `start`, `length` cells long.
+    fn slanted_limb_at(
+        grid: &Grid,
+        start: DVec3,
+        length: f64,
+        radius: impl Fn(f64) -> f64,
+    ) -> (Vec<(usize, f64)>, SamplesByCell) {
         let along = DVec3::new(1.0, 0.0, 1.0).normalize();
         let (across_1, across_2) = along.any_orthonormal_pair();
-        let length = 15.0;
         let mut cells = Vec::new();
         for i in 0..grid.len() {
             let centre = grid.centre(grid.cell_of(i));
@@ -601,6 +609,40 @@ mod tests {
             assert!(
                 moved.len() == 1 && (moved[0] - knee).abs() <= 0.75,
                 "joint at {moved:?}, the narrowing at {knee:.2}"
+            );
+        }
+    }
+
+    /// Two slanted twins of unequal length (15 and 12 cells) narrowing at the same place: both
+    /// take the joint there, and the joint that does not move stays where each twin's own
+    /// length puts it, not at the pair's mean (which left the shorter of TOSCA's David's legs
+    /// a last segment of a cell, merged away with its control).
+    #[test]
+    fn slanted_twins_move_alike_and_keep_their_own_unmoved_joints() {
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(24.0), 24, None, &[], None);
+        let knee = |t: f64| 2.0 - 0.8 * (-(t - 5.5) * (t - 5.5)).exp();
+        let (long_cells, long_samples) =
+            slanted_limb_at(&grid, DVec3::new(3.0, 5.0, 3.0), 15.0, knee);
+        let (short_cells, short_samples) =
+            slanted_limb_at(&grid, DVec3::new(3.0, 17.0, 3.0), 12.0, knee);
+        let mut samples = long_samples;
+        samples.extend(short_samples);
+        let longest = |cells: &[(usize, f64)]| cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
+        let branch = |cells| Branch {
+            cells,
+            longest: longest(cells),
+            from_trunk: true,
+        };
+        let cuts = [branch(&long_cells), branch(&short_cells)];
+        let joints = narrowed_joints(&grid, &cuts, &[3, 3], &[(0, 1)], &samples);
+        for (cut, joints) in cuts.iter().zip(&joints) {
+            let joints = joints.as_ref().expect("the knee's joint moves");
+            assert!((joints[0] - 5.5).abs() <= 0.75, "{joints:?}");
+            // The ankle's joint: equal lengths put it three quarters out.
+            assert!(
+                (joints[1] - 0.75 * cut.longest).abs() < 1e-9,
+                "{joints:?} of a limb {:.2} long",
+                cut.longest
             );
         }
     }
