@@ -114,11 +114,12 @@ impl Profile {
     }
 }
 
-/// The joints of a limb cut at `defaults` (layer boundaries, from its first layer's start,
-/// increasing; the limb ends at `end`), each moved to the layer boundary within `reach` cells
-/// of it where the profile is narrowest, when that is a narrowing (see the module). None where
-/// no joint moves. Every segment keeps half its length by `defaults` or more, and a layer: a
-/// shorter one is a sliver the cut's later steps merge into a neighbour, taking its control.
+/// The joints of a limb cut at `defaults` (cells along it from its start, increasing; the
+/// limb ends at `end`), each moved to the candidate every `steps.step` within `reach` cells of
+/// it where the profile is narrowest, when that is a narrowing (see the module). None where no
+/// joint moves; a joint that does not move keeps its default exactly. Every segment keeps half
+/// its length by `defaults` or more, and `steps.shortest_segment`: a shorter one is a sliver
+/// the cut's later steps merge into a neighbour, taking its control.
 pub(super) fn moved_to_narrowings(
     profile: &Profile,
     defaults: &[f64],
@@ -277,14 +278,15 @@ impl JointSteps {
     };
 }
 
-/// A limb cut measured along the grid axis it runs along ([`narrowed_joints`]).
+/// A limb cut measured along its length ([`narrowed_joints`]): in grid layers or by distance.
 struct Measured {
     profile: Profile,
     /// The smallest distance from the body among its cells.
     first: f64,
-    /// Its joints by equal lengths, as layer boundaries from its first layer's start.
+    /// Its joints by equal lengths, in cells along it from its start (layer boundaries from
+    /// its first layer's start where it is cut in layers).
     defaults: Vec<f64>,
-    /// Where it ends, as such a boundary.
+    /// Where it ends, in the same cells.
     end: f64,
     /// Where its joints may move to.
     steps: JointSteps,
@@ -349,7 +351,7 @@ impl Measured {
         }
     }
 
-    /// A limb at a slant to the grid (an arm held down at 45°, a leg whose distances from a
+    /// A limb at a slant to the grid (an arm raised at 45°, a leg whose distances from a
     /// rounded pelvis tilt off the vertical): its joints are distances from where it starts.
     /// A mesh vertex lies along it at its cell's distance plus the fitted gradient times its
     /// offset from the cell's centre, and across it on the two directions square to that
