@@ -13,7 +13,9 @@ DEG is --angle, else issue 41's poses: 30 for a head or neck, 45 for a limb's fi
 The segment's direction runs from the control's pivot to its first child's pivot, or from its
 parent's pivot to its own where it has no child. Each pose is written by `deform`, compared
 with the rest pose by scripts/deformation_quality.py (interior edges folded over, triangles
-turned over), and printed as `folds/flipped` per pose, one line per control. Axes are in
+turned over, edges stretched over 2x), and printed as `folds/flipped/stretched` per pose, one
+line per control: a widened joint ring can spike the surface without folding it (session 62:
+the armadillo's wrist bent 90 degrees, 53 folds but 544 edges over 2x). Axes are in
 StarCages' Z-up frame, as `deform --apply` takes them. Plain Python, no packages.
 """
 
@@ -47,7 +49,7 @@ def quality(rest, posed):
         capture_output=True, text=True, check=True,
     ).stdout
     report = json.loads(out)
-    return f"{report['folds']}/{report['flipped']}"
+    return f"{report['folds']}/{report['flipped']}/{report['edges_stretched_over_2x']}"
 
 
 def main():
