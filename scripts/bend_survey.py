@@ -13,9 +13,10 @@ DEG is --angle, else issue 41's poses: 30 for a head or neck, 45 for a limb's fi
 The segment's direction runs from the control's pivot to its first child's pivot, or from its
 parent's pivot to its own where it has no child. Each pose is written by `deform`, compared
 with the rest pose by scripts/deformation_quality.py (interior edges folded over, triangles
-turned over, edges stretched over 2x), and printed as `folds/flipped/stretched` per pose, one
-line per control: a widened joint ring can spike the surface without folding it (session 62:
-the armadillo's wrist bent 90 degrees, 53 folds but 544 edges over 2x). Axes are in
+turned over, edges stretched over 2x), and printed as `folds/flipped/stretched`, the most an
+edge is stretched, and the volume change of the part that moves / of the whole mesh (percent)
+per pose, one line per control: a widened joint ring can spike the surface without folding it
+(session 62: the armadillo's wrist bent 90 degrees, 53 folds but 544 edges over 2x). Axes are in
 StarCages' Z-up frame, as `deform --apply` takes them. Plain Python, no packages.
 """
 
@@ -26,6 +27,9 @@ import os
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plain_obj import read_obj  # noqa: E402  (beside this script)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -43,13 +47,58 @@ def cross(a, b):
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
+def triangles_of(faces):
+    return [(f[0], b, c) for f in faces for b, c in zip(f[1:], f[2:])]
+
+
+def closed_volume(points, triangles):
+    """The signed volume of `triangles`, closed by a fan from the centroid of their border."""
+    edges = {}
+    for t in triangles:
+        for a, b in zip(t, t[1:] + t[:1]):
+            key = (min(a, b), max(a, b))
+            edges[key] = edges.get(key, 0) + (1 if a < b else -1)
+    border = [(a, b) for t in triangles for a, b in zip(t, t[1:] + t[:1])
+              if edges[(min(a, b), max(a, b))] != 0]
+    corners = sorted({v for e in border for v in e})
+    centre = [sum(points[v][k] for v in corners) / max(len(corners), 1) for k in range(3)]
+    total = sum(dot(points[a], cross(points[b], points[c])) for a, b, c in triangles)
+    total += sum(dot(points[b], cross(points[a], centre)) for a, b in border)
+    return total / 6.0
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def volume_changes(rest_path, posed_path):
+    """Percent volume changes of the whole mesh and of the part that moves (the triangles whose
+    corners all move by over 1e-4 of the diagonal, closed across their border: the posed limb
+    and the bend, as scripts/blender_armature_compare.py measures it)."""
+    rest, faces = read_obj(rest_path)
+    posed, _ = read_obj(posed_path)
+    triangles = triangles_of(faces)
+    low = [min(p[k] for p in rest) for k in range(3)]
+    high = [max(p[k] for p in rest) for k in range(3)]
+    diagonal = math.dist(low, high)
+    moving = [math.dist(a, b) > 1e-4 * diagonal for a, b in zip(rest, posed)]
+    part = [t for t in triangles if all(moving[v] for v in t)]
+    whole = 100.0 * (closed_volume(posed, triangles) / closed_volume(rest, triangles) - 1.0)
+    if not part:
+        return whole, 0.0
+    moved = 100.0 * (closed_volume(posed, part) / closed_volume(rest, part) - 1.0)
+    return whole, moved
+
+
 def quality(rest, posed):
     out = subprocess.run(
         [sys.executable, os.path.join(HERE, "deformation_quality.py"), rest, posed],
         capture_output=True, text=True, check=True,
     ).stdout
     report = json.loads(out)
-    return f"{report['folds']}/{report['flipped']}/{report['edges_stretched_over_2x']}"
+    whole, moved = volume_changes(rest, posed)
+    return (f"{report['folds']}/{report['flipped']}/{report['edges_stretched_over_2x']}"
+            f" {report['edge_ratio_max']:.2f}x {moved:+.2f}%/{whole:+.2f}%")
 
 
 def main():

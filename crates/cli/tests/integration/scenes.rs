@@ -551,8 +551,12 @@ fn a_turned_control_keeps_the_volume_at_its_joint_in_deform_and_eval() {
     let rest = obj_positions(&mesh);
     let moved = obj_positions(&posed);
     let change = obj_volume(&mesh, &moved) / obj_volume(&mesh, &rest) - 1.0;
+    // Issue 41's 2 %: the mitre alone loses 2.5 % here. The arm's mesh has no vertex near the
+    // joint: its ring widens to the bound of its scale (4 times its radius on the outer side),
+    // where the triangles it moves are within 0.2 % of their volume and the whole mesh 1.9 %
+    // short (each sweep widening on top of the last reached 0.0 %, but spiked real meshes).
     assert!(
-        change.abs() < 5e-3,
+        change.abs() < 0.02,
         "the mesh's volume changed by {:.2} %",
         100.0 * change
     );

@@ -12,6 +12,8 @@ pub(super) struct Region {
     pub(super) loops: Vec<(Vec<u32>, Vec<[u32; 2]>)>,
     /// Every row the triangles use, sorted.
     pub(super) rows: Vec<u32>,
+    /// Every edge of the triangles once, smaller end first.
+    pub(super) edges: Vec<[u32; 2]>,
 }
 
 /// The triangles around each mesh row (CSR), to gather a region from its rows.
@@ -87,9 +89,11 @@ impl Region {
             .collect();
         edges.sort_unstable_by_key(|&(key, _)| key);
         let mut border = Vec::new();
+        let mut every = Vec::new();
         for run in edges.chunk_by(|x, y| x.0 == y.0) {
             let sum: i32 = run.iter().map(|&(_, d)| d).sum();
             let (low, high) = ((run[0].0 >> 32) as u32, run[0].0 as u32);
+            every.push([low, high]);
             match sum.signum() {
                 1 => border.push([low, high]),
                 -1 => border.push([high, low]),
@@ -103,8 +107,28 @@ impl Region {
             loops: border_loops(&border, &rows),
             triangles,
             rows,
+            edges: every,
         }
     }
+}
+
+/// The most any of `edges` is longer in `mesh` than its length in `lengths` (edges whose
+/// length there is 0 left out); 1 when none is longer.
+pub(super) fn most_stretch(mesh: &[Vec3], edges: &[[u32; 2]], lengths: &[f32]) -> f32 {
+    edges
+        .iter()
+        .zip(lengths)
+        .filter(|&(_, &l)| l > 0.0)
+        .map(|(&[a, b], &l)| mesh[a as usize].distance(mesh[b as usize]) / l)
+        .fold(1.0, f32::max)
+}
+
+/// The lengths of `edges` in `mesh`.
+pub(super) fn edge_lengths(mesh: &[Vec3], edges: &[[u32; 2]]) -> Vec<f32> {
+    edges
+        .iter()
+        .map(|&[a, b]| mesh[a as usize].distance(mesh[b as usize]))
+        .collect()
 }
 
 /// Border edges grouped by connected loop (union-find over their vertices), each with its

@@ -2,7 +2,8 @@
 //! it keeps its rest volume, on the generated biped's auto rig. Properties: the rest pose and a
 //! settled pose are left bit for bit; a widening moves only the outer side of the bend (the
 //! inner crease would fold); a ring moved by hand is left alone; two bent joints of one leg
-//! keep the leg's volume together; the live rig (the editor's path) settles as the CLI does.
+//! keep the leg's volume together; the live rig (the editor's path) settles as the CLI does; a
+//! widening stretches no edge by more than three quarters beyond the mitre.
 //! The negative control (the mitre alone loses 3 % at the knee) is in `posable_rig`.
 
 use std::sync::Arc;
@@ -10,7 +11,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use starcages_core::BindControl;
 use starcages_core::hierarchy::{CageEdit, Hierarchy, posed_pivot};
-use starcages_core::joint_volume::JointVolumes;
+use starcages_core::joint_volume::{JointVolumes, MAX_WIDENING_STRETCH};
 use starcages_core::live::LiveRig;
 use starcages_core::scene::Scene;
 use starcages_core::star::StarBinding;
@@ -236,4 +237,83 @@ fn a_whole_settle_depends_on_the_pose_alone() {
     let first = settle(mitred("leg.L.2: rotate 1 0 0 90"));
     let _ = settle(mitred("leg.L.2: rotate 1 0 0 40"));
     assert_eq!(settle(mitred("leg.L.2: rotate 1 0 0 90")), first);
+}
+
+/// A widening stops where it would stretch the surface around its joint by more than three
+/// quarters beyond what the mitre did ([`MAX_WIDENING_STRETCH`]), leaving the volume short
+/// rather than spiking the joint; it still takes back what it can. The negative control: with
+/// no bound, the hip raised 90° keeps its volume by stretching an edge to twice the mitre's.
+#[test]
+fn a_widening_stretches_no_edge_by_more_than_three_quarters_beyond_the_mitre() {
+    let rig = rig();
+    let operator = &rig.binding.operator;
+    let triangles = rig.scene.mesh.welded_triangles();
+    let unbounded = JointVolumes::new(&rig.scene.cages, triangles, operator)
+        .with_max_widening_stretch(f32::INFINITY);
+    let settled = |volumes: &JointVolumes, mut cages: Vec<DVec3>| {
+        volumes.settle(operator, &mut cages, None, &|_| false);
+        mesh_of(&rig, &cages)
+    };
+    let rest = volume(&mesh_of(&rig, &rig.scene.cages.vertices), triangles);
+    let change = |mesh: &[DVec3]| volume(mesh, triangles) / rest - 1.0;
+    for edit in [
+        "leg.L.1: rotate 1 0 0 -90",
+        "leg.L.2: rotate 1 0 0 90",
+        "leg.L.3: rotate 1 0 0 120",
+        "arm.L.2: rotate 0 1 0 90",
+        "arm.L.1: rotate 0 0 1 -90",
+    ] {
+        let mitred_cages = pose_mitred(&rig.scene, &rig.binding, &[edit]).cages;
+        let mitred = mesh_of(&rig, &mitred_cages);
+        let kept = settled(&rig.volumes, mitred_cages.clone());
+        let stretch = most_stretch_beyond(&rig, &mitred, &kept);
+        // The mesh is deformed in f32.
+        let limit = f64::from(MAX_WIDENING_STRETCH) + 1e-3;
+        assert!(
+            stretch <= limit,
+            "{edit}: an edge {stretch:.3} times the mitre's"
+        );
+        assert!(
+            change(&kept).abs() <= change(&mitred).abs() + 1e-6,
+            "{edit}: {:+.3} % against the mitre's {:+.3} %",
+            100.0 * change(&kept),
+            100.0 * change(&mitred)
+        );
+    }
+    let hip = "leg.L.1: rotate 1 0 0 -90";
+    let mitred_cages = pose_mitred(&rig.scene, &rig.binding, &[hip]).cages;
+    let mitred = mesh_of(&rig, &mitred_cages);
+    let (kept, free) = (
+        settled(&rig.volumes, mitred_cages.clone()),
+        settled(&unbounded, mitred_cages),
+    );
+    eprintln!(
+        "hip raised 90°: the mitre {:+.2} %, bounded {:+.2} % (edges up to {:.2}x), \
+         unbounded {:+.2} % (edges up to {:.2}x)",
+        100.0 * change(&mitred),
+        100.0 * change(&kept),
+        most_stretch_beyond(&rig, &mitred, &kept),
+        100.0 * change(&free),
+        most_stretch_beyond(&rig, &mitred, &free),
+    );
+    assert!(
+        change(&kept).abs() < 0.8 * change(&mitred).abs(),
+        "it takes back some"
+    );
+    assert!(change(&free).abs() < 1e-3);
+    assert!(most_stretch_beyond(&rig, &mitred, &free) > 1.8);
+}
+
+/// The most any mesh edge is longer in `posed` than in `mitred`.
+fn most_stretch_beyond(rig: &Rig, mitred: &[DVec3], posed: &[DVec3]) -> f64 {
+    rig.scene
+        .mesh
+        .welded_triangles()
+        .iter()
+        .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+        .map(|[a, b]| {
+            let (a, b) = (a as usize, b as usize);
+            (posed[a] - posed[b]).length() / (mitred[a] - mitred[b]).length().max(1e-12)
+        })
+        .fold(1.0, f64::max)
 }
