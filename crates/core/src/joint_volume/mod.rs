@@ -18,8 +18,8 @@
 //!   cap or an elbow stands out, blended towards an even widening for a joint that twists
 //!   rather than swings (swing under 20°); pushing the inner side out as well would fold the
 //!   crease. It stops where an edge around the joint would be [`MAX_WIDENING_STRETCH`] times
-//!   as long as the mitre made it: a mesh that barely follows its ring keeps a dent rather
-//!   than grow a spike.
+//!   as long as the mitre made it (or as at rest, if longer): a mesh that barely follows its
+//!   ring keeps a dent rather than grow a spike.
 //!
 //! The mesh is linear in the ring for mean value and harmonic cages, so the volume is a cubic
 //! in `s`; the secant method takes three to five evaluations of the region's rows. A joint at
@@ -47,14 +47,20 @@ const REGION_BUDGET: usize = 16;
 /// Sweeps over the bent joints, at most.
 const MAX_SWEEPS: usize = 4;
 
-/// How much longer than the mitre made it a widening may make any edge of a joint's region:
-/// past it the ring stops and the region stays short of its volume. A widening that keeps the
-/// volume at any cost spikes a joint whose mesh barely follows its ring (the armadillo's wrist
-/// bent 90° backwards: 544 edges over twice their rest length, the worst 6.6 times; with this
-/// bound 14 edges and 3.1 times, the hand 22 % short of its volume, most of it lost to the
-/// mitre's folds). 1.5 left the beast's hip at 45° 1.9 % short and 1.25 its knee at 90° 3.7 %
+/// How much longer than the mitre made it (or than at rest, where the mitre shortened it) a
+/// widening may make any edge of a joint's region: past it the ring stops and the region stays
+/// short of its volume. A widening that keeps the volume at any cost spikes a joint whose mesh
+/// barely follows its ring (the armadillo's wrist bent 90° backwards: 544 edges over twice
+/// their rest length, the worst 6.6 times; with this bound 14 edges and 3.1 times, the hand
+/// 22 % short of its volume, most of it lost to the mitre's folds). 1.5 left the beast's hip
+/// at 45° 1.9 % short and 1.25 its knee at 90° 3.7 %; measured from the mitre's length alone,
+/// the horse's hind knee, whose mitre shortens edges on the outer side, kept 10 % less
 /// (docs/math.md, "Volume-keeping joints").
 pub const MAX_WIDENING_STRETCH: f32 = 1.75;
+
+/// A change of a ring's scale between sweeps below which it has settled (the secant method
+/// stops at a share of the volume, so a ring solved again moves by a little).
+const SCALE_SETTLED: f64 = 1e-3;
 
 /// Halvings towards the widest scale within [`MAX_WIDENING_STRETCH`].
 const WIDENING_HALVINGS: usize = 6;
@@ -76,6 +82,8 @@ struct JointRegion {
     triangles: Vec<[u32; 3]>,
     /// Their edges, each once.
     edges: Vec<[u32; 2]>,
+    /// The edges' lengths at rest.
+    rest_lengths: Vec<f32>,
     /// The border loops of `triangles`: each loop's vertices and its border edges, directed
     /// as the triangles run them.
     loops: Vec<(Vec<u32>, Vec<[u32; 2]>)>,
@@ -98,7 +106,8 @@ pub struct JointVolumes {
     hints: Vec<AtomicU64>,
     /// Rest cage positions the binding was made for.
     rest: Vec<DVec3>,
-    /// How much longer than the mitre made it a widening may make an edge of a region.
+    /// How much longer than the mitre made it (or than at rest) a widening may make an edge
+    /// of a region.
     max_widening_stretch: f32,
 }
 
@@ -195,6 +204,7 @@ impl JointVolumes {
                     ring
                 },
                 triangles: region.triangles,
+                rest_lengths: edge_lengths(&rest_mesh, &region.edges),
                 edges: region.edges,
                 loops: region.loops,
                 rows: region.rows,
@@ -211,7 +221,8 @@ impl JointVolumes {
     }
 
     /// The same joints with widenings bounded by `limit` (how much longer than the mitre made
-    /// it a widening may make an edge around the joint; default [`MAX_WIDENING_STRETCH`],
+    /// it, or than at rest, a widening may make an edge around the joint; default
+    /// [`MAX_WIDENING_STRETCH`],
     /// infinite for the volume at any cost), to compare the trade-off.
     pub fn with_max_widening_stretch(mut self, limit: f32) -> Self {
         self.max_widening_stretch = limit;
@@ -274,11 +285,17 @@ impl JointVolumes {
             .iter()
             .map(|(joint, _)| joint.ring.iter().map(|&v| pose[v as usize]).collect())
             .collect();
+        // Each region edge's length in the mitred pose or at rest, whichever is longer: an edge
+        // the mitre shortened may first regain its rest length.
         let mitre_lengths: Vec<Vec<f32>> = bent
             .iter()
             .map(|(joint, _)| {
                 operator.apply_rows(&joint.rows, x, &mut mesh);
-                edge_lengths(&mesh, &joint.edges)
+                let mut lengths = edge_lengths(&mesh, &joint.edges);
+                for (length, rest) in lengths.iter_mut().zip(&joint.rest_lengths) {
+                    *length = length.max(*rest);
+                }
+                lengths
             })
             .collect();
         let mut scales = vec![0.0; bent.len()];
@@ -314,6 +331,7 @@ impl JointVolumes {
                 };
                 let solved = solve(|s| volume_at(s, pose), joint.rest_volume, start);
                 let (mut scale, mut last) = (solved.scale, solved.last);
+
                 // A widening stops where it would stretch the surface around the joint more
                 // than the mitre did by [`MAX_WIDENING_STRETCH`] (the volume then stays short).
                 if scale > 0.0 {
@@ -341,10 +359,11 @@ impl JointVolumes {
                 if scale != last {
                     volume_at(scale, pose);
                 }
-                any |= (scale - scales[k]).abs() > 1e-9;
+                any |= (scale - scales[k]).abs() > SCALE_SETTLED;
                 scales[k] = scale;
             }
-            if !any {
+            // One joint has no neighbour to wait for.
+            if !any || bent.len() == 1 {
                 break;
             }
         }

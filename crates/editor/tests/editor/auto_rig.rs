@@ -900,8 +900,12 @@ fn r_on_a_control_keeps_the_volume_at_its_joint_and_undoes_in_one_step() {
     let after = harness.state().state.doc.scene.pose.clone();
     assert_ne!(after, before, "the control turned");
     let kept_change = volume(&deformed(&harness)) / rest_volume - 1.0;
+    // Issue 41's 2 %. The arm's mesh has no vertex near the joint, so its ring widens to the
+    // bound of its scale and keeps only part of what the mitre lost (`joint_volume`).
     assert!(
-        mitred_change.abs() > 0.01 && kept_change.abs() < 0.2 * mitred_change.abs(),
+        mitred_change.abs() > 0.01
+            && kept_change.abs() < 0.02
+            && kept_change.abs() < 0.5 * mitred_change.abs(),
         "the mesh's volume changed by {:.2} % (the mitre alone {:.2} %)",
         100.0 * kept_change,
         100.0 * mitred_change
