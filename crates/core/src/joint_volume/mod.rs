@@ -285,26 +285,17 @@ impl JointVolumes {
             .iter()
             .map(|(joint, _)| joint.ring.iter().map(|&v| pose[v as usize]).collect())
             .collect();
-        // Each region edge's length in the mitred pose or at rest, whichever is longer: an edge
-        // the mitre shortened may first regain its rest length.
-        let mitre_lengths: Vec<Vec<f32>> = bent
-            .iter()
-            .map(|(joint, _)| {
-                operator.apply_rows(&joint.rows, x, &mut mesh);
-                let mut lengths = edge_lengths(&mesh, &joint.edges);
-                for (length, rest) in lengths.iter_mut().zip(&joint.rest_lengths) {
-                    *length = length.max(*rest);
-                }
-                lengths
-            })
-            .collect();
+        // Per joint, each region edge's length with the ring at the mitre (taken at the first
+        // sweep's first evaluation, its neighbours as the sweep has left them so far) or at
+        // rest, whichever is longer: an edge the mitre shortened may first regain its length.
+        let mut mitre_lengths: Vec<Vec<f32>> = vec![Vec::new(); bent.len()];
         let mut scales = vec![0.0; bent.len()];
         // Gauss–Seidel: neighbouring joints share a segment's rows (a hip's region and its
         // knee's both hold the thigh), so a sweep is repeated until no ring's scale changes.
         for sweep in 0..MAX_SWEEPS {
             let mut any = false;
             for (k, (joint, bend)) in bent.iter().enumerate() {
-                let (base, lengths) = (&mitred[k], &mitre_lengths[k]);
+                let (base, lengths) = (&mitred[k], &mut mitre_lengths[k]);
                 // The most a region edge is stretched beyond the mitre, at the last scale
                 // evaluated and at 0.
                 let (stretch, stretch_at_mitre) = (Cell::new(1.0f32), Cell::new(1.0f32));
@@ -314,7 +305,16 @@ impl JointVolumes {
                     }
                     operator.update_dofs(&self.rest, pose, &joint.ring, x);
                     operator.apply_rows(&joint.rows, x, &mut mesh);
-                    stretch.set(most_stretch(&mesh, &joint.edges, lengths));
+                    if s == 0.0 && lengths.is_empty() {
+                        *lengths = edge_lengths(&mesh, &joint.edges);
+                        for (length, rest) in lengths.iter_mut().zip(&joint.rest_lengths) {
+                            *length = length.max(*rest);
+                        }
+                    }
+                    // Only a widening is bounded by the stretch.
+                    if s >= 0.0 {
+                        stretch.set(most_stretch(&mesh, &joint.edges, lengths));
+                    }
                     if s == 0.0 {
                         stretch_at_mitre.set(stretch.get());
                     }
