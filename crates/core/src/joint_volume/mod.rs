@@ -222,8 +222,8 @@ impl JointVolumes {
 
     /// The same joints with widenings bounded by `limit` (how much longer than the mitre made
     /// it, or than at rest, a widening may make an edge around the joint; default
-    /// [`MAX_WIDENING_STRETCH`],
-    /// infinite for the volume at any cost), to compare the trade-off.
+    /// [`MAX_WIDENING_STRETCH`], infinite for the volume at any cost), to compare the
+    /// trade-off.
     pub fn with_max_widening_stretch(mut self, limit: f32) -> Self {
         self.max_widening_stretch = limit;
         self
@@ -332,8 +332,9 @@ impl JointVolumes {
                 let solved = solve(|s| volume_at(s, pose), joint.rest_volume, start);
                 let (mut scale, mut last) = (solved.scale, solved.last);
 
-                // A widening stops where it would stretch the surface around the joint more
-                // than the mitre did by [`MAX_WIDENING_STRETCH`] (the volume then stays short).
+                // A widening stops where it would stretch an edge around the joint past
+                // `max_widening_stretch` times its mitred (or rest) length, times what the
+                // neighbours' rings already stretched it; the volume then stays short.
                 if scale > 0.0 {
                     if last != scale {
                         volume_at(scale, pose);
