@@ -153,6 +153,10 @@ struct Joint {
     frame: JointFrame,
     /// Ring vertices with their slot in the parent's `owns`.
     ring: Vec<(u32, usize)>,
+    /// How far along the limb the control's swing spreads into its own segment (`spread`; 0
+    /// where it has none), which the rings of its children take their share of where they
+    /// reach into it.
+    reach: f64,
 }
 
 /// The bound hierarchy of a scene's internal cages, with its edit state.
@@ -238,8 +242,9 @@ impl Hierarchy {
             });
         }
         let order = drivers_first(&levels);
-        let joints = bind_joints(scene, &levels, &parent);
+        let mut joints = bind_joints(scene, &levels, &parent);
         let segments = spread::bind_segments(scene, &levels, &joints);
+        spread::set_reaches(&mut joints, &segments);
         let mut hierarchy = Self {
             levels,
             joints,
@@ -456,7 +461,11 @@ impl Hierarchy {
 
     /// Puts every joint ring whose control or parent moved at its mitred place: the place
     /// its parent gives it, taken through half the control's turn relative to the parent
-    /// ([`JointFrame::mitre`]). Vertices moved by hand keep their place.
+    /// ([`JointFrame::mitre`]), and, where the ring reaches into the stretch over which the
+    /// parent's own joint spreads its swing, back by the share a segment vertex as far from
+    /// that joint takes (`spread`): an ankle ring reaching up a short shin bends with the knee
+    /// as the shin's own vertices do, not rigidly with the shin. Vertices moved by hand keep
+    /// their place.
     fn bend_joints(&self, pose: &mut [DVec3], changed: &mut [bool], by_hand: &[bool]) {
         for joint in &self.joints {
             let (control, parent) = (&self.levels[joint.control], &self.levels[joint.parent]);
@@ -470,14 +479,19 @@ impl Hierarchy {
             };
             let parent_inverse = parent_motion.inverse();
             let mitre = joint.frame.mitre(&(parent_inverse * control_motion));
-            // Into the parent's rest frame, through the mitre, and back: one map for the ring.
-            let ring_map = parent_motion * mitre * parent_inverse;
+            let back = self.ring_back(joint.parent, pose);
             for &(v, slot) in &joint.ring {
                 let v = v as usize;
                 if by_hand[v] || self.hand_moved[v] {
                     continue;
                 }
-                let p = ring_map.transform_point3(parent.follow[slot].position(&parent_shape));
+                // Into the parent's rest frame, through the mitre and what the ring takes back
+                // of the parent's own joint, and back.
+                let q =
+                    parent_inverse.transform_point3(parent.follow[slot].position(&parent_shape));
+                let mitred = mitre.transform_point3(q);
+                let mitred = back.as_ref().map_or(mitred, |b| b.apply(mitred));
+                let p = parent_motion.transform_point3(mitred);
                 if p.is_finite() && p != pose[v] {
                     pose[v] = p;
                     changed[v] = true;
@@ -619,6 +633,7 @@ fn bind_joints(scene: &Scene, levels: &[Level], parent: &[Option<(usize, usize)>
             parent_rest: levels[parent_level].shape(&set.vertices),
             frame: JointFrame { pivot, axis },
             ring,
+            reach: 0.0,
         });
     }
     joints

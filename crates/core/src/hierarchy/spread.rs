@@ -9,7 +9,10 @@
 //! it, a segment's vertices take a share of the joint's bend, half at the ring falling to none,
 //! so that a knee bends over a stretch as long as it is thick instead of at its ring, whose
 //! inner side a 90° turn slides by the ring's depth towards (and past) the nearest vertices.
-//! Scales stay rigid (docs/math.md, "Joints").
+//! The rings a segment's control owns (its child joints') take the same share where they
+//! reach into that stretch ([`RingBack`]): an auto rig's rings are as thick as the limb is
+//! wide, and a short shin's ankle ring reaches back to the knee. Scales stay rigid
+//! (docs/math.md, "Joints").
 
 use glam::{DAffine3, DQuat, DVec3};
 
@@ -247,6 +250,48 @@ impl Hierarchy {
     }
 }
 
+/// The part of a control's own joint's swing that the rings of its children take back, where
+/// a ring reaches into the stretch over which that swing spreads (a short shin between a thick
+/// knee ring and a thick ankle ring): as a segment vertex as far from the joint would.
+pub(super) struct RingBack {
+    pivot: DVec3,
+    axis: DVec3,
+    reach: f64,
+    turn: JointTurn,
+}
+
+impl RingBack {
+    /// `x`, a point in the control's rest frame, taken back as far as its distance from the
+    /// joint gives.
+    pub(super) fn apply(&self, x: DVec3) -> DVec3 {
+        let share = ramp((x - self.pivot).dot(self.axis).max(0.0), self.reach);
+        if share > 0.0 {
+            self.pivot + self.turn.back(share) * (x - self.pivot)
+        } else {
+            x
+        }
+    }
+}
+
+impl Hierarchy {
+    /// What the rings owned by control `level` take back of its own joint's swing; None where
+    /// it has no joint, its joint has no segment to spread into, or it has not swung.
+    pub(super) fn ring_back(&self, level: usize, pose: &[DVec3]) -> Option<RingBack> {
+        let joint = self.joints.iter().find(|j| j.control == level)?;
+        if joint.reach <= 0.0 {
+            return None;
+        }
+        let (control, parent) = self.joint_motions(joint, pose)?;
+        let turn = JointTurn::of(&joint.frame, &(parent.inverse() * control));
+        (!turn.still()).then_some(RingBack {
+            pivot: joint.frame.pivot,
+            axis: joint.frame.axis,
+            reach: joint.reach,
+            turn,
+        })
+    }
+}
+
 /// A joint's turn relative to its parent, about its pivot in rest coordinates.
 #[derive(Debug, Clone, Copy)]
 struct JointTurn {
@@ -288,6 +333,15 @@ impl JointTurn {
     /// In the parent's frame about the pivot, `share` of the child's swing.
     fn on(&self, share: f64) -> DQuat {
         DQuat::IDENTITY.slerp(self.swing, share)
+    }
+}
+
+/// Each joint's reach into its control's segment (the segment it is the near joint of).
+pub(super) fn set_reaches(joints: &mut [Joint], segments: &[Segment]) {
+    for segment in segments {
+        if let Some(joint) = segment.near.and_then(|j| joints.get_mut(j)) {
+            joint.reach = segment.near_reach;
+        }
     }
 }
 

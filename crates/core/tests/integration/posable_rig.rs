@@ -810,7 +810,7 @@ fn a_bend_grows_through_its_ring_over_twice_the_ring_radius_on_both_sides() {
     // their own between two rings; a bent or tapering limb does. Every leaf vertex of each
     // joint's two segments takes its share; somewhere both sides hold one within reach.
     let (biped, hexapod) = (rigged(&biped()), rigged(&hexapod()));
-    let mut within = [0usize; 2];
+    let mut within = [0usize; 3];
     for (scene, joint, parent, child, up) in [
         (&biped, "arm.R.2", "arm.R.1", "arm.R.3", DVec3::Y),
         (&biped, "leg.L.2", "leg.L.1", "leg.L.3", DVec3::X),
@@ -830,27 +830,29 @@ fn a_bend_grows_through_its_ring_over_twice_the_ring_radius_on_both_sides() {
         ),
     ] {
         let counts = bend_spreads_through_ring(scene, joint, parent, child, up);
-        within[0] += counts[0];
-        within[1] += counts[1];
+        within.iter_mut().zip(counts).for_each(|(w, c)| *w += c);
     }
     assert!(
-        within[0] > 0 && within[1] > 0,
-        "no leaf vertex within a joint's reach on one side: {within:?}"
+        within.iter().all(|&w| w > 0),
+        "no leaf vertex within a joint's reach on one side, or no vertex of the next joint's \
+         ring: {within:?}"
     );
 }
 
 /// Turns `joint` by 90° about an axis across its limb (towards `up`) and checks that every
 /// leaf vertex of its segment (`joint`'s control) and its parent's takes its share of the
 /// bend: half at the ring, falling evenly to none (parent) or to the whole of it (child) at
-/// the reach, twice the ring's radius and at most the segment's length. Returns how many
-/// lie within three quarters of the reach on each side.
+/// the reach, twice the ring's radius and at most the segment's length; and so does every
+/// vertex of the next joint's ring (`child`'s, which `joint`'s control owns), as thick as the
+/// limb and reaching back into the segment. Returns how many lie within three quarters of
+/// the reach on each side, and how many of the next ring's lie within the reach.
 fn bend_spreads_through_ring(
     scene: &Scene,
     joint: &str,
     parent: &str,
     child: &str,
     up: DVec3,
-) -> [usize; 2] {
+) -> [usize; 3] {
     let pivot = pivot_of(scene, joint);
     let axis = limb_axis(scene, joint);
     // A pure swing: about an axis across the limb at the joint.
@@ -876,14 +878,16 @@ fn bend_spreads_through_ring(
         .iter()
         .flat_map(|c| c.joint.iter().chain(c.faces.iter().flatten()).copied())
         .collect();
-    let mut within = [0usize; 2];
+    let next_ring: BTreeSet<u32> = control(scene, child).joint.iter().copied().collect();
+    let mut within = [0usize; 3];
     for (k, (name, side, length)) in [(parent, -1.0, parent_length), (joint, 1.0, child_length)]
         .into_iter()
         .enumerate()
     {
         let reach = (2.0 * radius).min(length);
         for &v in control(scene, name).owns.iter() {
-            if in_rings.contains(&v) {
+            let in_next_ring = side > 0.0 && next_ring.contains(&v);
+            if in_rings.contains(&v) && !in_next_ring {
                 continue;
             }
             let (rest, now) = (scene.cages.vertices[v as usize], cages[v as usize]);
@@ -897,7 +901,9 @@ fn bend_spreads_through_ring(
                  from its place turned by {:.1}° (reach {reach:.3})",
                 90.0 * expected
             );
-            if distance < 0.75 * reach {
+            if in_next_ring {
+                within[2] += usize::from(distance < reach);
+            } else if distance < 0.75 * reach {
                 within[k] += 1;
             }
         }
