@@ -153,10 +153,9 @@ struct Joint {
     frame: JointFrame,
     /// Ring vertices with their slot in the parent's `owns`.
     ring: Vec<(u32, usize)>,
-    /// How far along the limb the control's swing spreads into its own segment (`spread`; 0
-    /// where it has none), which the rings of its children take their share of where they
-    /// reach into it.
-    reach: f64,
+    /// What the ring takes back of its parent control's own joint's swing, where it reaches
+    /// into the stretch over which that swing spreads (`spread`).
+    ring_back: Option<spread::RingBack>,
 }
 
 /// The bound hierarchy of a scene's internal cages, with its edit state.
@@ -244,7 +243,7 @@ impl Hierarchy {
         let order = drivers_first(&levels);
         let mut joints = bind_joints(scene, &levels, &parent);
         let segments = spread::bind_segments(scene, &levels, &joints);
-        spread::set_reaches(&mut joints, &segments);
+        spread::bind_ring_backs(&mut joints, &segments, &set.vertices);
         let mut hierarchy = Self {
             levels,
             joints,
@@ -393,8 +392,9 @@ impl Hierarchy {
             self.hand_moved[self.levels[l].owns[k] as usize] = false;
             self.levels[l].follow[k] = follow;
         }
-        self.spread_segments(&mut new, &mut changed, &by_hand);
-        self.bend_joints(&mut new, &mut changed, &by_hand);
+        let mut turns = spread::JointTurns::new(self.joints.len());
+        self.spread_segments(&mut new, &mut changed, &by_hand, &mut turns);
+        self.bend_joints(&mut new, &mut changed, &by_hand, &mut turns);
         for ((flag, hand), parent) in self.hand_moved.iter_mut().zip(&by_hand).zip(&self.parent) {
             if *hand && parent.is_some() {
                 *flag = true;
@@ -466,7 +466,13 @@ impl Hierarchy {
     /// that joint takes (`spread`): an ankle ring reaching up a short shin bends with the knee
     /// as the shin's own vertices do, not rigidly with the shin. Vertices moved by hand keep
     /// their place.
-    fn bend_joints(&self, pose: &mut [DVec3], changed: &mut [bool], by_hand: &[bool]) {
+    fn bend_joints(
+        &self,
+        pose: &mut [DVec3],
+        changed: &mut [bool],
+        by_hand: &[bool],
+        turns: &mut spread::JointTurns,
+    ) {
         for joint in &self.joints {
             let (control, parent) = (&self.levels[joint.control], &self.levels[joint.parent]);
             let moved = |level: &Level| level.global.iter().any(|&v| changed[v as usize]);
@@ -479,8 +485,7 @@ impl Hierarchy {
             };
             let parent_inverse = parent_motion.inverse();
             let mitre = joint.frame.mitre(&(parent_inverse * control_motion));
-            let back = self.ring_back(joint.parent, pose);
-            for &(v, slot) in &joint.ring {
+            for (k, &(v, slot)) in joint.ring.iter().enumerate() {
                 let v = v as usize;
                 if by_hand[v] || self.hand_moved[v] {
                     continue;
@@ -490,7 +495,7 @@ impl Hierarchy {
                 let q =
                     parent_inverse.transform_point3(parent.follow[slot].position(&parent_shape));
                 let mitred = mitre.transform_point3(q);
-                let mitred = back.as_ref().map_or(mitred, |b| b.apply(mitred));
+                let mitred = self.ring_back(joint, k, mitred, turns, pose);
                 let p = parent_motion.transform_point3(mitred);
                 if p.is_finite() && p != pose[v] {
                     pose[v] = p;
@@ -633,7 +638,7 @@ fn bind_joints(scene: &Scene, levels: &[Level], parent: &[Option<(usize, usize)>
             parent_rest: levels[parent_level].shape(&set.vertices),
             frame: JointFrame { pivot, axis },
             ring,
-            reach: 0.0,
+            ring_back: None,
         });
     }
     joints

@@ -169,6 +169,7 @@ impl Hierarchy {
         pose: &mut [DVec3],
         changed: &mut [bool],
         by_hand: &[bool],
+        turns: &mut JointTurns,
     ) {
         let moved = |level: usize| {
             self.levels[level]
@@ -185,20 +186,8 @@ impl Hierarchy {
                     || s.near.is_some_and(|j| moved(self.joints[j].parent))
             })
             .collect();
-        // Each joint's turn relative to its parent, fitted once though two segments read it
-        // (nothing here moves a control's vertices, so it stays valid through the pass).
-        let mut turns: Vec<Option<JointTurn>> = vec![None; self.joints.len()];
-        let mut turn_of = |j: Option<usize>, pose: &[DVec3]| -> JointTurn {
-            let Some(j) = j else {
-                return JointTurn::STILL;
-            };
-            *turns[j].get_or_insert_with(|| {
-                let joint = &self.joints[j];
-                self.joint_motions(joint, pose)
-                    .map_or(JointTurn::STILL, |(control, parent)| {
-                        JointTurn::of(&joint.frame, &(parent.inverse() * control))
-                    })
-            })
+        let mut turn_of = |j: Option<usize>, pose: &[DVec3]| {
+            j.map_or(JointTurn::STILL, |j| turns.of(self, j, pose))
         };
         for segment in touched {
             let level = &self.levels[segment.level];
@@ -250,45 +239,106 @@ impl Hierarchy {
     }
 }
 
-/// The part of a control's own joint's swing that the rings of its children take back, where
-/// a ring reaches into the stretch over which that swing spreads (a short shin between a thick
-/// knee ring and a thick ankle ring): as a segment vertex as far from the joint would.
+/// Where a joint's ring reaches into the stretch over which its parent control's own joint
+/// spreads its swing (a short shin between a thick knee ring and a thick ankle ring): that
+/// joint, and per ring vertex the share of its swing a segment vertex as far from it takes,
+/// from the vertex's rest distance as the segment's vertices are placed.
+#[derive(Debug, Clone)]
 pub(super) struct RingBack {
-    pivot: DVec3,
-    axis: DVec3,
-    reach: f64,
-    turn: JointTurn,
+    /// The parent control's own joint.
+    joint: usize,
+    /// Per ring vertex, in the ring's order.
+    shares: Vec<f64>,
 }
 
 impl RingBack {
-    /// `x`, a point in the control's rest frame, taken back as far as its distance from the
-    /// joint gives.
-    pub(super) fn apply(&self, x: DVec3) -> DVec3 {
-        let share = ramp((x - self.pivot).dot(self.axis).max(0.0), self.reach);
-        if share > 0.0 {
-            self.pivot + self.turn.back(share) * (x - self.pivot)
-        } else {
-            x
+    /// `x`, ring vertex `k` in the parent control's rest frame, taken back by its share of
+    /// `turn`, the parent's joint's turn about `pivot`.
+    fn apply(&self, k: usize, x: DVec3, pivot: DVec3, turn: &JointTurn) -> DVec3 {
+        match self.shares.get(k) {
+            Some(&share) if share > 0.0 => pivot + turn.back(share) * (x - pivot),
+            _ => x,
         }
     }
 }
 
-impl Hierarchy {
-    /// What the rings owned by control `level` take back of its own joint's swing; None where
-    /// it has no joint, its joint has no segment to spread into, or it has not swung.
-    pub(super) fn ring_back(&self, level: usize, pose: &[DVec3]) -> Option<RingBack> {
-        let joint = self.joints.iter().find(|j| j.control == level)?;
-        if joint.reach <= 0.0 {
-            return None;
+/// Binds each joint's [`RingBack`]: only where some vertex of its ring lies within the reach
+/// of its parent control's own joint into that control's segment, so that an update fits the
+/// parent joint's turn only for rings it moves.
+pub(super) fn bind_ring_backs(joints: &mut [Joint], segments: &[Segment], rest: &[DVec3]) {
+    for segment in segments {
+        let Some(near) = segment.near.filter(|_| segment.near_reach > 0.0) else {
+            continue;
+        };
+        let Some(frame) = joints.get(near).map(|j| j.frame) else {
+            continue;
+        };
+        for joint in joints.iter_mut().filter(|j| j.parent == segment.level) {
+            let shares: Vec<f64> = joint
+                .ring
+                .iter()
+                .map(|&(v, _)| {
+                    rest.get(v as usize).map_or(0.0, |&p| {
+                        let along = (p - frame.pivot).dot(frame.axis).max(0.0);
+                        ramp(along, segment.near_reach)
+                    })
+                })
+                .collect();
+            if shares.iter().any(|&s| s > 0.0) {
+                joint.ring_back = Some(RingBack {
+                    joint: near,
+                    shares,
+                });
+            }
         }
-        let (control, parent) = self.joint_motions(joint, pose)?;
-        let turn = JointTurn::of(&joint.frame, &(parent.inverse() * control));
-        (!turn.still()).then_some(RingBack {
-            pivot: joint.frame.pivot,
-            axis: joint.frame.axis,
-            reach: joint.reach,
-            turn,
+    }
+}
+
+/// Each joint's turn relative to its parent, fitted at most once per update: the spread and
+/// the rings read it, and neither moves a control's own vertices, so it stays valid through
+/// both passes.
+pub(super) struct JointTurns(Vec<Option<JointTurn>>);
+
+impl JointTurns {
+    pub(super) fn new(joints: usize) -> Self {
+        Self(vec![None; joints])
+    }
+
+    fn of(&mut self, hierarchy: &Hierarchy, j: usize, pose: &[DVec3]) -> JointTurn {
+        let (Some(slot), Some(joint)) = (self.0.get_mut(j), hierarchy.joints.get(j)) else {
+            return JointTurn::STILL;
+        };
+        *slot.get_or_insert_with(|| {
+            hierarchy
+                .joint_motions(joint, pose)
+                .map_or(JointTurn::STILL, |(control, parent)| {
+                    JointTurn::of(&joint.frame, &(parent.inverse() * control))
+                })
         })
+    }
+}
+
+impl Hierarchy {
+    /// `x`, ring vertex `k` of `joint` in its parent's rest frame, taken back by its share of
+    /// the parent control's own joint's swing ([`RingBack`]).
+    pub(super) fn ring_back(
+        &self,
+        joint: &Joint,
+        k: usize,
+        x: DVec3,
+        turns: &mut JointTurns,
+        pose: &[DVec3],
+    ) -> DVec3 {
+        let Some(back) = &joint.ring_back else {
+            return x;
+        };
+        let turn = turns.of(self, back.joint, pose);
+        match self.joints.get(back.joint) {
+            Some(parent_joint) if !turn.still() => {
+                back.apply(k, x, parent_joint.frame.pivot, &turn)
+            }
+            _ => x,
+        }
     }
 }
 
@@ -333,15 +383,6 @@ impl JointTurn {
     /// In the parent's frame about the pivot, `share` of the child's swing.
     fn on(&self, share: f64) -> DQuat {
         DQuat::IDENTITY.slerp(self.swing, share)
-    }
-}
-
-/// Each joint's reach into its control's segment (the segment it is the near joint of).
-pub(super) fn set_reaches(joints: &mut [Joint], segments: &[Segment]) {
-    for segment in segments {
-        if let Some(joint) = segment.near.and_then(|j| joints.get_mut(j)) {
-            joint.reach = segment.near_reach;
-        }
     }
 }
 
