@@ -10,6 +10,16 @@ use crate::hierarchy::affine_fit;
 /// towards an even widening (a twist has no outer side).
 const FULL_SWING: f64 = 20.0 * std::f64::consts::PI / 180.0;
 
+/// How far (in the control's sizes) its farthest corner must stand from where the parent's
+/// motion would put it for a joint to count as bent: below it the joint is at rest, its ring
+/// left as the mitre put it. Controls posed through single-precision matrices (Blender's
+/// empties, a glTF node) come out turned relative to their parents by rounding, about 1e-7
+/// of their size; solved as bent, such a joint takes its region's volume back from what a
+/// bent neighbour changed in the rows they share, and widened the horse's straight front
+/// ankle into a lump beside its bent knee (docs/math.md, "Volume-keeping joints"). 1e-4 is a
+/// turn of 0.006°.
+const AT_REST: f64 = 1e-4;
+
 /// A joint's bend in a pose: the mitre plane's normal and the outer side of the bend.
 pub(super) struct Bend {
     /// The bisector of the two sides' axes (the ring's normal).
@@ -23,7 +33,7 @@ pub(super) struct Bend {
 impl Bend {
     /// The bend in `pose` of a control (its cage vertices and their rest positions) relative
     /// to its parent's, `axis` the limb's direction at rest; None where the control has not
-    /// moved relative to its parent (or either is flat).
+    /// moved relative to its parent beyond [`AT_REST`] (or either is flat).
     pub(super) fn of(
         (control, control_rest): (&[u32], &[DVec3]),
         (parent, parent_rest): (&[u32], &[DVec3]),
@@ -44,7 +54,7 @@ impl Bend {
             .iter()
             .map(|&p| (control.transform_point3(p) - parent.transform_point3(p)).length())
             .fold(0.0, f64::max);
-        if apart <= 1e-9 * size.max(f64::MIN_POSITIVE) {
+        if apart <= AT_REST * size.max(f64::MIN_POSITIVE) {
             return None;
         }
         let along_control = control.transform_vector3(axis).try_normalize()?;
