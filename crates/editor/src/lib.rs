@@ -14,7 +14,7 @@ pub mod ui;
 
 pub use app::EditorApp;
 pub use commands::{Command, UiCommand};
-pub use state::{CageId, Document, EditorState};
+pub use state::{CageId, Document, EditorState, Pending};
 
 /// Builds the app inside eframe: installs the viewport's GPU resources when wgpu is there.
 pub fn create(cc: &eframe::CreationContext<'_>, doc: Document) -> EditorApp {

@@ -11,27 +11,19 @@ use crate::state::{CageId, EditorError, EditorState, Pending};
 /// Carries out a command of this domain (others are not its to apply, and do nothing here).
 pub fn apply_files(state: &mut EditorState, command: Command) {
     match command {
+        // Read on a worker first: unsaved work is asked about once the file has opened
+        // (`Pending::Install`), never for a file that then fails.
         Command::Open(path) => {
             if let Err(e) = crate::state::document::check_openable(&path, true) {
                 state.error(e);
-            } else if state.doc.dirty {
-                state.pending = Some(Pending::Open(path));
             } else {
                 state.start_load(path);
             }
         }
-        Command::OpenDemo(name) => {
-            if state.doc.dirty {
-                state.pending = Some(Pending::OpenDemo(name));
-            } else {
-                state.start_load_demo(name);
-            }
-        }
+        Command::OpenDemo(name) => state.start_load_demo(name),
         Command::NewFromMesh(path, options) => {
             if let Err(e) = crate::state::document::check_openable(&path, false) {
                 state.error(e);
-            } else if state.doc.dirty {
-                state.pending = Some(Pending::NewFromMesh(path, options));
             } else {
                 new_from_mesh(state, &path, &options);
             }
@@ -95,6 +87,8 @@ pub fn apply_files(state: &mut EditorState, command: Command) {
         Command::AnswerUnsaved(answer) => answer_unsaved(state, answer),
         Command::RequestClose => {
             if state.doc.dirty {
+                // A file read meanwhile and waiting to open is dropped: the window closes.
+                state.finish_pending_install(false);
                 state.pending = Some(Pending::Close);
             } else {
                 state.close_confirmed = true;
@@ -188,23 +182,20 @@ fn answer_unsaved(state: &mut EditorState, answer: UnsavedAnswer) {
     let Some(pending) = state.pending.take() else {
         return;
     };
-    match answer {
-        UnsavedAnswer::Cancel => return,
-        UnsavedAnswer::Discard => {}
-        UnsavedAnswer::Save(path) => {
-            let Some(path) = path.or_else(|| state.doc.path.clone()) else {
+    let go_on = match answer {
+        UnsavedAnswer::Cancel => false,
+        UnsavedAnswer::Discard => true,
+        UnsavedAnswer::Save(path) => match path.or_else(|| state.doc.path.clone()) {
+            // Not saved: keep the work.
+            Some(path) => save_as(state, &path),
+            None => {
                 state.error(EditorError::NoFile);
-                return;
-            };
-            if !save_as(state, &path) {
-                return; // not saved: keep the work
+                false
             }
-        }
-    }
+        },
+    };
     match pending {
-        Pending::Open(path) => state.start_load(path),
-        Pending::OpenDemo(name) => state.start_load_demo(name),
-        Pending::NewFromMesh(path, options) => new_from_mesh(state, &path, &options),
-        Pending::Close => state.close_confirmed = true,
+        Pending::Install => state.finish_pending_install(go_on),
+        Pending::Close => state.close_confirmed = go_on,
     }
 }

@@ -135,6 +135,17 @@ impl Document {
         )
     }
 
+    /// What it was read from, for a message: the scene file, else the mesh file (a new scene
+    /// around a mesh), else "untitled" (a demo).
+    pub fn source_name(&self) -> String {
+        match (&self.path, &self.scene.mesh_source) {
+            (None, starcages_core::scene::MeshSource::File(mesh)) => mesh
+                .file_name()
+                .map_or_else(|| self.name(), |n| n.to_string_lossy().into_owned()),
+            _ => self.name(),
+        }
+    }
+
     /// The window title: file name and an unsaved-changes marker.
     pub fn title(&self) -> String {
         format!(

@@ -6,7 +6,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::jobs::{self, Job, Scope};
-use super::{EditorError, EditorState, LiveRig, NewMeshOptions, NewRig, Selection};
+use super::{
+    Document, EditorError, EditorState, LiveRig, NewMeshOptions, NewRig, Pending, Selection,
+};
 
 impl EditorState {
     /// Starts binding the current scene on a worker, as much as changed since the binding in
@@ -128,26 +130,51 @@ impl EditorState {
         };
         self.load_job = None;
         match result.and_then(|r| r) {
-            Ok(doc) => {
-                let path = doc.path.clone();
-                // Taken first: installing the document starts a fresh state.
-                let autorig = self.pending_autorig.take();
-                self.install_document(doc);
-                if let Some(path) = path {
-                    self.remember(&path);
-                    self.info(format!("opened {}", path.display()));
-                }
-                if let Some(settings) = autorig {
-                    // The grid is not bound meanwhile: the auto rig gets every core, and its
-                    // rig is bound when it arrives (the grid is, should it not).
-                    self.bind_job = None;
-                    self.start_autorig(settings);
-                }
+            // Unsaved work (kept or made while the file was read) is asked about now that the
+            // file has opened: a broken one is refused without a question.
+            Ok(doc) if self.doc.dirty => {
+                self.info(format!(
+                    "{} is read; {} has unsaved changes",
+                    doc.source_name(),
+                    self.doc.name()
+                ));
+                self.loaded = Some(Box::new(doc));
+                self.pending = Some(Pending::Install);
             }
+            Ok(doc) => self.install_loaded(doc),
             Err(e) => {
                 self.pending_autorig = None;
                 self.error(e);
             }
+        }
+    }
+
+    /// Puts a document a worker has read in place of the current one, and starts the auto
+    /// rig New from mesh asked for.
+    fn install_loaded(&mut self, doc: Document) {
+        let path = doc.path.clone();
+        // Taken first: installing the document starts a fresh state.
+        let autorig = self.pending_autorig.take();
+        self.install_document(doc);
+        if let Some(path) = path {
+            self.remember(&path);
+            self.info(format!("opened {}", path.display()));
+        }
+        if let Some(settings) = autorig {
+            // The grid is not bound meanwhile: the auto rig gets every core, and its rig is
+            // bound when it arrives (the grid is, should it not).
+            self.bind_job = None;
+            self.start_autorig(settings);
+        }
+    }
+
+    /// The answer to the unsaved-changes question about a document read meanwhile: install
+    /// it, or (`install` false: cancelled, or the save failed) drop it and keep the work.
+    pub fn finish_pending_install(&mut self, install: bool) {
+        let loaded = self.loaded.take();
+        match loaded {
+            Some(doc) if install => self.install_loaded(*doc),
+            _ => self.pending_autorig = None,
         }
     }
 

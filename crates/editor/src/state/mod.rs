@@ -91,14 +91,12 @@ pub struct Stats {
 /// An action waiting for the user's answer about unsaved changes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Pending {
-    /// Open this file.
-    Open(PathBuf),
-    /// Open this generated demo.
-    OpenDemo(String),
+    /// Put in place the document a worker has read ([`EditorState::loaded`]: a scene, a mesh
+    /// in its first cages, a demo). Asked only once it is read, so that no one confirms losing
+    /// work for a file that then fails to open.
+    Install,
     /// Close the window.
     Close,
-    /// Create a new scene around a mesh.
-    NewFromMesh(PathBuf, NewMeshOptions),
 }
 
 /// Change counters: what the viewport must upload again and which results are stale.
@@ -195,6 +193,9 @@ pub struct EditorState {
     pub generations: Generations,
     /// An action awaiting the unsaved-changes answer.
     pub pending: Option<Pending>,
+    /// A document read while the current one had unsaved changes, waiting for the answer
+    /// ([`Pending::Install`]).
+    pub loaded: Option<Box<Document>>,
     /// Recently opened or saved scenes, newest first.
     pub recent: Vec<PathBuf>,
     /// Where the recent list is kept (none in tests).
@@ -276,6 +277,7 @@ impl EditorState {
             stats: Stats::default(),
             generations: Generations::default(),
             pending: None,
+            loaded: None,
             recent: Vec::new(),
             recent_file: None,
             close_confirmed: false,

@@ -29,6 +29,12 @@ pub fn unsaved_prompt(
             "{} has changes that are not saved.",
             state.doc.name()
         ));
+        if let Some(loaded) = &state.loaded {
+            ui.label(format!(
+                "{} is read and opens in its place.",
+                loaded.source_name()
+            ));
+        }
         ui.horizontal(|ui| {
             if ui.button("Save").clicked() {
                 if state.doc.path.is_some() {

@@ -33,10 +33,11 @@ fn new_from_mesh_stands_a_y_up_obj_up() {
             rig: starcages_editor::state::NewRig::Grid,
             ..NewMeshOptions::default()
         };
-        app.run(Command::NewFromMesh(mesh.clone(), options));
-        app.run(Command::AnswerUnsaved(
+        crate::common::open_and_answer(
+            &mut app,
+            Command::NewFromMesh(mesh.clone(), options),
             starcages_editor::commands::UnsavedAnswer::Discard,
-        ));
+        );
         app.wait_for_jobs();
         let scene = &app.state.doc.scene;
         assert_eq!(scene.mesh_up, up);
@@ -63,14 +64,11 @@ fn open_mesh_with_until_read(
     mesh: &std::path::Path,
     options: starcages_editor::state::NewMeshOptions,
 ) {
-    app.run(Command::NewFromMesh(mesh.to_path_buf(), options));
-    app.run(Command::AnswerUnsaved(
+    crate::common::open_and_answer(
+        app,
+        Command::NewFromMesh(mesh.to_path_buf(), options),
         starcages_editor::commands::UnsavedAnswer::Discard,
-    ));
-    while app.state.load_job.is_some() {
-        app.state.poll_jobs(false);
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    );
 }
 
 /// An editor on `scene` (not saved anywhere), its first bind done.

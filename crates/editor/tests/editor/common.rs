@@ -4,6 +4,7 @@ use std::sync::{Arc, Mutex};
 
 use egui_kittest::Harness;
 use starcages_core::generate::demo::demo_scene;
+use starcages_editor::commands::UnsavedAnswer;
 use starcages_editor::{CageId, Command, Document, EditorApp};
 
 /// The critter demo at a reduced detail.
@@ -122,4 +123,18 @@ pub fn press_with(
 ) {
     harness.key_press_modifiers(modifiers, key);
     harness.run_steps(2);
+}
+
+/// Runs `command` (an open, a new from mesh, a demo) and waits until the file is read
+/// (binds may go on), then answers the unsaved-changes question if it is asked: the editor
+/// asks only once the file has opened.
+pub fn open_and_answer(app: &mut EditorApp, command: Command, answer: UnsavedAnswer) {
+    app.run(command);
+    while app.state.load_job.is_some() {
+        app.state.poll_jobs(false);
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    if app.state.pending.is_some() {
+        app.run(Command::AnswerUnsaved(answer));
+    }
 }

@@ -66,35 +66,86 @@ fn save_and_reopen_gives_the_same_scene_and_a_broken_file_leaves_the_app_usable(
     assert!(!harness.state().state.selection.vertices.is_empty());
 }
 
+/// Opening over unsaved work reads the file first and asks once it has opened: Cancel keeps
+/// the work and drops what was read, Don't save puts it in place.
 #[test]
-fn opening_over_unsaved_work_asks_first() {
+fn opening_over_unsaved_work_asks_once_the_file_is_read() {
     let mut harness = harness();
     let dir = scratch("prompt");
     let path = dir.join("saved.json");
     harness.state_mut().run(Command::SaveAs(path.clone()));
-    {
+    let edited = {
         let app = harness.state_mut();
         let to = app.state.doc.scene.pose[0] + DVec3::Z * 0.2;
         app.run(Command::MoveVertices(vec![(0, to)]));
         assert!(app.state.doc.dirty);
-        app.run(Command::Open(path.clone()));
+        app.state.doc.scene.clone()
+    };
+    send_and_settle(&mut harness, Command::Open(path.clone()));
+    {
+        let state = &harness.state().state;
+        assert_eq!(state.pending, Some(starcages_editor::Pending::Install));
+        assert!(state.loaded.is_some(), "read before the question");
         assert!(
-            app.state.load_job.is_none(),
-            "nothing opens before the answer"
+            state.doc.dirty && state.doc.scene == edited,
+            "the work stays until the answer"
         );
     }
-    harness.run_steps(2);
+    harness.get_by_label_contains("saved.json is read and opens in its place");
     harness.get_by_label("Cancel").click();
     harness.run_steps(2);
-    assert!(harness.state().state.pending.is_none() && harness.state().state.doc.dirty);
-    harness.state_mut().run(Command::Open(path.clone()));
-    harness.run_steps(2);
+    {
+        let state = &harness.state().state;
+        assert!(state.pending.is_none() && state.loaded.is_none());
+        assert!(state.doc.dirty && state.doc.scene == edited);
+    }
+    send_and_settle(&mut harness, Command::Open(path.clone()));
     harness.get_by_label("Don't save").click();
     harness.run_steps(2);
     settle(&mut harness);
     let state = &harness.state().state;
     assert!(!state.doc.dirty);
     assert_eq!(state.doc.path.as_deref(), Some(path.as_path()));
+    assert_ne!(state.doc.scene, edited);
+}
+
+/// A scene file that fails to read (here truncated) over unsaved work is refused with its
+/// reason and no question: the artist is not asked to give up work for a file that does not
+/// open. Before, the prompt came first and the failure after the answer.
+#[test]
+fn a_broken_scene_over_unsaved_work_is_refused_without_asking() {
+    let mut harness = harness();
+    let dir = scratch("broken-over-work");
+    let broken = dir.join("broken.json");
+    std::fs::write(
+        &broken,
+        "{ \"format\": \"starcages-scene\", \"version\": 1, ",
+    )
+    .unwrap();
+    let edited = {
+        let app = harness.state_mut();
+        let to = app.state.doc.scene.pose[0] + DVec3::Z * 0.2;
+        app.run(Command::MoveVertices(vec![(0, to)]));
+        app.state.doc.scene.clone()
+    };
+    send_and_settle(&mut harness, Command::Open(broken));
+    let state = &harness.state().state;
+    assert!(
+        state.pending.is_none(),
+        "no unsaved prompt for a broken file"
+    );
+    assert!(state.loaded.is_none());
+    let message = state.message.clone().unwrap();
+    assert!(
+        message.error && message.text.contains("broken.json") && message.text.contains("EOF"),
+        "{}",
+        message.text
+    );
+    assert!(
+        state.doc.dirty && state.doc.scene == edited,
+        "the work is kept"
+    );
+    assert!(harness.query_by_label("Don't save").is_none());
 }
 
 /// A dropped or opened file that cannot be opened (a type no reader knows, a file that is
@@ -280,7 +331,7 @@ fn saving_from_the_unsaved_prompt_goes_through_the_file_dialog() {
     let moved = app.state.doc.scene.pose[v as usize] + DVec3::Z * 0.1;
     app.run(Command::MoveVertices(vec![(v, moved)]));
     app.run(Command::Open(other.clone()));
-    harness.run_steps(2);
+    settle(&mut harness);
     harness.get_by_label("Unsaved changes");
     harness.get_by_role_and_label(Role::Button, "Save").click();
     harness.run_steps(2);

@@ -265,8 +265,11 @@ fn run_sequence(steps: &[Step]) -> Result<(), TestCaseError> {
             Step::OpenOther { which } => {
                 let (_, paths) = others.get_or_insert_with(other_scenes);
                 let path = paths[*which].clone();
-                app.run(Command::Open(path));
-                app.run(Command::AnswerUnsaved(UnsavedAnswer::Discard));
+                crate::common::open_and_answer(
+                    &mut app,
+                    Command::Open(path),
+                    UnsavedAnswer::Discard,
+                );
                 app.wait_for_jobs();
                 opened = Snapshot::of(&app.state.doc.scene);
                 prop_assert!(app.state.undo.undo_label().is_none());

@@ -10,7 +10,9 @@ use starcages_editor::ui::viewport_paint::uploaded_mesh;
 use starcages_editor::{CageId, Command};
 use starcages_io::save_scene;
 
-use crate::common::{harness, harness_on, press, scratch, send_and_settle, settle};
+use crate::common::{
+    harness, harness_on, open_and_answer, press, scratch, send_and_settle, settle,
+};
 
 #[test]
 fn opening_a_second_scene_draws_its_own_mesh() {
@@ -22,11 +24,12 @@ fn opening_a_second_scene_draws_its_own_mesh() {
     let (mut harness, render_state) = harness_on(crate::common::document());
     let drawn = || uploaded_mesh(&render_state.renderer.read().callback_resources);
     for path in [&egg, &critter, &egg] {
-        harness.state_mut().run(Command::Open(path.clone()));
-        send_and_settle(
-            &mut harness,
-            Command::AnswerUnsaved(starcages_editor::commands::UnsavedAnswer::Discard),
+        open_and_answer(
+            harness.state_mut(),
+            Command::Open(path.clone()),
+            starcages_editor::commands::UnsavedAnswer::Discard,
         );
+        settle(&mut harness);
         harness.run_steps(2);
         // kittest paints (and so runs the paint callback) when asked for an image.
         harness.render().unwrap();
@@ -170,12 +173,13 @@ fn replacing_the_document_cancels_its_running_bind() {
     let dir = scratch("cancel-on-replace");
     let path = dir.join("bar.json");
     save_scene(&demo_scene("bar", 0.3).unwrap(), &path).unwrap();
-    harness.state_mut().run(Command::Open(path));
-    send_and_settle(
-        &mut harness,
-        Command::AnswerUnsaved(starcages_editor::commands::UnsavedAnswer::Discard),
+    open_and_answer(
+        harness.state_mut(),
+        Command::Open(path),
+        starcages_editor::commands::UnsavedAnswer::Discard,
     );
     assert!(control.is_cancelled(), "the old document's bind still runs");
+    settle(&mut harness);
     assert_eq!(harness.state().state.doc.scene.cages.leaves.len(), 2);
 }
 
