@@ -20,6 +20,17 @@ const FULL_SWING: f64 = 20.0 * std::f64::consts::PI / 180.0;
 /// turn of 0.006°.
 const AT_REST: f64 = 1e-4;
 
+/// How far (in the control's sizes, as [`AT_REST`]) its farthest corner must stand from where
+/// the parent's motion would put it for the joint's ring to be scaled by the whole amount its
+/// region's volume asks: from [`AT_REST`] up to here the amount is eased in (smoothstep), so
+/// that the settle is continuous in the pose. A joint's own bend changes its region's volume
+/// by next to nothing at a small turn; the whole amount there would take back what a bent
+/// neighbour changed in the rows they share, and an ankle turned from 0° to 0.01° beside a
+/// bent knee jumped from its mitre to a full widening (an animation pops at that frame;
+/// docs/math.md, "Volume-keeping joints"). 0.1 is a turn of about 6° for a segment about as
+/// long as it is wide.
+const FULLY_BENT: f64 = 0.1;
+
 /// A joint's bend in a pose: the mitre plane's normal and the outer side of the bend.
 pub(super) struct Bend {
     /// The bisector of the two sides' axes (the ring's normal).
@@ -28,6 +39,9 @@ pub(super) struct Bend {
     outer: DVec3,
     /// 0 for a pure twist, 1 from [`FULL_SWING`]: how much of a widening is one-sided.
     one_sided: f64,
+    /// The share of the solved scale the ring takes: 0 at [`AT_REST`], 1 from
+    /// [`FULLY_BENT`].
+    pub(super) weight: f64,
 }
 
 impl Bend {
@@ -54,9 +68,11 @@ impl Bend {
             .iter()
             .map(|&p| (control.transform_point3(p) - parent.transform_point3(p)).length())
             .fold(0.0, f64::max);
-        if apart <= AT_REST * size.max(f64::MIN_POSITIVE) {
+        let size = size.max(f64::MIN_POSITIVE);
+        if apart <= AT_REST * size {
             return None;
         }
+        let eased = ((apart / size - AT_REST) / (FULLY_BENT - AT_REST)).clamp(0.0, 1.0);
         let along_control = control.transform_vector3(axis).try_normalize()?;
         let along_parent = parent.transform_vector3(axis).try_normalize()?;
         let normal = (along_control + along_parent).try_normalize()?;
@@ -68,6 +84,7 @@ impl Bend {
             normal,
             outer,
             one_sided: t * t * (3.0 - 2.0 * t),
+            weight: eased * eased * (3.0 - 2.0 * eased),
         })
     }
 

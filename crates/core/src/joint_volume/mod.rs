@@ -23,7 +23,9 @@
 //!
 //! The mesh is linear in the ring for mean value and harmonic cages, so the volume is a cubic
 //! in `s`; the secant method takes three to five evaluations of the region's rows. A joint at
-//! rest relative to its parent is left as the mitre put it, so the rest pose stays exact.
+//! rest relative to its parent is left as the mitre put it, so the rest pose stays exact; one
+//! barely bent (a turn of a few degrees) takes a share of its scale that grows smoothly with
+//! the turn, so that the settle is continuous in the pose.
 
 mod bend;
 mod region;
@@ -355,6 +357,9 @@ impl JointVolumes {
                         scale = within;
                     }
                 }
+                // A joint barely bent takes a share of it: the settle stays continuous where
+                // the joint starts to count as bent (`Bend::weight`).
+                scale *= bend.weight;
                 // Leave the ring at the solution (it is where the last evaluation left it, or
                 // as it was when nothing needed doing).
                 if scale != last {

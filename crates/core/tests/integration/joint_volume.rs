@@ -193,6 +193,60 @@ fn a_joint_turned_by_rounding_alone_is_left_at_rest_beside_a_bent_one() {
     );
 }
 
+#[test]
+fn the_settle_is_continuous_where_a_neighbour_starts_to_turn() {
+    // A joint beside a bent one, turned from 0 by a little: what the settle adds to the mitre
+    // must grow from nothing, not jump to the neighbour's full share (an animation whose ankle
+    // leaves 0° beside a bent knee popped at that frame: the horse's front ankle's most
+    // stretched edge went from 1.38 to 1.67 times its length between 0.001° and 0.01°).
+    // Measured: how far the settle moves the mesh beyond the mitre, against the same with the
+    // neighbour straight.
+    let rig = rig();
+    let (low, high) = rig.scene.mesh.bounds();
+    let diagonal = (high - low).length();
+    let settle_effect = |edits: &[&str]| -> Vec<DVec3> {
+        let settled = pose(&rig.scene, &rig.binding, edits).mesh;
+        let mitred = pose_mitred(&rig.scene, &rig.binding, edits).mesh;
+        settled.iter().zip(&mitred).map(|(s, m)| *s - *m).collect()
+    };
+    let apart = |a: &[DVec3], b: &[DVec3]| {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| (*a - *b).length())
+            .fold(0.0, f64::max)
+            / diagonal
+    };
+    let mut at_full = 0.0f64;
+    for (bent, neighbour) in [
+        ("leg.L.2: rotate 1 0 0 90", "leg.L.3: rotate 1 0 0"),
+        ("leg.L.2: rotate 1 0 0 90", "leg.L.1: rotate 1 0 0"),
+        ("leg.L.3: rotate 1 0 0 60", "leg.L.2: rotate 1 0 0"),
+        ("arm.L.2: rotate 0 0 1 90", "arm.L.3: rotate 0 0 1"),
+    ] {
+        let straight = settle_effect(&[bent]);
+        let jumps: Vec<f64> = [0.01, 0.1, 30.0]
+            .iter()
+            .map(|degrees| {
+                let turned = format!("{neighbour} {degrees}");
+                apart(&settle_effect(&[bent, &turned]), &straight)
+            })
+            .collect();
+        let shown: Vec<String> = jumps.iter().map(|j| format!("{j:.2e}")).collect();
+        eprintln!("{bent}, then {neighbour} 0.01° / 0.1° / 30°: {shown:?} of the diagonal");
+        assert!(
+            jumps[0] <= 1e-5 && jumps[1] <= 1e-4,
+            "{bent}, then {neighbour} by 0.01° and 0.1°: the settle moved the mesh by \
+             {shown:?} of the diagonal beyond what it does with the neighbour straight"
+        );
+        at_full = at_full.max(jumps[2]);
+    }
+    // The negative control: a neighbour truly bent takes its share.
+    assert!(
+        at_full > 1e-3,
+        "a neighbour turned by 30° settles: {at_full:.2e}"
+    );
+}
+
 /// The joint ring of control `name`.
 fn ring_of<'a>(rig: &'a Rig, name: &str) -> &'a [u32] {
     let control = rig.scene.cages.internals.iter().find(|c| c.name == name);
