@@ -485,6 +485,7 @@ impl Hierarchy {
             };
             let parent_inverse = parent_motion.inverse();
             let mitre = joint.frame.mitre(&(parent_inverse * control_motion));
+            let ring_back = self.ring_back_in_pose(joint, turns, pose);
             for (k, &(v, slot)) in joint.ring.iter().enumerate() {
                 let v = v as usize;
                 if by_hand[v] || self.hand_moved[v] {
@@ -495,7 +496,9 @@ impl Hierarchy {
                 let q =
                     parent_inverse.transform_point3(parent.follow[slot].position(&parent_shape));
                 let mitred = mitre.transform_point3(q);
-                let mitred = self.ring_back(joint, k, mitred, turns, pose);
+                let mitred = ring_back
+                    .as_ref()
+                    .map_or(mitred, |back| back.apply(k, mitred));
                 let p = parent_motion.transform_point3(mitred);
                 if p.is_finite() && p != pose[v] {
                     pose[v] = p;

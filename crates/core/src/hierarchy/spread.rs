@@ -318,27 +318,35 @@ impl JointTurns {
     }
 }
 
+/// A joint's [`RingBack`] in one pose: the parent control's own joint's pivot and turn,
+/// looked up once per ring.
+pub(super) struct RingBackInPose<'a> {
+    back: &'a RingBack,
+    pivot: DVec3,
+    turn: JointTurn,
+}
+
+impl RingBackInPose<'_> {
+    /// `x`, ring vertex `k` in the parent control's rest frame, taken back by its share of
+    /// the parent's joint's swing.
+    pub(super) fn apply(&self, k: usize, x: DVec3) -> DVec3 {
+        self.back.apply(k, x, self.pivot, &self.turn)
+    }
+}
+
 impl Hierarchy {
-    /// `x`, ring vertex `k` of `joint` in its parent's rest frame, taken back by its share of
-    /// the parent control's own joint's swing ([`RingBack`]).
-    pub(super) fn ring_back(
+    /// What `joint`'s ring takes back of its parent control's own joint's swing in `pose`
+    /// ([`RingBack`]); None where the ring takes nothing or that joint is still.
+    pub(super) fn ring_back_in_pose<'a>(
         &self,
-        joint: &Joint,
-        k: usize,
-        x: DVec3,
+        joint: &'a Joint,
         turns: &mut JointTurns,
         pose: &[DVec3],
-    ) -> DVec3 {
-        let Some(back) = &joint.ring_back else {
-            return x;
-        };
+    ) -> Option<RingBackInPose<'a>> {
+        let back = joint.ring_back.as_ref()?;
         let turn = turns.of(self, back.joint, pose);
-        match self.joints.get(back.joint) {
-            Some(parent_joint) if !turn.still() => {
-                back.apply(k, x, parent_joint.frame.pivot, &turn)
-            }
-            _ => x,
-        }
+        let pivot = self.joints.get(back.joint)?.frame.pivot;
+        (!turn.still()).then_some(RingBackInPose { back, pivot, turn })
     }
 }
 
