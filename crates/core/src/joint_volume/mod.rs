@@ -301,11 +301,16 @@ impl JointVolumes {
                 // The most a region edge is stretched beyond the mitre, at the last scale
                 // evaluated and at 0.
                 let (stretch, stretch_at_mitre) = (Cell::new(1.0f32), Cell::new(1.0f32));
-                let mut volume_at = |s: f64, pose: &mut [DVec3]| -> f64 {
+                // The ring at scale `s` in the pose and the DOFs; with `measure`, the region's
+                // volume change there (else 0: the ring only placed, its rows not evaluated).
+                let mut ring_at = |s: f64, pose: &mut [DVec3], measure: bool| -> f64 {
                     for (&v, p) in joint.ring.iter().zip(bend.bulged(base, s)) {
                         pose[v as usize] = p;
                     }
                     operator.update_dofs(&self.rest, pose, &joint.ring, x);
+                    if !measure {
+                        return 0.0;
+                    }
                     operator.apply_rows(&joint.rows, x, &mut mesh);
                     if s == 0.0 && lengths.is_empty() {
                         *lengths = edge_lengths(&mesh, &joint.edges);
@@ -331,7 +336,7 @@ impl JointVolumes {
                     (0, None) => 0.0,
                     _ => scales[k],
                 };
-                let solved = solve(|s| volume_at(s, pose), joint.rest_volume, start);
+                let solved = solve(|s| ring_at(s, pose, true), joint.rest_volume, start);
                 let (mut scale, mut last) = (solved.scale, solved.last);
 
                 // A widening stops where it would stretch an edge around the joint past
@@ -339,7 +344,7 @@ impl JointVolumes {
                 // neighbours' rings already stretched it; the volume then stays short.
                 if scale > 0.0 {
                     if last != scale {
-                        volume_at(scale, pose);
+                        ring_at(scale, pose, true);
                         last = scale;
                     }
                     let allowed = self.max_widening_stretch * stretch_at_mitre.get();
@@ -347,7 +352,7 @@ impl JointVolumes {
                         let (mut within, mut beyond) = (0.0, scale);
                         for _ in 0..WIDENING_HALVINGS {
                             last = 0.5 * (within + beyond);
-                            volume_at(last, pose);
+                            ring_at(last, pose, true);
                             if stretch.get() > allowed {
                                 beyond = last;
                             } else {
@@ -361,9 +366,10 @@ impl JointVolumes {
                 // the joint starts to count as bent (`Bend::weight`).
                 scale *= bend.weight;
                 // Leave the ring at the solution (it is where the last evaluation left it, or
-                // as it was when nothing needed doing).
+                // as it was when nothing needed doing). Its rows are not needed there: the
+                // next joint evaluates its own from the DOFs.
                 if scale != last {
-                    volume_at(scale, pose);
+                    ring_at(scale, pose, false);
                 }
                 any |= (scale - scales[k]).abs() > SCALE_SETTLED;
                 scales[k] = scale;
