@@ -66,9 +66,25 @@ pub(super) fn sided_other_limbs(rig: &Autorig) -> usize {
 }
 
 /// Legs reaching less than this share of the figure's height ([`leg_reach`]) are
-/// feet the grid parted under legs it joined: a person's legs reach about half of it, a
-/// quadruped's a third or more.
+/// feet the grid parted under legs it joined: a quadruped's legs reach a third of it or more
+/// (spot's, the shortest of the shared meshes', 0.3–0.35).
 pub(super) const SHORT_LEG_REACH: f64 = 0.3;
+
+/// [`SHORT_LEG_REACH`] for a figure on two legs (`leg.L` and `leg.R`, no front or back
+/// pair): a person's legs reach about half of the height, so legs reaching a third of it
+/// are shins under thighs the grid joined (TOSCA's Michael, his thighs pressed together
+/// down to the knees: his legs' cages reached 0.33 and his hips turned at his knees, 23 %
+/// up). The beast's legs at detail 1, its thickest, reach 0.41.
+pub(super) const SHORT_BIPED_LEG_REACH: f64 = 0.4;
+
+/// Whether `rig` stands on two legs: it has sided legs and all of them are `leg.L` or
+/// `leg.R` (a quadruped's are `leg.front.L` …).
+pub(super) fn on_two_legs(rig: &Autorig) -> bool {
+    let mut sided = leg_limbs(rig)
+        .filter(|limb| limb.ends_with(".L") || limb.ends_with(".R"))
+        .peekable();
+    sided.peek().is_some() && sided.all(|limb| limb == "leg.L" || limb == "leg.R")
+}
 
 /// How much higher a retry's legs must reach to be kept over the detail's rig with as many
 /// sided legs.

@@ -65,8 +65,8 @@ use crate::coords::{BindControl, CoordinateKind};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{
-    BETTER_LEG_REACH, CELL_IN_GAP, SHORT_LEG_REACH, gap_between_legs, leg_reach, sided_legs,
-    sided_other_limbs, stands_on_separate_feet, unsided_legs,
+    BETTER_LEG_REACH, CELL_IN_GAP, SHORT_BIPED_LEG_REACH, SHORT_LEG_REACH, gap_between_legs,
+    leg_reach, on_two_legs, sided_legs, sided_other_limbs, stands_on_separate_feet, unsided_legs,
 };
 use decimate::{Held, SurfaceByPart, Sweep};
 use name_defects::{name_defects, names_better};
@@ -423,8 +423,14 @@ fn rig_with_legs_apart(
                 || (keeps_limbs_reaching_higher && retry.unsided_legs < rig.unsided_legs)
         }
     };
-    let wants_retry =
-        |rig: &LegCounts| rig.sided_legs < 2 || rig.unsided_legs > 0 || rig.reach < SHORT_LEG_REACH;
+    let wants_retry = |rig: &LegCounts| {
+        let short = if rig.on_two_legs {
+            SHORT_BIPED_LEG_REACH
+        } else {
+            SHORT_LEG_REACH
+        };
+        rig.sided_legs < 2 || rig.unsided_legs > 0 || rig.reach < short
+    };
     let mut counts = LegCounts::of(&rig);
     if wants_retry(&counts) && facts.on_separate_feet {
         if settings.mirror == Mirror::None && symmetric_across_a_horizontal_plane(&facts.symmetry) {
@@ -468,6 +474,8 @@ struct LegCounts {
     sided_other_limbs: usize,
     /// [`leg_reach`]: the top of its legs as a share of the figure's height.
     reach: f64,
+    /// [`on_two_legs`]: its legs are `leg.L` and `leg.R`.
+    on_two_legs: bool,
 }
 
 impl LegCounts {
@@ -477,6 +485,7 @@ impl LegCounts {
             unsided_legs: unsided_legs(rig),
             sided_other_limbs: sided_other_limbs(rig),
             reach: leg_reach(rig),
+            on_two_legs: on_two_legs(rig),
         }
     }
 }
