@@ -1014,14 +1014,19 @@ fn thighs_pressed_together_over_thin_ankles_are_legs_up_to_the_hip() {
     // The grid joined the thighs; below them the shins parted, so the feet alone were
     // `leg.L` and `leg.R` (a tenth of the height), the legs above them body slabs, and the
     // retry that parts legs closer than a cell was not tried: two sided legs were found.
-    let controls = controls_of(&woman_with_thighs_together());
+    assert_legs_up_to_the_hip(&woman_with_thighs_together());
+}
+
+/// Legs, arms and a head with their controls, the hips turning at the crotch (the figures
+/// stand with their crotch at 0 and their feet at -1.9), `.L` on +X.
+fn assert_legs_up_to_the_hip(figure: &Mesh) {
+    let controls = controls_of(figure);
     let names: Vec<&String> = controls.keys().collect();
     for control in [
         "leg.L.1", "leg.L.2", "leg.R.1", "leg.R.2", "arm.L.1", "arm.R.1", "head.1",
     ] {
         assert!(controls.contains_key(control), "no {control} in {names:?}");
     }
-    // The hips turn at the crotch, far above the ankles.
     for hip in ["leg.L.1", "leg.R.1"] {
         let pivot = controls[hip].1;
         assert!(pivot.z > -0.5 && pivot.z < 0.3, "{hip}'s pivot {pivot}");
@@ -1052,18 +1057,7 @@ fn thighs_pressed_together_down_to_knees_a_third_up_are_legs_up_to_the_hip() {
     // height up: over the share below which legs are feet under joined legs for a quadruped,
     // so the retry that parts legs closer than a cell was not tried, and the hips turned at
     // the knees.
-    let controls = controls_of(&man_with_knees_a_third_up());
-    let names: Vec<&String> = controls.keys().collect();
-    for control in [
-        "leg.L.1", "leg.L.2", "leg.R.1", "leg.R.2", "arm.L.1", "arm.R.1", "head.1",
-    ] {
-        assert!(controls.contains_key(control), "no {control} in {names:?}");
-    }
-    for hip in ["leg.L.1", "leg.R.1"] {
-        let pivot = controls[hip].1;
-        assert!(pivot.z > -0.5 && pivot.z < 0.3, "{hip}'s pivot {pivot}");
-    }
-    assert!(controls["leg.L.1"].1.x > 0.0 && controls["leg.R.1"].1.x < 0.0);
+    assert_legs_up_to_the_hip(&man_with_knees_a_third_up());
 }
 
 #[test]
