@@ -991,6 +991,13 @@ fn a_cat_s_head_on_a_thick_neck_is_a_head_carrying_its_ears() {
 /// 0.25), narrowing to thin shins and ankles (TOSCA's Victoria), arms straight out from the
 /// shoulders.
 fn woman_with_thighs_together() -> Mesh {
+    figure_with_thighs_together(-0.9, 0.17)
+}
+
+/// A figure facing −Y with arms out sideways, its thighs pressed together from the crotch
+/// (at 0) down to its knees at `knee_z`, its shins apart below them down to its ankles
+/// `ankle_x` either side of its middle, its feet at −1.88.
+fn figure_with_thighs_together(knee_z: f64, ankle_x: f64) -> Mesh {
     let mut parts = vec![
         (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.25),
         (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.5), 0.09),
@@ -998,11 +1005,15 @@ fn woman_with_thighs_together() -> Mesh {
     ];
     for side in [-1.0, 1.0] {
         parts.push((v(0.3 * side, 0.0, 1.12), v(1.5 * side, 0.0, 1.12), 0.08));
-        parts.push((v(0.23 * side, 0.0, 0.0), v(0.23 * side, 0.0, -0.9), 0.21));
-        parts.push((v(0.23 * side, 0.0, -0.9), v(0.17 * side, 0.0, -1.7), 0.11));
+        parts.push((v(0.23 * side, 0.0, 0.0), v(0.23 * side, 0.0, knee_z), 0.21));
         parts.push((
-            v(0.17 * side, 0.0, -1.7),
-            v(0.17 * side, -0.25, -1.88),
+            v(0.23 * side, 0.0, knee_z),
+            v(ankle_x * side, 0.0, -1.7),
+            0.11,
+        ));
+        parts.push((
+            v(ankle_x * side, 0.0, -1.7),
+            v(ankle_x * side, -0.25, -1.88),
             0.06,
         ));
     }
@@ -1037,18 +1048,7 @@ fn assert_legs_up_to_the_hip(figure: &Mesh) {
 /// A man facing −Y in a T-pose, 3.8 tall, his thighs pressed together down to his knees a
 /// third of his height up, his long shins apart below them (TOSCA's Michael).
 fn man_with_knees_a_third_up() -> Mesh {
-    let mut parts = vec![
-        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.25),
-        (v(0.0, 0.0, 1.3), v(0.0, 0.0, 1.5), 0.09),
-        (v(0.0, -0.03, 1.72), v(0.0, 0.0, 1.82), 0.19),
-    ];
-    for side in [-1.0, 1.0] {
-        parts.push((v(0.3 * side, 0.0, 1.12), v(1.5 * side, 0.0, 1.12), 0.08));
-        parts.push((v(0.23 * side, 0.0, 0.0), v(0.23 * side, 0.0, -0.6), 0.21));
-        parts.push((v(0.23 * side, 0.0, -0.6), v(0.2 * side, 0.0, -1.7), 0.11));
-        parts.push((v(0.2 * side, 0.0, -1.7), v(0.2 * side, -0.25, -1.88), 0.06));
-    }
-    capsules(&parts, 0.03)
+    figure_with_thighs_together(-0.6, 0.2)
 }
 
 #[test]
