@@ -118,6 +118,36 @@ pub fn scatter_about(points: impl IntoIterator<Item = DVec3>, centre: DVec3) -> 
     })
 }
 
+/// The eigenvector of the symmetric positive semi-definite `m` with the largest eigenvalue
+/// (by power iteration from its longest column), pointing to where its largest coordinate
+/// grows, and that eigenvalue; None where `m` is (nearly) zero.
+pub fn dominant_eigenvector(m: DMat3) -> Option<(DVec3, f64)> {
+    let columns = [m.x_axis, m.y_axis, m.z_axis];
+    let scale = columns.iter().map(|c| c.length()).fold(0.0, f64::max);
+    if !scale.is_finite() || scale <= 1e-12 {
+        return None;
+    }
+    let mut v = columns
+        .into_iter()
+        .max_by(|a, b| a.length().total_cmp(&b.length()))?
+        .normalize_or_zero();
+    for _ in 0..100 {
+        let next = (m * v).normalize_or_zero();
+        if next == DVec3::ZERO {
+            return None;
+        }
+        v = next;
+    }
+    let largest = (0..3)
+        .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
+        .unwrap_or(0);
+    if v[largest] < 0.0 {
+        v = -v;
+    }
+    let value = v.dot(m * v);
+    (value > 1e-12 * scale).then_some((v, value))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,10 +4,10 @@
 //! The mesh's own cross-sections say where a knee, an ankle, an elbow or a wrist is: a
 //! narrowing between two wider stretches (the thigh and the calf). Each joint moves to where
 //! the surface is narrowest within half a segment (at least a cell) of where equal lengths put
-//! it, when the surface is wider within a cell on both sides of it by [`NARROWING`]. Along a
-//! limb that runs along a grid axis the joints are grid layers, measured layer by layer; along
-//! any other they are distances from where the limb starts, measured along and across the
-//! direction its distances grow.
+//! it, the first joint back within half the first segment, when the surface is wider within a
+//! cell on both sides of it by [`NARROWING`]. Along a limb that runs along a grid axis the
+//! joints are grid layers, measured layer by layer; along any other they are distances from
+//! where the limb starts, measured in sections square to the limb's length.
 //! A pair of limbs (two legs, two arms) is measured as one, so both get the same joints.
 
 use std::collections::BTreeMap;
@@ -16,6 +16,7 @@ use glam::DVec3;
 
 use super::straight::{DistanceFit, Layers, STRAIGHT_SLACK};
 use super::voxels::Grid;
+use crate::geometry::{dominant_eigenvector, scatter_about};
 
 /// The mesh's vertices in each cell that holds one.
 pub(super) type SamplesByCell = BTreeMap<usize, Vec<DVec3>>;
@@ -116,7 +117,8 @@ impl Profile {
 
 /// The joints of a limb cut at `defaults` (cells along it from its start, increasing; the
 /// limb ends at `end`), each moved to the candidate every `steps.step` within `reach` cells of
-/// it where the profile is narrowest, when that is a narrowing (see the module). None where no
+/// it (the first back within half its default, the first segment) where the profile is
+/// narrowest, when that is a narrowing (see the module). None where no
 /// joint moves; a joint that does not move keeps its default exactly. Every segment keeps half
 /// its length by `defaults` or more, and `steps.shortest_segment`: a shorter one is a sliver
 /// the cut's later steps merge into a neighbour, taking its control.
@@ -148,8 +150,16 @@ pub(super) fn moved_to_narrowings(
         let default = defaults[k];
         let previous = if k == 0 { 0.0 } else { joints[k - 1] };
         let next = ends[k + 2];
+        // The first joint may move back up to half the first segment, two units long on a
+        // limb of three segments or more (`parts::segment_at`): TOSCA's Michael's arm starts
+        // at his deltoid, and his elbow lies 1.6 cells before that joint, a unit being 2.
+        let back = if k == 0 {
+            reach.max(0.5 * default)
+        } else {
+            reach
+        };
         // Candidates every `step` (layer boundaries lie at whole distances).
-        let lowest = ((default - reach) / step).ceil() * step;
+        let lowest = ((default - back) / step).ceil() * step;
         let lowest = lowest.max(previous + shortest[k]);
         let highest = ((default + reach) / step).floor() * step;
         let highest = highest.min(next - shortest[k + 1]);
@@ -278,6 +288,46 @@ impl JointSteps {
     };
 }
 
+/// The direction a limb's cross-sections are measured square to: its cells' longest spread,
+/// turned to where its distances grow, where the limb is slender and straight
+/// ([`SLENDER_SPREAD`]) and that spread lies within [`SLICE_TILT_COS`] of their `gradient`;
+/// else the gradient's. The distances' level sets keep the tilt of the body's border where
+/// the limb leaves it: TOSCA's Michael's deltoid, held by his body, tilts his arms' distances
+/// by 13–18° from their length, and sections along them cross his elbow obliquely, which
+/// smears its narrowing (15 % under the forearm within a cell, measured 9 % that way).
+fn sliced_along(grid: &Grid, cells: &[(usize, f64)], gradient: DVec3) -> DVec3 {
+    let direction = gradient.normalize();
+    let corner = |i: usize| grid.cell_of(i).as_dvec3();
+    let mean = cells.iter().map(|&(i, _)| corner(i)).sum::<DVec3>() / cells.len().max(1) as f64;
+    let scatter = scatter_about(cells.iter().map(|&(i, _)| corner(i)), mean);
+    let total_spread = scatter.x_axis.x + scatter.y_axis.y + scatter.z_axis.z;
+    match dominant_eigenvector(scatter) {
+        Some((longest, along)) if total_spread - along < SLENDER_SPREAD * along => {
+            let tilt = longest.dot(direction);
+            if tilt.abs() >= SLICE_TILT_COS {
+                longest * tilt.signum()
+            } else {
+                direction
+            }
+        }
+        _ => direction,
+    }
+}
+
+/// The most a limb's cells may spread across its length, as a share of their spread along
+/// it (the scatter's other two eigenvalues summed over its largest), for its cross-sections
+/// to be measured square to that length: a cylinder whose length is 5.5 radii or more.
+/// TOSCA's Michael's straight arms spread 0.10–0.12; the armadillo's arms, bent at the elbow
+/// at rest, 0.29–0.31, and square to their mean length their sections cross the upper arm
+/// obliquely, which moved their elbows into it (its 90° bends folded where the forearm
+/// meets the knob); its thick legs 0.28. Those keep their distances' level sets.
+const SLENDER_SPREAD: f64 = 0.2;
+
+/// The cosine of the largest angle between a limb's length and its distances' gradient for
+/// its cross-sections to be measured square to its length (45°): a limb whose cells spread
+/// more across than along (a stub, a flat ear) is measured along the gradient.
+const SLICE_TILT_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
 /// A limb cut measured along its length ([`narrowed_joints`]): in grid layers or by distance.
 struct Measured {
     profile: Profile,
@@ -353,11 +403,13 @@ impl Measured {
 
     /// A limb at a slant to the grid (an arm raised at 45°, a leg whose distances from a
     /// rounded pelvis tilt off the vertical): its joints are distances from where it starts.
-    /// A mesh vertex lies along it at its cell's distance plus the fitted gradient times its
-    /// offset from the cell's centre, and across it on the two directions square to that
-    /// gradient. Only cells whose distance is within [`STRAIGHT_SLACK`] of the fit are
-    /// measured (a ragged top where it leaves the body is not); None where the distances
-    /// have no fit ([`DistanceFit`]).
+    /// It is measured in sections square to its length ([`sliced_along`]): a mesh vertex
+    /// lies along it at its cell's distance less the fitted distance's tilt across the length
+    /// there, plus its offset from the cell's centre along the length times the distance
+    /// gained per unit that way; across it on the two directions square to its length. The
+    /// distance on the limb's mean line is kept, and with it where a joint cuts. Only cells whose
+    /// distance is within [`STRAIGHT_SLACK`] of the fit are measured (a ragged top where it
+    /// leaves the body is not); None where the distances have no fit ([`DistanceFit`]).
     fn by_distance(
         grid: &Grid,
         cut: &Branch,
@@ -365,7 +417,10 @@ impl Measured {
         samples: &SamplesByCell,
     ) -> Option<Self> {
         let fit = DistanceFit::of(grid, cut.cells)?;
-        let (across_1, across_2) = fit.gradient.normalize().any_orthonormal_pair();
+        let length = sliced_along(grid, cut.cells, fit.gradient);
+        // The distance gained per grid unit along the limb's length.
+        let per_unit = length * fit.gradient.dot(length);
+        let (across_1, across_2) = length.any_orthonormal_pair();
         let first = cut
             .cells
             .iter()
@@ -378,10 +433,11 @@ impl Measured {
                 continue;
             }
             let centre = corner + DVec3::splat(0.5);
+            let tilt = fit.across(corner, length);
             let within = samples.get(&i).into_iter().flatten();
             points.extend(within.map(|&p| {
                 // As in layers: the cell at the first distance spans 0 to 1.
-                let along = d - first + 0.5 + fit.gradient.dot(grid.units_of(p) - centre);
+                let along = d - tilt - first + 0.5 + per_unit.dot(grid.units_of(p) - centre);
                 (along, [p.dot(across_1), p.dot(across_2)])
             }));
         }
@@ -519,6 +575,31 @@ mod tests {
         );
     }
 
+    /// The first joint, after a first segment two units long, moves back up to half of it
+    /// (TOSCA's Michael's elbow, 1.6 cells before it); a narrowing nearer the limb's start
+    /// than that leaves it where it is. (Later joints reach half a segment: see
+    /// `a_joint_moves_to_the_narrowing_and_only_there`.)
+    #[test]
+    fn the_first_joint_moves_back_up_to_half_the_first_segment() {
+        let narrowing_at = |at: f64| move |z: f64| 1.0 - 0.4 * (-(z - at) * (z - at)).exp();
+        let defaults = [5.0, 7.0, 9.0, 11.0];
+        let moved = |at: f64| {
+            moved_to_narrowings(
+                &limb(13, narrowing_at(at)),
+                &defaults,
+                13.0,
+                1.1,
+                JointSteps::IN_LAYERS,
+            )
+        };
+        assert_eq!(moved(3.0), Some(vec![3.0, 7.0, 9.0, 11.0]));
+        assert_eq!(
+            moved(1.5),
+            None,
+            "within the first half of the first segment"
+        );
+    }
+
     /// Along −Z the offsets within a cell run the other way.
     #[test]
     fn a_limb_running_down_measures_from_its_top() {
@@ -581,6 +662,31 @@ mod tests {
         (cells, samples_by_cell(grid, &points))
     }
 
+    /// The joints of one limb of `cells` cut in two by distance, and its longest distance.
+    fn two_segment_joints(
+        grid: &Grid,
+        cells: &[(usize, f64)],
+        samples: &SamplesByCell,
+    ) -> (f64, Option<Vec<f64>>) {
+        let longest = cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
+        let branch = Branch {
+            cells,
+            longest,
+            from_trunk: true,
+        };
+        let joints = narrowed_joints(grid, &[branch], &[2], &[], samples);
+        (longest, joints.into_iter().next().flatten())
+    }
+
+    /// Asserts that `moved` is one joint within 0.75 cells of the narrowing at `knee`.
+    fn assert_one_joint_near(moved: Option<Vec<f64>>, knee: f64) {
+        let moved = moved.expect("the joint moves");
+        assert!(
+            moved.len() == 1 && (moved[0] - knee).abs() <= 0.75,
+            "joint at {moved:?}, the narrowing at {knee:.2}"
+        );
+    }
+
     /// A limb at a slant is measured along its distances: its joint moves to where it
     /// narrows, 1.5 cells before or after where equal lengths put it; one of a single width keeps its
     /// joint (the negative control).
@@ -593,26 +699,81 @@ mod tests {
                 Layers::of(&grid, &cells).is_none(),
                 "at 45° it runs along no axis"
             );
-            let longest = cells.iter().map(|&(_, d)| d).fold(0.0, f64::max);
-            let branch = Branch {
-                cells: &cells,
-                longest,
-                from_trunk: true,
-            };
-            let joints = narrowed_joints(&grid, &[branch], &[2], &[], &samples);
-            (longest, joints.into_iter().next().flatten())
+            two_segment_joints(&grid, &cells, &samples)
         };
         let (longest, uniform) = joint_of(&|_| 2.0);
         assert_eq!(uniform, None);
         for knee in [0.5 * longest - 1.5, 0.5 * longest + 1.5] {
             let narrowing = move |t: f64| 2.0 - 0.8 * (-(t - knee) * (t - knee)).exp();
-            let (_, moved) = joint_of(&narrowing);
-            let moved = moved.expect("the joint moves");
-            assert!(
-                moved.len() == 1 && (moved[0] - knee).abs() <= 0.75,
-                "joint at {moved:?}, the narrowing at {knee:.2}"
-            );
+            assert_one_joint_near(joint_of(&narrowing).1, knee);
         }
+    }
+
+    /// A slanted limb leaving a body whose border is tilted: its distances' level sets lean
+    /// 28° from square to its length (TOSCA's Michael's arms lean 13–18° at his deltoids). Measured in
+    /// sections square to its length, its joint moves to its narrowing, a cell wide; measured
+    /// along the tilted level sets, the narrowing smears over two cells and is missed. One of
+    /// a single width keeps its joint (the negative control).
+    #[test]
+    fn a_limb_leaving_a_tilted_border_is_measured_square_to_its_length() {
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(20.0), 20, None, &[], None);
+        let start = DVec3::new(3.0, 10.0, 3.0);
+        // Square to the limb and to no grid axis within 25° of the tilted gradient.
+        let tilted_across = DVec3::Y;
+        let tilt = 28f64.to_radians().tan();
+        let joint_of = |radius: &dyn Fn(f64) -> f64| {
+            let (cells, samples) = slanted_limb(&grid, radius);
+            let cells: Vec<(usize, f64)> = (cells.into_iter())
+                .map(|(i, t)| {
+                    let centre = grid.centre(grid.cell_of(i));
+                    (i, t + tilt * (centre - start).dot(tilted_across))
+                })
+                .collect();
+            two_segment_joints(&grid, &cells, &samples)
+        };
+        let (longest, uniform) = joint_of(&|_| 2.0);
+        assert_eq!(uniform, None);
+        // Equal lengths put the joint at half the longest distance, on the limb's far edge.
+        let knee = 0.5 * longest - 2.0;
+        let narrowing = move |t: f64| 2.0 - 0.4 * (-2.0 * (t - knee) * (t - knee)).exp();
+        assert_one_joint_near(joint_of(&narrowing).1, knee);
+    }
+
+    /// A straight, slender limb is sliced square to its length even where its distances'
+    /// gradient leans 20° off it; one bent at rest (an L, the armadillo's arm at its elbow)
+    /// or as thick as it is long keeps its gradient, whose level sets follow the bend.
+    #[test]
+    fn only_a_straight_slender_limb_is_sliced_square_to_its_length() {
+        let grid = Grid::around(DVec3::ZERO, DVec3::splat(20.0), 20, None, &[], None);
+        let cells_near = |segments: &[(DVec3, DVec3)], radius: f64| -> Vec<(usize, f64)> {
+            (0..grid.len())
+                .filter(|&i| {
+                    let centre = grid.centre(grid.cell_of(i));
+                    segments.iter().any(|&(a, b)| {
+                        let t =
+                            ((centre - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                        (centre - a - (b - a) * t).length() <= radius
+                    })
+                })
+                .map(|i| (i, 0.0))
+                .collect()
+        };
+        let axis = DVec3::new(1.0, 0.0, 1.0).normalize();
+        let leaning = glam::DQuat::from_axis_angle(DVec3::Y, 20f64.to_radians()) * axis;
+        let straight = cells_near(&[(DVec3::splat(3.0), DVec3::splat(3.0) + axis * 14.0)], 1.5);
+        let sliced = sliced_along(&grid, &straight, leaning);
+        assert!(sliced.dot(axis) > 0.99, "sliced along {sliced:?}");
+        let elbow = DVec3::new(11.0, 10.0, 3.0);
+        let bent = cells_near(
+            &[
+                (DVec3::new(3.0, 10.0, 3.0), elbow),
+                (elbow, elbow + DVec3::Z * 8.0),
+            ],
+            1.5,
+        );
+        assert_eq!(sliced_along(&grid, &bent, leaning), leaning.normalize());
+        let stub = cells_near(&[(DVec3::splat(6.0), DVec3::splat(6.0) + axis * 5.0)], 2.5);
+        assert_eq!(sliced_along(&grid, &stub, leaning), leaning.normalize());
     }
 
     /// Two slanted twins of unequal length (15 and 12 cells) narrowing at the same place: both

@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use glam::DVec3;
 
 use super::Autorig;
-use crate::geometry::scatter_about;
+use crate::geometry::{dominant_eigenvector, scatter_about};
 use crate::scene::rig_names::{limb_of_control, limb_of_leaf, role_and_side, segment_of_leaf};
 
 /// The roles a figure has one of (on the centre line) or one of a side: a head, a neck, a
@@ -184,14 +184,15 @@ impl Spreads {
         }
         let middle = points.iter().sum::<DVec3>() / points.len() as f64;
         let scatter = scatter_about(points.iter().copied(), middle);
-        let (longest, first) = dominant(scatter)?;
+        let (longest, first) = dominant_eigenvector(scatter)?;
         let rest = scatter
             - glam::DMat3::from_cols(
                 longest * longest.x,
                 longest * longest.y,
                 longest * longest.z,
             ) * first;
-        let (next, second) = dominant(rest).unwrap_or((longest.any_orthonormal_vector(), 0.0));
+        let (next, second) =
+            dominant_eigenvector(rest).unwrap_or((longest.any_orthonormal_vector(), 0.0));
         Some(Self {
             middle,
             longest,
@@ -200,36 +201,6 @@ impl Spreads {
             second,
         })
     }
-}
-
-/// The eigenvector of the symmetric positive semi-definite `m` with the largest eigenvalue
-/// (by power iteration from its longest column), pointing to where its largest coordinate
-/// grows, and that eigenvalue; None where `m` is (nearly) zero.
-fn dominant(m: glam::DMat3) -> Option<(DVec3, f64)> {
-    let columns = [m.x_axis, m.y_axis, m.z_axis];
-    let scale = columns.iter().map(|c| c.length()).fold(0.0, f64::max);
-    if !scale.is_finite() || scale <= 1e-12 {
-        return None;
-    }
-    let mut v = columns
-        .into_iter()
-        .max_by(|a, b| a.length().total_cmp(&b.length()))?
-        .normalize_or_zero();
-    for _ in 0..100 {
-        let next = (m * v).normalize_or_zero();
-        if next == DVec3::ZERO {
-            return None;
-        }
-        v = next;
-    }
-    let largest = (0..3)
-        .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
-        .unwrap_or(0);
-    if v[largest] < 0.0 {
-        v = -v;
-    }
-    let value = v.dot(m * v);
-    (value > 1e-12 * scale).then_some((v, value))
 }
 
 /// Whether two of `limbs` (role and side, reach) alike in reach (the shorter at least

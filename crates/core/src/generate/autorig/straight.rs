@@ -91,6 +91,13 @@ impl DistanceFit {
     pub(super) fn at(&self, cell: DVec3) -> f64 {
         self.mean_distance + self.gradient.dot(cell - self.mean_cell)
     }
+
+    /// What the fitted distance gains at `cell` (a lowest corner) from the branch's mean
+    /// across the unit direction `length`: the tilt of its level sets from square to it.
+    pub(super) fn across(&self, cell: DVec3, length: DVec3) -> f64 {
+        let across = self.gradient - length * self.gradient.dot(length);
+        across.dot(cell - self.mean_cell)
+    }
 }
 
 /// The most a cell's layer distance may differ from its geodesic one to be used, in cells.
