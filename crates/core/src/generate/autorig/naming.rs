@@ -250,6 +250,27 @@ pub(super) fn limb_names(
                 .any(|b| mirror_each_other(a.middle, b.middle, lateral, centre))
         })
     };
+    // A stem: a short side limb out from the body whose one child, a side limb longer than
+    // itself, is the rest of an arm or a leg (a shoulder, a hip the grid cut off as a limb of
+    // its own). TOSCA's gorilla, mirrored, arms raised: its shoulders were `ear.L` and
+    // `ear.R`, its arms `horn.L` and `horn.R` hanging from them; the armadillo at detail 5:
+    // `arm.R` carrying `leg.R`.
+    let stem_of: BTreeMap<usize, usize> = shapes
+        .iter()
+        .filter_map(|(&child, c)| {
+            let stem = limbs[&child].parent?;
+            let s = shapes.get(&stem)?;
+            let siblings = limbs.values().filter(|r| r.parent == Some(stem)).count();
+            let stem_like = !bodies.contains(&stem)
+                && !bodies.contains(&child)
+                && limbs[&stem].parent.is_none()
+                && siblings == 1
+                && side_of(s) != 0.0
+                && side_of(c) == side_of(s)
+                && length(c) > length(s);
+            stem_like.then_some((child, stem))
+        })
+        .collect();
     let mut base: BTreeMap<usize, (String, Option<char>)> = BTreeMap::new();
     for (&limb, s) in &shapes {
         // A thick region of its own (a head, hips) is on the centre line when its middle is
@@ -326,9 +347,12 @@ pub(super) fn limb_names(
                         && c.root.z > s.root.z + HEAD_ABOVE_ARM_SHARE * body_height
                 })
         });
+        // An ear grows from the body or a head, not from the end of a stem (an arm raised
+        // from its shoulder).
         let on_top = s.root.z > frame.body_hi.z - 0.2 * body_height
             && s.tip.z > frame.body_hi.z
-            && !below_a_head;
+            && !below_a_head
+            && !stem_of.contains_key(&limb);
         let headwards = headwards_of(s);
         // A centre limb longer than itself rises from it (a thick neck base carrying the
         // neck and head; not a head's crown between its ears, spot's at detail 5, which made
@@ -423,6 +447,17 @@ pub(super) fn limb_names(
                     entry.0 = "arm".to_owned();
                 }
             }
+        }
+    }
+    // A stem is named for what it carries: the shoulder of an arm, the hip of a leg.
+    for (&child, &stem) in &stem_of {
+        let base_role = match base.get(&child).map(|(role, _)| role.as_str()) {
+            Some("arm") => "shoulder",
+            Some("leg") => "hip",
+            _ => continue,
+        };
+        if let Some(entry) = base.get_mut(&stem) {
+            entry.0 = base_role.to_owned();
         }
     }
     // A pair of like limbs from one place that both fall on one side of the plane (a bunny's
@@ -746,19 +781,26 @@ mod tests {
         neck.extend(ring(neck_x, 1.3, 1.4, 0.1));
         cages.push(neck);
         cages.push(body);
-        let mut roles: Vec<Role> = (0..legs.len())
+        names_of(&cages, legs.len(), legs.len() + 1, &[])
+    }
+
+    /// The names of `cages`' limbs: limbs `0..two_segment` have two cages each, the rest up to
+    /// `limbs` one, in that order, then the one body; `parents` as (child, parent) limbs.
+    fn names_of(
+        cages: &[Vec<DVec3>],
+        two_segment: usize,
+        limbs: usize,
+        parents: &[(usize, usize)],
+    ) -> BTreeMap<usize, String> {
+        let mut roles: Vec<Role> = (0..two_segment)
             .flat_map(|limb| (0..2).map(move |segment| Role::Limb { limb, segment }))
             .collect();
-        roles.push(Role::Limb {
-            limb: legs.len(),
-            segment: 0,
-        });
+        roles.extend((two_segment..limbs).map(|limb| Role::Limb { limb, segment: 0 }));
         roles.push(Role::Body { body: 0, slab: 0 });
-        let cages = point_cages(&cages);
         limb_names(
-            &cages,
+            &point_cages(cages),
             &roles,
-            &BTreeMap::new(),
+            &parents.iter().copied().collect(),
             &BTreeSet::new(),
             None,
             None,
@@ -842,22 +884,7 @@ mod tests {
         cages.push(neck);
         cages.push(body);
         // Back legs 0 and 1 (two segments each), the stem 2, front legs 3 and 4, the neck 5.
-        let mut roles: Vec<Role> = (0..2)
-            .flat_map(|limb| (0..2).map(move |segment| Role::Limb { limb, segment }))
-            .collect();
-        roles.extend((2..6).map(|limb| Role::Limb { limb, segment: 0 }));
-        roles.push(Role::Body { body: 0, slab: 0 });
-        let cages = point_cages(&cages);
-        let parents = BTreeMap::from([(3, 2), (4, 2)]);
-        let names = limb_names(
-            &cages,
-            &roles,
-            &parents,
-            &BTreeSet::new(),
-            None,
-            None,
-            &BTreeSet::new(),
-        );
+        let names = names_of(&cages, 2, 6, &[(3, 2), (4, 2)]);
         let name = |limb: usize| names.get(&limb).map(String::as_str);
         assert_eq!(name(2), Some("leg.front"), "{names:?}");
         let front: BTreeSet<_> = [name(3), name(4)].into_iter().flatten().collect();
@@ -873,5 +900,67 @@ mod tests {
             "{names:?}"
         );
         assert_eq!(name(5), Some("neck"), "{names:?}");
+    }
+
+    #[test]
+    fn an_arm_raised_from_a_shoulder_cut_off_as_a_limb_is_an_arm() {
+        // A standing figure whose shoulders the grid cut off as short limbs of their own, the
+        // arms raised above the head from their ends (TOSCA's gorilla, mirrored, whose
+        // shoulders were `ear.L` and `ear.R`, its arms `horn.L` and `horn.R`). Without the
+        // stem rule these shoulders are `arm.*` and the arms `ear.*`.
+        let mut body = Vec::new();
+        for x in [-0.4, 0.4] {
+            for y in [-0.2, 0.2] {
+                for z in [1.0, 2.0] {
+                    body.push(DVec3::new(x, y, z));
+                }
+            }
+        }
+        let mut cages = Vec::new();
+        // Legs (limbs 0 and 1, two segments each), right then left.
+        for x in [-0.2, 0.2] {
+            body.extend(ring(x, 0.0, 1.0, 0.08));
+            let mut thigh = ring(x, 0.0, 1.0, 0.08);
+            thigh.extend(ring(x, 0.0, 0.5, 0.08));
+            let mut shin = ring(x, 0.0, 0.5, 0.08);
+            shin.extend(ring(x, 0.0, 0.0, 0.08));
+            cages.push(thigh);
+            cages.push(shin);
+        }
+        // The head (limb 2) on top.
+        body.extend(ring(0.0, 0.0, 2.0, 0.1));
+        let mut head = ring(0.0, 0.0, 2.0, 0.1);
+        head.extend(ring(0.0, 0.0, 2.4, 0.1));
+        cages.push(head);
+        // Shoulders (limbs 3 and 4) out from the body's top, arms (5 and 6) raised from them.
+        let mut arms = Vec::new();
+        for side in [-1.0, 1.0] {
+            body.extend(ring(0.4 * side, 0.0, 1.92, 0.06));
+            let mut shoulder = ring(0.4 * side, 0.0, 1.92, 0.06);
+            shoulder.extend(ring(0.6 * side, 0.0, 2.05, 0.06));
+            cages.push(shoulder);
+            let mut arm = ring(0.6 * side, 0.0, 2.05, 0.06);
+            arm.extend(ring(0.7 * side, 0.0, 2.7, 0.05));
+            arms.push(arm);
+        }
+        cages.extend(arms);
+        cages.push(body);
+        let names = names_of(&cages, 2, 7, &[(5, 3), (6, 4)]);
+        let name = |limb: usize| names.get(&limb).map(String::as_str);
+        assert_eq!(
+            [name(0), name(1), name(2)],
+            [Some("leg.R"), Some("leg.L"), Some("head")],
+            "{names:?}"
+        );
+        assert_eq!(
+            [name(3), name(4), name(5), name(6)],
+            [
+                Some("shoulder.R"),
+                Some("shoulder.L"),
+                Some("arm.R"),
+                Some("arm.L")
+            ],
+            "{names:?}"
+        );
     }
 }
