@@ -253,8 +253,8 @@ pub(super) fn limb_names(
     // A stem: a short side limb out from the body whose one child, a side limb longer than
     // itself, is the rest of an arm or a leg (a shoulder, a hip the grid cut off as a limb of
     // its own). TOSCA's gorilla, mirrored, arms raised: its shoulders were `ear.L` and
-    // `ear.R`, its arms `horn.L` and `horn.R` hanging from them; the armadillo at detail 5:
-    // `arm.R` carrying `leg.R`.
+    // `ear.R`, its arms `horn.L` and `horn.R` hanging from them. A limb carrying more than one
+    // is no stem (a pelvis piece carrying both legs and the tail).
     let stem_of: BTreeMap<usize, usize> = shapes
         .iter()
         .filter_map(|(&child, c)| {

@@ -12,11 +12,11 @@
 
 use std::collections::BTreeMap;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::straight::{DistanceFit, Layers, STRAIGHT_SLACK};
 use super::voxels::Grid;
-use crate::geometry::{dominant_eigenvector, scatter_about};
+use crate::geometry::dominant_eigenvector;
 
 /// The mesh's vertices in each cell that holds one.
 pub(super) type SamplesByCell = BTreeMap<usize, Vec<DVec3>>;
@@ -295,13 +295,10 @@ impl JointSteps {
 /// the limb leaves it: TOSCA's Michael's deltoid, held by his body, tilts his arms' distances
 /// by 13–18° from their length, and sections along them cross his elbow obliquely, which
 /// smears its narrowing (15 % under the forearm within a cell, measured 9 % that way).
-fn sliced_along(grid: &Grid, cells: &[(usize, f64)], gradient: DVec3) -> DVec3 {
+fn sliced_along(cell_scatter: DMat3, gradient: DVec3) -> DVec3 {
     let direction = gradient.normalize();
-    let corner = |i: usize| grid.cell_of(i).as_dvec3();
-    let mean = cells.iter().map(|&(i, _)| corner(i)).sum::<DVec3>() / cells.len().max(1) as f64;
-    let scatter = scatter_about(cells.iter().map(|&(i, _)| corner(i)), mean);
-    let total_spread = scatter.x_axis.x + scatter.y_axis.y + scatter.z_axis.z;
-    match dominant_eigenvector(scatter) {
+    let total_spread = cell_scatter.x_axis.x + cell_scatter.y_axis.y + cell_scatter.z_axis.z;
+    match dominant_eigenvector(cell_scatter) {
         Some((longest, along)) if total_spread - along < SLENDER_SPREAD * along => {
             let tilt = longest.dot(direction);
             if tilt.abs() >= SLICE_TILT_COS {
@@ -417,7 +414,7 @@ impl Measured {
         samples: &SamplesByCell,
     ) -> Option<Self> {
         let fit = DistanceFit::of(grid, cut.cells)?;
-        let length = sliced_along(grid, cut.cells, fit.gradient);
+        let length = sliced_along(fit.cell_scatter, fit.gradient);
         // The distance gained per grid unit along the limb's length.
         let per_unit = length * fit.gradient.dot(length);
         let (across_1, across_2) = length.any_orthonormal_pair();
@@ -745,8 +742,9 @@ mod tests {
     #[test]
     fn only_a_straight_slender_limb_is_sliced_square_to_its_length() {
         let grid = Grid::around(DVec3::ZERO, DVec3::splat(20.0), 20, None, &[], None);
-        let cells_near = |segments: &[(DVec3, DVec3)], radius: f64| -> Vec<(usize, f64)> {
-            (0..grid.len())
+        // The scatter of the corners of the cells within `radius` of the segments.
+        let scatter_near = |segments: &[(DVec3, DVec3)], radius: f64| -> glam::DMat3 {
+            let corners: Vec<DVec3> = (0..grid.len())
                 .filter(|&i| {
                     let centre = grid.centre(grid.cell_of(i));
                     segments.iter().any(|&(a, b)| {
@@ -755,25 +753,27 @@ mod tests {
                         (centre - a - (b - a) * t).length() <= radius
                     })
                 })
-                .map(|i| (i, 0.0))
-                .collect()
+                .map(|i| grid.cell_of(i).as_dvec3())
+                .collect();
+            let mean = corners.iter().sum::<DVec3>() / corners.len() as f64;
+            crate::geometry::scatter_about(corners, mean)
         };
         let axis = DVec3::new(1.0, 0.0, 1.0).normalize();
         let leaning = glam::DQuat::from_axis_angle(DVec3::Y, 20f64.to_radians()) * axis;
-        let straight = cells_near(&[(DVec3::splat(3.0), DVec3::splat(3.0) + axis * 14.0)], 1.5);
-        let sliced = sliced_along(&grid, &straight, leaning);
+        let straight = scatter_near(&[(DVec3::splat(3.0), DVec3::splat(3.0) + axis * 14.0)], 1.5);
+        let sliced = sliced_along(straight, leaning);
         assert!(sliced.dot(axis) > 0.99, "sliced along {sliced:?}");
         let elbow = DVec3::new(11.0, 10.0, 3.0);
-        let bent = cells_near(
+        let bent = scatter_near(
             &[
                 (DVec3::new(3.0, 10.0, 3.0), elbow),
                 (elbow, elbow + DVec3::Z * 8.0),
             ],
             1.5,
         );
-        assert_eq!(sliced_along(&grid, &bent, leaning), leaning.normalize());
-        let stub = cells_near(&[(DVec3::splat(6.0), DVec3::splat(6.0) + axis * 5.0)], 2.5);
-        assert_eq!(sliced_along(&grid, &stub, leaning), leaning.normalize());
+        assert_eq!(sliced_along(bent, leaning), leaning.normalize());
+        let stub = scatter_near(&[(DVec3::splat(6.0), DVec3::splat(6.0) + axis * 5.0)], 2.5);
+        assert_eq!(sliced_along(stub, leaning), leaning.normalize());
     }
 
     /// Two slanted twins of unequal length (15 and 12 cells) narrowing at the same place: both

@@ -2,7 +2,7 @@
 //! along one, so its joints can be flat grid layers (`parts::straightened`) and its
 //! cross-sections measured layer by layer (`narrowings`).
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::voxels::Grid;
 use crate::geometry::scatter_about;
@@ -58,6 +58,9 @@ impl Layers {
 pub(super) struct DistanceFit {
     mean_cell: DVec3,
     mean_distance: f64,
+    /// The scatter of the cells' corners about `mean_cell`: their spreads along and across
+    /// the branch.
+    pub cell_scatter: DMat3,
     /// Distance gained per grid unit; its direction is the branch's, away from where it starts.
     pub gradient: DVec3,
 }
@@ -83,6 +86,7 @@ impl DistanceFit {
         (gradient.length() >= 1e-9).then_some(Self {
             mean_cell,
             mean_distance,
+            cell_scatter: cov,
             gradient,
         })
     }
