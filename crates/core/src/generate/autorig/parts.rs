@@ -309,6 +309,7 @@ fn cut_halving_crotches(
                 .iter()
                 .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
                 .map_or(IVec3::ZERO, |&(i, _)| grid.cell_of(i));
+            let bottom = (own.iter().map(|&i| grid.cell_of(i).z).min()).unwrap_or(root.z);
             limb_cuts.push(LimbCut {
                 limb,
                 cells: branch.cells,
@@ -316,10 +317,16 @@ fn cut_halving_crotches(
                 thickness,
                 from_trunk,
                 root,
+                bottom,
             });
         }
     }
-    let (counts, paired) = paired_segment_counts(&limb_cuts, cutting);
+    let ground = (0..grid.len())
+        .filter(|&i| occupied[i])
+        .map(|i| grid.cell_of(i).z)
+        .min()
+        .unwrap_or(0);
+    let (counts, paired) = paired_segment_counts(&limb_cuts, cutting, ground);
     let branches: Vec<narrowings::Branch> = (limb_cuts.iter())
         .map(|c| narrowings::Branch {
             cells: &c.cells,
@@ -333,21 +340,25 @@ fn cut_halving_crotches(
         .map(|&(a, b)| (limb_cuts[a].limb, limb_cuts[b].limb))
         .collect();
     for ((cut, count), joints) in limb_cuts.iter().zip(counts).zip(&joints) {
-        // Along a straight limb the joints are grid layers, where the layer's distance is
-        // within STRAIGHT_SLACK cells of the body's distance.
         let straight = straightened(grid, &cut.cells);
-        for (k, &(i, d)) in cut.cells.iter().enumerate() {
-            let d = match straight.as_ref().and_then(|s| s.get(k)) {
-                Some(&along) if (along - d).abs() <= STRAIGHT_SLACK => along,
-                _ => d,
-            };
-            let segment = match joints {
-                Some(joints) => joints.iter().filter(|&&joint| d >= joint).count(),
-                None => segment_at(d / cut.longest.max(1e-9), count, cut.from_trunk),
-            };
+        // A knee the minimum added halves the leg by its own cut distances (below).
+        let kneed = count == 2 && own_segment_count(cut, cutting) == 1 && kneed_leg(cut, ground);
+        let shares_of = if kneed {
+            ShareOf::CutDistances
+        } else {
+            ShareOf::GeodesicLength
+        };
+        let segments = segments_of_cells(
+            &cut.cells,
+            straight.as_deref(),
+            joints.as_deref(),
+            (count, cut.from_trunk),
+            shares_of,
+        );
+        for (&(i, _), segment) in cut.cells.iter().zip(segments) {
             group[i] = Some(Role::Limb {
                 limb: cut.limb,
-                segment: segment.min(count - 1),
+                segment,
             });
         }
     }
@@ -388,6 +399,8 @@ struct LimbCut {
     thickness: f64,
     from_trunk: bool,
     root: IVec3,
+    /// The height (grid layer) of its lowest cell.
+    bottom: i32,
 }
 
 /// Each limb's segment count ([`slab_count`] of its length over `segment_length` of its
@@ -397,8 +410,13 @@ struct LimbCut {
 /// and thickness: the Ogre's legs, 5.6 and 7.0 cells long, had two segments and three, so
 /// `leg.R.2` was its knee and `leg.L.2` its shin. Returns the counts and the pairs (indices
 /// into `cuts`).
-fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> (Vec<usize>, Vec<(usize, usize)>) {
-    let own = |c: &LimbCut| slab_count(c.longest, cutting.segment_length * c.thickness);
+fn paired_segment_counts(
+    cuts: &[LimbCut],
+    cutting: &Cutting,
+    ground: i32,
+) -> (Vec<usize>, Vec<(usize, usize)>) {
+    let least = |c: &LimbCut| if kneed_leg(c, ground) { 2 } else { 1 };
+    let own = |c: &LimbCut| own_segment_count(c, cutting).max(least(c));
     let mut counts: Vec<usize> = cuts.iter().map(own).collect();
     let alike = |a: &LimbCut, b: &LimbCut| {
         let ratio = |x: f64, y: f64| x.max(y) / x.min(y).max(1e-9);
@@ -426,7 +444,9 @@ fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> (Vec<usize>, Ve
             paired[b] = true;
             let longest = 0.5 * (cuts[a].longest + cuts[b].longest);
             let thickness = 0.5 * (cuts[a].thickness + cuts[b].thickness);
-            let count = slab_count(longest, cutting.segment_length * thickness);
+            let count = slab_count(longest, cutting.segment_length * thickness)
+                .max(least(&cuts[a]))
+                .max(least(&cuts[b]));
             counts[a] = count;
             counts[b] = count;
             pairs.push((a, b));
@@ -435,8 +455,29 @@ fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting) -> (Vec<usize>, Ve
     (counts, pairs)
 }
 
+/// A limb's segment count by its length over its thickness alone ([`slab_count`]).
+fn own_segment_count(cut: &LimbCut, cutting: &Cutting) -> usize {
+    slab_count(cut.longest, cutting.segment_length * cut.thickness)
+}
+
 /// How many cells apart in height two limbs' roots may be for them to be a pair.
 const PAIR_HEIGHT: i32 = 2;
+
+/// Whether a limb is a leg long enough to need a knee, so at least two segments: it grows
+/// from the trunk, hangs [`SHORTEST_KNEED_LEG`] cells or more down from its root, and reaches
+/// the figure's lowest layer of cells (the `ground`) within a cell. By length over thickness
+/// alone TOSCA's cat's hind legs (3.4 cells long, 2.0 thick) and spot's legs (4.2 and 2.7)
+/// were one segment each at the default detail, and turned stiff from the body like table
+/// legs; a knee bends them.
+fn kneed_leg(cut: &LimbCut, ground: i32) -> bool {
+    cut.from_trunk
+        && cut.bottom <= ground + 1
+        && f64::from(cut.root.z - cut.bottom) >= SHORTEST_KNEED_LEG - 1.0
+        && cut.longest >= SHORTEST_KNEED_LEG
+}
+
+/// The shortest leg, in cells along it, given a knee (two segments of 1.5 cells or more).
+const SHORTEST_KNEED_LEG: f64 = 3.0;
 
 /// How many times longer than the other one of a pair of limbs may be.
 const PAIR_LENGTH: f64 = 1.3;
@@ -489,6 +530,55 @@ fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
             .map(|&(i, _)| layers.first + layers.layer_of(grid, i))
             .collect(),
     )
+}
+
+/// What a limb cut at even shares ([`segment_at`]) takes the shares of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ShareOf {
+    /// Its cells' greatest geodesic distance from the body.
+    GeodesicLength,
+    /// The greatest of the distances its cells are cut by (a straight limb's grid layers).
+    CutDistances,
+}
+
+/// Each of a limb's cells' segment (0 at the body): past the `joints`' distances where the
+/// narrowings found them, else at even shares of its length ([`segment_at`]) in `count`
+/// segments (`from_trunk`: whether it grows from the trunk). Along a straight limb the
+/// cells are measured by their grid layer's distance (`straight`, [`straightened`]) where
+/// it is within [`STRAIGHT_SLACK`] cells of their geodesic one, so the joints are flat faces.
+/// The shares are of `shares_of`: a knee the two-segment minimum gives a leg
+/// ([`kneed_leg`]) halves it by the layers, since one ragged top cell adds a layer past its
+/// geodesic length (TOSCA's cat's left hind leg: layers 0-5 against 3.4) and its first
+/// segment kept two cells against 24, a sliver the merges fold away. Every other limb keeps
+/// the geodesic length: taken of the layers too, the knees of Victoria and of the cat's
+/// front legs turned triangles over at 90 degrees (docs/autorig.md, Limits).
+fn segments_of_cells(
+    cells: &[(usize, f64)],
+    straight: Option<&[f64]>,
+    joints: Option<&[f64]>,
+    (count, from_trunk): (usize, bool),
+    shares_of: ShareOf,
+) -> Vec<usize> {
+    let along: Vec<f64> = (cells.iter().enumerate())
+        .map(|(k, &(_, d))| match straight.and_then(|s| s.get(k)) {
+            Some(&layer) if (layer - d).abs() <= STRAIGHT_SLACK => layer,
+            _ => d,
+        })
+        .collect();
+    let length = match shares_of {
+        ShareOf::GeodesicLength => cells.iter().map(|&(_, d)| d).fold(0.0, f64::max),
+        ShareOf::CutDistances => along.iter().copied().fold(0.0, f64::max),
+    };
+    along
+        .iter()
+        .map(|&d| {
+            let segment = match joints {
+                Some(joints) => joints.iter().filter(|&&joint| d >= joint).count(),
+                None => segment_at(d / length.max(1e-9), count, from_trunk),
+            };
+            segment.min(count.max(1) - 1)
+        })
+        .collect()
 }
 
 /// Longest reach of a limb region that is a bump of the body, in thicknesses of the region.
@@ -1465,7 +1555,9 @@ fn slab_count(length: f64, piece: f64) -> usize {
 
 #[cfg(test)]
 mod tests {
-    use super::{Cutting, IVec3, LimbCut, paired_segment_counts, segment_at};
+    use super::{
+        Cutting, IVec3, LimbCut, ShareOf, paired_segment_counts, segment_at, segments_of_cells,
+    };
 
     /// Where each segment of a limb cut into `count` starts, as a share of its length.
     fn starts(count: usize, from_trunk: bool) -> Vec<f64> {
@@ -1511,8 +1603,12 @@ mod tests {
             thickness,
             from_trunk: true,
             root,
+            bottom: root.z,
         }
     }
+
+    /// Off the ground: no cut below reaches it.
+    const NO_GROUND: i32 = -100;
 
     #[test]
     fn a_pair_of_limbs_is_cut_into_as_many_segments_each() {
@@ -1532,24 +1628,95 @@ mod tests {
             .map(|l| super::slab_count(l.longest, cutting.segment_length * l.thickness))
             .collect();
         assert_eq!(alone, [2, 3]);
-        assert_eq!(paired_segment_counts(&legs, &cutting).0, [2, 2]);
+        assert_eq!(paired_segment_counts(&legs, &cutting, NO_GROUND).0, [2, 2]);
         // Rooted three cells apart in height, or one much longer, they are no pair.
         let apart = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 6.97, 2.14, IVec3::new(23, 4, 5)),
         ];
-        assert_eq!(paired_segment_counts(&apart, &cutting).0, [2, 3]);
+        assert_eq!(paired_segment_counts(&apart, &cutting, NO_GROUND).0, [2, 3]);
         let longer = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 9.0, 2.14, IVec3::new(23, 4, 2)),
         ];
-        assert_eq!(paired_segment_counts(&longer, &cutting).0, [2, 3]);
+        assert_eq!(
+            paired_segment_counts(&longer, &cutting, NO_GROUND).0,
+            [2, 3]
+        );
         // Of three alike, the two nearest in length pair; the third keeps its own count.
         let three = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 6.97, 2.14, IVec3::new(23, 4, 2)),
             limb(2, 5.7, 2.17, IVec3::new(18, 9, 2)),
         ];
-        assert_eq!(paired_segment_counts(&three, &cutting).0, [2, 3, 2]);
+        assert_eq!(
+            paired_segment_counts(&three, &cutting, NO_GROUND).0,
+            [2, 3, 2]
+        );
+    }
+
+    /// A leg three cells long or more under the trunk, reaching the ground, has a knee (two
+    /// segments) however thick it is: TOSCA's cat's hind legs, 3.4 cells long and 2.0
+    /// thick, were one segment. Shorter, off the ground, or rooted less than two cells above
+    /// its foot (a foot out from a body lying on the ground), it keeps its own count.
+    #[test]
+    fn a_leg_long_enough_for_a_knee_has_one() {
+        let cutting = Cutting {
+            body_fraction: 0.55,
+            segment_length: 1.3,
+            slab_length: 0.9,
+            on_separate_feet: false,
+        };
+        let leg = |longest: f64, root_z: i32, bottom: i32| LimbCut {
+            bottom,
+            ..limb(0, longest, 2.0, IVec3::new(4, 18, root_z))
+        };
+        let ground = 0;
+        let counts = |cuts: &[LimbCut]| paired_segment_counts(cuts, &cutting, ground).0;
+        assert_eq!(counts(&[leg(3.41, 5, 0)]), [2]);
+        assert_eq!(counts(&[leg(3.41, 5, 0), leg(3.41, 5, 1)]), [2, 2]);
+        assert_eq!(counts(&[leg(2.9, 5, 0)]), [1]);
+        assert_eq!(counts(&[leg(3.41, 5, 2)]), [1]);
+        assert_eq!(counts(&[leg(3.41, 1, 0)]), [1]);
+        let hanging = LimbCut {
+            from_trunk: false,
+            ..leg(3.41, 5, 0)
+        };
+        assert_eq!(counts(&[hanging]), [1]);
+    }
+
+    /// A knee the two-segment minimum gives a straight leg halves it by its grid layers: they
+    /// run six deep (0-5) where one ragged cell at its root leaves the geodesic length 3.4
+    /// (TOSCA's cat's hind leg), and each segment holds half its cells. Taken of the
+    /// geodesic length (as every other limb is cut), the first keeps the two top layers.
+    #[test]
+    fn a_knee_the_minimum_adds_halves_the_leg_by_its_layers() {
+        let layers = 6;
+        let per_layer = 4;
+        let cells: Vec<(usize, f64)> = (0..layers * per_layer)
+            .map(|i| (i, (0.7 * (i / per_layer) as f64).min(3.4)))
+            .collect();
+        let straight: Vec<f64> = (0..layers * per_layer)
+            .map(|i| (i / per_layer) as f64)
+            .collect();
+        let cut = |straight: Option<&[f64]>, joints: Option<&[f64]>, shares_of| {
+            segments_of_cells(&cells, straight, joints, (2, true), shares_of)
+        };
+        let firsts = |segments: &[usize]| segments.iter().filter(|&&s| s == 0).count();
+        let halved = cut(Some(&straight), None, ShareOf::CutDistances);
+        assert_eq!(firsts(&halved), layers * per_layer / 2, "{halved:?}");
+        // Every cell's segment grows with its layer: the cut is one flat face.
+        for (a, b) in halved.iter().zip(&halved[per_layer..]) {
+            assert!(a <= b, "{halved:?}");
+        }
+        let by_length = cut(Some(&straight), None, ShareOf::GeodesicLength);
+        assert_eq!(firsts(&by_length), 2 * per_layer, "{by_length:?}");
+        // Without layers (a bent limb) the distances are cut at their own longest either way.
+        for shares_of in [ShareOf::CutDistances, ShareOf::GeodesicLength] {
+            assert_eq!(firsts(&cut(None, None, shares_of)), 3 * per_layer);
+        }
+        // Joints found by the narrowings cut where they are.
+        let at = cut(Some(&straight), Some(&[1.0]), ShareOf::CutDistances);
+        assert_eq!(firsts(&at), per_layer);
     }
 }
