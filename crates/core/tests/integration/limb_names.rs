@@ -1191,3 +1191,61 @@ fn an_octopus_s_arms_are_limbs_and_a_quadruped_keeps_its_names() {
         cow.keys()
     );
 }
+
+/// A stocky quadruped facing −Y (TOSCA's cat's proportions): a body of radius 0.4 at
+/// `body_z`, a head in front, a thin tail behind, four legs of radius `leg_radius` from 0.3
+/// under the body's axis down to the ground at 0.
+fn stocky_quadruped(body_z: f64, leg_radius: f64) -> Mesh {
+    let mut parts = vec![
+        (v(0.0, -0.8, body_z), v(0.0, 0.8, body_z), 0.4),
+        (v(0.0, -0.8, body_z), v(0.0, -1.45, body_z + 0.25), 0.3),
+        (v(0.0, 0.9, body_z), v(0.0, 2.0, body_z + 0.3), 0.05),
+    ];
+    for side in [-1.0, 1.0] {
+        for y in [-0.6, 0.6] {
+            let x = 0.25 * side;
+            parts.push((v(x, y, body_z - 0.3), v(x, y, 0.0), leg_radius));
+        }
+    }
+    capsules(&parts, 0.03)
+}
+
+#[test]
+fn a_stocky_quadruped_s_legs_bend_at_a_knee_and_stay_chains() {
+    // Legs under two thicknesses long are one segment by length over thickness (on this
+    // grid the two left ones; the right ones two by a cell's rounding), so the left ones get
+    // the knee a leg reaching the ground needs. Their tops climb the body's flank: cut by
+    // layers counted from the highest cell, mixed with the geodesic distances, the knee ran
+    // lengthwise and left `leg.front.L.3` turning at 0.15, above `leg.front.L.2` at 0.06.
+    let controls = controls_of(&stocky_quadruped(0.95, 0.16));
+    let names: Vec<&String> = controls.keys().collect();
+    for leg in ["leg.front.L", "leg.front.R", "leg.back.L", "leg.back.R"] {
+        let (hip, knee) = (format!("{leg}.1"), format!("{leg}.2"));
+        assert!(controls.contains_key(&knee), "no {knee} in {names:?}");
+        assert_eq!(parent(&controls, &knee), hip);
+        let (hip_z, knee_z) = (controls[&hip].1.z, controls[&knee].1.z);
+        assert!(
+            knee_z > 0.1 && knee_z < hip_z - 0.1,
+            "{leg}: hip {hip_z}, knee {knee_z}"
+        );
+        assert!(!controls.contains_key(&format!("{leg}.3")), "{names:?}");
+    }
+    // Shorter still (1.5 thicknesses): cut the same way, a back leg got a third control
+    // turning at 0.02, above its second at −0.10 (and a stray `limb.1.1` beside it). Each
+    // leg is at most two segments, and its joints descend from the hip.
+    let controls = controls_of(&stocky_quadruped(0.8, 0.17));
+    let names: Vec<&String> = controls.keys().collect();
+    let legs_of_three = names
+        .iter()
+        .filter(|n| n.starts_with("leg") && n.ends_with(".3"));
+    assert_eq!(legs_of_three.count(), 0, "{names:?}");
+    for (name, (parent_name, pivot)) in &controls {
+        if let Some(parent_name) = parent_name.as_ref().filter(|p| p.starts_with("leg")) {
+            assert!(
+                pivot.z < controls[parent_name].1.z,
+                "{name} turns at {pivot}, above {parent_name} at {}",
+                controls[parent_name].1
+            );
+        }
+    }
+}

@@ -326,7 +326,11 @@ fn cut_halving_crotches(
         .map(|i| grid.cell_of(i).z)
         .min()
         .unwrap_or(0);
-    let (counts, paired) = paired_segment_counts(&limb_cuts, cutting, ground);
+    let SegmentCounts {
+        counts,
+        kneed,
+        pairs: paired,
+    } = paired_segment_counts(&limb_cuts, cutting, ground);
     let branches: Vec<narrowings::Branch> = (limb_cuts.iter())
         .map(|c| narrowings::Branch {
             cells: &c.cells,
@@ -339,12 +343,10 @@ fn cut_halving_crotches(
         .iter()
         .map(|&(a, b)| (limb_cuts[a].limb, limb_cuts[b].limb))
         .collect();
-    for ((cut, count), joints) in limb_cuts.iter().zip(counts).zip(&joints) {
+    for (((cut, count), kneed), joints) in limb_cuts.iter().zip(counts).zip(kneed).zip(&joints) {
         let straight = straightened(grid, &cut.cells);
-        // A knee the minimum added halves the leg by its own cut distances (below).
-        let kneed = count == 2 && own_segment_count(cut, cutting) == 1 && kneed_leg(cut, ground);
         let shares_of = if kneed {
-            ShareOf::CutDistances
+            ShareOf::Layers
         } else {
             ShareOf::GeodesicLength
         };
@@ -408,13 +410,8 @@ struct LimbCut {
 /// [`PAIR_HEIGHT`] cells, their lengths within [`PAIR_LENGTH`] and their thicknesses within
 /// [`PAIR_THICKNESS`] of each other: two legs, two arms) get one count, from their mean length
 /// and thickness: the Ogre's legs, 5.6 and 7.0 cells long, had two segments and three, so
-/// `leg.R.2` was its knee and `leg.L.2` its shin. Returns the counts and the pairs (indices
-/// into `cuts`).
-fn paired_segment_counts(
-    cuts: &[LimbCut],
-    cutting: &Cutting,
-    ground: i32,
-) -> (Vec<usize>, Vec<(usize, usize)>) {
+/// `leg.R.2` was its knee and `leg.L.2` its shin.
+fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting, ground: i32) -> SegmentCounts {
     let least = |c: &LimbCut| if kneed_leg(c, ground) { 2 } else { 1 };
     let own = |c: &LimbCut| own_segment_count(c, cutting).max(least(c));
     let mut counts: Vec<usize> = cuts.iter().map(own).collect();
@@ -452,7 +449,24 @@ fn paired_segment_counts(
             pairs.push((a, b));
         }
     }
-    (counts, pairs)
+    let kneed = (cuts.iter().zip(&counts))
+        .map(|(c, &count)| count == 2 && own_segment_count(c, cutting) == 1 && least(c) == 2)
+        .collect();
+    SegmentCounts {
+        counts,
+        kneed,
+        pairs,
+    }
+}
+
+/// What [`paired_segment_counts`] gives, one entry per limb cut (indices into the cuts).
+struct SegmentCounts {
+    counts: Vec<usize>,
+    /// Whether a limb's two segments are the knee [`kneed_leg`] asks for, its own length
+    /// over its thickness giving one: such a knee halves it by its layers ([`ShareOf::Layers`]).
+    kneed: Vec<bool>,
+    /// Limbs that are a pair, one count for both.
+    pairs: Vec<(usize, usize)>,
 }
 
 /// A limb's segment count by its length over its thickness alone ([`slab_count`]).
@@ -537,8 +551,25 @@ fn straightened(grid: &Grid, cells: &[(usize, f64)]) -> Option<Vec<f64>> {
 enum ShareOf {
     /// Its cells' greatest geodesic distance from the body.
     GeodesicLength,
-    /// The greatest of the distances its cells are cut by (a straight limb's grid layers).
-    CutDistances,
+    /// Its grid layers alone (a straight limb's; else its geodesic distances), each moved by
+    /// the median of what they exceed the geodesic distances by ([`layers_on_distances`]).
+    Layers,
+}
+
+/// A straight limb's layer distances (`straight`) moved to lie on its cells' geodesic
+/// distances: less the median of what they exceed them by. A leg whose top is ragged (it
+/// climbs the body's flank, its distance 0 across three layers) counts its layers from the
+/// highest cell, so they ran three past its geodesic distances: mixed with them where the
+/// two differ by more than [`STRAIGHT_SLACK`], a generated stocky quadruped's knee cut its
+/// leg lengthwise into pieces, and the pieces became a third control with its pivot below
+/// the second's.
+fn layers_on_distances(cells: &[(usize, f64)], straight: &[f64]) -> Vec<f64> {
+    let mut excess: Vec<f64> = (straight.iter().zip(cells))
+        .map(|(&layer, &(_, d))| layer - d)
+        .collect();
+    excess.sort_by(f64::total_cmp);
+    let median = excess.get(excess.len() / 2).copied().unwrap_or(0.0);
+    straight.iter().map(|&layer| layer - median).collect()
 }
 
 /// Each of a limb's cells' segment (0 at the body): past the `joints`' distances where the
@@ -547,11 +578,12 @@ enum ShareOf {
 /// cells are measured by their grid layer's distance (`straight`, [`straightened`]) where
 /// it is within [`STRAIGHT_SLACK`] cells of their geodesic one, so the joints are flat faces.
 /// The shares are of `shares_of`: a knee the two-segment minimum gives a leg
-/// ([`kneed_leg`]) halves it by the layers, since one ragged top cell adds a layer past its
-/// geodesic length (TOSCA's cat's left hind leg: layers 0-5 against 3.4) and its first
-/// segment kept two cells against 24, a sliver the merges fold away. Every other limb keeps
-/// the geodesic length: taken of the layers too, the knees of Victoria and of the cat's
-/// front legs turned triangles over at 90 degrees (docs/autorig.md, Limits).
+/// ([`kneed_leg`]) halves it by its layers alone ([`layers_on_distances`]), since one
+/// ragged top cell adds a layer past its geodesic length (TOSCA's cat's left hind leg:
+/// layers 0-5 against 3.4) and its first segment kept two cells against 24, a sliver the
+/// merges fold away. Every other limb keeps the geodesic length: taken of the layers too,
+/// the knees of Victoria and of the cat's front legs turned triangles over at 90 degrees
+/// (docs/autorig.md, Limits).
 fn segments_of_cells(
     cells: &[(usize, f64)],
     straight: Option<&[f64]>,
@@ -559,15 +591,21 @@ fn segments_of_cells(
     (count, from_trunk): (usize, bool),
     shares_of: ShareOf,
 ) -> Vec<usize> {
-    let along: Vec<f64> = (cells.iter().enumerate())
-        .map(|(k, &(_, d))| match straight.and_then(|s| s.get(k)) {
-            Some(&layer) if (layer - d).abs() <= STRAIGHT_SLACK => layer,
-            _ => d,
-        })
-        .collect();
-    let length = match shares_of {
-        ShareOf::GeodesicLength => cells.iter().map(|&(_, d)| d).fold(0.0, f64::max),
-        ShareOf::CutDistances => along.iter().copied().fold(0.0, f64::max),
+    let (along, length): (Vec<f64>, f64) = match (shares_of, straight) {
+        (ShareOf::Layers, Some(straight)) if joints.is_none() && straight.len() == cells.len() => {
+            let along = layers_on_distances(cells, straight);
+            let length = along.iter().copied().fold(0.0, f64::max);
+            (along, length)
+        }
+        _ => {
+            let along = (cells.iter().enumerate())
+                .map(|(k, &(_, d))| match straight.and_then(|s| s.get(k)) {
+                    Some(&layer) if (layer - d).abs() <= STRAIGHT_SLACK => layer,
+                    _ => d,
+                })
+                .collect();
+            (along, cells.iter().map(|&(_, d)| d).fold(0.0, f64::max))
+        }
     };
     along
         .iter()
@@ -1628,19 +1666,25 @@ mod tests {
             .map(|l| super::slab_count(l.longest, cutting.segment_length * l.thickness))
             .collect();
         assert_eq!(alone, [2, 3]);
-        assert_eq!(paired_segment_counts(&legs, &cutting, NO_GROUND).0, [2, 2]);
+        assert_eq!(
+            paired_segment_counts(&legs, &cutting, NO_GROUND).counts,
+            [2, 2]
+        );
         // Rooted three cells apart in height, or one much longer, they are no pair.
         let apart = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 6.97, 2.14, IVec3::new(23, 4, 5)),
         ];
-        assert_eq!(paired_segment_counts(&apart, &cutting, NO_GROUND).0, [2, 3]);
+        assert_eq!(
+            paired_segment_counts(&apart, &cutting, NO_GROUND).counts,
+            [2, 3]
+        );
         let longer = [
             limb(0, 5.56, 2.17, IVec3::new(13, 4, 2)),
             limb(1, 9.0, 2.14, IVec3::new(23, 4, 2)),
         ];
         assert_eq!(
-            paired_segment_counts(&longer, &cutting, NO_GROUND).0,
+            paired_segment_counts(&longer, &cutting, NO_GROUND).counts,
             [2, 3]
         );
         // Of three alike, the two nearest in length pair; the third keeps its own count.
@@ -1650,7 +1694,7 @@ mod tests {
             limb(2, 5.7, 2.17, IVec3::new(18, 9, 2)),
         ];
         assert_eq!(
-            paired_segment_counts(&three, &cutting, NO_GROUND).0,
+            paired_segment_counts(&three, &cutting, NO_GROUND).counts,
             [2, 3, 2]
         );
     }
@@ -1672,7 +1716,7 @@ mod tests {
             ..limb(0, longest, 2.0, IVec3::new(4, 18, root_z))
         };
         let ground = 0;
-        let counts = |cuts: &[LimbCut]| paired_segment_counts(cuts, &cutting, ground).0;
+        let counts = |cuts: &[LimbCut]| paired_segment_counts(cuts, &cutting, ground).counts;
         assert_eq!(counts(&[leg(3.41, 5, 0)]), [2]);
         assert_eq!(counts(&[leg(3.41, 5, 0), leg(3.41, 5, 1)]), [2, 2]);
         assert_eq!(counts(&[leg(2.9, 5, 0)]), [1]);
@@ -1682,7 +1726,14 @@ mod tests {
             from_trunk: false,
             ..leg(3.41, 5, 0)
         };
-        assert_eq!(counts(&[hanging]), [1]);
+        assert_eq!(counts(std::slice::from_ref(&hanging)), [1]);
+        // The minimum is what gives the short leg its knee, and only it.
+        let kneed = |cuts: &[LimbCut]| paired_segment_counts(cuts, &cutting, ground).kneed;
+        assert_eq!(kneed(&[leg(3.41, 5, 0), leg(2.9, 5, 0)]), [true, false]);
+        assert_eq!(kneed(&[leg(3.41, 5, 2), hanging]), [false, false]);
+        let long = leg(8.0, 9, 0);
+        assert_eq!(counts(std::slice::from_ref(&long)), [3]);
+        assert_eq!(kneed(&[long]), [false]);
     }
 
     /// A knee the two-segment minimum gives a straight leg halves it by its grid layers: they
@@ -1703,7 +1754,7 @@ mod tests {
             segments_of_cells(&cells, straight, joints, (2, true), shares_of)
         };
         let firsts = |segments: &[usize]| segments.iter().filter(|&&s| s == 0).count();
-        let halved = cut(Some(&straight), None, ShareOf::CutDistances);
+        let halved = cut(Some(&straight), None, ShareOf::Layers);
         assert_eq!(firsts(&halved), layers * per_layer / 2, "{halved:?}");
         // Every cell's segment grows with its layer: the cut is one flat face.
         for (a, b) in halved.iter().zip(&halved[per_layer..]) {
@@ -1712,11 +1763,65 @@ mod tests {
         let by_length = cut(Some(&straight), None, ShareOf::GeodesicLength);
         assert_eq!(firsts(&by_length), 2 * per_layer, "{by_length:?}");
         // Without layers (a bent limb) the distances are cut at their own longest either way.
-        for shares_of in [ShareOf::CutDistances, ShareOf::GeodesicLength] {
+        for shares_of in [ShareOf::Layers, ShareOf::GeodesicLength] {
             assert_eq!(firsts(&cut(None, None, shares_of)), 3 * per_layer);
         }
         // Joints found by the narrowings cut where they are.
-        let at = cut(Some(&straight), Some(&[1.0]), ShareOf::CutDistances);
+        let at = cut(Some(&straight), Some(&[1.0]), ShareOf::Layers);
         assert_eq!(firsts(&at), per_layer);
+    }
+
+    /// A leg climbing the body's flank (a generated stocky quadruped's): distance 0 across
+    /// its three top layers, so its layers, counted from the highest cell, run three past
+    /// its geodesic distances below. Its knee is still one flat face across it, between whole
+    /// layers, with a part of the leg below the body on either side.
+    #[test]
+    fn a_knee_on_a_leg_with_a_ragged_top_is_one_face_across_it() {
+        let layers = 7;
+        let per_layer = 9;
+        // Layer l's cells: distance 0 on the body's flank (layers 0-2), then l − 3 plus a
+        // cell's diagonal step out from the leg's axis.
+        let cells: Vec<(usize, f64)> = (0..layers * per_layer)
+            .map(|i| {
+                let (layer, k) = (i / per_layer, i % per_layer);
+                let off_axis = if k == 4 {
+                    0.0
+                } else {
+                    0.41 * (k % 2 + 1) as f64
+                };
+                (i, (layer as f64 - 3.0 + off_axis).max(0.0))
+            })
+            .collect();
+        let straight: Vec<f64> = (0..layers * per_layer)
+            .map(|i| (i / per_layer) as f64)
+            .collect();
+        let halved = segments_of_cells(&cells, Some(&straight), None, (2, true), ShareOf::Layers);
+        let layer_segments: Vec<std::collections::BTreeSet<usize>> = (0..layers)
+            .map(|l| {
+                halved[l * per_layer..(l + 1) * per_layer]
+                    .iter()
+                    .copied()
+                    .collect()
+            })
+            .collect();
+        assert!(
+            layer_segments.iter().all(|s| s.len() == 1),
+            "{layer_segments:?}"
+        );
+        let knee = layer_segments.iter().position(|s| s.contains(&1));
+        assert!(matches!(knee, Some(4..=5)), "{layer_segments:?}");
+        // Mixing the layers with the distances where they differ by more than the slack, as
+        // every other limb is cut, puts a layer of the flank in the second segment above
+        // layers of the first: the second is in pieces.
+        let mixed = segments_of_cells(
+            &cells,
+            Some(&straight),
+            None,
+            (2, true),
+            ShareOf::GeodesicLength,
+        );
+        let farthest_in_first = (0..mixed.len()).rev().find(|&i| mixed[i] == 0);
+        let nearest_in_second = (0..mixed.len()).find(|&i| mixed[i] == 1);
+        assert!(nearest_in_second < farthest_in_first, "{mixed:?}");
     }
 }
