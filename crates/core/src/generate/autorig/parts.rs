@@ -561,7 +561,7 @@ enum ShareOf {
 /// climbs the body's flank, its distance 0 across three layers) counts its layers from the
 /// highest cell, so they ran three past its geodesic distances: mixed with them where the
 /// two differ by more than [`STRAIGHT_SLACK`], a generated stocky quadruped's knee cut its
-/// leg lengthwise into pieces, and the pieces became a third control with its pivot below
+/// leg lengthwise into pieces, and the pieces became a third control with its pivot above
 /// the second's.
 fn layers_on_distances(cells: &[(usize, f64)], straight: &[f64]) -> Vec<f64> {
     let mut excess: Vec<f64> = (straight.iter().zip(cells))
