@@ -412,9 +412,12 @@ struct LimbCut {
 /// and thickness: the Ogre's legs, 5.6 and 7.0 cells long, had two segments and three, so
 /// `leg.R.2` was its knee and `leg.L.2` its shin.
 fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting, ground: i32) -> SegmentCounts {
-    let least = |c: &LimbCut| if kneed_leg(c, ground) { 2 } else { 1 };
-    let own = |c: &LimbCut| own_segment_count(c, cutting).max(least(c));
-    let mut counts: Vec<usize> = cuts.iter().map(own).collect();
+    // Each limb's own count by its length over its thickness, and the least it may have.
+    let own: Vec<usize> = cuts.iter().map(|c| own_segment_count(c, cutting)).collect();
+    let least: Vec<usize> = (cuts.iter())
+        .map(|c| if kneed_leg(c, ground) { 2 } else { 1 })
+        .collect();
+    let mut counts: Vec<usize> = own.iter().zip(&least).map(|(&o, &l)| o.max(l)).collect();
     let alike = |a: &LimbCut, b: &LimbCut| {
         let ratio = |x: f64, y: f64| x.max(y) / x.min(y).max(1e-9);
         a.from_trunk
@@ -442,15 +445,15 @@ fn paired_segment_counts(cuts: &[LimbCut], cutting: &Cutting, ground: i32) -> Se
             let longest = 0.5 * (cuts[a].longest + cuts[b].longest);
             let thickness = 0.5 * (cuts[a].thickness + cuts[b].thickness);
             let count = slab_count(longest, cutting.segment_length * thickness)
-                .max(least(&cuts[a]))
-                .max(least(&cuts[b]));
+                .max(least[a])
+                .max(least[b]);
             counts[a] = count;
             counts[b] = count;
             pairs.push((a, b));
         }
     }
-    let kneed = (cuts.iter().zip(&counts))
-        .map(|(c, &count)| count == 2 && own_segment_count(c, cutting) == 1 && least(c) == 2)
+    let kneed = (0..cuts.len())
+        .map(|i| counts[i] == 2 && own[i] == 1 && least[i] == 2)
         .collect();
     SegmentCounts {
         counts,
