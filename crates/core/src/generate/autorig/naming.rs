@@ -337,6 +337,18 @@ pub(super) fn limb_names(
         // the limb's root: the body's top is then a neck's base, and a side limb from below
         // it is an arm raised (TOSCA's gorilla: its left arm, rooted a fifth of the body's
         // height below its head, was `ear.L` beside `arm.R`).
+        // A pair's lower root stands for both: decimation may keep a vertex that lifts one
+        // side's root ring (the gorilla-like figure's left arm, 1.21 -> 1.33 with a ring of
+        // four kept at a joint, while its right arm stayed).
+        let pair_root_z = shapes
+            .iter()
+            .filter(|(l, c)| {
+                **l != limb
+                    && !bodies.contains(*l)
+                    && mirror_each_other(s.middle, c.middle, lateral, centre)
+            })
+            .map(|(_, c)| c.root.z)
+            .fold(s.root.z, f64::min);
         let below_a_head = limbs.iter().any(|(&l, record)| {
             l != limb
                 && record.parent.is_none()
@@ -344,7 +356,7 @@ pub(super) fn limb_names(
                     side_of(c) == 0.0
                         && !is_leg(c)
                         && c.tip.z >= c.root.z
-                        && c.root.z > s.root.z + HEAD_ABOVE_ARM_SHARE * body_height
+                        && c.root.z > pair_root_z + HEAD_ABOVE_ARM_SHARE * body_height
                 })
         });
         // An ear grows from the body or a head, not from the end of a stem (an arm raised
