@@ -470,15 +470,36 @@ fn decimate_with(
 }
 
 /// The neighbours `v` may collapse into, nearest first: any neighbour for a sheet vertex, the
-/// two neighbours along the curve for a curve vertex; None for a corner.
+/// two neighbours along the curve for a curve vertex (unless its curve is a short closed
+/// loop, a joint's ring); None for a corner.
 fn targets_of(v: u32, triangles: &[Triangle], star: &[Vec<usize>]) -> Option<Vec<u32>> {
+    match neighbourhood(v, triangles, star) {
+        Neighbourhood::Sheet(neighbours) => Some(neighbours),
+        Neighbourhood::Curve(curve) => {
+            (!on_short_loop(v, &curve, triangles, star)).then_some(curve)
+        }
+        Neighbourhood::Corner => None,
+    }
+}
+
+/// Where a vertex of the decimated surface lies.
+enum Neighbourhood {
+    /// Inside one sheet: all its neighbours.
+    Sheet(Vec<u32>),
+    /// On a simple curve where sheets meet: its two neighbours along the curve.
+    Curve(Vec<u32>),
+    /// Where curves meet or end, or on no live triangle.
+    Corner,
+}
+
+fn neighbourhood(v: u32, triangles: &[Triangle], star: &[Vec<usize>]) -> Neighbourhood {
     let alive: Vec<&Triangle> = star[v as usize]
         .iter()
         .map(|&t| &triangles[t])
         .filter(|t| t.alive)
         .collect();
     if alive.is_empty() {
-        return None;
+        return Neighbourhood::Corner;
     }
     // Sheets of the triangles around each edge from v.
     let mut edge_sheets: BTreeMap<u32, BTreeSet<Sides>> = BTreeMap::new();
@@ -491,7 +512,7 @@ fn targets_of(v: u32, triangles: &[Triangle], star: &[Vec<usize>]) -> Option<Vec
     }
     let sheets: BTreeSet<_> = alive.iter().map(|t| t.sheet()).collect();
     if sheets.len() == 1 {
-        return Some(edge_sheets.keys().copied().collect());
+        return Neighbourhood::Sheet(edge_sheets.keys().copied().collect());
     }
     let curve: Vec<u32> = edge_sheets
         .iter()
@@ -499,7 +520,37 @@ fn targets_of(v: u32, triangles: &[Triangle], star: &[Vec<usize>]) -> Option<Vec
         .map(|(u, _)| *u)
         .collect();
     // A simple curve vertex: two curve edges, each with every sheet of v around it.
-    (curve.len() == 2 && curve.iter().all(|u| edge_sheets[u] == sheets)).then_some(curve)
+    if curve.len() == 2 && curve.iter().all(|u| edge_sheets[u] == sheets) {
+        Neighbourhood::Curve(curve)
+    } else {
+        Neighbourhood::Corner
+    }
+}
+
+/// The fewest vertices a closed curve where three surfaces meet keeps (a joint's ring): a
+/// triangle is no cross-section of a limb (TOSCA's cat's wrist ring, one corner over the toes).
+const FEWEST_LOOP_VERTICES: usize = 4;
+
+/// Whether the curve through `v` (its two neighbours along it, `curve`) closes on itself
+/// through simple curve vertices within [`FEWEST_LOOP_VERTICES`] vertices.
+fn on_short_loop(v: u32, curve: &[u32], triangles: &[Triangle], star: &[Vec<usize>]) -> bool {
+    let Some(&first) = curve.first() else {
+        return false;
+    };
+    let (mut previous, mut current) = (v, first);
+    for _ in 1..FEWEST_LOOP_VERTICES {
+        if current == v {
+            return true;
+        }
+        let Neighbourhood::Curve(next) = neighbourhood(current, triangles, star) else {
+            return false;
+        };
+        let Some(next) = next.into_iter().find(|&u| u != previous) else {
+            return false;
+        };
+        (previous, current) = (current, next);
+    }
+    current == v
 }
 
 /// What a collapse changed, to take it back.
@@ -909,6 +960,75 @@ mod tests {
         // Coplanar: crossing an edge, and lying beside it.
         assert!(segment_meets_triangle(p(1, -1, 0), p(1, 1, 0), tri));
         assert!(!segment_meets_triangle(p(5, 0, 0), p(6, 1, 0), tri));
+    }
+
+    /// A lattice point's vertex index in [`stacked_boxes`] `width` cells wide.
+    fn lattice_id(width: i32, x: i32, y: i32, z: i32) -> u32 {
+        (x + (width + 1) * (y + 2 * z)) as u32
+    }
+
+    /// Two boxes `width` × 1 × 1 of unit cells stacked along z, part 0 below part 1, their
+    /// faces split into unit squares of two triangles each: the triangles and each vertex's
+    /// star (vertices numbered by [`lattice_id`]).
+    fn stacked_boxes(width: i32) -> (Vec<Triangle>, Vec<Vec<usize>>) {
+        let id = |x: i32, y: i32, z: i32| lattice_id(width, x, y, z);
+        let part_of = |x: i32, y: i32, z: i32| {
+            ((0..width).contains(&x) && y == 0 && (0..2).contains(&z)).then_some(z as u32)
+        };
+        let mut triangles = Vec::new();
+        for x in 0..width {
+            for z in 0..2 {
+                let here = part_of(x, 0, z);
+                for axis in 0..3 {
+                    for side in [0, 1] {
+                        let mut step = [0; 3];
+                        step[axis] = 2 * side - 1;
+                        let there = part_of(x + step[0], step[1], z + step[2]);
+                        // Each face between the parts once, from below.
+                        if there.is_some() && (axis != 2 || side == 0) {
+                            continue;
+                        }
+                        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                        let corner = |a: i32, b: i32| {
+                            let mut c = [x, 0, z];
+                            c[axis] += side;
+                            c[u] += a;
+                            c[w] += b;
+                            id(c[0], c[1], c[2])
+                        };
+                        let (a, b, c, d) = (corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1));
+                        for corners in [[a, b, c], [a, c, d]] {
+                            triangles.push(Triangle {
+                                corners,
+                                front: here,
+                                back: there,
+                                alive: true,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        let mut star = vec![Vec::new(); ((width + 1) * 2 * 3) as usize];
+        for (t, triangle) in triangles.iter().enumerate() {
+            for &c in &triangle.corners {
+                star[c as usize].push(t);
+            }
+        }
+        (triangles, star)
+    }
+
+    #[test]
+    fn a_ring_of_four_vertices_keeps_them_and_a_longer_one_slides() {
+        // One cell wide, the face the boxes share is bounded by a curve of 4 vertices, where
+        // both boxes' sides meet it: a collapse would leave a triangle for a joint's ring.
+        let (triangles, star) = stacked_boxes(1);
+        assert_eq!(targets_of(lattice_id(1, 0, 0, 1), &triangles, &star), None);
+        // Two cells wide, its curve has 6: a vertex may slide along it.
+        let (triangles, star) = stacked_boxes(2);
+        let id = |x, y, z| lattice_id(2, x, y, z);
+        let targets = targets_of(id(1, 0, 1), &triangles, &star);
+        assert_eq!(targets, Some(vec![id(0, 0, 1), id(2, 0, 1)]));
     }
 
     #[test]
