@@ -65,6 +65,14 @@ pub(super) fn sided_other_limbs(rig: &Autorig) -> usize {
         .count()
 }
 
+/// Whether `rig` has a head: a limb named `head` (or a numbered copy, `head.001`), by its
+/// leaf cages' names. A retry that parts the legs must keep it.
+pub(super) fn has_head(rig: &Autorig) -> bool {
+    limbs_of_rig(rig)
+        .into_iter()
+        .any(|limb| limb == "head" || limb.starts_with("head."))
+}
+
 /// Legs reaching less than this share of the figure's height ([`leg_reach`]) are
 /// feet the grid parted under legs it joined: a quadruped's legs reach a third of it or more
 /// (spot's, the shortest of the shared meshes', 0.3–0.35).

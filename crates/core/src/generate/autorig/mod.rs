@@ -66,7 +66,8 @@ use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{
     BETTER_LEG_REACH, CELL_IN_GAP, SHORT_BIPED_LEG_REACH, SHORT_LEG_REACH, gap_between_legs,
-    leg_reach, on_two_legs, sided_legs, sided_other_limbs, stands_on_separate_feet, unsided_legs,
+    has_head, leg_reach, on_two_legs, sided_legs, sided_other_limbs, stands_on_separate_feet,
+    unsided_legs,
 };
 use decimate::{Held, SurfaceByPart, Sweep};
 use name_defects::{name_defects, names_better};
@@ -404,25 +405,7 @@ fn rig_with_legs_apart(
     // cell apart, then with that column thinner than the gap between them; the grid that
     // finds more legs with a side is kept.
     // Also where the legs are feet under legs the grid joined (they reach little of the
-    // height). Where that alone asks for the retry (two sided legs, none without a side), the
-    // retry must keep every sided limb and leg, and find more sided legs or legs reaching
-    // higher; else it must find more sided legs, or as many, fewer unsided, reaching higher.
-    let better = |retry: &LegCounts, rig: &LegCounts| {
-        let keeps_limbs_reaching_higher = retry.sided_legs == rig.sided_legs
-            && retry.sided_other_limbs >= rig.sided_other_limbs
-            && retry.reach > rig.reach + BETTER_LEG_REACH;
-        if rig.sided_legs >= 2 && rig.unsided_legs == 0 {
-            retry.unsided_legs == 0
-                && ((retry.sided_legs > rig.sided_legs
-                    && retry.sided_other_limbs >= rig.sided_other_limbs)
-                    || keeps_limbs_reaching_higher)
-        } else {
-            // Or as many with fewer unsided (the knight's centre `leg` on the ground between
-            // its feet, mirrored at detail 3).
-            retry.sided_legs > rig.sided_legs
-                || (keeps_limbs_reaching_higher && retry.unsided_legs < rig.unsided_legs)
-        }
-    };
+    // height): [`retry_is_better`] weighs the retries.
     let wants_retry = |rig: &LegCounts| {
         let short = if rig.on_two_legs {
             SHORT_BIPED_LEG_REACH
@@ -437,7 +420,7 @@ fn rig_with_legs_apart(
             match on_grid(cells, GridChoice::CENTRED) {
                 Ok(centred) => {
                     let centred_counts = LegCounts::of(&centred);
-                    if better(&centred_counts, &counts) {
+                    if retry_is_better(&centred_counts, &counts) {
                         (rig, counts) = (centred, centred_counts);
                     }
                 }
@@ -458,13 +441,40 @@ fn rig_with_legs_apart(
                 limbs_apart: true,
             };
             match on_grid(cells, choice) {
-                Ok(parted) if better(&LegCounts::of(&parted), &counts) => rig = parted,
+                Ok(parted) if retry_is_better(&LegCounts::of(&parted), &counts) => rig = parted,
                 Err(AutorigError::Cancelled) => return Err(AutorigError::Cancelled),
                 _ => {}
             }
         }
     }
     Ok(rig)
+}
+
+/// Whether a retry of [`rig_with_legs_apart`] (`retry`) is kept over the rig it retries
+/// (`rig`). It must keep the head where the rig has one (the mirrored gorilla's retry traded
+/// its head for four legs, kept out only by the count of its other sided limbs). Where the rig
+/// asks for the retry only because its legs reach little of the height (two sided legs, none
+/// without a side), the retry must keep every sided limb and leg, and find more sided legs or
+/// legs reaching higher; else it must find more sided legs, or as many, fewer unsided,
+/// reaching higher.
+fn retry_is_better(retry: &LegCounts, rig: &LegCounts) -> bool {
+    if rig.head && !retry.head {
+        return false;
+    }
+    let keeps_limbs_reaching_higher = retry.sided_legs == rig.sided_legs
+        && retry.sided_other_limbs >= rig.sided_other_limbs
+        && retry.reach > rig.reach + BETTER_LEG_REACH;
+    if rig.sided_legs >= 2 && rig.unsided_legs == 0 {
+        retry.unsided_legs == 0
+            && ((retry.sided_legs > rig.sided_legs
+                && retry.sided_other_limbs >= rig.sided_other_limbs)
+                || keeps_limbs_reaching_higher)
+    } else {
+        // Or as many with fewer unsided (the knight's centre `leg` on the ground between
+        // its feet, mirrored at detail 3).
+        retry.sided_legs > rig.sided_legs
+            || (keeps_limbs_reaching_higher && retry.unsided_legs < rig.unsided_legs)
+    }
 }
 
 /// What `rig_with_legs_apart` weighs a rig by, counted once per rig from its leaf names.
@@ -476,6 +486,8 @@ struct LegCounts {
     reach: f64,
     /// [`on_two_legs`]: its legs are `leg.L` and `leg.R`.
     on_two_legs: bool,
+    /// [`has_head`]: it has a `head` limb.
+    head: bool,
 }
 
 impl LegCounts {
@@ -486,6 +498,7 @@ impl LegCounts {
             sided_other_limbs: sided_other_limbs(rig),
             reach: leg_reach(rig),
             on_two_legs: on_two_legs(rig),
+            head: has_head(rig),
         }
     }
 }
@@ -1433,6 +1446,36 @@ fn walk_piece(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_retry_finding_more_legs_is_kept_only_where_it_keeps_the_head() {
+        // The mirrored gorilla: one sided leg and a head; the retry four sided legs, no head.
+        let rig = LegCounts {
+            sided_legs: 1,
+            unsided_legs: 0,
+            sided_other_limbs: 2,
+            reach: 0.2,
+            on_two_legs: true,
+            head: true,
+        };
+        let headless = LegCounts {
+            sided_legs: 4,
+            sided_other_limbs: 2,
+            head: false,
+            on_two_legs: false,
+            ..rig
+        };
+        assert!(!retry_is_better(&headless, &rig));
+        // The same retry with its head is better, and so is a headless retry of a headless
+        // rig.
+        let headed = LegCounts {
+            head: true,
+            ..headless
+        };
+        assert!(retry_is_better(&headed, &rig));
+        let rig_without_head = LegCounts { head: false, ..rig };
+        assert!(retry_is_better(&headless, &rig_without_head));
+    }
 
     #[test]
     fn the_parts_around_a_point_are_those_of_its_cell_and_the_26_beside_it() {
