@@ -3,6 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use glam::DVec3;
 use rayon::prelude::*;
 use thiserror::Error;
 
@@ -716,17 +717,22 @@ fn check_overlaps_and_coverage(scene: &Scene, leaves: &[LocalCage], report: &mut
                 .push(format!("{problem} (they follow the nearest cage)")),
         }
     }
-    check_cage_vertices_against_cages(set, leaves, &mut report.errors);
+    check_cage_vertices_against_cages(scene, leaves, &mut report.errors);
     check_cages_crossing(set, leaves, &mut report.errors);
 }
 
 /// Leaf-cage vertices strictly inside another leaf cage (overlap), or on its surface without
-/// being its vertex (a T-junction).
+/// being its vertex (a T-junction). A vertex at exactly the place of one of the other cage's
+/// vertices is a contact: two cages may touch without sharing where no mesh edge passes
+/// between them (the auto rig parts two paws side by side so; docs/math.md, *Cages: "Two
+/// leaf cages may touch"); where one does, the mesh would tear there and the copy is refused
+/// as before.
 fn check_cage_vertices_against_cages(
-    set: &super::CageSet,
+    scene: &Scene,
     leaves: &[LocalCage],
     errors: &mut Vec<SceneProblem>,
 ) {
+    let set = &scene.cages;
     let mut is_leaf_vertex = vec![false; set.vertices.len()];
     for &v in set.leaves.iter().flat_map(|l| l.faces.iter().flatten()) {
         if let Some(slot) = is_leaf_vertex.get_mut(v as usize) {
@@ -734,7 +740,7 @@ fn check_cage_vertices_against_cages(
         }
     }
     // Internal cages' vertices may lie anywhere: only leaf vertices matter here.
-    let found: Vec<SceneProblem> = leaves
+    let found: Vec<(SceneProblem, Option<u32>)> = leaves
         .par_iter()
         .enumerate()
         .flat_map_iter(|(c, local)| {
@@ -754,16 +760,19 @@ fn check_cage_vertices_against_cages(
                 .filter_map(move |(vertex, p)| {
                     let (triangle, _, distance) = local.cage.closest_point(*p);
                     if distance <= tol {
-                        Some(SceneProblem::VertexOnCageSurface {
+                        let touched = local.cage.positions().iter().position(|q| q == p);
+                        let problem = SceneProblem::VertexOnCageSurface {
                             vertex,
                             cage: set.leaves[c].name.clone(),
                             face: local.cage.triangle_polygon()[triangle] as usize,
-                        })
+                        };
+                        Some((problem, touched.map(|k| local.global[k])))
                     } else if local.cage.winding_number(*p) > 0.5 {
-                        Some(SceneProblem::CageVertexInsideCage {
+                        let problem = SceneProblem::CageVertexInsideCage {
                             vertex,
                             cage: set.leaves[c].name.clone(),
-                        })
+                        };
+                        Some((problem, None))
                     } else {
                         None
                     }
@@ -771,7 +780,72 @@ fn check_cage_vertices_against_cages(
                 .collect::<Vec<_>>()
         })
         .collect();
-    errors.extend(found);
+    let touched: BTreeSet<u32> = found.iter().filter_map(|(_, t)| *t).collect();
+    let torn = faces_the_mesh_crosses(scene, &touched);
+    errors.extend(
+        found
+            .into_iter()
+            .filter_map(|(problem, touched)| match touched {
+                Some(at) if !torn.contains(&at) => None,
+                _ => Some(problem),
+            }),
+    );
+}
+
+/// Of the `touched` leaf vertices (each at the place of another cage's vertex), those on a
+/// face of theirs whose corners are all touched (a face two cages both have, unshared) that a
+/// mesh edge meets.
+fn faces_the_mesh_crosses(scene: &Scene, touched: &BTreeSet<u32>) -> BTreeSet<u32> {
+    let set = &scene.cages;
+    let touching: Vec<[DVec3; 3]> = set
+        .leaves
+        .iter()
+        .flat_map(|l| &l.faces)
+        .filter(|f| f.len() >= 3 && f.iter().all(|v| touched.contains(v)))
+        .flat_map(|f| (1..f.len() - 1).map(move |i| [f[0], f[i], f[i + 1]]))
+        .filter_map(|t| {
+            let at = |v: u32| set.vertices.get(v as usize).copied();
+            Some([at(t[0])?, at(t[1])?, at(t[2])?])
+        })
+        .collect();
+    let mut torn = BTreeSet::new();
+    if touching.is_empty() {
+        return torn;
+    }
+    let points = scene.mesh.welded_positions();
+    let meets = |p: DVec3, q: DVec3, t: &[DVec3; 3]| {
+        let hit = |o: DVec3, d: DVec3| {
+            crate::geometry::ray_triangle(o, d, t[0], t[1], t[2]).is_some_and(|u| u <= 1.0)
+        };
+        hit(p, q - p) || hit(q, p - q)
+    };
+    let crossed: Vec<bool> = touching
+        .par_iter()
+        .map(|t| {
+            let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+            scene.mesh.welded_triangles().iter().any(|tri| {
+                let corner = |k: usize| points.get(tri[k] as usize).copied();
+                (0..3).any(|k| {
+                    let (Some(p), Some(q)) = (corner(k), corner((k + 1) % 3)) else {
+                        return false;
+                    };
+                    p.min(q).cmple(hi).all() && p.max(q).cmpge(lo).all() && meets(p, q, t)
+                })
+            })
+        })
+        .collect();
+    for (t, crossed) in touching.iter().zip(crossed) {
+        if crossed {
+            torn.extend(
+                set.vertices
+                    .iter()
+                    .enumerate()
+                    .filter(|(v, p)| touched.contains(&(*v as u32)) && t.contains(p))
+                    .map(|(v, _)| v as u32),
+            );
+        }
+    }
+    torn
 }
 
 /// Pairs of leaf cages whose surfaces cross: they overlap even where no vertex of either lies

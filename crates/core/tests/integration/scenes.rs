@@ -429,7 +429,21 @@ fn cages_through_each_other_t_junctions_and_self_intersections_are_refused() {
         (DVec3::splat(-1.0), DVec3::ONE),
         (DVec3::new(1.0, -1.0, -1.0), DVec3::new(3.0, 1.0, 1.0)),
     ]);
-    let p = problems(&unwelded);
+    // The small mesh lies in the first box only: the two touch, each on its own (a contact,
+    // as the auto rig leaves two paws side by side).
+    assert!(
+        validate_scene(&unwelded).is_valid(),
+        "{:?}",
+        problems(&unwelded)
+    );
+    // A mesh across the seam would tear there: refused, with the fix.
+    let mut across = unwelded.clone();
+    across.mesh = box_mesh(
+        DVec3::new(0.5, -0.2, -0.2),
+        DVec3::new(1.5, 0.2, 0.2),
+        [2, 1, 1],
+    );
+    let p = problems(&across);
     assert!(
         p.iter().any(|e| e.to_string().contains("weld the vertex")),
         "{p:?}"

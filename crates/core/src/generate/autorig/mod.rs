@@ -24,6 +24,7 @@
 
 mod branches;
 mod close_legs;
+mod contacts;
 mod controls;
 mod crumbs;
 mod decimate;
@@ -727,16 +728,16 @@ fn rig_on_grid(
             .filter_map(|&l| partner.as_ref()?.get(l as usize).copied())
             .collect()
     };
+    let problem_of = |set: &CageSet| {
+        let scene = Scene::new(
+            MeshSource::Embedded,
+            mesh.clone(),
+            set.clone(),
+            SceneSettings::default(),
+        );
+        validate_scene(&scene).errors.into_iter().next()
+    };
     let cages = loop {
-        let problem_of = |set: &CageSet| {
-            let scene = Scene::new(
-                MeshSource::Embedded,
-                mesh.clone(),
-                set.clone(),
-                SceneSettings::default(),
-            );
-            validate_scene(&scene).errors.into_iter().next()
-        };
         // Decimated cages first; a cage named by a problem is kept grid-stepped and the rest
         // decimated again; all grid-stepped where that does not validate either.
         let label_by_cell: Vec<Option<u32>> = mesh
@@ -873,8 +874,13 @@ fn rig_on_grid(
         check()?;
     };
     control.advance();
-    let mut cages = cages;
+    // Where two cages share faces the surface does not pass (two paws side by side), each
+    // keeps its own vertices there, so that each limb's control carries its side.
     let plane = mirror_axis.map(|a| (a, mirror_plane(lo[a], hi[a])));
+    let mut cages = match contacts::part_contacts(&cages, surface, plane) {
+        Some((parted, _)) if problem_of(&parted).is_none() => parted,
+        _ => cages,
+    };
     // Without a mirror, the figure's sides are across the horizontal axis it is symmetric
     // across, where there is one.
     let lateral = plane
