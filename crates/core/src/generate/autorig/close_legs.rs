@@ -23,6 +23,15 @@ pub(super) fn sided_legs(rig: &Autorig) -> usize {
         .count()
 }
 
+/// Whether `rig` has more legs on one side than on the other (`leg.front.R` and `leg.back.R`
+/// but only `leg.L`): on a figure symmetric across a horizontal plane, two legs the grid
+/// joined where their feet touch (one chain down one leg and up the other) or a leg left in
+/// the body.
+pub(super) fn unpaired_legs(rig: &Autorig) -> bool {
+    let on = |side: &str| leg_limbs(rig).filter(|limb| limb.ends_with(side)).count();
+    on(".L") != on(".R")
+}
+
 /// How many limbs of `rig` are legs without a side (`leg`, `leg.front`): two legs the grid
 /// joined along the symmetry plane (the camel's front legs, a cell apart) are one such limb.
 pub(super) fn unsided_legs(rig: &Autorig) -> usize {

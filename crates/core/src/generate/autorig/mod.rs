@@ -68,7 +68,7 @@ use crate::scene::{CageSet, LeafCage, MeshSource, Scene, SceneSettings};
 use close_legs::{
     BETTER_LEG_REACH, CELL_IN_GAP, SHORT_BIPED_LEG_REACH, SHORT_LEG_REACH, gap_between_legs,
     has_head, leg_reach, on_two_legs, sided_legs, sided_other_limbs, stands_on_separate_feet,
-    unsided_legs,
+    unpaired_legs, unsided_legs,
 };
 use decimate::{Held, SurfaceByPart, Sweep};
 use name_defects::{name_defects, names_better};
@@ -413,7 +413,7 @@ fn rig_with_legs_apart(
         } else {
             SHORT_LEG_REACH
         };
-        rig.sided_legs < 2 || rig.unsided_legs > 0 || rig.reach < short
+        rig.sided_legs < 2 || rig.unsided_legs > 0 || rig.reach < short || rig.unpaired
     };
     let mut counts = LegCounts::of(&rig);
     if wants_retry(&counts) && facts.on_separate_feet {
@@ -489,6 +489,8 @@ struct LegCounts {
     on_two_legs: bool,
     /// [`has_head`]: it has a `head` limb.
     head: bool,
+    /// [`unpaired_legs`]: more legs on one side than on the other.
+    unpaired: bool,
 }
 
 impl LegCounts {
@@ -500,6 +502,7 @@ impl LegCounts {
             reach: leg_reach(rig),
             on_two_legs: on_two_legs(rig),
             head: has_head(rig),
+            unpaired: unpaired_legs(rig),
         }
     }
 }
@@ -1463,6 +1466,7 @@ mod tests {
             reach: 0.2,
             on_two_legs: true,
             head: true,
+            unpaired: true,
         };
         let headless = LegCounts {
             sided_legs: 4,
