@@ -86,6 +86,25 @@ pub fn ray_triangle(origin: DVec3, direction: DVec3, a: DVec3, b: DVec3, c: DVec
     (t > 0.0).then_some(t)
 }
 
+/// Whether segment `p`–`q` meets triangle `t`, its ends and the triangle's edges included
+/// (a segment lying in the triangle's plane does not).
+pub fn segment_meets_triangle(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
+    ray_triangle(p, q - p, t[0], t[1], t[2]).is_some_and(|u| u <= 1.0)
+        || ray_triangle(q, p - q, t[0], t[1], t[2]).is_some_and(|u| u <= 1.0)
+}
+
+/// The generalised winding number of a triangle mesh at `p` (Jacobson et al. 2013): the sum of
+/// the triangles' signed solid angles over 4π; 1 inside a closed outward mesh, 0 outside, and a
+/// graceful value in between near holes. Corners outside `positions` count as at `p`.
+pub fn winding_number(positions: &[DVec3], triangles: &[[u32; 3]], p: DVec3) -> f64 {
+    let at = |v: u32| positions.get(v as usize).map_or(DVec3::ZERO, |q| *q - p);
+    let total: f64 = triangles
+        .iter()
+        .map(|&[a, b, c]| solid_angle(at(a), at(b), at(c)))
+        .sum();
+    total / (4.0 * std::f64::consts::PI)
+}
+
 /// Whether the cells set in `mask` (of a 2×2×2 block of grid cells, bit c = x + 2y + 4z) are
 /// connected through shared faces (cells differing in one bit). The empty set is connected.
 /// A set of grid cells and its complement are both face-connected in every block exactly when

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use crate::cage::shapes::box_faces;
 use crate::coords::CoordinateKind;
-use crate::geometry::block_face_connected;
+use crate::geometry::{block_face_connected, winding_number};
 use crate::mesh::Mesh;
 use crate::scene::{CageSet, LeafCage};
 
@@ -114,18 +114,6 @@ fn fill_inside(
     for index in inside {
         occupied[index] = true;
     }
-}
-
-/// The generalised winding number of a triangle mesh at `p` (Jacobson et al. 2013): the sum of
-/// the triangles' signed solid angles over 4π; 1 inside a closed outward mesh, 0 outside, and a
-/// graceful value in between near holes.
-fn winding_number(positions: &[DVec3], triangles: &[[u32; 3]], p: DVec3) -> f64 {
-    let at = |v: u32| positions.get(v as usize).map_or(DVec3::ZERO, |q| *q - p);
-    let total: f64 = triangles
-        .iter()
-        .map(|&[a, b, c]| crate::geometry::solid_angle(at(a), at(b), at(c)))
-        .sum();
-    total / (4.0 * std::f64::consts::PI)
 }
 
 /// Adds cells until the union of the occupied cells is a manifold: around every grid vertex,

@@ -813,12 +813,6 @@ fn faces_the_mesh_crosses(scene: &Scene, touched: &BTreeSet<u32>) -> BTreeSet<u3
         return torn;
     }
     let points = scene.mesh.welded_positions();
-    let meets = |p: DVec3, q: DVec3, t: &[DVec3; 3]| {
-        let hit = |o: DVec3, d: DVec3| {
-            crate::geometry::ray_triangle(o, d, t[0], t[1], t[2]).is_some_and(|u| u <= 1.0)
-        };
-        hit(p, q - p) || hit(q, p - q)
-    };
     let crossed: Vec<bool> = touching
         .par_iter()
         .map(|t| {
@@ -829,7 +823,9 @@ fn faces_the_mesh_crosses(scene: &Scene, touched: &BTreeSet<u32>) -> BTreeSet<u3
                     let (Some(p), Some(q)) = (corner(k), corner((k + 1) % 3)) else {
                         return false;
                     };
-                    p.min(q).cmple(hi).all() && p.max(q).cmpge(lo).all() && meets(p, q, t)
+                    p.min(q).cmple(hi).all()
+                        && p.max(q).cmpge(lo).all()
+                        && crate::geometry::segment_meets_triangle(p, q, *t)
                 })
             })
         })

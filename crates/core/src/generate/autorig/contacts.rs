@@ -25,7 +25,7 @@ use glam::{DVec3, IVec3};
 
 use super::surface::SurfaceMesh;
 use super::union_find::find;
-use crate::geometry::{ray_triangle, solid_angle};
+use crate::geometry::{segment_meets_triangle, winding_number};
 use crate::scene::{Adjacency, CageSet};
 
 /// Cells of the patch triangles' hash a mesh edge may cover before it is tested against every
@@ -302,12 +302,6 @@ fn crossed_patches(set: &CageSet, patches: &[Patch], surface: &SurfaceMesh) -> V
     crossed
 }
 
-/// Whether segment `p`–`q` meets triangle `t`, its ends and edges included.
-fn segment_meets_triangle(p: DVec3, q: DVec3, t: [DVec3; 3]) -> bool {
-    ray_triangle(p, q - p, t[0], t[1], t[2]).is_some_and(|u| u <= 1.0)
-        || ray_triangle(q, p - q, t[0], t[1], t[2]).is_some_and(|u| u <= 1.0)
-}
-
 /// Whether the patch lies outside the surface: the mesh's generalised winding number
 /// (Jacobson et al. 2013) at the centroid of its first triangle is below a half.
 fn outside_surface(
@@ -317,13 +311,7 @@ fn outside_surface(
     triangles: &[[u32; 3]],
 ) -> Option<bool> {
     let [a, b, c] = *patch_triangles(set, patch).first()?;
-    let at = (a + b + c) / 3.0;
-    let relative = |v: u32| points.get(v as usize).map_or(DVec3::ZERO, |q| *q - at);
-    let total: f64 = triangles
-        .iter()
-        .map(|&[a, b, c]| solid_angle(relative(a), relative(b), relative(c)))
-        .sum();
-    Some(total / (4.0 * std::f64::consts::PI) < 0.5)
+    Some(winding_number(points, triangles, (a + b + c) / 3.0) < 0.5)
 }
 
 /// At each vertex of a parted patch, each cage using it mapped to its group: cages joined there
