@@ -8,8 +8,8 @@
 use std::collections::BTreeMap;
 
 use super::parts::{Parts, contacts_of};
-use super::pieces::Surface;
 use super::surface::SurfaceMesh;
+use super::surface_pieces::Surface;
 use super::voxels::Grid;
 
 /// A segment holding fewer mesh vertices than this share of its limb's mean segment is a

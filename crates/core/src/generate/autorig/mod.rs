@@ -44,8 +44,10 @@ mod pieces;
 mod polycube;
 mod repair;
 mod saddles;
+mod segment_boundary;
 mod straight;
 mod surface;
+mod surface_pieces;
 mod symmetry;
 #[cfg(test)]
 mod test_cages;
