@@ -1271,3 +1271,44 @@ fn a_stocky_quadruped_s_legs_bend_at_a_knee_and_stay_chains() {
         }
     }
 }
+
+/// A quadruped facing +Y whose neck rises from its chest to a head hanging below its back (a
+/// grazing horse's; TOSCA's horse holds its muzzle below its back). The body faces the limb
+/// that reaches well above it by its highest point, not by its tip: by the tip (the muzzle)
+/// the neck and head were a `tail`, and a stub at the back end the `head`. The chain is a
+/// `neck` carrying the `head`, whose pivot is at the poll, where the head hangs from the neck.
+#[test]
+fn a_head_hanging_below_the_back_from_a_raised_neck_is_a_head_on_a_neck() {
+    for (poll, muzzle) in [
+        (v(0.0, 1.2, 0.55), v(0.0, 1.45, 0.0)),
+        (v(0.0, 1.2, 0.7), v(0.0, 1.5, 0.1)),
+    ] {
+        let mut parts = vec![
+            (v(0.0, -0.6, 0.0), v(0.0, 0.6, 0.0), 0.3),
+            (v(0.0, 0.7, 0.15), poll, 0.11),
+            (poll, muzzle, 0.1),
+        ];
+        for (x, y) in [(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45), (0.18, 0.45)] {
+            parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.09));
+        }
+        let controls = controls_of(&capsules(&parts, 0.03));
+        let names: Vec<&String> = controls.keys().collect();
+        assert!(!names.iter().any(|n| n.starts_with("tail")), "{names:?}");
+        let parent = |name: &str| controls.get(name).and_then(|(p, _)| p.as_deref());
+        assert_eq!(parent("neck.1"), Some("root"), "{names:?}");
+        assert_eq!(parent("head.1"), Some("neck.1"), "{names:?}");
+        let (_, pivot) = controls["head.1"];
+        assert!(
+            (pivot - poll).length() < 0.2,
+            "head.1 turns about {pivot:?}, the poll is at {poll:?}"
+        );
+        assert_eq!(
+            names
+                .iter()
+                .filter(|n| n.starts_with("leg.") && n.ends_with(".1"))
+                .count(),
+            4,
+            "{names:?}"
+        );
+    }
+}

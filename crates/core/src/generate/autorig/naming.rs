@@ -114,6 +114,8 @@ pub(super) fn limb_names(
         tip: DVec3,
         /// The height of the limb's lowest vertex.
         bottom: f64,
+        /// The height of the limb's highest vertex.
+        top: f64,
     }
     let shapes: BTreeMap<usize, Shape> = limbs
         .iter()
@@ -155,6 +157,10 @@ pub(super) fn limb_names(
                 .map(point)
                 .max_by(|a, b| (*a - root).length().total_cmp(&(*b - root).length()))?;
             let bottom = all.iter().map(|v| point(v).z).fold(f64::INFINITY, f64::min);
+            let top = all
+                .iter()
+                .map(|v| point(v).z)
+                .fold(f64::NEG_INFINITY, f64::max);
             Some((
                 limb,
                 Shape {
@@ -163,6 +169,7 @@ pub(super) fn limb_names(
                     width: hi - lo,
                     tip,
                     bottom,
+                    top,
                 },
             ))
         })
@@ -191,6 +198,8 @@ pub(super) fn limb_names(
     };
     // Which way a lying body faces: towards the limbs that reach well above it (a neck,
     // ears, horns; a quarter of its height), else towards a second thick region (its head), else −Y as in Blender.
+    // A limb reaches as high as its highest vertex, not its tip: a neck raised to a head
+    // hanging below the back (a grazing horse's) had its tip low, and was named `tail`.
     let forward = lying.then(|| {
         let axis = 1 - lateral;
         let raised = centroid(
@@ -198,7 +207,7 @@ pub(super) fn limb_names(
                 .iter()
                 .filter(|(limb, _)| !bodies.contains(limb))
                 .map(|(_, s)| s)
-                .filter(|s| s.tip.z > body_hi.z + 0.25 * body_extent.z && !is_leg(s))
+                .filter(|s| s.top > body_hi.z + 0.25 * body_extent.z && !is_leg(s))
                 .map(|s| s.root),
         );
         // Else side limbs out from the body's upper half (a cow's ears on a head the body
