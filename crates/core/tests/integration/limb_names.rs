@@ -1312,3 +1312,33 @@ fn a_head_hanging_below_the_back_from_a_raised_neck_is_a_head_on_a_neck() {
         );
     }
 }
+
+/// A quadruped facing +Y with its neck and head raised and its left front leg lifted forward
+/// beyond its chest (TOSCA's prancing horse): a long limb reaching beyond the front end from
+/// the body's lower half is no neck turned to a side. It was named `neck` and `head` beside
+/// the real neck and head (`head.001`).
+#[test]
+fn a_front_leg_raised_forward_is_not_a_neck() {
+    let mut parts = vec![
+        (v(0.0, -0.6, 0.0), v(0.0, 0.6, 0.0), 0.3),
+        (v(0.0, 0.7, 0.15), v(0.0, 1.05, 0.9), 0.12),
+        (v(0.0, 1.05, 0.9), v(0.0, 1.4, 0.75), 0.11),
+        (v(0.18, 0.5, -0.15), v(0.2, 1.0, -0.45), 0.09),
+        (v(0.2, 1.0, -0.45), v(0.2, 1.3, -0.55), 0.08),
+    ];
+    for (x, y) in [(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45)] {
+        parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.09));
+    }
+    let controls = controls_of(&capsules(&parts, 0.03));
+    let names: Vec<&String> = controls.keys().collect();
+    // The raised leg is a limb of its own on its side (+X), the neck and head on the centre.
+    let (_, raised_root) = controls.get("limb.1.1").expect("the raised leg's control");
+    assert!(raised_root.x > 0.1, "{raised_root:?}");
+    for name in ["neck.1", "head.1"] {
+        let (_, pivot) = controls.get(name).expect("neck and head");
+        assert!(pivot.x.abs() < 0.1 && pivot.z > 0.2, "{name} at {pivot:?}");
+    }
+    let necks = names.iter().filter(|n| n.starts_with("neck.")).count();
+    let heads = names.iter().filter(|n| n.starts_with("head.")).count();
+    assert!(necks <= 2 && heads <= 2, "{names:?}");
+}

@@ -317,7 +317,9 @@ pub(super) fn limb_names(
         // beyond its front end, is a neck or a head turned to a side: the horse's neck and
         // head at detail 2 were `ear.L`, and a head at the end of a neck the body's slabs
         // climb, `ear.L`. Ears are shorter (spot's 0.12-0.15 of its height) or grow from a
-        // head. `centre_role` then tells neck from head.
+        // head. `centre_role` then tells neck from head. A neck grows from the body's upper
+        // half: a front leg raised forward beyond the front (TOSCA's prancing horse) hangs
+        // from its lower half, and was named `neck` and `head`.
         let beyond_front = frame.forward.is_some_and(|(axis, sign)| {
             let front = if sign > 0.0 {
                 frame.body_hi[axis]
@@ -330,6 +332,7 @@ pub(super) fn limb_names(
             && !bodies.contains(&limb)
             && !parent_is_head
             && !is_leg(s)
+            && s.root.z > 0.5 * (frame.body_lo.z + frame.body_hi.z)
             && length(s) > 0.2 * height
             && (s.tip.z > frame.body_hi.z + 0.25 * (frame.body_hi.z - frame.body_lo.z)
                 || beyond_front);
