@@ -365,7 +365,7 @@ pub(super) fn merge_inseparable_pieces(
         // Two consecutive segments of one limb: their joint moves, where that makes each one
         // piece, rather than the limb losing one.
         if let [p, q] = members[..]
-            && let Some(moved) = moved_boundary(&surface, grid, parts, (p, q), &mut mark)
+            && let Some(moved) = moved_boundary(&surface, grid, parts, &by_part, (p, q), &mut mark)
         {
             *parts = moved;
             compact(parts);

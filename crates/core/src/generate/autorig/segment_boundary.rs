@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use super::parts::{Parts, Role};
 use super::repair::make_manifold;
 use super::surface_pieces::Surface;
-use super::voxels::Grid;
+use super::voxels::{Grid, component_cells};
 
 /// A segment with fewer cells than this share of its limb's is a crumb.
 const CRUMB_SHARE: f64 = 0.05;
@@ -26,11 +26,13 @@ const MAX_LAYERS: usize = 3;
 /// cells along their boundary, either way; a move takes less than half of the part that gives
 /// it, the repairs after it ([`make_manifold`]) must split or merge no part, and it must
 /// leave no more extra pieces over all parts than merging `p` and `q` would. None where no
-/// move does.
+/// move does. `by_part`: the mesh vertices of each part of `parts`
+/// ([`Surface::vertices_by_part`]), which the merge's caller has at hand.
 pub(super) fn moved_boundary(
     surface: &Surface,
     grid: &Grid,
     parts: &Parts,
+    by_part: &BTreeMap<u32, Vec<usize>>,
     (p, q): (u32, u32),
     mark: &mut [bool],
 ) -> Option<Parts> {
@@ -50,7 +52,6 @@ pub(super) fn moved_boundary(
     if a != b || sp == sq {
         return None;
     }
-    let by_part = surface.vertices_by_part(parts);
     // Only the limb's last joint: a limb of more segments keeps joints after the merge.
     // Segments are counted by their parts; crumbs (parts under [`CRUMB_SHARE`] of the limb's
     // cells, merged later by `crumbs`) do not count.
@@ -73,7 +74,7 @@ pub(super) fn moved_boundary(
     }
     let extra_total = surface.extra_pieces_total(parts);
     let extra_of =
-        |members: &[u32], mark: &mut [bool]| surface.extra_pieces(parts, &by_part, members, mark);
+        |members: &[u32], mark: &mut [bool]| surface.extra_pieces(parts, by_part, members, mark);
     let separate = extra_of(&[p], mark) + extra_of(&[q], mark);
     // What the merge would leave: the pieces the two hold together.
     let merged_total = extra_total.saturating_sub(separate) + extra_of(&[p, q], mark);
@@ -103,7 +104,7 @@ pub(super) fn moved_boundary(
         let own = parts.label.iter().filter(|&&l| l == Some(from)).count();
         let small = |moved: &[usize]| !moved.is_empty() && 2 * moved.len() < own;
         // The cells holding `from`'s lesser pieces, and what they cut off the rest.
-        let pieces = pieces_cells(surface, grid, parts, &by_part, from, mark);
+        let pieces = pieces_cells(surface, grid, parts, by_part, from, mark);
         if small(&pieces)
             && let Some(trial) = accept(&pieces, to, mark)
         {
@@ -158,31 +159,16 @@ fn pieces_cells(
         }
     }
     // What is left of `from`, by face-connected pieces of cells: all but the largest go too.
-    let mut piece_of = vec![usize::MAX; parts.label.len()];
-    let mut sizes = Vec::new();
-    for start in 0..parts.label.len() {
-        if parts.label[start] != Some(from) || moved[start] || piece_of[start] != usize::MAX {
-            continue;
-        }
-        let id = sizes.len();
-        piece_of[start] = id;
-        let mut queue = VecDeque::from([start]);
-        let mut size = 0;
-        while let Some(i) = queue.pop_front() {
-            size += 1;
-            for n in grid.face_neighbours(i) {
-                if parts.label[n] == Some(from) && !moved[n] && piece_of[n] == usize::MAX {
-                    piece_of[n] = id;
-                    queue.push_back(n);
-                }
+    let left = component_cells(grid, |i| parts.label[i] == Some(from) && !moved[i]);
+    let largest = (0..left.len()).max_by_key(|&k| left[k].len());
+    for (k, cells) in left.iter().enumerate() {
+        if Some(k) != largest {
+            for &i in cells {
+                moved[i] = true;
             }
         }
-        sizes.push(size);
     }
-    let largest = (0..sizes.len()).max_by_key(|&k| sizes[k]);
-    (0..parts.label.len())
-        .filter(|&i| moved[i] || (piece_of[i] != usize::MAX && Some(piece_of[i]) != largest))
-        .collect()
+    (0..moved.len()).filter(|&i| moved[i]).collect()
 }
 
 /// For each cell of part `from`, its layer counted from part `to` (1: a face neighbour of a
