@@ -1313,27 +1313,52 @@ fn a_head_hanging_below_the_back_from_a_raised_neck_is_a_head_on_a_neck() {
     }
 }
 
-/// A quadruped facing +Y with its neck and head raised and its left front leg lifted forward
-/// beyond its chest (TOSCA's prancing horse): a long limb reaching beyond the front end from
-/// the body's lower half is no neck turned to a side. It was named `neck` and `head` beside
-/// the real neck and head (`head.001`).
-#[test]
-fn a_front_leg_raised_forward_is_not_a_neck() {
+/// A quadruped facing +Y, its body along Y at the height 0, its neck and head raised at its
+/// front, with `extra` capsules and a straight leg down to −1 at each of `legs` (x, y).
+fn neck_raised_quadruped(extra: &[(DVec3, DVec3, f64)], legs: &[(f64, f64)]) -> Mesh {
     let mut parts = vec![
         (v(0.0, -0.6, 0.0), v(0.0, 0.6, 0.0), 0.3),
         (v(0.0, 0.7, 0.15), v(0.0, 1.05, 0.9), 0.12),
         (v(0.0, 1.05, 0.9), v(0.0, 1.4, 0.75), 0.11),
+    ];
+    parts.extend_from_slice(extra);
+    for &(x, y) in legs {
+        parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.09));
+    }
+    capsules(&parts, 0.03)
+}
+
+/// A quadruped facing +Y with its neck and head raised and its right front leg lifted forward
+/// beyond its chest (TOSCA's prancing horse): a long limb reaching beyond the front end from
+/// the body's lower half is no neck turned to a side. It was named `neck` and `head` beside
+/// the real neck and head (`head.001`), then `limb.1` (session 74); it is the front leg
+/// missing on its side, `leg.front.R` (facing +Y, +X is the right).
+#[test]
+fn a_front_leg_raised_forward_is_not_a_neck() {
+    let raised = [
         (v(0.18, 0.5, -0.15), v(0.2, 1.0, -0.45), 0.09),
         (v(0.2, 1.0, -0.45), v(0.2, 1.3, -0.55), 0.08),
     ];
-    for (x, y) in [(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45)] {
-        parts.push((v(x, y, -0.1), v(x, y, -1.0), 0.09));
-    }
-    let controls = controls_of(&capsules(&parts, 0.03));
+    let controls = controls_of(&neck_raised_quadruped(
+        &raised,
+        &[(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45)],
+    ));
     let names: Vec<&String> = controls.keys().collect();
-    // The raised leg is a limb of its own on its side (+X), the neck and head on the centre.
-    let (_, raised_root) = controls.get("limb.1.1").expect("the raised leg's control");
+    // The raised leg is the front leg on its side (+X), the neck and head on the centre.
+    let (_, raised_root) = controls
+        .get("leg.front.R.1")
+        .unwrap_or_else(|| panic!("the raised leg's control in {names:?}"));
     assert!(raised_root.x > 0.1, "{raised_root:?}");
+    for (name, x) in [
+        ("leg.front.L.1", -0.18),
+        ("leg.back.R.1", 0.18),
+        ("leg.back.L.1", -0.18),
+    ] {
+        let (_, pivot) = controls
+            .get(name)
+            .unwrap_or_else(|| panic!("{name} in {names:?}"));
+        assert!((pivot.x - x).abs() < 0.1, "{name} at {pivot:?}");
+    }
     for name in ["neck.1", "head.1"] {
         let (_, pivot) = controls.get(name).expect("neck and head");
         assert!(pivot.x.abs() < 0.1 && pivot.z > 0.2, "{name} at {pivot:?}");
@@ -1341,4 +1366,60 @@ fn a_front_leg_raised_forward_is_not_a_neck() {
     let necks = names.iter().filter(|n| n.starts_with("neck.")).count();
     let heads = names.iter().filter(|n| n.starts_with("head.")).count();
     assert!(necks <= 2 && heads <= 2, "{names:?}");
+    assert!(!names.iter().any(|n| n.starts_with("limb.")), "{names:?}");
+}
+
+/// A quadruped facing +Y with its back left leg lifted off the ground, bent back at the knee
+/// (TOSCA's walking and grazing horses): its hoof ends well above the ground, so it is no leg
+/// by reach alone, but its side has one leg fewer than the other. It was `limb.1` beside
+/// `leg.R`, `leg.front.L`, `leg.back.L` (the sides then numbered one and two legs).
+#[test]
+fn a_back_leg_lifted_off_the_ground_is_a_leg() {
+    // Lifted: thigh down and forward, shin back and up, hoof at a third of the height.
+    let lifted = [
+        (v(-0.18, -0.5, -0.1), v(-0.18, -0.45, -0.65), 0.09),
+        (v(-0.18, -0.45, -0.65), v(-0.18, -0.9, -0.7), 0.08),
+    ];
+    let controls = controls_of(&neck_raised_quadruped(
+        &lifted,
+        &[(0.18, -0.5), (-0.18, 0.45), (0.18, 0.45)],
+    ));
+    let names: Vec<&String> = controls.keys().collect();
+    for (name, x, y) in [
+        ("leg.back.L.1", -0.18, -0.5),
+        ("leg.back.R.1", 0.18, -0.5),
+        ("leg.front.L.1", -0.18, 0.45),
+        ("leg.front.R.1", 0.18, 0.45),
+    ] {
+        let (_, pivot) = controls
+            .get(name)
+            .unwrap_or_else(|| panic!("{name} in {names:?}"));
+        assert!(
+            (pivot.x - x).abs() < 0.1 && (pivot.y - y).abs() < 0.2,
+            "{name} at {pivot:?}"
+        );
+    }
+    assert!(!names.iter().any(|n| n.starts_with("limb.")), "{names:?}");
+}
+
+/// A quadruped facing +Y whose body bulges on its right (a saddlebag) with a thin tail hanging
+/// from its back on the centre line: the body's box is lopsided, its middle off the tail's by
+/// more than a quarter of the tail's width, and the tail was `limb.1`, taken for a side limb
+/// (TOSCA's prancing horse, its raised foreleg widening the box). The middle between the legs
+/// either side puts it on the centre line.
+#[test]
+fn a_tail_behind_a_lopsided_body_is_a_tail() {
+    let bulge_and_tail = [
+        (v(0.25, -0.1, 0.05), v(0.25, 0.1, 0.05), 0.22),
+        (v(0.0, -0.85, 0.05), v(0.0, -1.1, -0.45), 0.05),
+    ];
+    let controls = controls_of(&neck_raised_quadruped(
+        &bulge_and_tail,
+        &[(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45), (0.18, 0.45)],
+    ));
+    let names: Vec<&String> = controls.keys().collect();
+    let (_, pivot) = controls
+        .get("tail.1")
+        .unwrap_or_else(|| panic!("a tail in {names:?}"));
+    assert!(pivot.y < -0.6, "tail.1 at {pivot:?}");
 }

@@ -38,6 +38,7 @@ mod naming;
 mod narrowings;
 mod neck_head;
 mod not_a_figure;
+mod ownerless_limbs;
 mod pair_segments;
 mod parts;
 mod pieces;
@@ -910,6 +911,7 @@ fn rig_on_grid(
         lateral,
         &heads,
     );
+    ownerless_limbs::fold_ownerless_limbs(&mut cages, &mut roles, &mut parent_limb, &mut names);
     neck_head::head_off_neck(&cages, &mut roles, &mut parent_limb, &mut names);
     twin_limbs::merge_twin_limbs(&cages, &mut roles, &mut parent_limb, &mut names);
     head_in_body::head_out_of_body(&cages, &mut roles, &mut parent_limb, &mut names);

@@ -175,16 +175,6 @@ pub(super) fn limb_names(
         })
         .collect();
     let height = mesh_extent.z.max(1e-12);
-    // On the centre line where the limb straddles it (a tail, a neck: its middle within a
-    // quarter of its own width of the plane); legs close together are each on one side.
-    let side_of = |s: &Shape| {
-        let offset = s.middle[lateral] - centre;
-        if offset.abs() <= 0.25 * s.width {
-            0.0
-        } else {
-            offset.signum()
-        }
-    };
     // How far a limb reaches from its root to its tip.
     let length = |s: &Shape| (s.tip - s.root).length();
     // A leg ends near the ground (its tip in the figure's lowest fifth) and reaches down to it
@@ -195,6 +185,41 @@ pub(super) fn limb_names(
         s.tip.z - mesh_lo.z < 0.2 * height
             && s.bottom - mesh_lo.z < 0.1 * height
             && s.bottom < s.root.z
+    };
+    // Under a lying body without a mirror plane across the lateral axis, the middle between
+    // the legs where they stand on both sides of the body's box (their roots' mean on each
+    // side, halfway between): a posed body's box is lopsided. TOSCA's prancing horse: its
+    // raised foreleg moved the box's middle 3.2 from its tail's middle, more than a quarter
+    // of the tail's width, and the tail was `limb.1`. Not under a standing body: the
+    // armadillo's legs stand off its torso's middle, and pieces of its shoulders at details
+    // 1 and 5 changed sides.
+    let centre = match mirror {
+        Some((axis, _)) if axis == lateral => centre,
+        _ if !lying => centre,
+        _ => {
+            let side_mean = |left: bool| {
+                let roots: Vec<f64> = shapes
+                    .values()
+                    .filter(|s| is_leg(s) && (s.root[lateral] > centre) == left)
+                    .map(|s| s.root[lateral])
+                    .collect();
+                (!roots.is_empty()).then(|| roots.iter().sum::<f64>() / roots.len() as f64)
+            };
+            match (side_mean(true), side_mean(false)) {
+                (Some(a), Some(b)) => 0.5 * (a + b),
+                _ => centre,
+            }
+        }
+    };
+    // On the centre line where the limb straddles it (a tail, a neck: its middle within a
+    // quarter of its own width of the plane); legs close together are each on one side.
+    let side_of = |s: &Shape| {
+        let offset = s.middle[lateral] - centre;
+        if offset.abs() <= 0.25 * s.width {
+            0.0
+        } else {
+            offset.signum()
+        }
     };
     // Which way a lying body faces: towards the limbs that reach well above it (a neck,
     // ears, horns; a quarter of its height), else towards a second thick region (its head), else −Y as in Blender.
@@ -473,6 +498,54 @@ pub(super) fn limb_names(
             }
         }
     }
+    // A leg lifted off the ground (a horse stepping or prancing, TOSCA's horse5 and horse7:
+    // its hoof at a tenth to a half of the height) does not reach down as its twin does. On a
+    // side with fewer legs than the other, a side limb straight off the body, hanging from its
+    // lower half (arms, ears and tails grow higher) with its tip below its root, and most of a
+    // leg long, is the leg missing there.
+    let leg_lengths: Vec<f64> = base
+        .iter()
+        .filter(|(_, (role, _))| role == "leg")
+        .filter_map(|(l, _)| shapes.get(l).map(length))
+        .collect();
+    if !leg_lengths.is_empty() {
+        let mean_leg = leg_lengths.iter().sum::<f64>() / leg_lengths.len() as f64;
+        let legs_on = |letter: Option<char>, base: &BTreeMap<usize, (String, Option<char>)>| {
+            base.values()
+                .filter(|(role, l)| role == "leg" && *l == letter)
+                .count()
+        };
+        let mut lifted: Vec<(usize, f64)> = shapes
+            .iter()
+            .filter(|(limb, s)| {
+                let Some((role, Some(letter))) = base.get(limb) else {
+                    return false;
+                };
+                let other = if *letter == 'L' { 'R' } else { 'L' };
+                role == "limb"
+                    && limbs[limb].parent.is_none()
+                    && !bodies.contains(limb)
+                    && s.root.z < body_centre.z
+                    && s.tip.z < s.root.z
+                    && length(s) >= LIFTED_LEG_SHARE * mean_leg
+                    && legs_on(Some(*letter), &base) < legs_on(Some(other), &base)
+            })
+            .map(|(&limb, s)| (limb, length(s)))
+            .collect();
+        // The longest first, one per missing leg.
+        lifted.sort_by(|a, b| b.1.total_cmp(&a.1));
+        for (limb, _) in lifted {
+            let Some(letter) = base.get(&limb).and_then(|(_, l)| *l) else {
+                continue;
+            };
+            let other = if letter == 'L' { 'R' } else { 'L' };
+            if legs_on(Some(letter), &base) < legs_on(Some(other), &base)
+                && let Some(entry) = base.get_mut(&limb)
+            {
+                entry.0 = "leg".to_owned();
+            }
+        }
+    }
     // A stem is named for what it carries: the shoulder of an arm, the hip of a leg.
     for (&child, &stem) in &stem_of {
         let base_role = match base.get(&child).map(|(role, _)| role.as_str()) {
@@ -634,6 +707,11 @@ pub(super) fn limb_names(
 /// How far above a side limb's root a centre limb rising from the body must start, as a share
 /// of the body's height, for the side limb to be an arm below a head, not an ear on top.
 const HEAD_ABOVE_ARM_SHARE: f64 = 0.1;
+
+/// The shortest lifted leg, root to tip, as a share of the mean length of the figure's legs
+/// that reach the ground: TOSCA's horses' lifted legs are 0.84-1.1 of it (their knees bent),
+/// their tails 0.3-0.45.
+const LIFTED_LEG_SHARE: f64 = 0.7;
 
 /// The longest ear out from a lying body's upper front, root to tip, as a share of the
 /// figure's height: spot's and the cow's ears reach 0.08-0.2, a centaur's arms 0.34-0.40.
