@@ -672,6 +672,35 @@ pub(super) fn limb_names(
             }
         }
     }
+    // A lone leg on a side whose other side's legs are named by place takes the place of the
+    // one its root is level with along the body: clearly nearer it (within half the distance
+    // to the next). TOSCA's gorilla on its right knuckles, its left hand at its mouth, had
+    // `leg.L` beside `leg.front.R` and `leg.back.R`; a lone leg between the other side's two
+    // (two legs joined into one, spot's at detail 1) keeps `leg.L`.
+    for (letter, other) in [('L', 'R'), ('R', 'L')] {
+        let lone: Vec<usize> = base
+            .iter()
+            .filter(|(_, (r, s))| r == "leg" && *s == Some(letter))
+            .map(|(&l, _)| l)
+            .collect();
+        let [leg] = lone[..] else { continue };
+        let suffix = format!(".{other}");
+        let (axis, _) = frame.forward.unwrap_or((1, -1.0));
+        let mut placed: Vec<(f64, &str)> = names
+            .iter()
+            .filter_map(|(l, name)| {
+                let place = name.strip_prefix("leg.")?.strip_suffix(suffix.as_str())?;
+                let apart = (shapes.get(l)?.root[axis] - shapes.get(&leg)?.root[axis]).abs();
+                Some((apart, place))
+            })
+            .collect();
+        placed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if let [(nearest, place), (next, _), ..] = placed[..]
+            && nearest < 0.5 * next
+        {
+            names.insert(leg, format!("leg.{place}.{letter}"));
+        }
+    }
     let mut taken: BTreeMap<String, usize> = BTreeMap::new();
     let mut others = 0;
     for (&limb, (role, letter)) in &base {
@@ -860,10 +889,20 @@ mod tests {
     /// (±0.25, ±0.7) (limbs 0–3: front right, front left, back right, back left), their
     /// thighs also holding a piece of the flank above the hip where `flank`, and a neck
     /// rising from the front at x = `neck_x` (limb 4).
-    fn quadruped_names(mut body: Vec<DVec3>, flank: bool, neck_x: f64) -> BTreeMap<usize, String> {
+    fn quadruped_names(body: Vec<DVec3>, flank: bool, neck_x: f64) -> BTreeMap<usize, String> {
         let legs = [(0.25, 0.7), (-0.25, 0.7), (0.25, -0.7), (-0.25, -0.7)];
+        legged_names(body, &legs, flank, neck_x)
+    }
+
+    /// [`quadruped_names`] with legs at `legs` (limbs `0..legs.len()`, the neck the next).
+    fn legged_names(
+        mut body: Vec<DVec3>,
+        legs: &[(f64, f64)],
+        flank: bool,
+        neck_x: f64,
+    ) -> BTreeMap<usize, String> {
         let mut cages = Vec::new();
-        for &(x, y) in &legs {
+        for &(x, y) in legs {
             body.extend(ring(x, y, 0.0, 0.08));
             let mut thigh = ring(x, y, 0.0, 0.08);
             thigh.extend(ring(x, y, -0.25, 0.08));
@@ -924,6 +963,29 @@ mod tests {
         let expected: BTreeSet<&str> =
             BTreeSet::from(["leg.front.L", "leg.front.R", "leg.back.L", "leg.back.R"]);
         assert_eq!(legs, expected, "{names:?}");
+    }
+
+    #[test]
+    fn a_lone_leg_takes_the_place_it_stands_level_with() {
+        // A quadruped facing +Y with its back left leg missing (inside the body, or a hand
+        // held at the mouth: TOSCA's gorilla on its right knuckles): the lone left leg stands
+        // level with the front right one and was `leg.L`.
+        let legs = [(0.25, 0.7), (-0.25, 0.7), (0.25, -0.7)];
+        let names = legged_names(lying_body(), &legs, false, 0.0);
+        let name = |limb: usize| names.get(&limb).map(String::as_str);
+        assert_eq!(
+            [name(0), name(1), name(2)],
+            [Some("leg.front.R"), Some("leg.front.L"), Some("leg.back.R")],
+            "{names:?}"
+        );
+        // Halfway between the other side's two (two legs joined into one), it keeps `leg.L`.
+        let legs = [(0.25, 0.7), (-0.25, 0.05), (0.25, -0.7)];
+        let names = legged_names(lying_body(), &legs, false, 0.0);
+        assert_eq!(
+            names.get(&1).map(String::as_str),
+            Some("leg.L"),
+            "{names:?}"
+        );
     }
 
     #[test]
