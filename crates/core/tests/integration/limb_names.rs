@@ -1328,6 +1328,28 @@ fn neck_raised_quadruped(extra: &[(DVec3, DVec3, f64)], legs: &[(f64, f64)]) -> 
     capsules(&parts, 0.03)
 }
 
+/// Asserts that [`neck_raised_quadruped`]'s rig has its four legs named by place and side,
+/// each control's pivot at its leg's root (legs at x = ±0.18, y = −0.5 and 0.45), and no
+/// `limb.N`.
+fn assert_four_legs_named(controls: &BTreeMap<String, (Option<String>, DVec3)>) {
+    let names: Vec<&String> = controls.keys().collect();
+    for (name, x, y) in [
+        ("leg.back.L.1", -0.18, -0.5),
+        ("leg.back.R.1", 0.18, -0.5),
+        ("leg.front.L.1", -0.18, 0.45),
+        ("leg.front.R.1", 0.18, 0.45),
+    ] {
+        let (_, pivot) = controls
+            .get(name)
+            .unwrap_or_else(|| panic!("{name} in {names:?}"));
+        assert!(
+            (pivot.x - x).abs() < 0.1 && (pivot.y - y).abs() < 0.2,
+            "{name} at {pivot:?}"
+        );
+    }
+    assert!(!names.iter().any(|n| n.starts_with("limb.")), "{names:?}");
+}
+
 /// A quadruped facing +Y with its neck and head raised and its right front leg lifted forward
 /// beyond its chest (TOSCA's prancing horse): a long limb reaching beyond the front end from
 /// the body's lower half is no neck turned to a side. It was named `neck` and `head` beside
@@ -1384,22 +1406,25 @@ fn a_back_leg_lifted_off_the_ground_is_a_leg() {
         &lifted,
         &[(0.18, -0.5), (-0.18, 0.45), (0.18, 0.45)],
     ));
-    let names: Vec<&String> = controls.keys().collect();
-    for (name, x, y) in [
-        ("leg.back.L.1", -0.18, -0.5),
-        ("leg.back.R.1", 0.18, -0.5),
-        ("leg.front.L.1", -0.18, 0.45),
-        ("leg.front.R.1", 0.18, 0.45),
-    ] {
-        let (_, pivot) = controls
-            .get(name)
-            .unwrap_or_else(|| panic!("{name} in {names:?}"));
-        assert!(
-            (pivot.x - x).abs() < 0.1 && (pivot.y - y).abs() < 0.2,
-            "{name} at {pivot:?}"
-        );
+    assert_four_legs_named(&controls);
+}
+
+/// A quadruped facing +Y jumping: both front legs folded under its chest, hooves at a third
+/// of the height, its hind legs on the ground (TOSCA's horse10). Each side has one leg, so no
+/// side has fewer than the other; the front legs are missing at the front end on each side.
+/// They were `limb.1` and `limb.2` beside `leg.L` and `leg.R`.
+#[test]
+fn front_legs_folded_in_a_jump_are_the_front_legs() {
+    let mut folded = Vec::new();
+    for x in [-0.18, 0.18] {
+        folded.push((v(x, 0.45, -0.1), v(x, 0.65, -0.6), 0.09));
+        folded.push((v(x, 0.65, -0.6), v(x, 0.15, -0.72), 0.08));
     }
-    assert!(!names.iter().any(|n| n.starts_with("limb.")), "{names:?}");
+    let controls = controls_of(&neck_raised_quadruped(
+        &folded,
+        &[(-0.18, -0.5), (0.18, -0.5)],
+    ));
+    assert_four_legs_named(&controls);
 }
 
 /// A quadruped facing +Y whose body bulges on its right (a saddlebag) with a thin tail hanging

@@ -187,10 +187,12 @@ pub(super) fn limb_names(
             && s.bottom < s.root.z
     };
     // Under a lying body without a mirror plane across the lateral axis, the middle between
-    // the legs where they stand on both sides of the body's box (their roots' mean on each
-    // side, halfway between): a posed body's box is lopsided. TOSCA's prancing horse: its
-    // raised foreleg moved the box's middle 3.2 from its tail's middle, more than a quarter
-    // of the tail's width, and the tail was `limb.1`. Not under a standing body: the
+    // the legs where they stand on both sides of the body's box (the mean of their middles on
+    // each side, halfway between): a posed body's box is lopsided. TOSCA's prancing horse:
+    // its raised foreleg moved the box's middle 3.2 from its tail's middle, more than a
+    // quarter of the tail's width, and the tail was `limb.1`. By their middles, not their
+    // roots: the jumping horse10's hind legs' roots lie 4 off their middles' centre, which
+    // took its tail for a side limb. Not under a standing body: the
     // armadillo's legs stand off its torso's middle, and pieces of its shoulders at details
     // 1 and 5 changed sides.
     let centre = match mirror {
@@ -198,12 +200,12 @@ pub(super) fn limb_names(
         _ if !lying => centre,
         _ => {
             let side_mean = |left: bool| {
-                let roots: Vec<f64> = shapes
+                let middles: Vec<f64> = shapes
                     .values()
-                    .filter(|s| is_leg(s) && (s.root[lateral] > centre) == left)
-                    .map(|s| s.root[lateral])
+                    .filter(|s| is_leg(s) && (s.middle[lateral] > centre) == left)
+                    .map(|s| s.middle[lateral])
                     .collect();
-                (!roots.is_empty()).then(|| roots.iter().sum::<f64>() / roots.len() as f64)
+                (!middles.is_empty()).then(|| middles.iter().sum::<f64>() / middles.len() as f64)
             };
             match (side_mean(true), side_mean(false)) {
                 (Some(a), Some(b)) => 0.5 * (a + b),
@@ -498,11 +500,13 @@ pub(super) fn limb_names(
             }
         }
     }
-    // A leg lifted off the ground (a horse stepping or prancing, TOSCA's horse5 and horse7:
-    // its hoof at a tenth to a half of the height) does not reach down as its twin does. On a
-    // side with fewer legs than the other, a side limb straight off the body, hanging from its
-    // lower half (arms, ears and tails grow higher) with its tip below its root, and most of a
-    // leg long, is the leg missing there.
+    // A leg lifted off the ground (a horse stepping, prancing or jumping, TOSCA's horse5,
+    // horse7 and horse10: its hoof at a tenth to a half of the height) does not reach down as
+    // its twin does. A side limb straight off the body, hanging from its lower half (arms, ears
+    // and tails grow higher) with its tip below its root, and half a leg long or more (knees
+    // bent), is the leg missing where it grows: under a lying body, at its end (front or back
+    // half) on its side where no leg stands; under a standing one, on a side with fewer legs
+    // than the other.
     let leg_lengths: Vec<f64> = base
         .iter()
         .filter(|(_, (role, _))| role == "leg")
@@ -510,25 +514,40 @@ pub(super) fn limb_names(
         .collect();
     if !leg_lengths.is_empty() {
         let mean_leg = leg_lengths.iter().sum::<f64>() / leg_lengths.len() as f64;
-        let legs_on = |letter: Option<char>, base: &BTreeMap<usize, (String, Option<char>)>| {
-            base.values()
-                .filter(|(role, l)| role == "leg" && *l == letter)
-                .count()
-        };
+        // Whether a leg is missing where `limb` (with side `letter`) grows, given the roles.
+        let missing_at =
+            |limb: usize, letter: char, base: &BTreeMap<usize, (String, Option<char>)>| {
+                let legs_on = |side: char| {
+                    base.iter()
+                        .filter(|(_, (role, l))| role == "leg" && *l == Some(side))
+                        .filter_map(|(l, _)| shapes.get(l))
+                        .collect::<Vec<_>>()
+                };
+                let other = if letter == 'L' { 'R' } else { 'L' };
+                let Some(s) = shapes.get(&limb) else {
+                    return false;
+                };
+                match frame.forward {
+                    Some((axis, sign)) => {
+                        let front = |c: &Shape| (c.root[axis] - body_centre[axis]) * sign > 0.0;
+                        !legs_on(letter).iter().any(|c| front(c) == front(s))
+                    }
+                    None => legs_on(letter).len() < legs_on(other).len(),
+                }
+            };
         let mut lifted: Vec<(usize, f64)> = shapes
             .iter()
             .filter(|(limb, s)| {
                 let Some((role, Some(letter))) = base.get(limb) else {
                     return false;
                 };
-                let other = if *letter == 'L' { 'R' } else { 'L' };
                 role == "limb"
                     && limbs[limb].parent.is_none()
                     && !bodies.contains(limb)
                     && s.root.z < body_centre.z
                     && s.tip.z < s.root.z
                     && length(s) >= LIFTED_LEG_SHARE * mean_leg
-                    && legs_on(Some(*letter), &base) < legs_on(Some(other), &base)
+                    && missing_at(**limb, *letter, &base)
             })
             .map(|(&limb, s)| (limb, length(s)))
             .collect();
@@ -538,8 +557,7 @@ pub(super) fn limb_names(
             let Some(letter) = base.get(&limb).and_then(|(_, l)| *l) else {
                 continue;
             };
-            let other = if letter == 'L' { 'R' } else { 'L' };
-            if legs_on(Some(letter), &base) < legs_on(Some(other), &base)
+            if missing_at(limb, letter, &base)
                 && let Some(entry) = base.get_mut(&limb)
             {
                 entry.0 = "leg".to_owned();
@@ -738,9 +756,9 @@ pub(super) fn limb_names(
 const HEAD_ABOVE_ARM_SHARE: f64 = 0.1;
 
 /// The shortest lifted leg, root to tip, as a share of the mean length of the figure's legs
-/// that reach the ground: TOSCA's horses' lifted legs are 0.84-1.1 of it (their knees bent),
-/// their tails 0.3-0.45.
-const LIFTED_LEG_SHARE: f64 = 0.7;
+/// that reach the ground: TOSCA's horses' lifted legs are 0.84-1.1 of it, 0.58-0.60 with the
+/// knees folded under a jump (horse10); their tails 0.3-0.45.
+const LIFTED_LEG_SHARE: f64 = 0.5;
 
 /// The longest ear out from a lying body's upper front, root to tip, as a share of the
 /// figure's height: spot's and the cow's ears reach 0.08-0.2, a centaur's arms 0.34-0.40.
