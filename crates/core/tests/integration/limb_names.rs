@@ -1427,6 +1427,16 @@ fn front_legs_folded_in_a_jump_are_the_front_legs() {
     assert_four_legs_named(&controls);
 }
 
+/// A quadruped facing +Y holding its tail up and aside (TOSCA's horse17): the tail leaves the
+/// body's back end on the centre line but its middle lies off it by more than a quarter of
+/// its width, and it rises above the back, so it was `ear.R`.
+#[test]
+fn a_tail_held_up_and_aside_is_a_tail() {
+    let tail = [(v(0.0, -0.85, 0.1), v(0.3, -1.15, 0.55), 0.04)];
+    let names = assert_tail_at_the_back(&tail);
+    assert!(!names.iter().any(|n| n.starts_with("ear.")), "{names:?}");
+}
+
 /// A quadruped facing +Y whose body bulges on its right (a saddlebag) with a thin tail hanging
 /// from its back on the centre line: the body's box is lopsided, its middle off the tail's by
 /// more than a quarter of the tail's width, and the tail was `limb.1`, taken for a side limb
@@ -1438,13 +1448,20 @@ fn a_tail_behind_a_lopsided_body_is_a_tail() {
         (v(0.25, -0.1, 0.05), v(0.25, 0.1, 0.05), 0.22),
         (v(0.0, -0.85, 0.05), v(0.0, -1.1, -0.45), 0.05),
     ];
+    assert_tail_at_the_back(&bulge_and_tail);
+}
+
+/// Asserts that [`neck_raised_quadruped`] on four legs with `extra` has a `tail.1` control
+/// turning at the body's back end; returns the rig's control names.
+fn assert_tail_at_the_back(extra: &[(DVec3, DVec3, f64)]) -> Vec<String> {
     let controls = controls_of(&neck_raised_quadruped(
-        &bulge_and_tail,
+        extra,
         &[(-0.18, -0.5), (0.18, -0.5), (-0.18, 0.45), (0.18, 0.45)],
     ));
-    let names: Vec<&String> = controls.keys().collect();
+    let names: Vec<String> = controls.keys().cloned().collect();
     let (_, pivot) = controls
         .get("tail.1")
         .unwrap_or_else(|| panic!("a tail in {names:?}"));
     assert!(pivot.y < -0.6, "tail.1 at {pivot:?}");
+    names
 }

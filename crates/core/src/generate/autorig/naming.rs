@@ -363,7 +363,19 @@ pub(super) fn limb_names(
             && length(s) > 0.2 * height
             && (s.tip.z > frame.body_hi.z + 0.25 * (frame.body_hi.z - frame.body_lo.z)
                 || beyond_front);
-        let side = if head_on_neck || carries_head || centred_body || turned_neck {
+        // A limb from a lying body's back end on its centre line (its root in the body's last
+        // eighth along it, within a tenth of the body's width of the plane) is on the centre
+        // line even where it leans to a side: TOSCA's horse17 holds its tail up and aside, and
+        // it was `ear.L`.
+        let back_centre = frame.forward.is_some_and(|(axis, sign)| {
+            let half_length = 0.5 * (frame.body_hi[axis] - frame.body_lo[axis]);
+            let width = frame.body_hi[lateral] - frame.body_lo[lateral];
+            (s.root[axis] - body_centre[axis]) * sign < -BACK_END_SHARE * half_length
+                && (s.root[lateral] - centre).abs() < 0.1 * width
+        }) && !bodies.contains(&limb)
+            && !is_leg(s)
+            && limbs[&limb].parent.is_none();
+        let side = if head_on_neck || carries_head || centred_body || turned_neck || back_centre {
             0.0
         } else {
             side_of(s)
@@ -759,6 +771,11 @@ const HEAD_ABOVE_ARM_SHARE: f64 = 0.1;
 /// that reach the ground: TOSCA's horses' lifted legs are 0.84-1.1 of it, 0.58-0.60 with the
 /// knees folded under a jump (horse10); their tails 0.3-0.45.
 const LIFTED_LEG_SHARE: f64 = 0.5;
+
+/// Where a lying body's back end starts, as a share of its half length from its middle: its
+/// last eighth. The tails of TOSCA's animals and posed horses grow from 0.80-1.0 of it; hind
+/// legs from 0.47-0.83, off the centre line.
+const BACK_END_SHARE: f64 = 0.75;
 
 /// The longest ear out from a lying body's upper front, root to tip, as a share of the
 /// figure's height: spot's and the cow's ears reach 0.08-0.2, a centaur's arms 0.34-0.40.
