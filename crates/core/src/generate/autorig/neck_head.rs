@@ -153,8 +153,10 @@ fn split_head_off(
 }
 
 /// The first segment after the neck's first whose direction (its pivot to the next one's, the
-/// last to its tip) is within 45° of level, where the neck as a whole rises; None where the
-/// neck does not rise, has one segment, or never runs level.
+/// last to its tip) is within 45° of level, where the neck as a whole or its first segment
+/// rises (TOSCA's jumping horse10 raises its neck steeply to a head that points down, its
+/// muzzle as low as the neck's root); None where neither rises (a bust's neck, hanging to its
+/// cut), the neck has one segment, or never runs level.
 fn first_level_segment(
     cages: &CageSet,
     roles: &[Role],
@@ -162,8 +164,8 @@ fn first_level_segment(
     segment_vertices: &[BTreeSet<u32>],
 ) -> Option<usize> {
     let (pivots, tip) = pivots_and_tip(cages, roles, neck, segment_vertices)?;
-    let rise = tip - pivots[0];
-    if rise.z <= RISING * rise.length() {
+    let rises = |d: DVec3| d.z > RISING * d.length();
+    if !rises(tip - pivots[0]) && !rises(pivots[1] - pivots[0]) {
         return None;
     }
     let level = |d: DVec3| d.z.abs() < d.truncate().length();
@@ -317,7 +319,8 @@ mod tests {
     }
 
     /// A neck that rises from the body's front and then runs level (the camel's head held
-    /// forward) gives its level segment to a `head` hanging from it; a neck rising straight
+    /// forward; or rises steeply, then runs forward and down) gives its level segment to a
+    /// `head` hanging from it; a neck rising straight
     /// up to its tip, one hanging down (a bust's), and a rig that has a head keep theirs.
     #[test]
     fn the_level_end_of_a_raised_neck_is_its_head() {
@@ -336,6 +339,23 @@ mod tests {
             })
             .collect();
         assert_eq!(limb_segments, [(0, 0), (0, 1), (1, 0)], "{after:?}");
+        assert_eq!(parents.get(&1), Some(&0));
+        assert_eq!(names.get(&1).map(String::as_str), Some("head"));
+
+        // Raised steeply to a head pointing forward and down, its muzzle about as low as the
+        // neck's root (TOSCA's jumping horse): the chain as a whole hardly rises, its first
+        // segment does.
+        let steep = joints(&[(0.9, 0.6), (1.1, 1.4), (1.9, 0.75)]);
+        let (cages, roles) = neck_rig(&steep);
+        let (after, parents, names) = split(&cages, &roles, "neck");
+        assert_eq!(
+            after[1],
+            Role::Limb {
+                limb: 1,
+                segment: 0
+            },
+            "{after:?}"
+        );
         assert_eq!(parents.get(&1), Some(&0));
         assert_eq!(names.get(&1).map(String::as_str), Some("head"));
 
