@@ -192,9 +192,8 @@ pub(super) fn limb_names(
     // its raised foreleg moved the box's middle 3.2 from its tail's middle, more than a
     // quarter of the tail's width, and the tail was `limb.1`. By their middles, not their
     // roots: the jumping horse10's hind legs' roots lie 4 off their middles' centre, which
-    // took its tail for a side limb. Not under a standing body: the
-    // armadillo's legs stand off its torso's middle, and pieces of its shoulders at details
-    // 1 and 5 changed sides.
+    // took its tail for a side limb. Not under a standing body: the armadillo's legs stand
+    // off its torso's middle, and pieces of its shoulders at details 1 and 5 changed sides.
     let centre = match mirror {
         Some((axis, _)) if axis == lateral => centre,
         _ if !lying => centre,

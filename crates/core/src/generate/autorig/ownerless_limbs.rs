@@ -49,20 +49,24 @@ pub(super) fn fold_ownerless_limbs(
     folded
 }
 
-/// Gives each leaf whose name an earlier leaf has the first free letter after it (`body_3b`).
+/// Gives each leaf whose name an earlier leaf has the first letter after it that makes a name
+/// no leaf has (`body_3b`); names held once stay as they are.
 fn letter_duplicate_names(cages: &mut CageSet) {
-    let mut taken: BTreeSet<String> = BTreeSet::new();
+    let mut used: BTreeSet<String> = cages.leaves.iter().map(|l| l.name.clone()).collect();
+    let mut seen: BTreeSet<String> = BTreeSet::new();
     for leaf in &mut cages.leaves {
-        if taken.contains(&leaf.name) {
-            let base = leaf.name.clone();
-            if let Some(free) = (b'b'..=b'z')
-                .map(|c| format!("{base}{}", char::from(c)))
-                .find(|n| !taken.contains(n))
-            {
-                leaf.name = free;
-            }
+        if seen.insert(leaf.name.clone()) {
+            continue;
         }
-        taken.insert(leaf.name.clone());
+        let base = leaf.name.clone();
+        if let Some(free) = (b'b'..=b'z')
+            .map(|c| format!("{base}{}", char::from(c)))
+            .find(|n| !used.contains(n))
+        {
+            used.insert(free.clone());
+            seen.insert(free.clone());
+            leaf.name = free;
+        }
     }
 }
 
@@ -192,13 +196,22 @@ mod tests {
         let body = vec![p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
         let arm = vec![p(1.0, 0.0), p(1.0, 1.0), p(2.0, 0.0), p(2.0, 1.0)];
         let piece = vec![p(0.0, 0.0), p(1.0, 0.0), p(0.0, 1.0), p(1.0, 1.0)];
-        let mut cages = point_cages(&[body, arm, piece]);
-        let mut roles = vec![Role::Body { body: 0, slab: 0 }, limb(1, 0), limb(2, 0)];
+        let leg = vec![p(0.0, 0.0), p(0.0, -1.0), p(0.5, -1.0)];
+        let mut cages = point_cages(&[body, arm, piece, leg]);
+        // A later cage already has the first lettered name: it keeps it.
+        cages.leaves[3].name = "cage0b".to_owned();
+        let mut roles = vec![
+            Role::Body { body: 0, slab: 0 },
+            limb(1, 0),
+            limb(2, 0),
+            limb(3, 0),
+        ];
         let mut named = BTreeMap::from([(1, "arm.L".to_owned()), (2, "arm.L.001".to_owned())]);
         let folded = fold_ownerless_limbs(&mut cages, &mut roles, &mut BTreeMap::new(), &mut named);
         assert_eq!(folded, 1);
         assert_eq!(roles[2], Role::Body { body: 0, slab: 0 });
-        assert_eq!(cages.leaves[2].name, "cage0b");
+        assert_eq!(cages.leaves[2].name, "cage0c");
+        assert_eq!(cages.leaves[3].name, "cage0b");
         assert_eq!(named, BTreeMap::from([(1, "arm.L".to_owned())]));
     }
 
