@@ -1465,3 +1465,77 @@ fn assert_tail_at_the_back(extra: &[(DVec3, DVec3, f64)]) -> Vec<String> {
     assert!(pivot.y < -0.6, "tail.1 at {pivot:?}");
     names
 }
+
+/// A quadruped facing −Y standing up on its hind legs (TOSCA's rearing cat and horse): its
+/// forelegs raised unevenly in front of its chest, its tail reaching far behind. With no
+/// mirror plane, the longer horizontal side of its box runs from front to back, and its
+/// limbs were named as if it faced sideways: both forelegs `arm.R`, the legs `leg.L` and an
+/// unsided `leg`, the tail `arm.L.001`, so the whole rig was `limb.N`. Its two legs stand apart
+/// across it: that axis runs from left to right (+X the left, facing −Y).
+fn rearing_quadruped() -> Mesh {
+    // The left foreleg raised forward and up.
+    rearing_with_left_foreleg((v(0.27, -0.15, 0.85), v(0.3, -0.8, 1.2), 0.08))
+}
+
+/// [`rearing_quadruped`] with its left foreleg `left_foreleg` (a capsule: from, to, radius),
+/// its right hanging forward and down.
+fn rearing_with_left_foreleg(left_foreleg: (DVec3, DVec3, f64)) -> Mesh {
+    let mut parts = vec![
+        (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.3),
+        (v(0.0, -0.05, 1.25), v(0.0, -0.1, 1.45), 0.11),
+        // The head turned to its left.
+        (v(0.0, -0.12, 1.55), v(0.2, -0.35, 1.55), 0.14),
+        left_foreleg,
+        (v(-0.27, -0.15, 0.7), v(-0.3, -0.45, 0.3), 0.08),
+        // The tail, from the lower back out behind and to the left.
+        (v(0.0, 0.3, 0.15), v(0.35, 1.4, -0.2), 0.05),
+    ];
+    for x in [-0.18, 0.18] {
+        parts.push((v(x, 0.0, -0.1), v(x * 1.2, 0.05, -1.0), 0.1));
+    }
+    capsules(&parts, 0.03)
+}
+
+#[test]
+fn a_quadruped_standing_on_its_hind_legs_gets_its_sides_from_its_legs() {
+    let controls = controls_of(&rearing_quadruped());
+    let names: Vec<&String> = controls.keys().collect();
+    for (name, left) in [
+        ("leg.L.1", true),
+        ("leg.R.1", false),
+        ("arm.L.1", true),
+        ("arm.R.1", false),
+    ] {
+        let (_, pivot) = controls
+            .get(name)
+            .unwrap_or_else(|| panic!("{name} in {names:?}"));
+        assert_eq!(pivot.x > 0.1, left, "{name} at {pivot:?} in {names:?}");
+        assert_eq!(pivot.x < -0.1, !left, "{name} at {pivot:?} in {names:?}");
+    }
+    let (_, tail) = controls
+        .get("tail.1")
+        .unwrap_or_else(|| panic!("a tail in {names:?}"));
+    assert!(tail.y > 0.2, "tail.1 at {tail:?}");
+    assert!(!names.iter().any(|n| n.starts_with("limb.")), "{names:?}");
+}
+
+/// [`rearing_quadruped`]'s rig with its left foreleg held up from the front of its chest
+/// to in front of its neck, on the centre line (TOSCA's rearing cat, its paw at its mouth): a
+/// centre limb reaching the top of a standing body was its head, though it grows from the
+/// chest, well below the body's top. A head grows from the body's top.
+#[test]
+fn a_paw_held_up_in_front_of_the_chest_is_no_head() {
+    // The left foreleg from the chest's front up to in front of the neck.
+    let paw = (v(0.03, -0.3, 0.7), v(0.0, -0.7, 1.4), 0.07);
+    let controls = controls_of(&rearing_with_left_foreleg(paw));
+    let names: Vec<&String> = controls.keys().collect();
+    for name in ["leg.L.1", "leg.R.1", "tail.1"] {
+        assert!(controls.contains_key(name), "{name} in {names:?}");
+    }
+    // Any head turns above the shoulders, not at the chest.
+    for (name, (_, pivot)) in &controls {
+        if name.starts_with("head.") {
+            assert!(pivot.z > 1.1, "{name} at {pivot:?} in {names:?}");
+        }
+    }
+}

@@ -88,18 +88,24 @@ pub(super) fn limb_names(
         .filter_map(|all| centroid(all.iter().map(point)))
         .collect();
     let body_centre = 0.5 * (body_lo + body_hi);
-    let lateral = match (mirror, symmetric) {
-        (Some((axis, _)), _) if axis < 2 => axis,
-        (None, Some(axis)) if axis < 2 && has_mirrored_pair(&middles, axis, body_centre) => axis,
+    let legs_apart = (!lying)
+        .then(|| two_legs_apart(&limbs, &limb_vertices, cages, mesh_lo.z, mesh_extent.z))
+        .flatten();
+    let longer_side = if mesh_extent.y > mesh_extent.x { 1 } else { 0 };
+    let (lateral, lateral_from_legs) = match (mirror, symmetric) {
+        (Some((axis, _)), _) if axis < 2 => (axis, false),
+        (None, Some(axis)) if axis < 2 && has_mirrored_pair(&middles, axis, body_centre) => {
+            (axis, false)
+        }
         // No pair either way (a bust whose nose, chin and neck lie on its plane): the symmetry
         // still says which axis runs from left to right.
         (None, Some(axis)) if axis < 2 && !has_mirrored_pair(&middles, 1 - axis, body_centre) => {
-            axis
+            (axis, false)
         }
-        _ if lying && body_extent.x >= body_extent.y => 1,
-        _ if lying => 0,
-        _ if mesh_extent.y > mesh_extent.x => 1,
-        _ => 0,
+        _ if lying && body_extent.x >= body_extent.y => (1, false),
+        _ if lying => (0, false),
+        _ if let Some(axis) = legs_apart => (axis, true),
+        _ => (longer_side, false),
     };
     let centre = match mirror {
         Some((axis, plane)) if axis == lateral => plane,
@@ -186,16 +192,41 @@ pub(super) fn limb_names(
             && s.bottom - mesh_lo.z < 0.1 * height
             && s.bottom < s.root.z
     };
+    // Halfway between the roots of the two legs that gave the lateral axis across the box's
+    // longer side. Where the longer side already runs across the legs, the box's middle
+    // stays the centre and the legs keep their sides by their middles (the armadillo at
+    // detail 1: one leg's first cage reaches round to its tail, and the middle between the
+    // legs' roots took an ear for its head; a generated figure with its arms raised had a
+    // leg without a side, which sent it to the grid centred on its plane, where its arms are
+    // arms, not ears).
+    let legs_between = (lateral_from_legs && lateral != longer_side)
+        .then(|| {
+            let roots: Vec<f64> = shapes
+                .iter()
+                .filter(|(l, s)| limbs[*l].parent.is_none() && is_leg(s))
+                .map(|(_, s)| s.root[lateral])
+                .collect();
+            match roots[..] {
+                [a, b] => Some(0.5 * (a + b)),
+                _ => None,
+            }
+        })
+        .flatten();
     // Under a lying body without a mirror plane across the lateral axis, the middle between
     // the legs where they stand on both sides of the body's box (the mean of their middles on
     // each side, halfway between): a posed body's box is lopsided. TOSCA's prancing horse:
     // its raised foreleg moved the box's middle 3.2 from its tail's middle, more than a
     // quarter of the tail's width, and the tail was `limb.1`. By their middles, not their
     // roots: the jumping horse10's hind legs' roots lie 4 off their middles' centre, which
-    // took its tail for a side limb. Not under a standing body: the armadillo's legs stand
-    // off its torso's middle, and pieces of its shoulders at details 1 and 5 changed sides.
+    // took its tail for a side limb. Not under a standing body (but where its legs gave the
+    // lateral axis, above): the armadillo's legs stand off its torso's middle, and pieces of
+    // its shoulders at details 1 and 5 changed sides.
     let centre = match mirror {
         Some((axis, _)) if axis == lateral => centre,
+        // Halfway between the roots of two legs that gave the lateral axis (their hips:
+        // TOSCA's standing cat's upper body turns, and its box's middle lay 2.1 from one
+        // leg's middle, which left it without a side).
+        _ if let Some(between) = legs_between => between,
         _ if !lying => centre,
         _ => {
             let side_mean = |left: bool| {
@@ -214,7 +245,15 @@ pub(super) fn limb_names(
     };
     // On the centre line where the limb straddles it (a tail, a neck: its middle within a
     // quarter of its own width of the plane); legs close together are each on one side.
+    // Where two legs gave the lateral axis, each is on its root's side of the middle
+    // between their roots (a sitting dog's hind leg folded across under it, TOSCA's dog7, has
+    // its middle near the centre).
     let side_of = |s: &Shape| {
+        if let Some(between) = legs_between
+            && is_leg(s)
+        {
+            return (s.root[lateral] - between).signum();
+        }
         let offset = s.middle[lateral] - centre;
         if offset.abs() <= 0.25 * s.width {
             0.0
@@ -374,7 +413,24 @@ pub(super) fn limb_names(
         }) && !bodies.contains(&limb)
             && !is_leg(s)
             && limbs[&limb].parent.is_none();
-        let side = if head_on_neck || carries_head || centred_body || turned_neck || back_centre {
+        // A limb from a standing body's lower half rooted on its centre line (within a tenth
+        // of the body's width of the plane) is on it even where it curls to a side: a tail
+        // (TOSCA's cat standing up, its tail curled aside, was `arm.L`).
+        let low_centre = frame.forward.is_none()
+            && {
+                let width = frame.body_hi[lateral] - frame.body_lo[lateral];
+                s.root.z < body_centre.z && (s.root[lateral] - centre).abs() < 0.1 * width
+            }
+            && !bodies.contains(&limb)
+            && !is_leg(s)
+            && limbs[&limb].parent.is_none();
+        let side = if head_on_neck
+            || carries_head
+            || centred_body
+            || turned_neck
+            || back_centre
+            || low_centre
+        {
             0.0
         } else {
             side_of(s)
@@ -462,8 +518,18 @@ pub(super) fn limb_names(
             && limbs[&limb].parent.is_some_and(|p| bodies.contains(&p))
         {
             // A centre limb on a head of its own (spot's crown between its ears at detail 5)
-            // is no neck.
-            "limb"
+            // is no neck; where it makes that thick region a neck (`carries_centre_limb`:
+            // longer than it and rising, TOSCA's rearing horse15 with its head held up
+            // from the top of its neck), it is the head.
+            let makes_neck = limbs[&limb]
+                .parent
+                .and_then(|p| shapes.get(&p))
+                .is_some_and(|ps| {
+                    (s.middle[lateral] - centre).abs() <= 0.25 * s.width
+                        && length(s) > length(ps)
+                        && s.tip.z > s.root.z
+                });
+            if makes_neck { "head" } else { "limb" }
         } else if side == 0.0 && carries_leg_pair(limb) {
             // Two legs joined along the plane from the body down to where they part (the
             // camel's, touching under its chest): their common stem, which turns both.
@@ -822,14 +888,67 @@ fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
     }
 }
 
+/// The share of a standing body's height, from its top, in which a head growing from it is
+/// rooted ([`centre_role`]).
+const HEAD_ROOT_SHARE: f64 = 0.15;
+
+/// The horizontal axis along which a standing figure's two legs stand apart, where its limbs
+/// reaching the ground from the body are two and stand apart along one axis at least
+/// [`LEGS_APART_RATIO`] times as far as along the other. A figure
+/// standing up on its hind legs (TOSCA's rearing cat and horse) has no mirror plane and
+/// its raised forelegs or tail reach further out across its front than its arms do across its
+/// width: the longer horizontal side of its box ran from front to back, and its legs, paws and
+/// tail were named as if it faced sideways (two `arm.R`, `leg.L` beside an unsided `leg`).
+/// Legs here are limbs out from the body whose lowest cage vertex is in the figure's lowest
+/// tenth, compared by their centroids.
+fn two_legs_apart(
+    limbs: &BTreeMap<usize, super::controls::Limb>,
+    limb_vertices: &BTreeMap<usize, BTreeSet<u32>>,
+    cages: &CageSet,
+    ground: f64,
+    height: f64,
+) -> Option<usize> {
+    let point = |v: &u32| cages.vertices.get(*v as usize).copied();
+    let legs: Vec<DVec3> = limbs
+        .iter()
+        .filter(|(_, record)| record.parent.is_none())
+        .filter_map(|(limb, _)| limb_vertices.get(limb))
+        .filter(|all| {
+            all.iter()
+                .filter_map(point)
+                .any(|p| p.z - ground < 0.1 * height)
+        })
+        .filter_map(|all| centroid(all.iter().filter_map(point)))
+        .collect();
+    let [a, b] = legs.as_slice() else {
+        return None;
+    };
+    let apart = (*a - *b).abs();
+    let axis = if apart.x >= apart.y { 0 } else { 1 };
+    (apart[axis] >= LEGS_APART_RATIO * apart[1 - axis]).then_some(axis)
+}
+
+/// How many times further apart along one horizontal axis than along the other two legs
+/// must stand for [`two_legs_apart`] to take that axis as left to right: TOSCA's rearing cat
+/// 2.4, horse 7.6; a walking figure's stride (TOSCA's michael1: its feet 7.4 apart across,
+/// 8 along) says nothing.
+const LEGS_APART_RATIO: f64 = 2.0;
+
 /// The role of a limb on the centre line: above a standing body a head (a neck with its head),
 /// from its lower half a tail (when a fifth of the height long); at a lying body's front end a
 /// head (a neck where it rises above the body and is long enough to carry one), at its back
 /// end a tail; else an unnamed limb.
 fn centre_role(root: DVec3, tip: DVec3, frame: &Frame) -> &'static str {
     let height = (frame.mesh_hi.z - frame.mesh_lo.z).max(1e-12);
+    let body_height = frame.body_hi.z - frame.body_lo.z;
     match frame.forward {
-        None if tip.z > frame.body_hi.z - 0.05 * height => "head",
+        // Rooted in the body's top (a paw held to the mouth of a cat standing up, TOSCA's
+        // cat4, rises from its chest a quarter of the body's height below its top).
+        None if tip.z > frame.body_hi.z - 0.05 * height
+            && root.z > frame.body_hi.z - HEAD_ROOT_SHARE * body_height =>
+        {
+            "head"
+        }
         // Hanging from a standing body's lower half, not reaching the ground and a fifth of
         // the figure's height long: a tail (the armadillo's: a quarter); a nose or a chin on a
         // bust is shorter (ManHead's: a tenth).
@@ -983,6 +1102,88 @@ mod tests {
         )
     }
 
+    /// The eight corners of the box from `lo` to `hi`.
+    fn box_corners(lo: DVec3, hi: DVec3) -> Vec<DVec3> {
+        let mut corners = Vec::new();
+        for x in [lo.x, hi.x] {
+            for y in [lo.y, hi.y] {
+                for z in [lo.z, hi.z] {
+                    corners.push(DVec3::new(x, y, z));
+                }
+            }
+        }
+        corners
+    }
+
+    /// Two legs at x = ∓`x` (right, then left), each a thigh and a shin from the heights
+    /// `[hip, knee, foot]`, their hip rings added to `body`: the legs' four cages.
+    fn standing_legs(
+        body: &mut Vec<DVec3>,
+        x: f64,
+        [hip, knee, foot]: [f64; 3],
+    ) -> Vec<Vec<DVec3>> {
+        let mut cages = Vec::new();
+        for x in [-x, x] {
+            body.extend(ring(x, 0.0, hip, 0.08));
+            let mut thigh = ring(x, 0.0, hip, 0.08);
+            thigh.extend(ring(x, 0.0, knee, 0.08));
+            let mut shin = ring(x, 0.0, knee, 0.08);
+            shin.extend(ring(x, 0.0, foot, 0.08));
+            cages.push(thigh);
+            cages.push(shin);
+        }
+        cages
+    }
+
+    /// The names of a figure standing on two legs of two segments (limbs 0 and 1, at
+    /// x = ±0.15) under a body 0.6 wide and 1.2 tall, with a thick region on its top (limb 2,
+    /// a body of its own, from z 1.2 to 1.5) carrying a centre limb rising from it to
+    /// `muzzle_top` (limb 3).
+    fn thick_head_names(muzzle_top: f64) -> BTreeMap<usize, String> {
+        let mut body = box_corners(DVec3::new(-0.3, -0.3, 0.0), DVec3::new(0.3, 0.3, 1.2));
+        let mut cages = standing_legs(&mut body, 0.15, [0.0, -0.25, -0.5]);
+        body.extend(ring(0.0, 0.0, 1.2, 0.15));
+        let mut head = ring(0.0, 0.0, 1.2, 0.15);
+        head.extend(ring(0.0, 0.0, 1.5, 0.15));
+        head.extend(ring(0.0, -0.02, 1.5, 0.05));
+        cages.push(head);
+        let mut muzzle = ring(0.0, -0.02, 1.5, 0.05);
+        muzzle.extend(ring(0.0, -0.1, muzzle_top, 0.05));
+        cages.push(muzzle);
+        cages.push(body);
+        let mut roles: Vec<Role> = (0..2)
+            .flat_map(|limb| (0..2).map(move |segment| Role::Limb { limb, segment }))
+            .collect();
+        roles.extend((2..4).map(|limb| Role::Limb { limb, segment: 0 }));
+        roles.push(Role::Body { body: 0, slab: 0 });
+        limb_names(
+            &point_cages(&cages),
+            &roles,
+            &BTreeMap::from([(3, 2)]),
+            &BTreeSet::from([2]),
+            None,
+            None,
+            &BTreeSet::new(),
+        )
+    }
+
+    #[test]
+    fn a_muzzle_rising_from_a_thick_head_is_the_head_on_its_neck() {
+        // TOSCA's rearing horse15 holds its head up, its muzzle to the sky: the thick back
+        // of its head is a body of its own, which the muzzle rising from it (longer than it)
+        // makes a neck; the muzzle was `limb.1` on it.
+        let names = thick_head_names(2.0);
+        assert_eq!(names.get(&2).map(String::as_str), Some("neck"), "{names:?}");
+        assert_eq!(names.get(&3).map(String::as_str), Some("head"), "{names:?}");
+        // A crown shorter than the head it stands on stays a limb of that head.
+        let names = thick_head_names(1.65);
+        assert_eq!(names.get(&2).map(String::as_str), Some("head"), "{names:?}");
+        assert!(
+            names.get(&3).is_some_and(|n| n.starts_with("limb")),
+            "{names:?}"
+        );
+    }
+
     #[test]
     fn a_leg_whose_first_segment_reaches_up_the_flank_is_a_leg() {
         // A quadruped facing +Y (its neck rises at the front) whose legs' first segments also
@@ -1106,25 +1307,9 @@ mod tests {
         // arms raised above the head from their ends (TOSCA's gorilla, mirrored, whose
         // shoulders were `ear.L` and `ear.R`, its arms `horn.L` and `horn.R`). Without the
         // stem rule these shoulders are `arm.*` and the arms `ear.*`.
-        let mut body = Vec::new();
-        for x in [-0.4, 0.4] {
-            for y in [-0.2, 0.2] {
-                for z in [1.0, 2.0] {
-                    body.push(DVec3::new(x, y, z));
-                }
-            }
-        }
-        let mut cages = Vec::new();
+        let mut body = box_corners(DVec3::new(-0.4, -0.2, 1.0), DVec3::new(0.4, 0.2, 2.0));
         // Legs (limbs 0 and 1, two segments each), right then left.
-        for x in [-0.2, 0.2] {
-            body.extend(ring(x, 0.0, 1.0, 0.08));
-            let mut thigh = ring(x, 0.0, 1.0, 0.08);
-            thigh.extend(ring(x, 0.0, 0.5, 0.08));
-            let mut shin = ring(x, 0.0, 0.5, 0.08);
-            shin.extend(ring(x, 0.0, 0.0, 0.08));
-            cages.push(thigh);
-            cages.push(shin);
-        }
+        let mut cages = standing_legs(&mut body, 0.2, [1.0, 0.5, 0.0]);
         // The head (limb 2) on top.
         body.extend(ring(0.0, 0.0, 2.0, 0.1));
         let mut head = ring(0.0, 0.0, 2.0, 0.1);
