@@ -1473,13 +1473,31 @@ fn assert_tail_at_the_back(extra: &[(DVec3, DVec3, f64)]) -> Vec<String> {
 /// unsided `leg`, the tail `arm.L.001`, so the whole rig was `limb.N`. Its two legs stand apart
 /// across it: that axis runs from left to right (+X the left, facing −Y).
 fn rearing_quadruped() -> Mesh {
-    // The left foreleg raised forward and up.
-    rearing_with_left_foreleg((v(0.27, -0.15, 0.85), v(0.3, -0.8, 1.2), 0.08))
+    rearing_with_left_foreleg(RAISED_LEFT_FORELEG)
 }
 
-/// [`rearing_quadruped`] with its left foreleg `left_foreleg` (a capsule: from, to, radius),
-/// its right hanging forward and down.
+/// [`rearing_quadruped`]'s left foreleg, raised forward and up (a capsule: from, to, radius).
+const RAISED_LEFT_FORELEG: (DVec3, DVec3, f64) = (
+    DVec3::new(0.27, -0.15, 0.85),
+    DVec3::new(0.3, -0.8, 1.2),
+    0.08,
+);
+
+/// [`rearing_quadruped`]'s tail, from the lower back out behind and to the left.
+const CENTRE_TAIL: (DVec3, DVec3, f64) = (
+    DVec3::new(0.0, 0.3, 0.15),
+    DVec3::new(0.35, 1.4, -0.2),
+    0.05,
+);
+
+/// [`rearing_quadruped`] with its left foreleg `left_foreleg`, its right hanging forward and
+/// down.
 fn rearing_with_left_foreleg(left_foreleg: (DVec3, DVec3, f64)) -> Mesh {
+    rearing_figure(left_foreleg, CENTRE_TAIL)
+}
+
+/// [`rearing_quadruped`] with its left foreleg `left_foreleg` and its tail `tail`.
+fn rearing_figure(left_foreleg: (DVec3, DVec3, f64), tail: (DVec3, DVec3, f64)) -> Mesh {
     let mut parts = vec![
         (v(0.0, 0.0, 0.1), v(0.0, 0.0, 1.0), 0.3),
         (v(0.0, -0.05, 1.25), v(0.0, -0.1, 1.45), 0.11),
@@ -1487,8 +1505,7 @@ fn rearing_with_left_foreleg(left_foreleg: (DVec3, DVec3, f64)) -> Mesh {
         (v(0.0, -0.12, 1.55), v(0.2, -0.35, 1.55), 0.14),
         left_foreleg,
         (v(-0.27, -0.15, 0.7), v(-0.3, -0.45, 0.3), 0.08),
-        // The tail, from the lower back out behind and to the left.
-        (v(0.0, 0.3, 0.15), v(0.35, 1.4, -0.2), 0.05),
+        tail,
     ];
     for x in [-0.18, 0.18] {
         parts.push((v(x, 0.0, -0.1), v(x * 1.2, 0.05, -1.0), 0.1));
@@ -1537,5 +1554,22 @@ fn a_paw_held_up_in_front_of_the_chest_is_no_head() {
         if name.starts_with("head.") {
             assert!(pivot.z > 1.1, "{name} at {pivot:?} in {names:?}");
         }
+    }
+}
+
+/// [`rearing_quadruped`] whose tail leaves the back of its body off the centre line and curls
+/// out to its left (TOSCA's sitting dog): rooted at the body's back end, low, it is a tail, as
+/// under a lying body; it was `arm.L`.
+#[test]
+fn a_tail_curled_aside_from_a_standing_body_s_back_is_a_tail() {
+    let tail = (v(0.16, 0.24, 0.15), v(0.9, 0.8, -0.2), 0.05);
+    let controls = controls_of(&rearing_figure(RAISED_LEFT_FORELEG, tail));
+    let names: Vec<&String> = controls.keys().collect();
+    let (_, pivot) = controls
+        .get("tail.1")
+        .unwrap_or_else(|| panic!("a tail in {names:?}"));
+    assert!(pivot.y > 0.15, "tail.1 at {pivot:?}");
+    for name in ["leg.L.1", "leg.R.1", "arm.L.1", "arm.R.1"] {
+        assert!(controls.contains_key(name), "{name} in {names:?}");
     }
 }

@@ -415,11 +415,17 @@ pub(super) fn limb_names(
             && limbs[&limb].parent.is_none();
         // A limb from a standing body's lower half rooted on its centre line (within a tenth
         // of the body's width of the plane) is on it even where it curls to a side: a tail
-        // (TOSCA's cat standing up, its tail curled aside, was `arm.L`).
+        // (TOSCA's cat standing up, its tail curled aside, was `arm.L`). So is one rooted at
+        // the body's front or back end, as under a lying body ([`BACK_END_SHARE`]): TOSCA's
+        // sitting dog's tail, curled to a side, was `arm.L`.
         let low_centre = frame.forward.is_none()
+            && s.root.z < body_centre.z
             && {
                 let width = frame.body_hi[lateral] - frame.body_lo[lateral];
-                s.root.z < body_centre.z && (s.root[lateral] - centre).abs() < 0.1 * width
+                let along = 1 - lateral;
+                let half_length = 0.5 * (frame.body_hi[along] - frame.body_lo[along]);
+                (s.root[lateral] - centre).abs() < 0.1 * width
+                    || (s.root[along] - body_centre[along]).abs() > BACK_END_SHARE * half_length
             }
             && !bodies.contains(&limb)
             && !is_leg(s)
