@@ -310,6 +310,10 @@ pub(super) fn limb_names(
     // A bust: a standing figure with no limb off its centre line (no arm, leg or ear pair);
     // the one limb it rests on is its neck, not a leg.
     let bust = frame.forward.is_none() && shapes.values().all(|s| side_of(s) == 0.0);
+    // Standing on a leg either side of the plane.
+    let legs_either_side = [1.0, -1.0]
+        .iter()
+        .all(|&sign| shapes.values().any(|s| is_leg(s) && side_of(s) == sign));
     // A limb from which a pair of legs grows, one either side of the plane.
     let carries_leg_pair = |limb: usize| {
         let legs: Vec<&Shape> = limbs
@@ -418,18 +422,21 @@ pub(super) fn limb_names(
         // (TOSCA's cat standing up, its tail curled aside, was `arm.L`). So is one rooted at
         // the body's front or back end, as under a lying body ([`BACK_END_SHARE`]): TOSCA's
         // sitting dog's tail, curled to a side, was `arm.L`.
-        let low_centre = frame.forward.is_none()
+        let low_limb = frame.forward.is_none()
             && s.root.z < body_centre.z
-            && {
-                let width = frame.body_hi[lateral] - frame.body_lo[lateral];
-                let along = 1 - lateral;
-                let half_length = 0.5 * (frame.body_hi[along] - frame.body_lo[along]);
-                (s.root[lateral] - centre).abs() < 0.1 * width
-                    || (s.root[along] - body_centre[along]).abs() > BACK_END_SHARE * half_length
-            }
             && !bodies.contains(&limb)
             && !is_leg(s)
             && limbs[&limb].parent.is_none();
+        let at_end = low_limb && {
+            let along = 1 - lateral;
+            let half_length = 0.5 * (frame.body_hi[along] - frame.body_lo[along]);
+            (s.root[along] - body_centre[along]).abs() > BACK_END_SHARE * half_length
+        };
+        let low_centre = at_end
+            || (low_limb && {
+                let width = frame.body_hi[lateral] - frame.body_lo[lateral];
+                (s.root[lateral] - centre).abs() < 0.1 * width
+            });
         let side = if head_on_neck
             || carries_head
             || centred_body
@@ -545,7 +552,20 @@ pub(super) fn limb_names(
                 None => "leg",
             }
         } else if side == 0.0 {
-            centre_role(s.root, s.tip, &frame)
+            // Low at a standing body's end, a tail shorter than a fifth of the height: a
+            // rearing horse is tall (TOSCA's horse15's tail, 0.13 of it, was `limb.1`). Only
+            // on a figure standing on a leg either side: a bust's chin is no tail (QMVC's
+            // ManHead mirrored at detail 4, its neck an unsided `leg`, had its chin `tail`).
+            match centre_role(s.root, s.tip, &frame) {
+                "limb"
+                    if at_end
+                        && legs_either_side
+                        && length(s) >= SHORTEST_END_TAIL_SHARE * height =>
+                {
+                    "tail"
+                }
+                role => role,
+            }
         } else if frame.forward.is_none() {
             "arm"
         } else if rises && s.tip.z > frame.body_hi.z {
@@ -893,6 +913,10 @@ fn left_sign(lateral: usize, forward: Option<(usize, f64)>) -> f64 {
         None => 1.0,
     }
 }
+
+/// The least length of a tail low at a standing body's end, as a share of the figure's
+/// height (a fifth elsewhere, [`centre_role`]): TOSCA's rearing horse15's is 0.13.
+const SHORTEST_END_TAIL_SHARE: f64 = 0.1;
 
 /// The share of a standing body's height, from its top, in which a head growing from it is
 /// rooted ([`centre_role`]).
