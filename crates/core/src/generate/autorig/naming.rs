@@ -409,24 +409,21 @@ pub(super) fn limb_names(
         // eighth along it, within a tenth of the body's width of the plane) is on the centre
         // line even where it leans to a side: TOSCA's horse17 holds its tail up and aside, and
         // it was `ear.L`.
-        let back_centre = frame.forward.is_some_and(|(axis, sign)| {
-            let half_length = 0.5 * (frame.body_hi[axis] - frame.body_lo[axis]);
-            let width = frame.body_hi[lateral] - frame.body_lo[lateral];
-            (s.root[axis] - body_centre[axis]) * sign < -BACK_END_SHARE * half_length
-                && (s.root[lateral] - centre).abs() < 0.1 * width
-        }) && !bodies.contains(&limb)
-            && !is_leg(s)
-            && limbs[&limb].parent.is_none();
+        // A limb straight out from the body that is no leg and no thick region.
+        let free_limb = !bodies.contains(&limb) && !is_leg(s) && limbs[&limb].parent.is_none();
+        let back_centre = free_limb
+            && frame.forward.is_some_and(|(axis, sign)| {
+                let half_length = 0.5 * (frame.body_hi[axis] - frame.body_lo[axis]);
+                let width = frame.body_hi[lateral] - frame.body_lo[lateral];
+                (s.root[axis] - body_centre[axis]) * sign < -BACK_END_SHARE * half_length
+                    && (s.root[lateral] - centre).abs() < 0.1 * width
+            });
         // A limb from a standing body's lower half rooted on its centre line (within a tenth
         // of the body's width of the plane) is on it even where it curls to a side: a tail
         // (TOSCA's cat standing up, its tail curled aside, was `arm.L`). So is one rooted at
         // the body's front or back end, as under a lying body ([`BACK_END_SHARE`]): TOSCA's
         // sitting dog's tail, curled to a side, was `arm.L`.
-        let low_limb = frame.forward.is_none()
-            && s.root.z < body_centre.z
-            && !bodies.contains(&limb)
-            && !is_leg(s)
-            && limbs[&limb].parent.is_none();
+        let low_limb = free_limb && frame.forward.is_none() && s.root.z < body_centre.z;
         let at_end = low_limb && {
             let along = 1 - lateral;
             let half_length = 0.5 * (frame.body_hi[along] - frame.body_lo[along]);
